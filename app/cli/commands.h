@@ -1,0 +1,14 @@
+#pragma once
+// The `relume` subcommands. Each returns the process exit code.
+#include <QStringList>
+
+#include "relume/geometry/progress.h"
+
+namespace relume::cli {
+
+int solveCommand(const QStringList& args, Progress& progress);
+int renderCommand(const QStringList& args, Progress& progress);
+int benchCommand(const QStringList& args, Progress& progress);
+int importCommand(const QStringList& args, Progress& progress);
+
+}  // namespace relume::cli

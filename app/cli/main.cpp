@@ -1,0 +1,67 @@
+// relume: every stage headless. Progress on stderr, results as files; Ctrl-C cancels cleanly.
+#include <QCoreApplication>
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+
+#include "commands.h"
+#include "relume/geometry/error.h"
+
+namespace {
+std::atomic<bool>* g_cancel = nullptr;  // the one thing a signal handler may touch
+extern "C" void onSigint(int) {
+  if (g_cancel) g_cancel->store(true);
+}
+
+void usage() {
+  std::fprintf(stderr,
+               "usage: relume <command> [options]\n"
+               "  solve  ROOM --json OUT.json [--eps X] [--min-area A] [--oracle bf|bfv] [--rays N]\n"
+               "  render ROOM --camera NAME -o IMG.exr|png [--show leaves|links|visibility] [--eps X]\n"
+               "  bench  ROOM --json OUT.json [--runs N]\n"
+               "  import ROOM -o PROJECT      (write a Relume project)\n"
+               "ROOM: a bundle folder (scene.json), a Relume project, or an .obj with its .json.\n"
+               "Run 'relume <command> --help' for a command's options.\n");
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  QCoreApplication app(argc, argv);
+  QCoreApplication::setApplicationName("relume");
+  QCoreApplication::setApplicationVersion("0.1");
+  const QStringList args = QCoreApplication::arguments();
+  if (args.size() < 2 || args[1] == "-h" || args[1] == "--help") {
+    usage();
+    return args.size() < 2 ? 2 : 0;
+  }
+  relume::Progress progress([last = std::string()](double f, const std::string& text) mutable {
+    if (text != last) {
+      std::fprintf(stderr, "[%3d%%] %s\n", int(f * 100 + 0.5), text.c_str());
+      last = text;
+    }
+  });
+  g_cancel = progress.cancelFlag();
+  std::signal(SIGINT, onSigint);
+  std::signal(SIGTERM, onSigint);
+  const QString cmd = args[1];
+  QStringList rest = args;
+  rest.removeAt(1);
+  try {
+    if (cmd == "solve") return relume::cli::solveCommand(rest, progress);
+    if (cmd == "render") return relume::cli::renderCommand(rest, progress);
+    if (cmd == "bench") return relume::cli::benchCommand(rest, progress);
+    if (cmd == "import") return relume::cli::importCommand(rest, progress);
+    std::fprintf(stderr, "relume: unknown command '%s'\n", qPrintable(cmd));
+    usage();
+    return 2;
+  } catch (const relume::Cancelled&) {
+    std::fprintf(stderr, "relume: cancelled; nothing was written\n");
+    return 130;
+  } catch (const relume::Error& e) {
+    std::fprintf(stderr, "relume: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "relume: internal error: %s\n", e.what());
+    return 3;
+  }
+}

@@ -1,0 +1,33 @@
+#pragma once
+// Progress report and cancellation for long steps: every stage takes a Progress&.
+#include <atomic>
+#include <functional>
+#include <string>
+
+namespace relume {
+
+class Progress {
+ public:
+  using Callback = std::function<void(double fraction, const std::string& text)>;
+
+  Progress() = default;
+  explicit Progress(Callback cb) : callback_(std::move(cb)) {}
+
+  // Reports the fraction done in [0,1] of the current stage; throws Cancelled when asked to stop.
+  void report(double fraction, const std::string& text);
+  // Throws Cancelled when cancellation was requested.
+  void poll() const;
+  void cancel() { cancelled_.store(true); }
+  bool cancelled() const { return cancelled_.load(); }
+  // A flag that a signal handler may set (lock-free, async-signal-safe to store to).
+  std::atomic<bool>* cancelFlag() { return &cancelled_; }
+
+ private:
+  Callback callback_;
+  std::atomic<bool> cancelled_{false};
+};
+
+// A Progress that reports nothing and never cancels.
+Progress& silentProgress();
+
+}  // namespace relume

@@ -1,0 +1,58 @@
+#pragma once
+// The scene model: polygons, groups, materials, lamps, cameras and photos, lighting variants.
+#include <glm/vec3.hpp>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "relume/geometry/camera.h"
+#include "relume/geometry/polygon.h"
+
+namespace relume {
+
+struct Lamp {
+  std::string name;
+  int polygon = -1;         // index into Scene::polygons (a polygon of kind Light)
+  glm::dvec3 radiance{0.0};  // emitted radiance, linear RGB; exitance = pi * radiance
+};
+
+struct Photo {
+  std::string name;
+  std::string file;  // relative to Scene::baseDir (LDR, sRGB)
+  std::string hdr;   // relative, linear radiance (EXR); may be empty
+  Camera camera;
+};
+
+struct VirtualBox {
+  std::string name;
+  glm::dvec3 boxMin{0.0}, boxMax{0.0};
+  glm::dvec3 albedo{0.5};
+};
+
+struct Variant {
+  std::string name;
+  std::map<std::string, glm::dvec3> lampScale;  // per lamp name, RGB multiplier (1 if absent)
+  std::vector<Lamp> virtualLamps;                // with polygon vertices in virtualLampPolygons
+  std::vector<std::vector<glm::dvec3>> virtualLampPolygons;
+  std::vector<VirtualBox> virtualObjects;
+  std::string file, hdr;  // truth images, relative
+};
+
+struct Scene {
+  std::string baseDir;     // folder the relative paths start from
+  std::string sourceFile;  // the file the scene was read from (for error messages)
+  std::vector<Polygon> polygons;
+  std::vector<Lamp> lamps;
+  std::vector<Photo> photos;
+  std::string mainPhoto;
+  std::vector<Variant> variants;
+
+  int findPolygon(const std::string& name) const;
+  int findLamp(const std::string& name) const;
+  const Photo* findPhoto(const std::string& name) const;
+  // Index of the lamp whose polygon is `polygon`, or -1.
+  int lampOfPolygon(int polygon) const;
+};
+
+}  // namespace relume

@@ -1,0 +1,29 @@
+#pragma once
+// Reading rooms (bundle folders, OBJ + JSON, Relume projects) and writing Relume projects.
+#include <string>
+
+#include "relume/geometry/progress.h"
+#include "relume/geometry/scene.h"
+
+namespace relume {
+
+// What `path` names: a bundle folder (scene.json), a Relume project (a folder holding
+// project.json, or that file itself), or an OBJ file with its JSON beside it (same stem).
+// Every reader validates the scene (relume::validateScene) and the photos it lists.
+Scene loadRoom(const std::string& path);
+
+Scene readBundle(const std::string& folder);
+Scene readObjWithJson(const std::string& objPath, const std::string& jsonPath);
+Scene readProject(const std::string& projectPath);
+
+// Checks that every photo (and HDR) file exists and is a readable image of the camera's size.
+void checkPhotos(const Scene& scene);
+
+// Writes `scene` as a Relume project folder: project.json plus its photos copied into photos/.
+// Atomic: the folder is assembled beside the target and renamed into place; an existing project
+// is replaced only once the new one is complete. Throws relume::Error and leaves the old one.
+void saveProject(const Scene& scene, const std::string& folder, Progress& progress = silentProgress());
+
+inline constexpr int kProjectVersion = 1;
+
+}  // namespace relume

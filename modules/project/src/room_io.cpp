@@ -1,0 +1,504 @@
+#include "relume/project/room_io.h"
+
+#include <QDir>
+#include <QFile>
+#include <QFileInfo>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QSaveFile>
+#include <QTemporaryDir>
+#include <QTextStream>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <limits>
+#include <map>
+
+#include "relume/geometry/error.h"
+#include "relume/geometry/validate.h"
+#include "relume/image/image.h"
+
+namespace relume {
+
+namespace {
+
+std::string str(const QString& s) { return s.toStdString(); }
+
+QJsonObject readJsonObject(const QString& path) {
+  QFile f(path);
+  if (!f.exists()) throw Error(str(path), "", "the file does not exist");
+  if (!f.open(QIODevice::ReadOnly)) throw Error(str(path), "", "cannot open: " + str(f.errorString()));
+  const QByteArray data = f.readAll();
+  QJsonParseError err;
+  const QJsonDocument doc = QJsonDocument::fromJson(data, &err);
+  if (err.error != QJsonParseError::NoError) {
+    int line = 1;
+    for (int i = 0; i < err.offset && i < data.size(); ++i) line += data[i] == '\n';
+    throw Error(str(path), "line " + std::to_string(line), "invalid JSON: " + str(err.errorString()));
+  }
+  if (!doc.isObject()) throw Error(str(path), "", "the JSON document is not an object");
+  return doc.object();
+}
+
+struct JsonReader {
+  std::string file;
+
+  [[noreturn]] void fail(const std::string& element, const std::string& what) const {
+    throw Error(file, element, what);
+  }
+  double number(const QJsonValue& v, const std::string& element, const std::string& field) const {
+    if (!v.isDouble()) fail(element, field + " must be a number");
+    return v.toDouble();
+  }
+  glm::dvec3 vec3(const QJsonValue& v, const std::string& element, const std::string& field) const {
+    const QJsonArray a = v.toArray();
+    if (!v.isArray() || a.size() != 3) fail(element, field + " must be an array of 3 numbers");
+    return {number(a[0], element, field), number(a[1], element, field), number(a[2], element, field)};
+  }
+  glm::dmat3 mat3(const QJsonValue& v, const std::string& element, const std::string& field) const {
+    const QJsonArray rows = v.toArray();
+    if (!v.isArray() || rows.size() != 3) fail(element, field + " must be a 3x3 array");
+    glm::dmat3 m(0.0);
+    for (int r = 0; r < 3; ++r) {
+      const glm::dvec3 row = vec3(rows[r], element, field);
+      for (int c = 0; c < 3; ++c) m[c][r] = row[c];  // glm is column-major
+    }
+    return m;
+  }
+  std::vector<glm::dvec3> vertices(const QJsonValue& v, const std::string& element) const {
+    if (!v.isArray()) fail(element, "vertices must be an array of [x, y, z]");
+    std::vector<glm::dvec3> out;
+    for (const auto& p : v.toArray()) out.push_back(vec3(p, element, "each vertex"));
+    return out;
+  }
+};
+
+PolygonKind kindFrom(const QString& k, const JsonReader& jr, const std::string& element) {
+  if (k.isEmpty() || k == "real") return PolygonKind::Real;
+  if (k == "light") return PolygonKind::Light;
+  if (k == "window") return PolygonKind::Window;
+  if (k == "virtual") return PolygonKind::Virtual;
+  jr.fail(element, "unknown kind '" + str(k) + "' (real, light, window or virtual)");
+}
+
+QString kindName(PolygonKind k) {
+  switch (k) {
+    case PolygonKind::Light: return "light";
+    case PolygonKind::Window: return "window";
+    case PolygonKind::Virtual: return "virtual";
+    default: return "real";
+  }
+}
+
+bool sameVertices(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (glm::length(a[i] - b[i]) > 1e-6) return false;
+  return true;
+}
+
+// Lamps: {name, polygon (a polygon name or its vertex list), radiance_rgb | color * strength}.
+void readLamps(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
+  for (const auto& lv : arr) {
+    const QJsonObject lo = lv.toObject();
+    Lamp lamp;
+    lamp.name = str(lo["name"].toString());
+    const std::string where = "lamp '" + lamp.name + "'";
+    if (lamp.name.empty()) jr.fail("a lamp", "has no name");
+    if (lo.contains("radiance_rgb")) lamp.radiance = jr.vec3(lo["radiance_rgb"], where, "radiance_rgb");
+    else if (lo.contains("color") && lo.contains("strength"))
+      lamp.radiance = jr.vec3(lo["color"], where, "color") * jr.number(lo["strength"], where, "strength");
+    else jr.fail(where, "needs radiance_rgb (or color and strength)");
+    const QJsonValue pv = lo["polygon"];
+    if (pv.isString()) {
+      lamp.polygon = scene.findPolygon(str(pv.toString()));
+      if (lamp.polygon < 0) jr.fail(where, "names polygon '" + str(pv.toString()) + "', which does not exist");
+    } else if (pv.isArray()) {
+      const auto verts = jr.vertices(pv, where);
+      lamp.polygon = scene.findPolygon("light_" + lamp.name);
+      if (lamp.polygon < 0)
+        for (size_t i = 0; i < scene.polygons.size(); ++i)
+          if (sameVertices(scene.polygons[i].vertices, verts)) lamp.polygon = int(i);
+      if (lamp.polygon < 0) {
+        Polygon p;
+        p.name = "light_" + lamp.name;
+        p.group = p.name;
+        p.material = p.name;
+        p.kind = PolygonKind::Light;
+        p.vertices = verts;
+        scene.polygons.push_back(p);
+        lamp.polygon = int(scene.polygons.size()) - 1;
+      }
+    } else {
+      jr.fail(where, "needs a polygon (a polygon name or a vertex list)");
+    }
+    scene.polygons[lamp.polygon].kind = PolygonKind::Light;
+    if (scene.findLamp(lamp.name) >= 0) jr.fail(where, "is listed twice");
+    scene.lamps.push_back(lamp);
+  }
+}
+
+void readPhotos(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
+  for (const auto& pv : arr) {
+    const QJsonObject po = pv.toObject();
+    Photo ph;
+    ph.name = str(po["name"].toString());
+    const std::string where = "photo '" + ph.name + "'";
+    if (ph.name.empty()) jr.fail("a photo", "has no name");
+    ph.file = str(po["file"].toString());
+    ph.hdr = str(po["hdr"].toString());
+    if (ph.file.empty() && ph.hdr.empty()) jr.fail(where, "names no image file");
+    ph.camera.K = jr.mat3(po["K"], where, "K");
+    ph.camera.R = jr.mat3(po["R"], where, "R");
+    ph.camera.t = jr.vec3(po["t"], where, "t");
+    ph.camera.width = int(jr.number(po["width"], where, "width"));
+    ph.camera.height = int(jr.number(po["height"], where, "height"));
+    scene.photos.push_back(ph);
+  }
+}
+
+void readVariants(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
+  for (const auto& vv : arr) {
+    const QJsonObject vo = vv.toObject();
+    Variant v;
+    v.name = str(vo["name"].toString());
+    const std::string where = "variant '" + v.name + "'";
+    const QJsonObject lights = vo["lights"].toObject();
+    for (auto it = lights.begin(); it != lights.end(); ++it) {
+      if (it.value().isArray()) v.lampScale[str(it.key())] = jr.vec3(it.value(), where, "lights");
+      else v.lampScale[str(it.key())] = glm::dvec3(jr.number(it.value(), where, "lights"));
+    }
+    for (const auto& lv : vo["virtual_lights"].toArray()) {
+      const QJsonObject lo = lv.toObject();
+      Lamp l;
+      l.name = str(lo["name"].toString());
+      l.radiance = jr.vec3(lo["radiance_rgb"], where, "virtual_lights radiance_rgb");
+      v.virtualLamps.push_back(l);
+      v.virtualLampPolygons.push_back(jr.vertices(lo["polygon"], where));
+    }
+    for (const auto& ov : vo["virtual_objects"].toArray()) {
+      const QJsonObject oo = ov.toObject();
+      VirtualBox b;
+      b.name = str(oo["name"].toString());
+      b.boxMin = jr.vec3(oo["box_min"], where, "box_min");
+      b.boxMax = jr.vec3(oo["box_max"], where, "box_max");
+      b.albedo = jr.vec3(oo["albedo"], where, "albedo");
+      v.virtualObjects.push_back(b);
+    }
+    v.file = str(vo["file"].toString());
+    v.hdr = str(vo["hdr"].toString());
+    scene.variants.push_back(v);
+  }
+}
+
+// Minimal OBJ reader: o (object name), g (group), usemtl (material), v, f (one polygon per face).
+struct ObjPolygon {
+  std::string object, group, material;
+  std::vector<glm::dvec3> vertices;
+};
+
+std::vector<ObjPolygon> readObj(const QString& path) {
+  QFile f(path);
+  if (!f.exists()) throw Error(str(path), "", "the file does not exist");
+  if (!f.open(QIODevice::ReadOnly | QIODevice::Text)) throw Error(str(path), "", "cannot open: " + str(f.errorString()));
+  QTextStream in(&f);
+  std::vector<glm::dvec3> verts;
+  std::vector<ObjPolygon> out;
+  std::string object, group, material;
+  int lineNo = 0;
+  while (!in.atEnd()) {
+    const QString line = in.readLine().trimmed();
+    ++lineNo;
+    if (line.isEmpty() || line.startsWith('#')) continue;
+    const QStringList tok = line.split(' ', Qt::SkipEmptyParts);
+    const std::string where = "line " + std::to_string(lineNo);
+    if (tok[0] == "o") object = str(tok.mid(1).join(' '));
+    else if (tok[0] == "g") group = str(tok.mid(1).join(' '));
+    else if (tok[0] == "usemtl") material = str(tok.mid(1).join(' '));
+    else if (tok[0] == "v") {
+      if (tok.size() < 4) throw Error(str(path), where, "a vertex needs 3 coordinates");
+      glm::dvec3 p;
+      for (int i = 0; i < 3; ++i) {
+        const std::string t = str(tok[i + 1]);
+        char* end = nullptr;
+        p[i] = std::strtod(t.c_str(), &end);
+        if (end == t.c_str() || *end != '\0') throw Error(str(path), where, "'" + t + "' is not a number");
+      }
+      verts.push_back(p);
+    } else if (tok[0] == "f") {
+      ObjPolygon poly{object, group, material, {}};
+      for (int i = 1; i < tok.size(); ++i) {
+        bool ok = false;
+        int idx = tok[i].section('/', 0, 0).toInt(&ok);
+        if (!ok) throw Error(str(path), where, "face index '" + str(tok[i]) + "' is not a number");
+        if (idx < 0) idx = int(verts.size()) + 1 + idx;
+        if (idx < 1 || idx > int(verts.size()))
+          throw Error(str(path), where, "face index " + std::to_string(idx) + " refers to no vertex");
+        poly.vertices.push_back(verts[idx - 1]);
+      }
+      out.push_back(poly);
+    }
+  }
+  return out;
+}
+
+QString resolve(const QString& base, const std::string& rel) {
+  return QFileInfo(rel.c_str()).isAbsolute() ? QString::fromStdString(rel) : QDir(base).filePath(QString::fromStdString(rel));
+}
+
+}  // namespace
+
+void checkPhotos(const Scene& scene) {
+  for (const auto& ph : scene.photos) {
+    for (const std::string& rel : {ph.file, ph.hdr}) {
+      if (rel.empty()) continue;
+      const std::string path = str(resolve(QString::fromStdString(scene.baseDir), rel));
+      int w = 0, h = 0;
+      try {
+        imageSize(path, w, h);
+      } catch (const Error& e) {
+        throw Error(scene.sourceFile, "photo '" + ph.name + "'", e.problem() + " (" + path + ")");
+      }
+      if (w != ph.camera.width || h != ph.camera.height)
+        throw Error(scene.sourceFile, "photo '" + ph.name + "'",
+                    path + " is " + std::to_string(w) + "x" + std::to_string(h) + " but the camera says " +
+                        std::to_string(ph.camera.width) + "x" + std::to_string(ph.camera.height));
+    }
+  }
+}
+
+static void readSceneObject(const QJsonObject& root, const JsonReader& jr, Scene& scene, bool polygonsFromJson) {
+  if (polygonsFromJson) {
+    if (!root["polygons"].isArray()) jr.fail("", "has no 'polygons' array");
+    for (const auto& pv : root["polygons"].toArray()) {
+      const QJsonObject po = pv.toObject();
+      Polygon p;
+      p.name = str(po["name"].toString());
+      if (p.name.empty()) jr.fail("a polygon", "has no name");
+      const std::string where = "polygon '" + p.name + "'";
+      if (scene.findPolygon(p.name) >= 0) jr.fail(where, "the name is used twice");
+      p.group = str(po["group"].toString());
+      p.material = str(po["material"].toString());
+      p.kind = kindFrom(po["kind"].toString(), jr, where);
+      p.vertices = jr.vertices(po["vertices"], where);
+      if (po["albedo"].isArray()) p.albedo = jr.vec3(po["albedo"], where, "albedo");
+      else if (p.kind == PolygonKind::Real) jr.fail(where, "has no albedo");
+      scene.polygons.push_back(p);
+    }
+  }
+  readLamps(root[root.contains("lamps") ? "lamps" : "lights"].toArray(), jr, scene);
+  readPhotos(root["photos"].toArray(), jr, scene);
+  scene.mainPhoto = str(root[root.contains("main_photo") ? "main_photo" : "mainPhoto"].toString());
+  if (scene.mainPhoto.empty() && !scene.photos.empty()) scene.mainPhoto = scene.photos.front().name;
+  if (!scene.mainPhoto.empty() && !scene.findPhoto(scene.mainPhoto))
+    jr.fail("main_photo", "names photo '" + scene.mainPhoto + "', which is not listed");
+  readVariants(root["variants"].toArray(), jr, scene);
+}
+
+Scene readBundle(const std::string& folder) {
+  const QString dir = QString::fromStdString(folder);
+  const QString json = QDir(dir).filePath("scene.json");
+  Scene scene;
+  scene.baseDir = str(QFileInfo(dir).absoluteFilePath());
+  scene.sourceFile = str(json);
+  const QJsonObject root = readJsonObject(json);
+  JsonReader jr{scene.sourceFile};
+  const bool jsonHasGeometry = root["polygons"].isArray() && !root["polygons"].toArray().isEmpty() &&
+                               root["polygons"].toArray()[0].toObject().contains("vertices");
+  if (!jsonHasGeometry) {
+    // Geometry from geometry.obj; names, kinds and albedos from scene.json's polygon entries.
+    const QString obj = QDir(dir).filePath("geometry.obj");
+    std::map<std::string, QJsonObject> meta;
+    for (const auto& pv : root["polygons"].toArray()) meta[str(pv.toObject()["name"].toString())] = pv.toObject();
+    int n = 0;
+    for (const auto& op : readObj(obj)) {
+      Polygon p;
+      p.name = op.object.empty() ? "polygon_" + std::to_string(n) : op.object;
+      if (scene.findPolygon(p.name) >= 0) p.name += "_" + std::to_string(n);
+      p.group = op.group;
+      p.material = op.material;
+      p.vertices = op.vertices;
+      if (auto it = meta.find(p.name); it != meta.end()) {
+        const std::string where = "polygon '" + p.name + "'";
+        p.kind = kindFrom(it->second["kind"].toString(), jr, where);
+        if (it->second["albedo"].isArray()) p.albedo = jr.vec3(it->second["albedo"], where, "albedo");
+      }
+      scene.polygons.push_back(p);
+      ++n;
+    }
+  }
+  readSceneObject(root, jr, scene, jsonHasGeometry);
+  validateScene(scene);
+  checkPhotos(scene);
+  return scene;
+}
+
+Scene readObjWithJson(const std::string& objPath, const std::string& jsonPath) {
+  Scene scene;
+  scene.sourceFile = objPath;
+  scene.baseDir = str(QFileInfo(QString::fromStdString(jsonPath)).absolutePath());
+  const QJsonObject root = readJsonObject(QString::fromStdString(jsonPath));
+  JsonReader jr{jsonPath};
+  std::map<std::string, glm::dvec3> materials;
+  const QJsonObject mats = root["materials"].toObject();
+  for (auto it = mats.begin(); it != mats.end(); ++it)
+    materials[str(it.key())] = jr.vec3(it.value().isObject() ? it.value().toObject()["albedo"] : it.value(),
+                                       "material '" + str(it.key()) + "'", "albedo");
+  int n = 0;
+  for (const auto& op : readObj(QString::fromStdString(objPath))) {
+    Polygon p;
+    p.name = op.object.empty() ? "polygon_" + std::to_string(n) : op.object;
+    if (scene.findPolygon(p.name) >= 0) p.name += "_" + std::to_string(n);
+    p.group = op.group.empty() ? op.object : op.group;
+    p.material = op.material;
+    p.vertices = op.vertices;
+    if (auto it = materials.find(p.material); it != materials.end()) p.albedo = it->second;
+    else if (root.contains("default_albedo")) p.albedo = jr.vec3(root["default_albedo"], "default_albedo", "albedo");
+    scene.polygons.push_back(p);
+    ++n;
+  }
+  scene.sourceFile = objPath;
+  readSceneObject(root, jr, scene, false);
+  scene.sourceFile = objPath;
+  validateScene(scene);
+  checkPhotos(scene);
+  return scene;
+}
+
+Scene readProject(const std::string& projectPath) {
+  QFileInfo fi(QString::fromStdString(projectPath));
+  const QString json = fi.isDir() ? QDir(fi.filePath()).filePath("project.json") : fi.filePath();
+  Scene scene;
+  scene.sourceFile = str(json);
+  scene.baseDir = str(QFileInfo(json).absolutePath());
+  const QJsonObject root = readJsonObject(json);
+  JsonReader jr{scene.sourceFile};
+  if (root["format"].toString() != "relume-project") jr.fail("format", "is not a Relume project (format must be 'relume-project')");
+  const int version = root["version"].toInt(-1);
+  if (version < 1 || version > kProjectVersion)
+    jr.fail("version", "project version " + std::to_string(version) + " is not supported (this Relume reads up to " +
+                           std::to_string(kProjectVersion) + ")");
+  readSceneObject(root, jr, scene, true);
+  validateScene(scene);
+  checkPhotos(scene);
+  return scene;
+}
+
+Scene loadRoom(const std::string& path) {
+  const QFileInfo fi(QString::fromStdString(path));
+  if (!fi.exists()) throw Error(path, "", "no such file or folder");
+  if (fi.isDir()) {
+    const QDir d(fi.filePath());
+    if (d.exists("project.json")) return readProject(path);
+    if (d.exists("scene.json")) return readBundle(path);
+    throw Error(path, "", "the folder holds neither scene.json (a room bundle) nor project.json (a Relume project)");
+  }
+  if (fi.fileName() == "project.json") return readProject(path);
+  if (fi.fileName() == "scene.json") return readBundle(str(fi.absolutePath()));
+  if (fi.suffix().toLower() == "obj") {
+    const QString json = QDir(fi.absolutePath()).filePath(fi.completeBaseName() + ".json");
+    if (!QFileInfo::exists(json)) throw Error(path, "", "an OBJ room needs its JSON beside it: " + str(json));
+    return readObjWithJson(path, str(json));
+  }
+  throw Error(path, "", "not a room: give a bundle folder, a Relume project or an .obj with its .json");
+}
+
+// ----------------------------------------------------------------------------------------------
+// Writing
+
+namespace {
+QJsonArray toJson(const glm::dvec3& v) { return QJsonArray{v.x, v.y, v.z}; }
+QJsonArray toJson(const glm::dmat3& m) {
+  QJsonArray rows;
+  for (int r = 0; r < 3; ++r) rows.append(QJsonArray{m[0][r], m[1][r], m[2][r]});
+  return rows;
+}
+}  // namespace
+
+void saveProject(const Scene& scene, const std::string& folder, Progress& progress) {
+  const QFileInfo target(QString::fromStdString(folder));
+  const QString parent = target.absolutePath();
+  if (!QDir().mkpath(parent)) throw Error(folder, "", "cannot create the parent folder");
+  const QString staging = parent + "/." + target.fileName() + ".saving";
+  QDir(staging).removeRecursively();
+  if (!QDir().mkpath(staging + "/photos")) throw Error(folder, "", "cannot create a staging folder in " + str(parent));
+  auto abandon = [&](const std::string& why) {
+    QDir(staging).removeRecursively();
+    throw Error(folder, "", why);
+  };
+  QJsonObject root;
+  root["format"] = "relume-project";
+  root["version"] = kProjectVersion;
+  root["units"] = "metres";
+  root["up"] = "+Z";
+  QJsonArray polys;
+  for (const auto& p : scene.polygons) {
+    QJsonObject o;
+    o["name"] = QString::fromStdString(p.name);
+    o["group"] = QString::fromStdString(p.group);
+    o["material"] = QString::fromStdString(p.material);
+    o["kind"] = kindName(p.kind);
+    QJsonArray vs;
+    for (const auto& v : p.vertices) vs.append(toJson(v));
+    o["vertices"] = vs;
+    if (p.kind != PolygonKind::Light) o["albedo"] = toJson(p.albedo);
+    polys.append(o);
+  }
+  root["polygons"] = polys;
+  QJsonArray lamps;
+  for (const auto& l : scene.lamps)
+    lamps.append(QJsonObject{{"name", QString::fromStdString(l.name)},
+                             {"polygon", QString::fromStdString(scene.polygons[l.polygon].name)},
+                             {"radiance_rgb", toJson(l.radiance)}});
+  root["lamps"] = lamps;
+  QJsonArray photos;
+  int done = 0;
+  for (const auto& ph : scene.photos) {
+    progress.report(double(done++) / std::max<size_t>(1, scene.photos.size()), "copying photo " + ph.name);
+    QJsonObject o{{"name", QString::fromStdString(ph.name)}};
+    for (const auto& [key, rel] : {std::pair<const char*, std::string>{"file", ph.file}, {"hdr", ph.hdr}}) {
+      if (rel.empty()) continue;
+      const QString src = resolve(QString::fromStdString(scene.baseDir), rel);
+      const QString name = "photos/" + QFileInfo(src).fileName();
+      if (!QFile::copy(src, staging + "/" + name)) abandon("cannot copy photo " + str(src));
+      o[key] = name;
+    }
+    o["K"] = toJson(ph.camera.K);
+    o["R"] = toJson(ph.camera.R);
+    o["t"] = toJson(ph.camera.t);
+    o["width"] = ph.camera.width;
+    o["height"] = ph.camera.height;
+    photos.append(o);
+  }
+  root["photos"] = photos;
+  root["main_photo"] = QString::fromStdString(scene.mainPhoto);
+  QJsonArray variants;
+  for (const auto& v : scene.variants) {
+    QJsonObject o{{"name", QString::fromStdString(v.name)}};
+    QJsonObject lights;
+    for (const auto& [k, s] : v.lampScale) lights[QString::fromStdString(k)] = toJson(s);
+    o["lights"] = lights;
+    variants.append(o);
+  }
+  root["variants"] = variants;
+  {
+    QSaveFile f(staging + "/project.json");
+    if (!f.open(QIODevice::WriteOnly)) abandon("cannot write project.json: " + str(f.errorString()));
+    f.write(QJsonDocument(root).toJson(QJsonDocument::Indented));
+    if (!f.commit()) abandon("cannot write project.json: " + str(f.errorString()));
+  }
+  progress.poll();
+  // Swap into place: old -> backup, staging -> target, drop backup.
+  const QString path = target.absoluteFilePath();
+  const QString backup = parent + "/." + target.fileName() + ".previous";
+  QDir(backup).removeRecursively();
+  const bool hadOld = QFileInfo::exists(path);
+  if (hadOld && !QDir().rename(path, backup)) abandon("cannot move the existing project aside");
+  if (!QDir().rename(staging, path)) {
+    if (hadOld) QDir().rename(backup, path);
+    abandon("cannot move the new project into place");
+  }
+  if (hadOld) QDir(backup).removeRecursively();
+}
+
+}  // namespace relume

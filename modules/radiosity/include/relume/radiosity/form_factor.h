@@ -1,0 +1,23 @@
+#pragma once
+// Form factors: the exact point-to-polygon formula (Lambert / Hottel contour integral) and
+// area-to-area factors by Gauss-Legendre quadrature over the receiver.
+#include <glm/vec3.hpp>
+#include <vector>
+
+namespace relume::radiosity {
+
+// Differential area at p (unit normal n) to the convex polygon `poly`. The polygon is clipped to
+// the hemisphere above p; a polygon seen from its back contributes 0.
+double pointToPolygonFormFactor(const glm::dvec3& p, const glm::dvec3& n,
+                                const std::vector<glm::dvec3>& poly);
+
+// F_{A->B}: fraction of the energy leaving polygon A (diffusely) that arrives at polygon B, with
+// no occlusion: the mean over A of the point-to-polygon factor, using an order x order
+// Gauss-Legendre rule on each triangle-fan quadrilateral of A (order 1..8).
+double polygonToPolygonFormFactor(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b,
+                                  int order = 4);
+
+// Gauss-Legendre nodes on [0,1] and their weights (summing to 1), order 1..8.
+void gaussLegendre01(int order, std::vector<double>& nodes, std::vector<double>& weights);
+
+}  // namespace relume::radiosity

@@ -1,0 +1,158 @@
+#pragma once
+// Hierarchical radiosity with clustering (Hanrahan-Salzman-Aupperle 1991; Smits-Arvo-Greenberg
+// 1994; Sillion 1995), as Loscos et al. 2000 §2.3 uses it: per-polygon quadtrees of elements, a
+// cluster hierarchy over all polygons whose root is linked to itself, links that carry the form
+// factor, the attenuation (visibility) factor and its type, BF / BFV refinement, gather and
+// push-pull iterated to a tolerance, RGB throughout.
+#include <cstdint>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "relume/geometry/progress.h"
+
+namespace relume {
+class RayScene;
+struct Scene;
+}  // namespace relume
+
+namespace relume::radiosity {
+
+enum class Oracle { BF, BFV };
+enum class VisibilityType : uint8_t { Visible = 0, Invisible = 1, Partial = 2 };
+
+struct Options {
+  Oracle oracle = Oracle::BF;
+  // Refinement threshold. A link's error is rho_r * B_s * dF, dF the spread of the point-to-source
+  // form factor over the receiver's quadrature points (the whole factor when a cluster is involved,
+  // since the isotropic cluster kernel is only an estimate). BF uses dF regardless of visibility;
+  // BFV weights it by V and takes the whole F on PARTIAL links, so shadow boundaries refine and
+  // fully hidden ones do not. A link is refined while its error exceeds epsilon times the scene's
+  // mean first-bounce irradiance (emitted power / receiving area).
+  double epsilon = 0.01;
+  double minArea = 2e-3;     // m^2: elements are not subdivided below this area
+  int visibilityRays = 16;   // stratified, jittered ray pairs per link
+  int quadratureOrder = 2;   // Gauss points per axis on a receiving element for its form factor
+  double tolerance = 1e-4;   // stop when max |dB| on leaves <= tolerance * mean leaf radiosity
+  int maxIterations = 500;
+  int maxRefineRounds = 6;   // refine / solve rounds (B changes, so the BF oracle is re-asked)
+  uint32_t seed = 1;
+};
+
+// One polygon as the engine sees it.
+struct Surface {
+  std::string name;
+  std::vector<glm::dvec3> vertices;  // convex, planar, counter-clockwise around the normal
+  glm::dvec3 reflectance{0.0};       // diffuse albedo, RGB
+  glm::dvec3 exitance{0.0};          // emitted radiosity W/m^2 (pi x radiance), RGB
+};
+
+// Polygons, albedos and lamps of a scene (lamp polygons reflect nothing).
+std::vector<Surface> surfacesFromScene(const Scene& scene);
+
+struct Totals {
+  size_t elements = 0, clusters = 0, leaves = 0, links = 0;
+  uint64_t rays = 0;
+  int iterations = 0;      // gather + push-pull sweeps of the last solve
+  double seconds = 0;      // of the last solve()
+  size_t linkBytes = 0;    // memory held by the link arrays
+};
+
+struct SolveStats {
+  int iterations = 0;
+  double residual = 0;  // last max |dB| / mean leaf radiosity
+};
+
+class HierarchicalRadiosity {
+ public:
+  struct Node {
+    int32_t parent = -1;
+    int32_t childBegin = 0;  // into children()
+    int32_t childCount = 0;
+    int32_t surface = -1;    // -1 for clusters
+    int32_t level = 0;
+    float u0 = 0, v0 = 0, u1 = 0, v1 = 0;  // element rectangle in its surface's plane frame
+    float area = 0;
+    float radius = 0;  // bounding sphere around `center`
+    glm::vec3 center{0.f};
+    glm::vec3 bmin{0.f}, bmax{0.f};
+    bool subdivided = false;  // element: children created (maybe none inside the polygon)
+    bool isCluster() const { return surface < 0; }
+    bool isLeaf() const { return childCount == 0; }
+  };
+  struct Link {
+    int32_t receiver = -1, source = -1;
+    float formFactor = 0;  // unoccluded kernel: E_receiver += F * V * B_source
+    float visibility = 1;  // attenuation factor in [0,1]
+    float variation = 0;   // spread of the point kernel over the receiver (the oracle's error)
+    VisibilityType type = VisibilityType::Visible;
+  };
+
+  HierarchicalRadiosity(std::vector<Surface> surfaces, Options options = {});
+  ~HierarchicalRadiosity();
+  HierarchicalRadiosity(const HierarchicalRadiosity&) = delete;
+  HierarchicalRadiosity& operator=(const HierarchicalRadiosity&) = delete;
+
+  // Refine and iterate to the tolerance (refine / solve rounds until no link is refined).
+  SolveStats solve(Progress& progress = silentProgress());
+  // Gather + push-pull to the tolerance with the links as they are: no refinement, no rays.
+  SolveStats iterate(Progress& progress = silentProgress());
+  // Changes a surface's emitted radiosity; call iterate() after.
+  void setExitance(int surface, const glm::dvec3& exitance);
+  void setReflectance(int surface, const glm::dvec3& reflectance);
+
+  // --- seams for what comes next -------------------------------------------------------------
+  // Replaces every link whose source lies on an emitting surface and whose receiver is not a
+  // leaf by links to the receiver's leaves (clusters opened down to elements); F and V computed.
+  void pushLampLinksToLeaves(Progress& progress = silentProgress());
+  // Forces refinement of links arriving from `sourceSurfaces` onto `receiverSurfaces`: cluster
+  // receivers are opened so that these links land on the polygons, then refined by the oracle.
+  void forceRefine(const std::vector<int>& receiverSurfaces, const std::vector<int>& sourceSurfaces,
+                   Progress& progress = silentProgress());
+  // Links whose shaft (the convex hull of receiver and source bounds) the box crosses.
+  std::vector<int> linksCrossingBox(const glm::vec3& boxMin, const glm::vec3& boxMax) const;
+
+  // --- results ------------------------------------------------------------------------------
+  const std::vector<Surface>& surfaces() const { return surfaces_; }
+  const std::vector<Node>& nodes() const { return nodes_; }
+  const std::vector<int32_t>& children() const { return children_; }
+  const std::vector<Link>& links() const { return links_; }
+  int surfaceRoot(int surface) const { return surfaceRoot_[surface]; }
+  int rootCluster() const { return 0; }
+  const glm::vec3& radiosity(int node) const { return B_[node]; }
+  // Total irradiance arriving at a node (its own links plus all its ancestors').
+  glm::vec3 irradiance(int node) const;
+  // Area means over a surface's leaves.
+  glm::dvec3 surfaceRadiosity(int surface) const;
+  glm::dvec3 surfaceIrradiance(int surface) const;
+  // The leaf element of `surface` containing plane-frame coordinates uv (the deepest node).
+  int findLeaf(int surface, glm::dvec2 uv) const;
+  // Plane frame of a surface (to map world points to the elements' uv).
+  glm::dvec2 toUV(int surface, const glm::dvec3& p) const;
+  glm::dvec3 toWorld(int surface, glm::dvec2 uv) const;
+  const Options& options() const { return options_; }
+  Totals totals() const;
+  bool isEmitter(int surface) const;
+  // Does `node` (or a cluster containing it) contain emitting surfaces only?
+  bool sourceIsEmitter(int node) const;
+  const RayScene& rayScene() const;
+
+ struct Impl;  // engine internals (opaque to users)
+
+ private:
+  std::unique_ptr<Impl> impl_;
+  std::vector<Surface> surfaces_;
+  Options options_;
+  std::vector<Node> nodes_;
+  std::vector<int32_t> children_;
+  std::vector<int32_t> surfaceRoot_;
+  std::vector<Link> links_;
+  std::vector<glm::vec3> B_, E_, Edown_;
+
+  friend struct Builder;
+  friend bool refineLinks(struct RefineContext& ctx, Progress& progress);
+};
+
+}  // namespace relume::radiosity

@@ -1,0 +1,94 @@
+#include "relume/radiosity/form_factor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <numbers>
+#include <stdexcept>
+
+#include "relume/geometry/polygon.h"
+
+namespace relume::radiosity {
+
+double pointToPolygonFormFactor(const glm::dvec3& p, const glm::dvec3& n,
+                                const std::vector<glm::dvec3>& poly) {
+  if (poly.size() < 3) return 0.0;
+  // A polygon whose front does not face p sends nothing towards it.
+  const glm::dvec3 an = areaVector(poly);
+  if (glm::dot(an, p - poly[0]) <= 0.0) return 0.0;
+  // Keep the part above p's tangent plane (a tiny lift avoids the singular contour).
+  const std::vector<glm::dvec3> clipped = clipToHalfSpace(poly, p + n * 1e-12, n);
+  if (clipped.size() < 3) return 0.0;
+  // Lambert's contour integral: F = 1/(2 pi) sum_i gamma_i * n . (R_i x R_{i+1}) / |R_i x R_{i+1}|.
+  double sum = 0.0;
+  const size_t k = clipped.size();
+  for (size_t i = 0; i < k; ++i) {
+    const glm::dvec3 r0 = clipped[i] - p;
+    const glm::dvec3 r1 = clipped[(i + 1) % k] - p;
+    const double l0 = glm::length(r0), l1 = glm::length(r1);
+    if (l0 < 1e-15 || l1 < 1e-15) continue;
+    const glm::dvec3 c = glm::cross(r0, r1);
+    const double cl = glm::length(c);
+    if (cl < 1e-300) continue;
+    const double cosg = std::clamp(glm::dot(r0, r1) / (l0 * l1), -1.0, 1.0);
+    const double gamma = std::atan2(cl / (l0 * l1), cosg);
+    sum += gamma * glm::dot(n, c) / cl;
+  }
+  // The polygon faces p, so every term has the orientation's sign: the magnitude is the factor.
+  return std::abs(sum) / (2.0 * std::numbers::pi);
+}
+
+void gaussLegendre01(int order, std::vector<double>& nodes, std::vector<double>& weights) {
+  order = std::clamp(order, 1, 8);
+  nodes.assign(order, 0.0);
+  weights.assign(order, 0.0);
+  // Newton iteration on the Legendre polynomial P_order.
+  for (int i = 0; i < order; ++i) {
+    double x = std::cos(std::numbers::pi * (i + 0.75) / (order + 0.5));
+    double dp = 1.0;
+    for (int it = 0; it < 100; ++it) {
+      double p0 = 1.0, p1 = x;
+      for (int k = 2; k <= order; ++k) {
+        const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      if (order == 1) {
+        p1 = x;
+        p0 = 1.0;
+      }
+      dp = order * (x * p1 - p0) / (x * x - 1.0);
+      const double dx = p1 / dp;
+      x -= dx;
+      if (std::abs(dx) < 1e-15) break;
+    }
+    nodes[i] = 0.5 * (1.0 - x);
+    weights[i] = 1.0 / ((1.0 - x * x) * dp * dp);  // 2/((1-x^2)P'^2), halved for [0,1]
+  }
+}
+
+double polygonToPolygonFormFactor(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b,
+                                  int order) {
+  std::vector<double> x, w;
+  gaussLegendre01(order, x, w);
+  const glm::dvec3 n = polygonNormal(a);
+  double total = 0.0, areaSum = 0.0;
+  // Fan of triangles (a0, ai, ai+1), each mapped from the unit square by the Duffy map
+  // (s, t) -> a0 + s (ai - a0) + s t (ai+1 - ai), Jacobian 2 * area * s.
+  for (size_t i = 1; i + 1 < a.size(); ++i) {
+    const glm::dvec3 e1 = a[i] - a[0], e2 = a[i + 1] - a[i];
+    const double area = 0.5 * glm::length(glm::cross(a[i] - a[0], a[i + 1] - a[0]));
+    if (area <= 0) continue;
+    double tri = 0.0;
+    for (size_t s = 0; s < x.size(); ++s)
+      for (size_t t = 0; t < x.size(); ++t) {
+        const glm::dvec3 q = a[0] + x[s] * e1 + x[s] * x[t] * e2;
+        tri += w[s] * w[t] * 2.0 * x[s] * pointToPolygonFormFactor(q, n, b);
+      }
+    total += tri * area;
+    areaSum += area;
+  }
+  return areaSum > 0 ? total / areaSum : 0.0;
+}
+
+}  // namespace relume::radiosity

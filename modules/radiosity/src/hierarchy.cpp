@@ -1,0 +1,914 @@
+#include "relume/radiosity/hierarchy.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <glm/geometric.hpp>
+#include <numbers>
+#include <numeric>
+#include <random>
+
+#include "relume/geometry/polygon.h"
+#include "relume/geometry/scene.h"
+#include "relume/radiosity/form_factor.h"
+#include "relume/raytrace/ray_scene.h"
+
+namespace relume::radiosity {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr float kUnknownVisibility = -1.f;
+constexpr float kNormalOffset = 1e-4f;  // m: sample points lifted off their surface
+
+float maxc(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+// SplitMix64: a small, good, deterministic generator per link.
+struct Rng {
+  uint64_t s;
+  explicit Rng(uint64_t seed) : s(seed) {}
+  uint64_t next() {
+    uint64_t z = (s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }
+};
+}  // namespace
+
+std::vector<Surface> surfacesFromScene(const Scene& scene) {
+  std::vector<Surface> out;
+  out.reserve(scene.polygons.size());
+  for (size_t i = 0; i < scene.polygons.size(); ++i) {
+    const Polygon& p = scene.polygons[i];
+    Surface s;
+    s.name = p.name;
+    s.vertices = p.vertices;
+    const int lamp = scene.lampOfPolygon(int(i));
+    if (p.kind == PolygonKind::Light || lamp >= 0) {
+      s.reflectance = glm::dvec3(0.0);  // lamp polygons reflect nothing
+      if (lamp >= 0) s.exitance = kPi * scene.lamps[lamp].radiance;
+    } else if (p.kind == PolygonKind::Window) {
+      s.reflectance = glm::dvec3(0.0);  // an opening absorbs everything that leaves the room
+    } else {
+      s.reflectance = p.albedo;
+    }
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+struct HierarchicalRadiosity::Impl {
+  std::unique_ptr<RayScene> rays;
+  std::vector<PlaneFrame> frames;
+  std::vector<std::vector<glm::dvec2>> uvPolys;
+  std::vector<std::vector<double>> fanCdf;  // cumulative triangle-fan areas per surface
+  std::vector<double> surfaceArea;
+  std::vector<int32_t> perm, posInPerm;      // cluster surface order
+  std::vector<int32_t> rangeBegin, rangeCount;  // per node (clusters)
+  std::vector<glm::vec3> rho, emit;          // per node (leaves use them)
+  std::vector<float> rhoMax;                 // per node: max reflectance below it
+  std::vector<uint8_t> emitterOnly;          // per node: every surface below emits
+  // Gather arrays, sorted by receiver (struct of arrays).
+  std::vector<int32_t> gRecv, gSrc;
+  std::vector<float> gK;
+  bool gatherDirty = true;
+  double eRef = 1.0;  // mean first-bounce irradiance
+  uint64_t raysAtStart = 0;
+  double lastSeconds = 0;
+  int lastIterations = 0;
+};
+
+// ----------------------------------------------------------------------------------------------
+// Construction: surface frames, the cluster hierarchy, surface root elements.
+
+struct Builder {
+  HierarchicalRadiosity& h;
+  HierarchicalRadiosity::Impl& im;
+
+  int newNode(const HierarchicalRadiosity::Node& n) {
+    h.nodes_.push_back(n);
+    im.rangeBegin.push_back(0);
+    im.rangeCount.push_back(0);
+    im.rho.emplace_back(0.f);
+    im.emit.emplace_back(0.f);
+    im.rhoMax.push_back(0.f);
+    im.emitterOnly.push_back(0);
+    return int(h.nodes_.size()) - 1;
+  }
+
+  int surfaceRootNode(int s, int parent) {
+    HierarchicalRadiosity::Node n;
+    n.parent = parent;
+    n.surface = s;
+    n.level = parent >= 0 ? h.nodes_[parent].level + 1 : 0;
+    glm::dvec2 lo(1e300), hi(-1e300);
+    for (const auto& q : im.uvPolys[s]) {
+      lo = glm::min(lo, q);
+      hi = glm::max(hi, q);
+    }
+    n.u0 = float(lo.x);
+    n.v0 = float(lo.y);
+    n.u1 = float(hi.x);
+    n.v1 = float(hi.y);
+    setElementGeometry(n, im.uvPolys[s], s);
+    const int id = newNode(n);
+    const Surface& surf = h.surfaces_[s];
+    im.rho[id] = glm::vec3(surf.reflectance);
+    im.emit[id] = glm::vec3(surf.exitance);
+    im.rhoMax[id] = maxc(im.rho[id]);
+    im.emitterOnly[id] = maxc(im.emit[id]) > 0.f ? 1 : 0;
+    h.surfaceRoot_[s] = id;
+    return id;
+  }
+
+  void setElementGeometry(HierarchicalRadiosity::Node& n, const std::vector<glm::dvec2>& uvPoly, int s) {
+    const PlaneFrame& f = im.frames[s];
+    n.area = float(std::abs(polygonArea2D(uvPoly)));
+    const glm::dvec3 c = f.toWorld(polygonCentroid2D(uvPoly));
+    n.center = glm::vec3(c);
+    glm::dvec3 lo(1e300), hi(-1e300);
+    double r = 0;
+    for (const auto& q : uvPoly) {
+      const glm::dvec3 w = f.toWorld(q);
+      lo = glm::min(lo, w);
+      hi = glm::max(hi, w);
+      r = std::max(r, glm::length(w - c));
+    }
+    n.bmin = glm::vec3(lo);
+    n.bmax = glm::vec3(hi);
+    n.radius = float(r);
+  }
+
+  int buildCluster(int begin, int end, int parent) {
+    HierarchicalRadiosity::Node n;
+    n.parent = parent;
+    n.level = parent >= 0 ? h.nodes_[parent].level + 1 : 0;
+    const int id = newNode(n);
+    im.rangeBegin[id] = begin;
+    im.rangeCount[id] = end - begin;
+    std::vector<int> kids;
+    const int count = end - begin;
+    if (count <= 2) {
+      const int cb = int(h.children_.size());
+      h.children_.resize(cb + count);
+      h.nodes_[id].childBegin = cb;
+      h.nodes_[id].childCount = count;
+      for (int i = 0; i < count; ++i) h.children_[cb + i] = surfaceRootNode(im.perm[begin + i], id);
+    } else {
+      // Median split along the longest axis of the surface centroids.
+      glm::vec3 lo(1e30f), hi(-1e30f);
+      auto centroid = [&](int s) { return glm::vec3(polygonCentroid(h.surfaces_[s].vertices)); };
+      for (int i = begin; i < end; ++i) {
+        const glm::vec3 c = centroid(im.perm[i]);
+        lo = glm::min(lo, c);
+        hi = glm::max(hi, c);
+      }
+      const glm::vec3 ext = hi - lo;
+      const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+      const int mid = begin + count / 2;
+      std::nth_element(im.perm.begin() + begin, im.perm.begin() + mid, im.perm.begin() + end,
+                       [&](int a, int b) { return centroid(a)[axis] < centroid(b)[axis]; });
+      const int cb = int(h.children_.size());
+      h.children_.resize(cb + 2);
+      h.nodes_[id].childBegin = cb;
+      h.nodes_[id].childCount = 2;
+      const int c0 = buildCluster(begin, mid, id);
+      h.children_[cb] = c0;
+      const int c1 = buildCluster(mid, end, id);
+      h.children_[cb + 1] = c1;
+    }
+    // Bounds, area, centre (area-weighted), flags from the children.
+    auto& me = h.nodes_[id];
+    glm::vec3 lo(1e30f), hi(-1e30f), c(0.f);
+    float area = 0.f, rmax = 0.f;
+    bool allEmit = true;
+    for (int k = 0; k < me.childCount; ++k) {
+      const auto& ch = h.nodes_[h.children_[me.childBegin + k]];
+      lo = glm::min(lo, ch.bmin);
+      hi = glm::max(hi, ch.bmax);
+      c += ch.center * ch.area;
+      area += ch.area;
+      rmax = std::max(rmax, im.rhoMax[h.children_[me.childBegin + k]]);
+      allEmit = allEmit && im.emitterOnly[h.children_[me.childBegin + k]];
+    }
+    me.bmin = lo;
+    me.bmax = hi;
+    me.area = area;
+    me.center = area > 0 ? c / area : 0.5f * (lo + hi);
+    float r = 0.f;
+    for (const glm::vec3 corner : {glm::vec3(lo.x, lo.y, lo.z), glm::vec3(hi.x, lo.y, lo.z),
+                                   glm::vec3(lo.x, hi.y, lo.z), glm::vec3(hi.x, hi.y, lo.z),
+                                   glm::vec3(lo.x, lo.y, hi.z), glm::vec3(hi.x, lo.y, hi.z),
+                                   glm::vec3(lo.x, hi.y, hi.z), glm::vec3(hi.x, hi.y, hi.z)})
+      r = std::max(r, glm::length(corner - me.center));
+    me.radius = r;
+    im.rhoMax[id] = rmax;
+    im.emitterOnly[id] = allEmit ? 1 : 0;
+    return id;
+  }
+
+  // Quadtree split of an element (binary along the long side when it is more than twice as long).
+  void subdivide(int id) {
+    if (h.nodes_[id].subdivided || h.nodes_[id].isCluster()) return;
+    h.nodes_[id].subdivided = true;
+    const auto n = h.nodes_[id];
+    const int s = n.surface;
+    const float du = n.u1 - n.u0, dv = n.v1 - n.v0;
+    const int nu = dv > 2 * du ? 1 : 2, nv = du > 2 * dv ? 1 : 2;
+    std::vector<HierarchicalRadiosity::Node> kids;
+    for (int j = 0; j < nv; ++j)
+      for (int i = 0; i < nu; ++i) {
+        HierarchicalRadiosity::Node c;
+        c.parent = id;
+        c.surface = s;
+        c.level = n.level + 1;
+        c.u0 = n.u0 + du * i / nu;
+        c.u1 = i + 1 == nu ? n.u1 : n.u0 + du * (i + 1) / nu;
+        c.v0 = n.v0 + dv * j / nv;
+        c.v1 = j + 1 == nv ? n.v1 : n.v0 + dv * (j + 1) / nv;
+        const auto clipped = clipToRect(im.uvPolys[s], {c.u0, c.v0}, {c.u1, c.v1});
+        if (clipped.size() < 3) continue;
+        setElementGeometry(c, clipped, s);
+        if (c.area <= 1e-9f * n.area) continue;
+        kids.push_back(c);
+      }
+    const int cb = int(h.children_.size());
+    for (auto& c : kids) {
+      const int cid = newNode(c);
+      im.rho[cid] = im.rho[id];
+      im.emit[cid] = im.emit[id];
+      im.rhoMax[cid] = im.rhoMax[id];
+      im.emitterOnly[cid] = im.emitterOnly[id];
+      h.children_.push_back(cid);
+      h.B_.push_back(h.B_[id]);
+      h.E_.emplace_back(0.f);
+      h.Edown_.push_back(h.Edown_[id]);
+    }
+    h.nodes_[id].childBegin = cb;
+    h.nodes_[id].childCount = int(kids.size());
+  }
+};
+
+HierarchicalRadiosity::HierarchicalRadiosity(std::vector<Surface> surfaces, Options options)
+    : impl_(std::make_unique<Impl>()), surfaces_(std::move(surfaces)), options_(options) {
+  const size_t ns = surfaces_.size();
+  std::vector<std::vector<glm::dvec3>> polys;
+  polys.reserve(ns);
+  for (const auto& s : surfaces_) polys.push_back(s.vertices);
+  impl_->rays = std::make_unique<RayScene>(polys);
+  impl_->frames.resize(ns);
+  impl_->uvPolys.resize(ns);
+  impl_->fanCdf.resize(ns);
+  impl_->surfaceArea.resize(ns);
+  for (size_t s = 0; s < ns; ++s) {
+    const auto& v = surfaces_[s].vertices;
+    impl_->frames[s] = PlaneFrame::of(v);
+    for (const auto& q : v) impl_->uvPolys[s].push_back(impl_->frames[s].toUV(q));
+    double acc = 0;
+    for (size_t i = 1; i + 1 < v.size(); ++i) {
+      acc += 0.5 * glm::length(glm::cross(v[i] - v[0], v[i + 1] - v[0]));
+      impl_->fanCdf[s].push_back(acc);
+    }
+    impl_->surfaceArea[s] = acc;
+  }
+  surfaceRoot_.assign(ns, -1);
+  impl_->perm.resize(ns);
+  std::iota(impl_->perm.begin(), impl_->perm.end(), 0);
+  Builder b{*this, *impl_};
+  b.buildCluster(0, int(ns), -1);
+  impl_->posInPerm.resize(ns);
+  for (size_t i = 0; i < ns; ++i) impl_->posInPerm[impl_->perm[i]] = int(i);
+  B_.assign(nodes_.size(), glm::vec3(0.f));
+  E_.assign(nodes_.size(), glm::vec3(0.f));
+  Edown_.assign(nodes_.size(), glm::vec3(0.f));
+  // The root cluster linked to itself.
+  links_.push_back(Link{0, 0, 0.f, 1.f, 0.f, VisibilityType::Visible});
+}
+
+HierarchicalRadiosity::~HierarchicalRadiosity() = default;
+
+const RayScene& HierarchicalRadiosity::rayScene() const { return *impl_->rays; }
+
+bool HierarchicalRadiosity::isEmitter(int surface) const {
+  return std::max({surfaces_[surface].exitance.x, surfaces_[surface].exitance.y,
+                   surfaces_[surface].exitance.z}) > 0.0;
+}
+
+bool HierarchicalRadiosity::sourceIsEmitter(int node) const { return impl_->emitterOnly[node] != 0; }
+
+glm::dvec2 HierarchicalRadiosity::toUV(int surface, const glm::dvec3& p) const {
+  return impl_->frames[surface].toUV(p);
+}
+
+glm::dvec3 HierarchicalRadiosity::toWorld(int surface, glm::dvec2 uv) const {
+  return impl_->frames[surface].toWorld(uv);
+}
+
+// ----------------------------------------------------------------------------------------------
+// Kernels, sampling, visibility
+
+namespace {
+
+struct Kernel {
+  const HierarchicalRadiosity& h;
+  const HierarchicalRadiosity::Impl& im;
+  const std::vector<HierarchicalRadiosity::Node>& nodes;
+  int order;
+
+  std::vector<glm::dvec3> worldPolygon(int id) const {
+    const auto& n = nodes[id];
+    const auto clipped = clipToRect(im.uvPolys[n.surface], {n.u0, n.v0}, {n.u1, n.v1});
+    std::vector<glm::dvec3> w;
+    w.reserve(clipped.size());
+    for (const auto& q : clipped) w.push_back(im.frames[n.surface].toWorld(q));
+    return w;
+  }
+
+  // Quadrature points of an element (inside its polygon) with weights summing to 1.
+  void quadrature(int id, std::vector<glm::dvec3>& pts, std::vector<double>& wts) const {
+    const auto& n = nodes[id];
+    std::vector<double> x, w;
+    gaussLegendre01(order, x, w);
+    pts.clear();
+    wts.clear();
+    double sum = 0;
+    const auto& uvp = im.uvPolys[n.surface];
+    for (size_t i = 0; i < x.size(); ++i)
+      for (size_t j = 0; j < x.size(); ++j) {
+        const glm::dvec2 uv(n.u0 + x[i] * (n.u1 - n.u0), n.v0 + x[j] * (n.v1 - n.v0));
+        if (!insideConvex2D(uvp, uv, 1e-9)) continue;
+        pts.push_back(im.frames[n.surface].toWorld(uv));
+        wts.push_back(w[i] * w[j]);
+        sum += w[i] * w[j];
+      }
+    if (pts.empty()) {
+      pts.push_back(glm::dvec3(n.center));
+      wts.push_back(1.0);
+      return;
+    }
+    for (auto& v : wts) v /= sum;
+  }
+
+  // Is the node's bounding box entirely behind the plane (p, n)?
+  static bool behind(const HierarchicalRadiosity::Node& b, const glm::dvec3& p, const glm::dvec3& n) {
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec3 c((k & 1) ? b.bmax.x : b.bmin.x, (k & 2) ? b.bmax.y : b.bmin.y,
+                         (k & 4) ? b.bmax.z : b.bmin.z);
+      if (glm::dot(c - p, n) > 1e-9) return false;
+    }
+    return true;
+  }
+
+  // E_receiver += F * B_source (unoccluded); `variation` gets the kernel's spread over the receiver.
+  double formFactor(int r, int s, float& variation) const {
+    const auto& R = nodes[r];
+    const auto& S = nodes[s];
+    variation = 0.f;
+    if (!R.isCluster() && !S.isCluster()) {
+      if (R.surface == S.surface) return 0.0;  // planar polygons do not see themselves
+      const PlaneFrame& fr = im.frames[R.surface];
+      const PlaneFrame& fs = im.frames[S.surface];
+      if (behind(S, fr.toWorld({R.u0, R.v0}), fr.normal) ||
+          behind(R, fs.toWorld({S.u0, S.v0}), fs.normal))
+        return 0.0;
+      const auto src = worldPolygon(s);
+      std::vector<glm::dvec3> pts;
+      std::vector<double> wts;
+      quadrature(r, pts, wts);
+      double f = 0, fmin = 1e300, fmax = 0;
+      for (size_t i = 0; i < pts.size(); ++i) {
+        const double fi = pointToPolygonFormFactor(pts[i], fr.normal, src);
+        f += wts[i] * fi;
+        fmin = std::min(fmin, fi);
+        fmax = std::max(fmax, fi);
+      }
+      variation = float(pts.size() > 1 ? fmax - fmin : f);
+      return f;
+    }
+    // With a cluster at either end the kernel is an isotropic estimate; the oracle gets its bound
+    // with every cosine taken as 1 (a surface in the cluster may face the other end squarely).
+    double f = 0, bound = 0;
+    if (!R.isCluster()) {  // element <- cluster (isotropic source: intensity = power / 4 pi)
+      const PlaneFrame& fr = im.frames[R.surface];
+      if (behind(S, glm::dvec3(R.center), fr.normal)) return 0.0;
+      std::vector<glm::dvec3> pts;
+      std::vector<double> wts;
+      quadrature(r, pts, wts);
+      for (size_t i = 0; i < pts.size(); ++i) {
+        const glm::dvec3 d = glm::dvec3(S.center) - pts[i];
+        const double d2 = glm::dot(d, d);
+        const double cr = std::max(0.0, glm::dot(d, fr.normal) / std::sqrt(d2));
+        f += wts[i] * S.area * cr / (4.0 * kPi * d2);
+        bound = std::max(bound, S.area / (kPi * d2));
+      }
+    } else if (!S.isCluster()) {  // cluster <- element (isotropic receiver: mean cosine 1/4)
+      const PlaneFrame& fs = im.frames[S.surface];
+      if (behind(R, glm::dvec3(S.center), fs.normal)) return 0.0;
+      const glm::dvec3 d = glm::dvec3(R.center) - glm::dvec3(S.center);
+      const double d2 = glm::dot(d, d);
+      const double cs = std::max(0.0, glm::dot(d, fs.normal) / std::sqrt(d2));
+      f = S.area * cs / (4.0 * kPi * d2);
+      bound = S.area * cs / (kPi * d2);
+    } else {
+      const glm::dvec3 d = glm::dvec3(R.center) - glm::dvec3(S.center);
+      f = S.area / (16.0 * kPi * glm::dot(d, d));
+      bound = S.area / (kPi * glm::dot(d, d));
+    }
+    variation = float(bound);
+    return f;
+  }
+
+  // N stratified, jittered sample points on a node's surfaces (lifted off them along the normal).
+  void samplePoints(int id, int count, Rng& rng, std::vector<glm::vec3>& out) const {
+    out.clear();
+    const auto& n = nodes[id];
+    const int g = std::max(1, int(std::ceil(std::sqrt(double(count)))));
+    // Strata visited in a random order so that the pairing of two nodes' points decorrelates.
+    std::vector<int> strata(size_t(g) * g);
+    std::iota(strata.begin(), strata.end(), 0);
+    for (size_t i = strata.size(); i > 1; --i) std::swap(strata[i - 1], strata[rng.next() % i]);
+    for (int k = 0; k < count; ++k) {
+      const int st = strata[k % strata.size()];
+      const double a = (st % g + rng.uniform()) / g, b = (st / g + rng.uniform()) / g;
+      if (!n.isCluster()) {
+        out.push_back(pointOnElement(id, a, b, rng));
+      } else {
+        // Surface chosen by area with the first coordinate, point on it with the second + fresh.
+        const int begin = im.rangeBegin[id], cnt = im.rangeCount[id];
+        double total = 0;
+        for (int i = 0; i < cnt; ++i) total += im.surfaceArea[im.perm[begin + i]];
+        double t = a * total;
+        int s = im.perm[begin + cnt - 1];
+        for (int i = 0; i < cnt; ++i) {
+          const double sa = im.surfaceArea[im.perm[begin + i]];
+          if (t < sa) {
+            s = im.perm[begin + i];
+            break;
+          }
+          t -= sa;
+        }
+        out.push_back(pointOnSurface(s, b, rng.uniform()));
+      }
+    }
+  }
+
+  glm::vec3 pointOnElement(int id, double a, double b, Rng& rng) const {
+    const auto& n = nodes[id];
+    const auto& uvp = im.uvPolys[n.surface];
+    glm::dvec2 uv(n.u0 + a * (n.u1 - n.u0), n.v0 + b * (n.v1 - n.v0));
+    for (int tries = 0; tries < 8 && !insideConvex2D(uvp, uv, 1e-9); ++tries)
+      uv = {n.u0 + rng.uniform() * (n.u1 - n.u0), n.v0 + rng.uniform() * (n.v1 - n.v0)};
+    if (!insideConvex2D(uvp, uv, 1e-9)) uv = im.frames[n.surface].toUV(glm::dvec3(n.center));
+    const PlaneFrame& f = im.frames[n.surface];
+    return glm::vec3(f.toWorld(uv) + f.normal * double(kNormalOffset));
+  }
+
+  glm::vec3 pointOnSurface(int s, double a, double b) const {
+    const auto& v = h.surfaces()[s].vertices;
+    const auto& cdf = im.fanCdf[s];
+    double t = a * cdf.back();
+    size_t tri = std::lower_bound(cdf.begin(), cdf.end(), t) - cdf.begin();
+    tri = std::min(tri, cdf.size() - 1);
+    const double lo = tri ? cdf[tri - 1] : 0.0;
+    double u = (t - lo) / std::max(1e-300, cdf[tri] - lo), w = b;
+    if (u + w > 1) {
+      u = 1 - u;
+      w = 1 - w;
+    }
+    const glm::dvec3 p = v[0] + u * (v[tri + 1] - v[0]) + w * (v[tri + 2] - v[0]);
+    return glm::vec3(p + im.frames[s].normal * double(kNormalOffset));
+  }
+
+  float visibility(int r, int s, int rays, uint32_t seed) const {
+    Rng rng((uint64_t(uint32_t(r)) << 32 | uint32_t(s)) * 0x2545F4914F6CDD1Dull + seed);
+    thread_local std::vector<glm::vec3> a, b;
+    samplePoints(r, rays, rng, a);
+    samplePoints(s, rays, rng, b);
+    return im.rays->visibility(a, b, 1e-5f);
+  }
+};
+
+VisibilityType classify(float v) {
+  return v >= 1.f ? VisibilityType::Visible : (v <= 0.f ? VisibilityType::Invisible : VisibilityType::Partial);
+}
+
+}  // namespace
+
+// ----------------------------------------------------------------------------------------------
+// Refinement
+
+enum class Open { None, Receiver, Source };
+
+struct RefineContext {
+  HierarchicalRadiosity& h;
+  HierarchicalRadiosity::Impl& im;
+  bool useOracle = true;
+  std::function<Open(const HierarchicalRadiosity::Link&)> force;
+};
+
+namespace {
+
+bool canSubdivide(const HierarchicalRadiosity::Node& n, double minArea) {
+  if (n.isCluster()) return true;
+  if (n.subdivided) return n.childCount > 0;
+  const double rectArea = double(n.u1 - n.u0) * double(n.v1 - n.v0);
+  const float du = n.u1 - n.u0, dv = n.v1 - n.v0;
+  const int parts = (dv > 2 * du || du > 2 * dv) ? 2 : 4;
+  return rectArea / parts >= minArea;
+}
+
+}  // namespace
+
+// Refines links_ breadth-first; returns whether any link was replaced.
+bool refineLinks(RefineContext& ctx, Progress& progress) {
+  auto& h = ctx.h;
+  auto& im = ctx.im;
+  const Options& opt = h.options_;
+  Builder builder{h, im};
+  const double threshold = opt.epsilon * im.eRef;
+  bool changed = false;
+  std::vector<HierarchicalRadiosity::Link> frontier = std::move(h.links_), next, finals;
+  h.links_.clear();
+  auto computeVisibility = [&](std::vector<HierarchicalRadiosity::Link>& ls) {
+    Kernel k{h, im, h.nodes_, opt.quadratureOrder};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, ls.size(), 16), [&](const tbb::blocked_range<size_t>& rg) {
+      for (size_t i = rg.begin(); i < rg.end(); ++i) {
+        auto& l = ls[i];
+        if (l.visibility != kUnknownVisibility || l.receiver == l.source) continue;
+        l.visibility = k.visibility(l.receiver, l.source, opt.visibilityRays, opt.seed);
+        l.type = classify(l.visibility);
+      }
+    });
+  };
+  int pass = 0;
+  while (!frontier.empty()) {
+    progress.report(std::min(0.9, 0.1 * pass), "refining links (" + std::to_string(frontier.size()) +
+                                                  " to examine, " + std::to_string(finals.size()) + " kept)");
+    if (opt.oracle == Oracle::BFV) computeVisibility(frontier);
+    next.clear();
+    for (const auto& l : frontier) {
+      const auto& R = h.nodes_[l.receiver];
+      const auto& S = h.nodes_[l.source];
+      if (l.receiver == l.source) {
+        changed = true;
+        if (!R.isCluster()) continue;
+        const int cb = R.childBegin, cc = R.childCount;
+        for (int i = 0; i < cc; ++i)
+          for (int j = 0; j < cc; ++j) {
+            const int a = h.children_[cb + i], b = h.children_[cb + j];
+            next.push_back({a, b, 0.f, kUnknownVisibility, 0.f, VisibilityType::Visible});
+          }
+        continue;
+      }
+      Open open = ctx.force ? ctx.force(l) : Open::None;
+      if (open == Open::None && ctx.useOracle) {
+        const bool clusterEnd = R.isCluster() || S.isCluster();
+        const float dist = glm::length(R.center - S.center);
+        const bool overlap = clusterEnd && dist < R.radius + S.radius;
+        double kernelError = l.variation;
+        if (opt.oracle == Oracle::BFV)
+          kernelError = l.type == VisibilityType::Partial ? l.formFactor : l.visibility * l.variation;
+        const double err = double(im.rhoMax[l.receiver]) * maxc(h.B_[l.source]) * kernelError;
+        if (overlap || err > threshold) {
+          const bool rOk = canSubdivide(R, opt.minArea), sOk = canSubdivide(S, opt.minArea);
+          // Subdivide the larger end that can be subdivided; clusters that overlap must open.
+          if (rOk && (!sOk || R.area >= S.area)) open = Open::Receiver;
+          else if (sOk) open = Open::Source;
+        }
+      }
+      if (open == Open::None) {
+        finals.push_back(l);
+        continue;
+      }
+      const int node = open == Open::Receiver ? l.receiver : l.source;
+      if (!h.nodes_[node].isCluster()) builder.subdivide(node);
+      const auto& N = h.nodes_[node];
+      if (N.childCount == 0) {
+        finals.push_back(l);
+        continue;
+      }
+      changed = true;
+      for (int i = 0; i < N.childCount; ++i) {
+        const int c = h.children_[N.childBegin + i];
+        if (open == Open::Receiver) next.push_back({c, l.source, 0.f, kUnknownVisibility, 0.f, VisibilityType::Visible});
+        else next.push_back({l.receiver, c, 0.f, kUnknownVisibility, 0.f, VisibilityType::Visible});
+      }
+    }
+    // Form factors of the new links (parallel; nodes are not modified here); drop empty ones.
+    {
+      Kernel k{h, im, h.nodes_, opt.quadratureOrder};
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, next.size(), 64), [&](const tbb::blocked_range<size_t>& rg) {
+        for (size_t i = rg.begin(); i < rg.end(); ++i)
+          if (next[i].receiver != next[i].source)
+            next[i].formFactor = float(k.formFactor(next[i].receiver, next[i].source, next[i].variation));
+      });
+    }
+    frontier.clear();
+    for (const auto& l : next)
+      if (l.receiver == l.source || l.formFactor > 0.f) frontier.push_back(l);
+    ++pass;
+  }
+  computeVisibility(finals);
+  h.links_ = std::move(finals);
+  im.gatherDirty = true;
+  return changed;
+}
+
+// ----------------------------------------------------------------------------------------------
+// Gather, push-pull, iteration
+
+namespace {
+void buildGather(const std::vector<HierarchicalRadiosity::Link>& links, HierarchicalRadiosity::Impl& im) {
+  std::vector<int32_t> order(links.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return links[a].receiver != links[b].receiver ? links[a].receiver < links[b].receiver
+                                                  : links[a].source < links[b].source;
+  });
+  im.gRecv.clear();
+  im.gSrc.clear();
+  im.gK.clear();
+  for (int i : order) {
+    const float k = links[i].formFactor * links[i].visibility;
+    if (k <= 0.f) continue;
+    im.gRecv.push_back(links[i].receiver);
+    im.gSrc.push_back(links[i].source);
+    im.gK.push_back(k);
+  }
+  im.gRecv.shrink_to_fit();
+  im.gSrc.shrink_to_fit();
+  im.gK.shrink_to_fit();
+  im.gatherDirty = false;
+}
+}  // namespace
+
+SolveStats HierarchicalRadiosity::iterate(Progress& progress) {
+  auto& im = *impl_;
+  const auto t0 = std::chrono::steady_clock::now();
+  if (im.gatherDirty) buildGather(links_, im);
+  const size_t nn = nodes_.size();
+  B_.resize(nn);
+  E_.resize(nn);
+  Edown_.resize(nn);
+  std::vector<float> acc(nn * 3);
+  SolveStats st;
+  const size_t nl = im.gRecv.size();
+  for (int it = 0; it < options_.maxIterations; ++it) {
+    // Gather: E_r = sum over links of F V B_s.
+    std::fill(E_.begin(), E_.end(), glm::vec3(0.f));
+    for (size_t i = 0; i < nl;) {
+      const int r = im.gRecv[i];
+      glm::vec3 e(0.f);
+      for (; i < nl && im.gRecv[i] == r; ++i) e += im.gK[i] * B_[im.gSrc[i]];
+      E_[r] = e;
+    }
+    // Push irradiance down, set leaves, pull radiosity up (area-weighted).
+    double maxDelta = 0, sumB = 0, sumA = 0;
+    std::fill(acc.begin(), acc.end(), 0.f);
+    Edown_[0] = E_[0];
+    for (size_t n = 1; n < nn; ++n) Edown_[n] = Edown_[nodes_[n].parent] + E_[n];
+    for (size_t n = nn; n-- > 0;) {
+      const Node& N = nodes_[n];
+      glm::vec3 b;
+      if (N.isLeaf()) {
+        b = im.emit[n] + im.rho[n] * Edown_[n];
+        maxDelta = std::max(maxDelta, double(maxc(glm::abs(b - B_[n]))));
+        if (maxc(im.emit[n]) <= 0.f) {
+          sumB += double(maxc(b)) * N.area;
+          sumA += N.area;
+        }
+      } else {
+        b = N.area > 0 ? glm::vec3(acc[3 * n], acc[3 * n + 1], acc[3 * n + 2]) / N.area : glm::vec3(0.f);
+      }
+      B_[n] = b;
+      if (N.parent >= 0) {
+        float* a = &acc[3 * size_t(N.parent)];
+        a[0] += N.area * b.x;
+        a[1] += N.area * b.y;
+        a[2] += N.area * b.z;
+      }
+    }
+    st.iterations = it + 1;
+    const double mean = sumA > 0 ? sumB / sumA : 0.0;
+    st.residual = mean > 0 ? maxDelta / mean : (maxDelta > 0 ? 1.0 : 0.0);
+    if (st.residual <= options_.tolerance) break;
+    if ((it & 7) == 7) progress.poll();
+  }
+  im.lastIterations = st.iterations;
+  im.lastSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return st;
+}
+
+SolveStats HierarchicalRadiosity::solve(Progress& progress) {
+  auto& im = *impl_;
+  const auto t0 = std::chrono::steady_clock::now();
+  im.raysAtStart = im.rays->raysCast();
+  // Scale of the problem: mean first-bounce irradiance (emitted power over receiving area).
+  double power = 0, area = 0;
+  for (size_t s = 0; s < surfaces_.size(); ++s) {
+    const double a = im.surfaceArea[s];
+    const auto& e = surfaces_[s].exitance;
+    power += a * std::max({e.x, e.y, e.z});
+    if (!isEmitter(int(s))) area += a;
+  }
+  im.eRef = area > 0 && power > 0 ? power / area : 1.0;
+  // Start from emission only.
+  {
+    Progress quiet;
+    const int keep = options_.maxIterations;
+    options_.maxIterations = 1;
+    std::fill(B_.begin(), B_.end(), glm::vec3(0.f));
+    im.gatherDirty = true;
+    auto saved = links_;
+    links_.clear();
+    iterate(quiet);
+    links_ = std::move(saved);
+    im.gatherDirty = true;
+    options_.maxIterations = keep;
+  }
+  SolveStats st;
+  RefineContext ctx{*this, im, true, nullptr};
+  for (int round = 0; round < options_.maxRefineRounds; ++round) {
+    progress.report(double(round) / options_.maxRefineRounds, "refinement round " + std::to_string(round + 1));
+    const bool changed = refineLinks(ctx, progress);
+    st = iterate(progress);
+    if (!changed) break;
+  }
+  im.lastSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  progress.report(1.0, "solved");
+  return st;
+}
+
+void HierarchicalRadiosity::setExitance(int surface, const glm::dvec3& exitance) {
+  surfaces_[surface].exitance = exitance;
+  const glm::vec3 e(exitance);
+  // Every element of that surface.
+  std::vector<int> stack{surfaceRoot_[surface]};
+  while (!stack.empty()) {
+    const int n = stack.back();
+    stack.pop_back();
+    impl_->emit[n] = e;
+    for (int i = 0; i < nodes_[n].childCount; ++i) stack.push_back(children_[nodes_[n].childBegin + i]);
+  }
+}
+
+void HierarchicalRadiosity::setReflectance(int surface, const glm::dvec3& reflectance) {
+  surfaces_[surface].reflectance = reflectance;
+  const glm::vec3 r(reflectance);
+  std::vector<int> stack{surfaceRoot_[surface]};
+  while (!stack.empty()) {
+    const int n = stack.back();
+    stack.pop_back();
+    impl_->rho[n] = r;
+    impl_->rhoMax[n] = maxc(r);
+    for (int i = 0; i < nodes_[n].childCount; ++i) stack.push_back(children_[nodes_[n].childBegin + i]);
+  }
+}
+
+void HierarchicalRadiosity::pushLampLinksToLeaves(Progress& progress) {
+  RefineContext ctx{*this, *impl_, false, nullptr};
+  ctx.force = [this](const Link& l) {
+    if (!sourceIsEmitter(l.source)) return Open::None;
+    return nodes_[l.receiver].isLeaf() ? Open::None : Open::Receiver;
+  };
+  // Only open existing children: an element leaf stays a leaf (no new subdivision here).
+  refineLinks(ctx, progress);
+}
+
+void HierarchicalRadiosity::forceRefine(const std::vector<int>& receiverSurfaces,
+                                        const std::vector<int>& sourceSurfaces, Progress& progress) {
+  auto& im = *impl_;
+  std::vector<uint8_t> isRecv(surfaces_.size(), 0), isSrc(surfaces_.size(), 0);
+  for (int s : receiverSurfaces) isRecv[s] = 1;
+  for (int s : sourceSurfaces) isSrc[s] = 1;
+  auto within = [&](int node, const std::vector<uint8_t>& set, bool all) {
+    const Node& n = nodes_[node];
+    if (!n.isCluster()) return set[n.surface] != 0;
+    bool any = false, every = true;
+    for (int i = 0; i < im.rangeCount[node]; ++i) {
+      const bool in = set[im.perm[im.rangeBegin[node] + i]] != 0;
+      any = any || in;
+      every = every && in;
+    }
+    return all ? every : any;
+  };
+  RefineContext ctx{*this, im, true, nullptr};
+  ctx.force = [&](const Link& l) {
+    if (nodes_[l.receiver].isCluster() && within(l.source, isSrc, true) && within(l.receiver, isRecv, false))
+      return Open::Receiver;
+    return Open::None;
+  };
+  refineLinks(ctx, progress);
+  iterate(progress);
+}
+
+std::vector<int> HierarchicalRadiosity::linksCrossingBox(const glm::vec3& cmin, const glm::vec3& cmax) const {
+  // The shaft is the convex hull of the two bounding boxes A, B: the union over t in [0,1] of the
+  // boxes (1-t)A + tB. The query box meets it iff some t satisfies, on every axis,
+  // lo(t) <= cmax and hi(t) >= cmin, which are linear in t.
+  std::vector<int> out;
+  for (size_t i = 0; i < links_.size(); ++i) {
+    const Node& A = nodes_[links_[i].receiver];
+    const Node& B = nodes_[links_[i].source];
+    double t0 = 0, t1 = 1;
+    for (int a = 0; a < 3 && t0 <= t1; ++a) {
+      // lo(t) = A.min + t (B.min - A.min) <= cmax ; hi(t) = A.max + t (B.max - A.max) >= cmin
+      auto constrain = [&](double c0, double slope, double bound, bool lessEq) {
+        // c0 + slope t (<= or >=) bound
+        if (std::abs(slope) < 1e-12) {
+          if (lessEq ? c0 > bound : c0 < bound) t1 = -1;
+          return;
+        }
+        const double t = (bound - c0) / slope;
+        const bool upper = lessEq == (slope > 0);
+        if (upper) t1 = std::min(t1, t);
+        else t0 = std::max(t0, t);
+      };
+      constrain(A.bmin[a], B.bmin[a] - A.bmin[a], cmax[a], true);
+      constrain(A.bmax[a], B.bmax[a] - A.bmax[a], cmin[a], false);
+    }
+    if (t0 <= t1) out.push_back(int(i));
+  }
+  return out;
+}
+
+// ----------------------------------------------------------------------------------------------
+// Results
+
+glm::vec3 HierarchicalRadiosity::irradiance(int node) const { return Edown_[node]; }
+
+namespace {
+template <class F>
+void forLeaves(const std::vector<HierarchicalRadiosity::Node>& nodes, const std::vector<int32_t>& children,
+               int root, F&& f) {
+  std::vector<int> stack{root};
+  while (!stack.empty()) {
+    const int n = stack.back();
+    stack.pop_back();
+    if (nodes[n].isLeaf()) f(n);
+    for (int i = 0; i < nodes[n].childCount; ++i) stack.push_back(children[nodes[n].childBegin + i]);
+  }
+}
+}  // namespace
+
+glm::dvec3 HierarchicalRadiosity::surfaceRadiosity(int surface) const {
+  glm::dvec3 sum(0.0);
+  double area = 0;
+  forLeaves(nodes_, children_, surfaceRoot_[surface], [&](int n) {
+    sum += glm::dvec3(B_[n]) * double(nodes_[n].area);
+    area += nodes_[n].area;
+  });
+  return area > 0 ? sum / area : sum;
+}
+
+glm::dvec3 HierarchicalRadiosity::surfaceIrradiance(int surface) const {
+  glm::dvec3 sum(0.0);
+  double area = 0;
+  forLeaves(nodes_, children_, surfaceRoot_[surface], [&](int n) {
+    sum += glm::dvec3(Edown_[n]) * double(nodes_[n].area);
+    area += nodes_[n].area;
+  });
+  return area > 0 ? sum / area : sum;
+}
+
+int HierarchicalRadiosity::findLeaf(int surface, glm::dvec2 uv) const {
+  int n = surfaceRoot_[surface];
+  for (;;) {
+    const Node& N = nodes_[n];
+    int next = -1;
+    for (int i = 0; i < N.childCount; ++i) {
+      const Node& C = nodes_[children_[N.childBegin + i]];
+      if (uv.x >= C.u0 && uv.x <= C.u1 && uv.y >= C.v0 && uv.y <= C.v1) {
+        next = children_[N.childBegin + i];
+        break;
+      }
+    }
+    if (next < 0) return n;
+    n = next;
+  }
+}
+
+Totals HierarchicalRadiosity::totals() const {
+  Totals t;
+  for (const auto& n : nodes_) {
+    if (n.isCluster()) ++t.clusters;
+    else {
+      ++t.elements;
+      if (n.isLeaf()) ++t.leaves;
+    }
+  }
+  t.links = links_.size();
+  t.rays = impl_->rays->raysCast();
+  t.iterations = impl_->lastIterations;
+  t.seconds = impl_->lastSeconds;
+  t.linkBytes = links_.capacity() * sizeof(Link) + impl_->gRecv.capacity() * 4 + impl_->gSrc.capacity() * 4 +
+                impl_->gK.capacity() * 4;
+  return t;
+}
+
+}  // namespace relume::radiosity

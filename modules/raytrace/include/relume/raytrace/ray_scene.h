@@ -1,0 +1,62 @@
+#pragma once
+// The one Embree 3 scene of all polygons: batched occlusion and intersection queries (TBB).
+#include <atomic>
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace relume {
+
+struct Segment {
+  glm::vec3 from, to;  // the open segment between them is tested (ends excluded)
+};
+
+struct Ray {
+  glm::vec3 origin, direction;  // direction need not be unit; hits at origin + t * direction
+  float tnear = 0.f, tfar = 1e30f;
+};
+
+struct RayHit {
+  int polygon = -1;  // -1: no hit
+  float t = 0.f;
+  glm::vec3 point{0.f};
+  glm::vec3 geometricNormal{0.f};
+};
+
+class RayScene {
+ public:
+  // Each polygon is convex and planar; it is triangulated as a fan.
+  explicit RayScene(const std::vector<std::vector<glm::dvec3>>& polygons);
+  ~RayScene();
+  RayScene(const RayScene&) = delete;
+  RayScene& operator=(const RayScene&) = delete;
+
+  // blocked[i] = 1 when something lies strictly between segs[i].from and segs[i].to.
+  // `endEpsilon` shortens both ends by that fraction of the length, so surfaces the ends lie on
+  // do not count. Parallel (TBB) for large batches.
+  void occluded(std::span<const Segment> segs, std::span<uint8_t> blocked,
+                float endEpsilon = 1e-4f) const;
+  bool occluded(const glm::vec3& from, const glm::vec3& to, float endEpsilon = 1e-4f) const;
+
+  void intersect(std::span<const Ray> rays, std::span<RayHit> hits) const;
+  RayHit intersect(const Ray& ray) const;
+
+  // Fraction of the N ray pairs (a[i], b[i]) that are unblocked: the attenuation (visibility)
+  // factor between two elements sampled with matching stratified, jittered points.
+  float visibility(std::span<const glm::vec3> a, std::span<const glm::vec3> b,
+                   float endEpsilon = 1e-4f) const;
+
+  int polygonCount() const { return polygonCount_; }
+  uint64_t raysCast() const { return rays_.load(std::memory_order_relaxed); }
+  void resetRayCount() { rays_.store(0); }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  int polygonCount_ = 0;
+  mutable std::atomic<uint64_t> rays_{0};
+};
+
+}  // namespace relume

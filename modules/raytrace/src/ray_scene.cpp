@@ -1,0 +1,162 @@
+#include "relume/raytrace/ray_scene.h"
+
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <glm/geometric.hpp>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace relume {
+
+struct RayScene::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  std::vector<int> triangleToPolygon;
+};
+
+RayScene::RayScene(const std::vector<std::vector<glm::dvec3>>& polygons)
+    : impl_(std::make_unique<Impl>()), polygonCount_(int(polygons.size())) {
+  impl_->device = rtcNewDevice("threads=0");
+  if (!impl_->device) throw std::runtime_error("Embree: cannot create a device");
+  impl_->scene = rtcNewScene(impl_->device);
+  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  size_t nv = 0, nt = 0;
+  for (const auto& p : polygons) {
+    nv += p.size();
+    nt += p.size() >= 3 ? p.size() - 2 : 0;
+  }
+  if (nt == 0) {
+    rtcCommitScene(impl_->scene);
+    return;
+  }
+  RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                         RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+  auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0,
+                                                            RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nt));
+  impl_->triangleToPolygon.reserve(nt);
+  size_t v = 0, t = 0;
+  for (size_t pi = 0; pi < polygons.size(); ++pi) {
+    const auto& p = polygons[pi];
+    const size_t base = v;
+    for (const auto& q : p) {
+      vb[3 * v + 0] = float(q.x);
+      vb[3 * v + 1] = float(q.y);
+      vb[3 * v + 2] = float(q.z);
+      ++v;
+    }
+    for (size_t k = 1; k + 1 < p.size(); ++k) {
+      ib[3 * t + 0] = unsigned(base);
+      ib[3 * t + 1] = unsigned(base + k);
+      ib[3 * t + 2] = unsigned(base + k + 1);
+      impl_->triangleToPolygon.push_back(int(pi));
+      ++t;
+    }
+  }
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(impl_->scene, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(impl_->scene);
+}
+
+RayScene::~RayScene() {
+  if (impl_->scene) rtcReleaseScene(impl_->scene);
+  if (impl_->device) rtcReleaseDevice(impl_->device);
+}
+
+namespace {
+
+inline bool occludedOne(RTCScene scene, const Segment& s, float eps) {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRay r;
+  r.org_x = s.from.x;
+  r.org_y = s.from.y;
+  r.org_z = s.from.z;
+  r.dir_x = s.to.x - s.from.x;
+  r.dir_y = s.to.y - s.from.y;
+  r.dir_z = s.to.z - s.from.z;
+  r.tnear = eps;
+  r.tfar = 1.f - eps;
+  r.time = 0.f;
+  r.mask = 0xFFFFFFFF;
+  r.id = 0;
+  r.flags = 0;
+  rtcOccluded1(scene, &ctx, &r);
+  return r.tfar < 0.f;
+}
+
+}  // namespace
+
+void RayScene::occluded(std::span<const Segment> segs, std::span<uint8_t> blocked, float eps) const {
+  const size_t n = segs.size();
+  rays_.fetch_add(n, std::memory_order_relaxed);
+  RTCScene scene = impl_->scene;
+  auto body = [&](size_t b, size_t e) {
+    for (size_t i = b; i < e; ++i) blocked[i] = occludedOne(scene, segs[i], eps) ? 1 : 0;
+  };
+  if (n < 512) {
+    body(0, n);
+    return;
+  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256),
+                    [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
+}
+
+bool RayScene::occluded(const glm::vec3& from, const glm::vec3& to, float eps) const {
+  rays_.fetch_add(1, std::memory_order_relaxed);
+  return occludedOne(impl_->scene, Segment{from, to}, eps);
+}
+
+float RayScene::visibility(std::span<const glm::vec3> a, std::span<const glm::vec3> b, float eps) const {
+  const size_t n = std::min(a.size(), b.size());
+  if (n == 0) return 1.f;
+  rays_.fetch_add(n, std::memory_order_relaxed);
+  size_t free = 0;
+  for (size_t i = 0; i < n; ++i) free += occludedOne(impl_->scene, Segment{a[i], b[i]}, eps) ? 0 : 1;
+  return float(free) / float(n);
+}
+
+RayHit RayScene::intersect(const Ray& ray) const {
+  rays_.fetch_add(1, std::memory_order_relaxed);
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh;
+  rh.ray.org_x = ray.origin.x;
+  rh.ray.org_y = ray.origin.y;
+  rh.ray.org_z = ray.origin.z;
+  rh.ray.dir_x = ray.direction.x;
+  rh.ray.dir_y = ray.direction.y;
+  rh.ray.dir_z = ray.direction.z;
+  rh.ray.tnear = ray.tnear;
+  rh.ray.tfar = ray.tfar;
+  rh.ray.time = 0.f;
+  rh.ray.mask = 0xFFFFFFFF;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &ctx, &rh);
+  RayHit h;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
+  h.polygon = impl_->triangleToPolygon[rh.hit.primID];
+  h.t = rh.ray.tfar;
+  h.point = ray.origin + h.t * ray.direction;
+  const glm::vec3 ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+  const float l = glm::length(ng);
+  h.geometricNormal = l > 0 ? ng / l : ng;
+  return h;
+}
+
+void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits) const {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 256),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t i = r.begin(); i < r.end(); ++i) hits[i] = intersect(rays[i]);
+                    });
+}
+
+}  // namespace relume

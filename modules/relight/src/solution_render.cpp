@@ -1,0 +1,151 @@
+#include "relume/relight/solution_render.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <numbers>
+
+#include "relume/raytrace/ray_scene.h"
+
+namespace relume {
+
+using radiosity::HierarchicalRadiosity;
+using radiosity::VisibilityType;
+
+namespace {
+
+// Radiosity at the four corners of every leaf: the mean of the leaves meeting at that corner
+// (probed just inside each quadrant around it), so that shading is continuous across leaves.
+std::vector<std::array<glm::vec3, 4>> leafCornerValues(const HierarchicalRadiosity& h) {
+  const auto& nodes = h.nodes();
+  std::vector<std::array<glm::vec3, 4>> out(nodes.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t n = r.begin(); n < r.end(); ++n) {
+      const auto& N = nodes[n];
+      if (N.isCluster() || !N.isLeaf()) continue;
+      const double eps = 1e-5 * std::max(1e-3, double(N.u1 - N.u0) + double(N.v1 - N.v0));
+      const glm::dvec2 corners[4] = {{N.u0, N.v0}, {N.u1, N.v0}, {N.u1, N.v1}, {N.u0, N.v1}};
+      const auto& root = nodes[h.surfaceRoot(N.surface)];
+      for (int c = 0; c < 4; ++c) {
+        glm::vec3 sum(0.f);
+        int count = 0;
+        for (int q = 0; q < 4; ++q) {
+          const glm::dvec2 p = corners[c] + glm::dvec2((q & 1) ? eps : -eps, (q & 2) ? eps : -eps);
+          if (p.x < root.u0 || p.x > root.u1 || p.y < root.v0 || p.y > root.v1) continue;
+          const int leaf = h.findLeaf(N.surface, p);
+          const auto& L = nodes[leaf];
+          if (p.x < L.u0 || p.x > L.u1 || p.y < L.v0 || p.y > L.v1) continue;
+          sum += h.radiosity(leaf);
+          ++count;
+        }
+        out[n][c] = count ? sum / float(count) : h.radiosity(int(n));
+      }
+    }
+  });
+  return out;
+}
+
+glm::vec3 hashColour(uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352dU;
+  x ^= x >> 15;
+  x *= 0x846ca68bU;
+  x ^= x >> 16;
+  return glm::vec3(0.35f + 0.65f * float(x & 255) / 255.f, 0.35f + 0.65f * float((x >> 8) & 255) / 255.f,
+                   0.35f + 0.65f * float((x >> 16) & 255) / 255.f);
+}
+
+glm::vec3 heat(float t) {  // blue -> green -> yellow -> red
+  t = std::clamp(t, 0.f, 1.f);
+  if (t < 1.f / 3) return glm::mix(glm::vec3(0.1f, 0.1f, 0.8f), glm::vec3(0.1f, 0.8f, 0.2f), 3 * t);
+  if (t < 2.f / 3) return glm::mix(glm::vec3(0.1f, 0.8f, 0.2f), glm::vec3(0.95f, 0.9f, 0.1f), 3 * t - 1);
+  return glm::mix(glm::vec3(0.95f, 0.9f, 0.1f), glm::vec3(0.9f, 0.1f, 0.1f), 3 * t - 2);
+}
+
+}  // namespace
+
+ImageRGB renderSolution(const HierarchicalRadiosity& h, const Camera& cam, RenderShow show, Progress& progress) {
+  ImageRGB img(cam.width, cam.height);
+  const auto& nodes = h.nodes();
+  std::vector<std::array<glm::vec3, 4>> corners;
+  std::vector<float> linkCount;
+  std::vector<glm::vec3> visColour;
+  if (show == RenderShow::Radiance) corners = leafCornerValues(h);
+  if (show == RenderShow::Links || show == RenderShow::Visibility) {
+    // Per node: links arriving there; per leaf: summed over its ancestors too.
+    std::vector<float> own(nodes.size(), 0.f);
+    std::vector<float> visF(nodes.size(), 0.f), allF(nodes.size(), 0.f);
+    std::vector<uint8_t> partial(nodes.size(), 0);
+    for (const auto& l : h.links()) {
+      own[l.receiver] += 1.f;
+      if (h.sourceIsEmitter(l.source)) {
+        visF[l.receiver] += l.formFactor * l.visibility;
+        allF[l.receiver] += l.formFactor;
+        if (l.type == VisibilityType::Partial) partial[l.receiver] = 1;
+      }
+    }
+    for (size_t n = 1; n < nodes.size(); ++n) {  // parents come before children
+      const int p = nodes[n].parent;
+      own[n] += own[p];
+      visF[n] += visF[p];
+      allF[n] += allF[p];
+      partial[n] |= partial[p];
+    }
+    linkCount = own;
+    visColour.resize(nodes.size());
+    for (size_t n = 0; n < nodes.size(); ++n) {
+      if (allF[n] <= 0) visColour[n] = glm::vec3(0.3f);
+      else if (partial[n]) visColour[n] = glm::vec3(0.95f, 0.85f, 0.1f) * (0.4f + 0.6f * visF[n] / allF[n]);
+      else if (visF[n] <= 1e-6f * allF[n]) visColour[n] = glm::vec3(0.85f, 0.1f, 0.1f);
+      else visColour[n] = glm::vec3(0.1f, 0.8f, 0.2f);
+    }
+  }
+  float maxLinks = 1.f;
+  for (float c : linkCount) maxLinks = std::max(maxLinks, c);
+  const glm::dvec3 eye = cam.center();
+  const RayScene& scene = h.rayScene();
+  const float invPi = float(1.0 / std::numbers::pi);
+  tbb::parallel_for(tbb::blocked_range<int>(0, cam.height, 8), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y)
+      for (int x = 0; x < cam.width; ++x) {
+        const glm::dvec3 d = cam.rayDirection(x + 0.5, y + 0.5);
+        const RayHit hit = scene.intersect(Ray{glm::vec3(eye), glm::vec3(d), 0.f, 1e30f});
+        if (hit.polygon < 0) continue;
+        const auto& surf = h.surfaces()[hit.polygon];
+        const glm::dvec3 p = eye + double(hit.t) * d;
+        const glm::dvec2 uv = h.toUV(hit.polygon, p);
+        // Back faces of one-sided polygons are black.
+        if (glm::dot(glm::dvec3(d), glm::normalize(glm::cross(surf.vertices[1] - surf.vertices[0],
+                                                              surf.vertices[2] - surf.vertices[0]))) > 0)
+          continue;
+        const int leaf = h.findLeaf(hit.polygon, uv);
+        const auto& L = nodes[leaf];
+        glm::vec3 c;
+        if (show == RenderShow::Radiance) {
+          const float s = std::clamp(float((uv.x - L.u0) / std::max(1e-12f, L.u1 - L.u0)), 0.f, 1.f);
+          const float t = std::clamp(float((uv.y - L.v0) / std::max(1e-12f, L.v1 - L.v0)), 0.f, 1.f);
+          const auto& k = corners[leaf];
+          const glm::vec3 b = (1 - s) * (1 - t) * k[0] + s * (1 - t) * k[1] + s * t * k[2] + (1 - s) * t * k[3];
+          c = b * invPi;
+        } else {
+          // Leaf borders drawn dark, about one pixel wide.
+          const double dist = glm::length(p - eye);
+          const double px = 1.5 * dist / cam.fx();
+          const bool border = uv.x - L.u0 < px || L.u1 - uv.x < px || uv.y - L.v0 < px || L.v1 - uv.y < px;
+          if (show == RenderShow::Leaves) c = hashColour(uint32_t(leaf));
+          else if (show == RenderShow::Links) c = heat(std::log1p(linkCount[leaf]) / std::log1p(maxLinks));
+          else c = visColour[leaf];
+          if (border) c *= 0.25f;
+        }
+        img.set(x, y, c);
+      }
+    progress.poll();
+  });
+  return img;
+}
+
+}  // namespace relume

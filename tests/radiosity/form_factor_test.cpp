@@ -1,0 +1,112 @@
+// Form factors against closed-form values (Howell's catalogue) and reciprocity.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "relume/geometry/polygon.h"
+#include "relume/radiosity/form_factor.h"
+#include "relume/radiosity/hierarchy.h"
+#include "support/test_rooms.h"
+
+using namespace relume;
+using namespace relume::radiosity;
+using relume::test::quad;
+
+namespace {
+// Two directly opposed parallel rectangles a x b at distance c (Howell C-11).
+double parallelRectangles(double a, double b, double c) {
+  const double X = a / c, Y = b / c;
+  const double x1 = 1 + X * X, y1 = 1 + Y * Y;
+  return 2.0 / (std::numbers::pi * X * Y) *
+         (std::log(std::sqrt(x1 * y1 / (x1 + Y * Y))) + X * std::sqrt(y1) * std::atan(X / std::sqrt(y1)) +
+          Y * std::sqrt(x1) * std::atan(Y / std::sqrt(x1)) - X * std::atan(X) - Y * std::atan(Y));
+}
+// Perpendicular rectangles sharing an edge of length l: from the h x l one to the w x l one (C-14).
+double perpendicularRectangles(double l, double h, double w) {
+  const double H = h / l, W = w / l;
+  const double a = (1 + W * W) * (1 + H * H) / (1 + W * W + H * H);
+  const double b = W * W * (1 + W * W + H * H) / ((1 + W * W) * (W * W + H * H));
+  const double c = H * H * (1 + H * H + W * W) / ((1 + H * H) * (H * H + W * W));
+  return 1.0 / (std::numbers::pi * W) *
+         (W * std::atan(1 / W) + H * std::atan(1 / H) - std::sqrt(H * H + W * W) * std::atan(1 / std::sqrt(H * H + W * W)) +
+          0.25 * std::log(a * std::pow(b, W * W) * std::pow(c, H * H)));
+}
+}  // namespace
+
+TEST(FormFactor, AnalyticReferencesAreTheTextbookNumbers) {
+  // The two closed forms themselves, against the tabulated values for unit squares.
+  EXPECT_NEAR(parallelRectangles(1, 1, 1), 0.19982, 5e-5);
+  EXPECT_NEAR(perpendicularRectangles(1, 1, 1), 0.20004, 5e-5);
+}
+
+TEST(FormFactor, PointToPolygonMatchesTheDiskFormula) {
+  // A disk of radius r at height h straight above: F = r^2 / (h^2 + r^2); a 64-gon approximates it.
+  const double r = 0.7, h = 1.3;
+  std::vector<glm::dvec3> disk;
+  for (int i = 0; i < 64; ++i) {
+    const double a = -2 * std::numbers::pi * i / 64;  // clockwise from above: normal points down
+    disk.push_back({r * std::cos(a), r * std::sin(a), h});
+  }
+  const double polygonArea = 0.5 * 64 * r * r * std::sin(2 * std::numbers::pi / 64);
+  const double equivalentR2 = polygonArea / std::numbers::pi;
+  const double F = pointToPolygonFormFactor({0, 0, 0}, {0, 0, 1}, disk);
+  EXPECT_NEAR(F, equivalentR2 / (h * h + equivalentR2), 2e-3);
+  // Seen from behind, it sends nothing.
+  EXPECT_EQ(pointToPolygonFormFactor({0, 0, 2 * h}, {0, 0, -1}, disk), 0.0);
+}
+
+TEST(FormFactor, ParallelUnitSquaresWithinOnePercent) {
+  const auto a = quad({0, 0, 0}, {1, 0, 0}, {0, 1, 0});       // facing up
+  const auto b = quad({0, 0, 1}, {0, 1, 0}, {1, 0, 0});       // facing down
+  const double exact = parallelRectangles(1, 1, 1);
+  EXPECT_NEAR(polygonToPolygonFormFactor(a, b, 4), exact, 0.01 * exact);
+  EXPECT_NEAR(polygonToPolygonFormFactor(b, a, 4), exact, 0.01 * exact);
+}
+
+TEST(FormFactor, PerpendicularSquaresSharingAnEdgeWithinOnePercent) {
+  const auto floor = quad({0, 0, 0}, {1, 0, 0}, {0, 1, 0});  // z = 0, facing up
+  const auto wall = quad({0, 0, 0}, {0, 1, 0}, {0, 0, 1});   // x = 0, facing +x
+  const double exact = perpendicularRectangles(1, 1, 1);
+  EXPECT_NEAR(polygonToPolygonFormFactor(floor, wall, 8), exact, 0.01 * exact);
+  EXPECT_NEAR(polygonToPolygonFormFactor(wall, floor, 8), exact, 0.01 * exact);
+}
+
+TEST(FormFactor, ReciprocityOfUnequalSkewedPolygons) {
+  // A 2 x 0.5 rectangle and a tilted triangle-ish quad: A_i F_ij = A_j F_ji.
+  const auto a = quad({0, 0, 0}, {2, 0, 0}, {0, 0.5, 0});
+  const std::vector<glm::dvec3> b = {{0.3, 1.4, 0.9}, {0.5, 0.4, 1.6}, {1.6, 0.2, 1.4}, {1.4, 1.2, 0.7}};
+  const double Fab = polygonToPolygonFormFactor(a, b, 6), Fba = polygonToPolygonFormFactor(b, a, 6);
+  ASSERT_GT(Fab, 0.01);
+  EXPECT_NEAR(polygonArea(a) * Fab, polygonArea(b) * Fba, 0.01 * polygonArea(a) * Fab);
+}
+
+// The engine's links, refined by its own oracle, carry the same exchange as the closed forms:
+// a receiver facing a unit emitter gets irradiance F * B_emitter.
+TEST(FormFactor, HierarchicalLinksReproduceAnalyticExchange) {
+  for (int config = 0; config < 2; ++config) {
+    std::vector<Surface> s;
+    if (config == 0) {
+      s.push_back({"receiver", quad({0, 0, 0}, {1, 0, 0}, {0, 1, 0}), glm::dvec3(0.5), glm::dvec3(0.0)});
+      s.push_back({"emitter", quad({0, 0, 1}, {0, 1, 0}, {1, 0, 0}), glm::dvec3(0.0), glm::dvec3(1.0)});
+    } else {
+      s.push_back({"receiver", quad({0, 0, 0}, {1, 0, 0}, {0, 1, 0}), glm::dvec3(0.5), glm::dvec3(0.0)});
+      s.push_back({"emitter", quad({0, 0, 0}, {0, 1, 0}, {0, 0, 1}), glm::dvec3(0.0), glm::dvec3(1.0)});
+    }
+    Options o;
+    o.epsilon = 0.002;
+    o.minArea = 1e-4;
+    HierarchicalRadiosity h(s, o);
+    h.solve();
+    const double exact = config == 0 ? parallelRectangles(1, 1, 1) : perpendicularRectangles(1, 1, 1);
+    const double E = h.surfaceIrradiance(0).x;
+    EXPECT_NEAR(E, exact, 0.01 * exact) << (config == 0 ? "parallel" : "perpendicular");
+    // Reciprocity through the engine: swap the roles.
+    std::swap(s[0].exitance, s[1].exitance);
+    std::swap(s[0].reflectance, s[1].reflectance);
+    HierarchicalRadiosity g(s, o);
+    g.solve();
+    const double A0 = polygonArea(s[0].vertices), A1 = polygonArea(s[1].vertices);
+    EXPECT_NEAR(A1 * g.surfaceIrradiance(1).x, A0 * E, 0.01 * A0 * E);
+  }
+}

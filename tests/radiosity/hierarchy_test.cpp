@@ -1,0 +1,170 @@
+// Physics of the hierarchical solver: energy balance, shadows, cheap lamp edits, seams.
+#include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
+
+#include "relume/geometry/camera.h"
+#include "relume/geometry/polygon.h"
+#include "relume/radiosity/hierarchy.h"
+#include "relume/raytrace/ray_scene.h"
+#include "relume/relight/solution_render.h"
+#include "support/test_rooms.h"
+
+using namespace relume;
+using namespace relume::radiosity;
+using relume::test::quad;
+
+TEST(Hierarchy, ClosedRoomAbsorbsWhatItEmits) {
+  const auto surfaces = test::furnishedRoom();
+  HierarchicalRadiosity h(surfaces, Options{});
+  h.solve();
+  glm::dvec3 emitted(0.0), absorbed(0.0);
+  for (size_t i = 0; i < surfaces.size(); ++i) {
+    const double A = polygonArea(surfaces[i].vertices);
+    emitted += A * surfaces[i].exitance;
+    absorbed += A * (glm::dvec3(1.0) - surfaces[i].reflectance) * h.surfaceIrradiance(int(i));
+  }
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(absorbed[c], emitted[c], 0.02 * emitted[c]) << "channel " << c;
+  // And the solution is not trivially zero or emission-only: walls are lit.
+  EXPECT_GT(h.surfaceRadiosity(2).x, 0.05 * emitted.x / 40.0);
+}
+
+namespace {
+// Floor 2 x 2 at z=0, a 0.5 x 0.5 lamp at z=2 facing down, a 0.6 x 0.6 occluder at z=1 (facing up),
+// all centred on x = y = 1.
+std::vector<Surface> occluderScene() {
+  std::vector<Surface> s;
+  s.push_back({"floor", quad({0, 0, 0}, {2, 0, 0}, {0, 2, 0}), glm::dvec3(0.5), glm::dvec3(0.0)});
+  s.push_back({"occluder", quad({0.7, 0.7, 1}, {0.6, 0, 0}, {0, 0.6, 0}), glm::dvec3(0.5), glm::dvec3(0.0)});
+  s.push_back({"lamp", quad({0.75, 0.75, 2}, {0, 0.5, 0}, {0.5, 0, 0}), glm::dvec3(0.0), glm::dvec3(10.0)});
+  return s;
+}
+
+// How many of the lamp's four corners a floor point sees past the occluder (pure geometry).
+int cornersSeen(const glm::dvec3& p) {
+  int seen = 0;
+  for (const glm::dvec3 c : {glm::dvec3(0.75, 0.75, 2), glm::dvec3(1.25, 0.75, 2), glm::dvec3(1.25, 1.25, 2),
+                             glm::dvec3(0.75, 1.25, 2)}) {
+    const double t = (1.0 - p.z) / (c.z - p.z);  // where the segment crosses z = 1
+    const glm::dvec3 q = p + t * (c - p);
+    const bool blocked = q.x > 0.7 && q.x < 1.3 && q.y > 0.7 && q.y < 1.3;
+    seen += blocked ? 0 : 1;
+  }
+  return seen;
+}
+}  // namespace
+
+TEST(Hierarchy, OccluderMakesInvisibleAndPartialElementsWhereGeometrySays) {
+  Options o;
+  o.oracle = Oracle::BFV;
+  o.epsilon = 0.005;
+  o.minArea = 1e-3;
+  HierarchicalRadiosity h(occluderScene(), o);
+  h.solve();
+  h.pushLampLinksToLeaves();
+  h.iterate();
+  const auto& nodes = h.nodes();
+  // Per floor leaf: the lamp's links arriving there (or at an ancestor) and their types.
+  std::vector<std::vector<VisibilityType>> types(nodes.size());
+  for (const auto& l : h.links())
+    if (h.sourceIsEmitter(l.source)) types[l.receiver].push_back(l.type);
+  int umbra = 0, lit = 0, partial = 0;
+  for (size_t n = 0; n < nodes.size(); ++n) {
+    const auto& N = nodes[n];
+    if (N.isCluster() || !N.isLeaf() || N.surface != 0) continue;
+    ASSERT_FALSE(types[n].empty()) << "every floor leaf has its lamp link after pushLampLinksToLeaves";
+    int seenMin = 4, seenMax = 0;
+    for (const glm::dvec2 uv : {glm::dvec2(N.u0, N.v0), glm::dvec2(N.u1, N.v0), glm::dvec2(N.u1, N.v1),
+                                glm::dvec2(N.u0, N.v1)}) {
+      const int s = cornersSeen(h.toWorld(0, uv));
+      seenMin = std::min(seenMin, s);
+      seenMax = std::max(seenMax, s);
+    }
+    bool anyPartial = false, allInvisible = true, allVisible = true;
+    for (auto t : types[n]) {
+      anyPartial |= t == VisibilityType::Partial;
+      allInvisible &= t == VisibilityType::Invisible;
+      allVisible &= t == VisibilityType::Visible;
+    }
+    if (seenMax == 0) {  // the leaf lies in the umbra: the lamp is hidden from all of it
+      EXPECT_TRUE(allInvisible) << "umbra leaf " << n;
+      ++umbra;
+    } else if (seenMin == 4 &&
+               cornersSeen(h.toWorld(0, {0.5 * (N.u0 + N.u1), 0.5 * (N.v0 + N.v1)})) == 4) {
+      // The whole leaf sees the whole lamp (corners and centre see all four lamp corners).
+      EXPECT_TRUE(allVisible) << "lit leaf " << n;
+      ++lit;
+    }
+    if (anyPartial) ++partial;
+  }
+  EXPECT_GT(umbra, 0);
+  EXPECT_GT(lit, 0);
+  EXPECT_GT(partial, 0);
+
+  // And the rendered image shows the shadow: floor under the occluder much darker than the rim.
+  Camera cam;
+  cam.width = 96;
+  cam.height = 96;
+  cam.K = glm::dmat3(1.0);
+  cam.K[0][0] = cam.K[1][1] = 60.0;
+  cam.K[2][0] = cam.K[2][1] = 48.0;
+  // Looking straight down from (1, 1, 0.9) -- below the occluder -- so the whole floor is seen.
+  cam.R = glm::dmat3(1.0);
+  cam.R[1][1] = -1.0;  // rows: x=(1,0,0), y=(0,-1,0), z=(0,0,-1)
+  cam.R[2][2] = -1.0;
+  const glm::dvec3 eye(1, 1, 0.9);
+  cam.t = -(cam.R * eye);
+  const ImageRGB img = renderSolution(h, cam);
+  glm::dvec2 centre, rim;
+  ASSERT_TRUE(cam.project({1.0, 1.0, 0.0}, centre));
+  ASSERT_TRUE(cam.project({0.1, 1.0, 0.0}, rim));
+  const float dark = img.at(int(centre.x), int(centre.y)).x, bright = img.at(int(rim.x), int(rim.y)).x;
+  EXPECT_GT(bright, 0.f);
+  EXPECT_LT(dark, 0.25f * bright);
+}
+
+TEST(Hierarchy, LampEditResolvesWithoutRefinementOrRays) {
+  auto surfaces = test::furnishedRoom();
+  const int lamp = int(surfaces.size()) - 1;
+  HierarchicalRadiosity h(surfaces, Options{});
+  h.solve();
+  const size_t links = h.links().size(), nodes = h.nodes().size();
+  const uint64_t rays = h.totals().rays;
+  const glm::dvec3 before = h.surfaceRadiosity(0);
+  h.setExitance(lamp, 2.0 * surfaces[lamp].exitance);
+  h.iterate();
+  EXPECT_EQ(h.links().size(), links);
+  EXPECT_EQ(h.nodes().size(), nodes);
+  EXPECT_EQ(h.totals().rays, rays);
+  // Radiosity is linear in the emission: doubling the only lamp doubles every surface.
+  const glm::dvec3 after = h.surfaceRadiosity(0);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(after[c], 2.0 * before[c], 0.002 * before[c]);
+  h.setExitance(lamp, glm::dvec3(0.0));
+  h.iterate();
+  EXPECT_NEAR(h.surfaceRadiosity(0).x, 0.0, 1e-6);
+}
+
+TEST(Hierarchy, LinksCrossingBoxFindsTheShaftsItBlocks) {
+  HierarchicalRadiosity h(occluderScene(), Options{});
+  h.solve();
+  const auto& links = h.links();
+  // A small box in mid-air right between lamp and floor centre.
+  const auto hit = h.linksCrossingBox({0.95, 0.95, 1.45}, {1.05, 1.05, 1.55});
+  ASSERT_FALSE(hit.empty());
+  for (int i : hit) {
+    // Every link it reports has bounds on both sides of z = 1.5 or touching the box's column.
+    const auto& R = h.nodes()[links[i].receiver];
+    const auto& S = h.nodes()[links[i].source];
+    EXPECT_LE(std::min(R.bmin.z, S.bmin.z), 1.55f);
+    EXPECT_GE(std::max(R.bmax.z, S.bmax.z), 1.45f);
+  }
+  // A box far outside the scene crosses nothing.
+  EXPECT_TRUE(h.linksCrossingBox({5, 5, 5}, {6, 6, 6}).empty());
+  // Every lamp -> floor-centre link is among those found.
+  for (size_t i = 0; i < links.size(); ++i) {
+    const auto& R = h.nodes()[links[i].receiver];
+    if (!h.sourceIsEmitter(links[i].source) || R.isCluster() || R.surface != 0) continue;
+    if (R.bmin.x <= 1.0f && R.bmax.x >= 1.0f && R.bmin.y <= 1.0f && R.bmax.y >= 1.0f)
+      EXPECT_NE(std::find(hit.begin(), hit.end(), int(i)), hit.end()) << "link " << i;
+  }
+}
