@@ -62,6 +62,7 @@ struct BadInput : ::testing::Test {
   std::string bundle(const std::string& json, bool withPhoto = true) {
     const fs::path dir = tmp.path / "room";
     write(dir / "scene.json", json);
+    fs::create_directories(dir / "photos");
     if (withPhoto) fs::copy_file(kSample + "/photos/main.png", dir / "photos/main.png", fs::copy_options::overwrite_existing);
     return dir.string();
   }

@@ -73,9 +73,10 @@ TEST(FormFactor, PerpendicularSquaresSharingAnEdgeWithinOnePercent) {
 }
 
 TEST(FormFactor, ReciprocityOfUnequalSkewedPolygons) {
-  // A 2 x 0.5 rectangle and a tilted triangle-ish quad: A_i F_ij = A_j F_ji.
+  // A 2 x 0.5 rectangle and a tilted parallelogram: A_i F_ij = A_j F_ji.
   const auto a = quad({0, 0, 0}, {2, 0, 0}, {0, 0.5, 0});
-  const std::vector<glm::dvec3> b = {{0.3, 1.4, 0.9}, {0.5, 0.4, 1.6}, {1.6, 0.2, 1.4}, {1.4, 1.2, 0.7}};
+  // A tilted parallelogram above it, facing down and towards it (normal = u x v).
+  const auto b = quad({0.3, 1.2, 1.0}, {1.2, 0.3, 0.0}, {0.2, -0.5, 0.4});
   const double Fab = polygonToPolygonFormFactor(a, b, 6), Fba = polygonToPolygonFormFactor(b, a, 6);
   ASSERT_GT(Fab, 0.01);
   EXPECT_NEAR(polygonArea(a) * Fab, polygonArea(b) * Fba, 0.01 * polygonArea(a) * Fab);

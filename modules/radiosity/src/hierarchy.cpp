@@ -329,11 +329,18 @@ struct Kernel {
     return w;
   }
 
-  // Quadrature points of an element (inside its polygon) with weights summing to 1.
-  void quadrature(int id, std::vector<glm::dvec3>& pts, std::vector<double>& wts) const {
+  // Quadrature points of an element (inside its polygon) with weights summing to 1. Near
+  // sources (closer than about their sizes, such as the wall across a room edge) get a finer rule:
+  // the point kernel peaks at a shared edge and a coarse rule would lose that exchange.
+  void quadrature(int id, std::vector<glm::dvec3>& pts, std::vector<double>& wts, int near = -1) const {
     const auto& n = nodes[id];
+    int q = order;
+    if (near >= 0) {
+      const auto& s = nodes[near];
+      if (glm::length(n.center - s.center) < 1.5f * (n.radius + s.radius)) q = std::max(order, 6);
+    }
     std::vector<double> x, w;
-    gaussLegendre01(order, x, w);
+    gaussLegendre01(q, x, w);
     pts.clear();
     wts.clear();
     double sum = 0;
@@ -379,7 +386,7 @@ struct Kernel {
       const auto src = worldPolygon(s);
       std::vector<glm::dvec3> pts;
       std::vector<double> wts;
-      quadrature(r, pts, wts);
+      quadrature(r, pts, wts, s);
       double f = 0, fmin = 1e300, fmax = 0;
       for (size_t i = 0; i < pts.size(); ++i) {
         const double fi = pointToPolygonFormFactor(pts[i], fr.normal, src);
@@ -424,8 +431,10 @@ struct Kernel {
   }
 
   // N stratified, jittered sample points on a node's surfaces (lifted off them along the normal).
-  void samplePoints(int id, int count, Rng& rng, std::vector<glm::vec3>& out) const {
+  void samplePoints(int id, int count, Rng& rng, std::vector<glm::vec3>& out,
+                    std::vector<glm::vec3>& normals) const {
     out.clear();
+    normals.clear();
     const auto& n = nodes[id];
     const int g = std::max(1, int(std::ceil(std::sqrt(double(count)))));
     // Strata visited in a random order so that the pairing of two nodes' points decorrelates.
@@ -437,6 +446,7 @@ struct Kernel {
       const double a = (st % g + rng.uniform()) / g, b = (st / g + rng.uniform()) / g;
       if (!n.isCluster()) {
         out.push_back(pointOnElement(id, a, b, rng));
+        normals.push_back(glm::vec3(im.frames[n.surface].normal));
       } else {
         // Surface chosen by area with the first coordinate, point on it with the second + fresh.
         const int begin = im.rangeBegin[id], cnt = im.rangeCount[id];
@@ -453,6 +463,7 @@ struct Kernel {
           t -= sa;
         }
         out.push_back(pointOnSurface(s, b, rng.uniform()));
+        normals.push_back(glm::vec3(im.frames[s].normal));
       }
     }
   }
@@ -484,12 +495,25 @@ struct Kernel {
     return glm::vec3(p + im.frames[s].normal * double(kNormalOffset));
   }
 
+  // Fraction of unblocked ray pairs among the pairs whose ends face each other: a pair with an
+  // end behind the other's surface carries no light, which the form factor already accounts for
+  // (it is clipped to each point's hemisphere), so counting it as blocked would darken twice.
   float visibility(int r, int s, int rays, uint32_t seed) const {
     Rng rng((uint64_t(uint32_t(r)) << 32 | uint32_t(s)) * 0x2545F4914F6CDD1Dull + seed);
-    thread_local std::vector<glm::vec3> a, b;
-    samplePoints(r, rays, rng, a);
-    samplePoints(s, rays, rng, b);
-    return im.rays->visibility(a, b, 1e-5f);
+    thread_local std::vector<glm::vec3> a, b, na, nb, fa, fb;
+    samplePoints(r, rays, rng, a, na);
+    samplePoints(s, rays, rng, b, nb);
+    fa.clear();
+    fb.clear();
+    for (size_t i = 0; i < a.size(); ++i) {
+      const glm::vec3 d = b[i] - a[i];
+      if (glm::dot(d, na[i]) > 0.f && glm::dot(d, nb[i]) < 0.f) {
+        fa.push_back(a[i]);
+        fb.push_back(b[i]);
+      }
+    }
+    if (fa.empty()) return 1.f;  // no facing pair: the form factor is (nearly) zero anyway
+    return im.rays->visibility(fa, fb, 1e-5f);
   }
 };
 
@@ -609,8 +633,10 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
       });
     }
     frontier.clear();
+    // A link is dropped only when no light can pass (both factor and bound are zero): an isotropic
+    // cluster estimate may be zero (its centre behind the receiver) while part of it is in front.
     for (const auto& l : next)
-      if (l.receiver == l.source || l.formFactor > 0.f) frontier.push_back(l);
+      if (l.receiver == l.source || l.formFactor > 0.f || l.variation > 0.f) frontier.push_back(l);
     ++pass;
   }
   computeVisibility(finals);

@@ -31,7 +31,7 @@ struct Options {
   // BFV weights it by V and takes the whole F on PARTIAL links, so shadow boundaries refine and
   // fully hidden ones do not. A link is refined while its error exceeds epsilon times the scene's
   // mean first-bounce irradiance (emitted power / receiving area).
-  double epsilon = 0.01;
+  double epsilon = 0.003;
   double minArea = 2e-3;     // m^2: elements are not subdivided below this area
   int visibilityRays = 16;   // stratified, jittered ray pairs per link
   int quadratureOrder = 2;   // Gauss points per axis on a receiving element for its form factor
