@@ -600,8 +600,11 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
         const double err = double(im.rhoMax[l.receiver]) * maxc(h.B_[l.source]) * kernelError;
         if (overlap || err > threshold) {
           const bool rOk = canSubdivide(R, opt.minArea), sOk = canSubdivide(S, opt.minArea);
-          // Subdivide the larger end that can be subdivided; clusters that overlap must open.
-          if (rOk && (!sOk || R.area >= S.area)) open = Open::Receiver;
+          // A cluster end is opened first: its isotropic estimate is the error being bounded, and
+          // splitting the other end instead would only spread that error over many small links.
+          // Between two elements (or two clusters) the larger is subdivided.
+          if (R.isCluster() != S.isCluster()) open = R.isCluster() ? Open::Receiver : Open::Source;
+          else if (rOk && (!sOk || R.area >= S.area)) open = Open::Receiver;
           else if (sOk) open = Open::Source;
         }
       }
