@@ -267,17 +267,21 @@ int benchCommand(const QStringList& args, Progress& progress) {
 
   // 3. Lamp edit at about `editLinks` links: epsilon lowered until the link count reaches it.
   {
+    // Coarse to fine: the first epsilon whose solution has at least `editLinks` links.
     rad::Options o = opt;
-    const size_t rssBefore = currentRssBytes();
+    o.epsilon = 0.2;
     std::unique_ptr<rad::HierarchicalRadiosity> h;
-    for (int k = 0; k < 16; ++k) {
-      progress.report(0.4 + 0.03 * k, "bench: solving at epsilon " + std::to_string(o.epsilon));
+    size_t rssBefore = 0, rssAfter = 0;
+    for (int k = 0; k < 40; ++k) {
+      progress.report(0.4 + 0.01 * k, "bench: solving at epsilon " + std::to_string(o.epsilon));
+      h.reset();
+      rssBefore = currentRssBytes();  // grows only when the allocator needs fresh pages
       h = std::make_unique<rad::HierarchicalRadiosity>(surfaces, o);
       h->solve();
+      rssAfter = currentRssBytes();
       if (h->totals().links >= editLinks) break;
-      o.epsilon *= 0.6;
+      o.epsilon *= 0.8;
     }
-    const size_t rssAfter = currentRssBytes();
     const auto tt = h->totals();
     int lampSurface = scene.lamps.empty() ? -1 : scene.lamps.front().polygon;
     std::vector<double> editMs;
@@ -300,8 +304,8 @@ int benchCommand(const QStringList& args, Progress& progress) {
                                    {"median_ms", median(editMs)},
                                    {"iterations", itArr},
                                    {"tolerance", o.tolerance},
-                                   {"engine_bytes_per_link", double(tt.linkBytes) / double(std::max<size_t>(1, tt.links))},
-                                   {"rss_growth_bytes", qint64(rssAfter - std::min(rssAfter, rssBefore))},
+                                   {"link_bytes_per_link", double(tt.linkBytes) / double(std::max<size_t>(1, tt.links))},
+                                   {"engine_bytes_per_link", double(tt.engineBytes) / double(std::max<size_t>(1, tt.links))},
                                    {"rss_growth_bytes_per_link",
                                     double(rssAfter - std::min(rssAfter, rssBefore)) / double(std::max<size_t>(1, tt.links))}};
   }

@@ -935,8 +935,14 @@ Totals HierarchicalRadiosity::totals() const {
   t.rays = impl_->rays->raysCast();
   t.iterations = impl_->lastIterations;
   t.seconds = impl_->lastSeconds;
-  t.linkBytes = links_.capacity() * sizeof(Link) + impl_->gRecv.capacity() * 4 + impl_->gSrc.capacity() * 4 +
-                impl_->gK.capacity() * 4;
+  const auto& im = *impl_;
+  t.linkBytes = links_.capacity() * sizeof(Link) + im.gRecv.capacity() * 4 + im.gSrc.capacity() * 4 +
+                im.gK.capacity() * 4;
+  t.engineBytes = t.linkBytes + nodes_.capacity() * sizeof(Node) + children_.capacity() * 4 +
+                  (B_.capacity() + E_.capacity() + Edown_.capacity() + im.rho.capacity() + im.emit.capacity()) *
+                      sizeof(glm::vec3) +
+                  (im.rangeBegin.capacity() + im.rangeCount.capacity() + im.rhoMax.capacity()) * 4 +
+                  im.emitterOnly.capacity();
   return t;
 }
 

@@ -58,6 +58,7 @@ struct Totals {
   int iterations = 0;      // gather + push-pull sweeps of the last solve
   double seconds = 0;      // of the last solve()
   size_t linkBytes = 0;    // memory held by the link arrays
+  size_t engineBytes = 0;  // links + elements + clusters + per-node radiosity arrays
 };
 
 struct SolveStats {
