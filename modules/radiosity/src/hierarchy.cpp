@@ -885,24 +885,26 @@ void forLeaves(const std::vector<HierarchicalRadiosity::Node>& nodes, const std:
 }
 }  // namespace
 
-glm::dvec3 HierarchicalRadiosity::surfaceRadiosity(int surface) const {
+namespace {
+// Area mean of a per-node quantity over a surface's leaves.
+glm::dvec3 areaMean(const std::vector<HierarchicalRadiosity::Node>& nodes, const std::vector<int32_t>& children,
+                    int root, const std::vector<glm::vec3>& values) {
   glm::dvec3 sum(0.0);
   double area = 0;
-  forLeaves(nodes_, children_, surfaceRoot_[surface], [&](int n) {
-    sum += glm::dvec3(B_[n]) * double(nodes_[n].area);
-    area += nodes_[n].area;
+  forLeaves(nodes, children, root, [&](int n) {
+    sum += glm::dvec3(values[n]) * double(nodes[n].area);
+    area += nodes[n].area;
   });
   return area > 0 ? sum / area : sum;
 }
+}  // namespace
+
+glm::dvec3 HierarchicalRadiosity::surfaceRadiosity(int surface) const {
+  return areaMean(nodes_, children_, surfaceRoot_[surface], B_);
+}
 
 glm::dvec3 HierarchicalRadiosity::surfaceIrradiance(int surface) const {
-  glm::dvec3 sum(0.0);
-  double area = 0;
-  forLeaves(nodes_, children_, surfaceRoot_[surface], [&](int n) {
-    sum += glm::dvec3(Edown_[n]) * double(nodes_[n].area);
-    area += nodes_[n].area;
-  });
-  return area > 0 ? sum / area : sum;
+  return areaMean(nodes_, children_, surfaceRoot_[surface], Edown_);
 }
 
 int HierarchicalRadiosity::findLeaf(int surface, glm::dvec2 uv) const {
