@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -38,6 +39,27 @@ struct Rng {
   }
   double uniform() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }
 };
+
+// Visits every node of the subtree below `root` (root included).
+template <class F>
+void forSubtree(const std::vector<HierarchicalRadiosity::Node>& nodes, const std::vector<int32_t>& children,
+                int root, F&& f) {
+  std::vector<int> stack{root};
+  while (!stack.empty()) {
+    const int n = stack.back();
+    stack.pop_back();
+    f(n);
+    for (int i = 0; i < nodes[n].childCount; ++i) stack.push_back(children[nodes[n].childBegin + i]);
+  }
+}
+
+template <class F>
+void forLeaves(const std::vector<HierarchicalRadiosity::Node>& nodes, const std::vector<int32_t>& children,
+               int root, F&& f) {
+  forSubtree(nodes, children, root, [&](int n) {
+    if (nodes[n].isLeaf()) f(n);
+  });
+}
 }  // namespace
 
 std::vector<Surface> surfacesFromScene(const Scene& scene) {
@@ -78,6 +100,7 @@ struct HierarchicalRadiosity::Impl {
   std::vector<float> gK;
   bool gatherDirty = true;
   double eRef = 1.0;  // mean first-bounce irradiance
+  std::vector<float> pullAccumulator;  // scratch of pushPull()
   uint64_t raysAtStart = 0;
   double lastSeconds = 0;
   int lastIterations = 0;
@@ -314,6 +337,16 @@ glm::dvec3 HierarchicalRadiosity::toWorld(int surface, glm::dvec2 uv) const {
 
 namespace {
 
+// Gauss-Legendre rules on [0,1] for orders 1..8, computed once.
+const std::pair<std::vector<double>, std::vector<double>>& gaussRule(int order) {
+  static const auto rules = [] {
+    std::array<std::pair<std::vector<double>, std::vector<double>>, 9> r;
+    for (int k = 1; k <= 8; ++k) gaussLegendre01(k, r[k].first, r[k].second);
+    return r;
+  }();
+  return rules[std::clamp(order, 1, 8)];
+}
+
 struct Kernel {
   const HierarchicalRadiosity& h;
   const HierarchicalRadiosity::Impl& im;
@@ -339,8 +372,7 @@ struct Kernel {
       const auto& s = nodes[near];
       if (glm::length(n.center - s.center) < 1.5f * (n.radius + s.radius)) q = std::max(order, 6);
     }
-    std::vector<double> x, w;
-    gaussLegendre01(q, x, w);
+    const auto& [x, w] = gaussRule(q);
     pts.clear();
     wts.clear();
     double sum = 0;
@@ -676,6 +708,41 @@ void buildGather(const std::vector<HierarchicalRadiosity::Link>& links, Hierarch
 }
 }  // namespace
 
+// Push the gathered irradiance E_ down, set the leaves' radiosity, pull it up area-weighted.
+// Returns max |dB| on leaves over the mean radiosity of non-emitting leaves.
+double HierarchicalRadiosity::pushPull() {
+  auto& im = *impl_;
+  const size_t nn = nodes_.size();
+  std::vector<float>& acc = im.pullAccumulator;
+  acc.assign(nn * 3, 0.f);
+  double maxDelta = 0, sumB = 0, sumA = 0;
+  Edown_[0] = E_[0];
+  for (size_t n = 1; n < nn; ++n) Edown_[n] = Edown_[nodes_[n].parent] + E_[n];
+  for (size_t n = nn; n-- > 0;) {
+    const Node& N = nodes_[n];
+    glm::vec3 b;
+    if (N.isLeaf()) {
+      b = im.emit[n] + im.rho[n] * Edown_[n];
+      maxDelta = std::max(maxDelta, double(maxc(glm::abs(b - B_[n]))));
+      if (maxc(im.emit[n]) <= 0.f) {
+        sumB += double(maxc(b)) * N.area;
+        sumA += N.area;
+      }
+    } else {
+      b = N.area > 0 ? glm::vec3(acc[3 * n], acc[3 * n + 1], acc[3 * n + 2]) / N.area : glm::vec3(0.f);
+    }
+    B_[n] = b;
+    if (N.parent >= 0) {
+      float* a = &acc[3 * size_t(N.parent)];
+      a[0] += N.area * b.x;
+      a[1] += N.area * b.y;
+      a[2] += N.area * b.z;
+    }
+  }
+  const double mean = sumA > 0 ? sumB / sumA : 0.0;
+  return mean > 0 ? maxDelta / mean : (maxDelta > 0 ? 1.0 : 0.0);
+}
+
 SolveStats HierarchicalRadiosity::iterate(Progress& progress) {
   auto& im = *impl_;
   const auto t0 = std::chrono::steady_clock::now();
@@ -684,7 +751,6 @@ SolveStats HierarchicalRadiosity::iterate(Progress& progress) {
   B_.resize(nn);
   E_.resize(nn);
   Edown_.resize(nn);
-  std::vector<float> acc(nn * 3);
   SolveStats st;
   const size_t nl = im.gRecv.size();
   for (int it = 0; it < options_.maxIterations; ++it) {
@@ -696,35 +762,8 @@ SolveStats HierarchicalRadiosity::iterate(Progress& progress) {
       for (; i < nl && im.gRecv[i] == r; ++i) e += im.gK[i] * B_[im.gSrc[i]];
       E_[r] = e;
     }
-    // Push irradiance down, set leaves, pull radiosity up (area-weighted).
-    double maxDelta = 0, sumB = 0, sumA = 0;
-    std::fill(acc.begin(), acc.end(), 0.f);
-    Edown_[0] = E_[0];
-    for (size_t n = 1; n < nn; ++n) Edown_[n] = Edown_[nodes_[n].parent] + E_[n];
-    for (size_t n = nn; n-- > 0;) {
-      const Node& N = nodes_[n];
-      glm::vec3 b;
-      if (N.isLeaf()) {
-        b = im.emit[n] + im.rho[n] * Edown_[n];
-        maxDelta = std::max(maxDelta, double(maxc(glm::abs(b - B_[n]))));
-        if (maxc(im.emit[n]) <= 0.f) {
-          sumB += double(maxc(b)) * N.area;
-          sumA += N.area;
-        }
-      } else {
-        b = N.area > 0 ? glm::vec3(acc[3 * n], acc[3 * n + 1], acc[3 * n + 2]) / N.area : glm::vec3(0.f);
-      }
-      B_[n] = b;
-      if (N.parent >= 0) {
-        float* a = &acc[3 * size_t(N.parent)];
-        a[0] += N.area * b.x;
-        a[1] += N.area * b.y;
-        a[2] += N.area * b.z;
-      }
-    }
+    st.residual = pushPull();
     st.iterations = it + 1;
-    const double mean = sumA > 0 ? sumB / sumA : 0.0;
-    st.residual = mean > 0 ? maxDelta / mean : (maxDelta > 0 ? 1.0 : 0.0);
     if (st.residual <= options_.tolerance) break;
     if ((it & 7) == 7) progress.poll();
   }
@@ -746,20 +785,10 @@ SolveStats HierarchicalRadiosity::solve(Progress& progress) {
     if (!isEmitter(int(s))) area += a;
   }
   im.eRef = area > 0 && power > 0 ? power / area : 1.0;
-  // Start from emission only.
-  {
-    Progress quiet;
-    const int keep = options_.maxIterations;
-    options_.maxIterations = 1;
-    std::fill(B_.begin(), B_.end(), glm::vec3(0.f));
-    im.gatherDirty = true;
-    auto saved = links_;
-    links_.clear();
-    iterate(quiet);
-    links_ = std::move(saved);
-    im.gatherDirty = true;
-    options_.maxIterations = keep;
-  }
+  // Start from emission only: no irradiance anywhere, radiosity pulled up from the leaves.
+  std::fill(E_.begin(), E_.end(), glm::vec3(0.f));
+  std::fill(B_.begin(), B_.end(), glm::vec3(0.f));
+  pushPull();
   SolveStats st;
   RefineContext ctx{*this, im, true, nullptr};
   for (int round = 0; round < options_.maxRefineRounds; ++round) {
@@ -776,27 +805,16 @@ SolveStats HierarchicalRadiosity::solve(Progress& progress) {
 void HierarchicalRadiosity::setExitance(int surface, const glm::dvec3& exitance) {
   surfaces_[surface].exitance = exitance;
   const glm::vec3 e(exitance);
-  // Every element of that surface.
-  std::vector<int> stack{surfaceRoot_[surface]};
-  while (!stack.empty()) {
-    const int n = stack.back();
-    stack.pop_back();
-    impl_->emit[n] = e;
-    for (int i = 0; i < nodes_[n].childCount; ++i) stack.push_back(children_[nodes_[n].childBegin + i]);
-  }
+  forSubtree(nodes_, children_, surfaceRoot_[surface], [&](int n) { impl_->emit[n] = e; });
 }
 
 void HierarchicalRadiosity::setReflectance(int surface, const glm::dvec3& reflectance) {
   surfaces_[surface].reflectance = reflectance;
   const glm::vec3 r(reflectance);
-  std::vector<int> stack{surfaceRoot_[surface]};
-  while (!stack.empty()) {
-    const int n = stack.back();
-    stack.pop_back();
+  forSubtree(nodes_, children_, surfaceRoot_[surface], [&](int n) {
     impl_->rho[n] = r;
     impl_->rhoMax[n] = maxc(r);
-    for (int i = 0; i < nodes_[n].childCount; ++i) stack.push_back(children_[nodes_[n].childBegin + i]);
-  }
+  });
 }
 
 void HierarchicalRadiosity::pushLampLinksToLeaves(Progress& progress) {
@@ -870,20 +888,6 @@ std::vector<int> HierarchicalRadiosity::linksCrossingBox(const glm::vec3& cmin, 
 // Results
 
 glm::vec3 HierarchicalRadiosity::irradiance(int node) const { return Edown_[node]; }
-
-namespace {
-template <class F>
-void forLeaves(const std::vector<HierarchicalRadiosity::Node>& nodes, const std::vector<int32_t>& children,
-               int root, F&& f) {
-  std::vector<int> stack{root};
-  while (!stack.empty()) {
-    const int n = stack.back();
-    stack.pop_back();
-    if (nodes[n].isLeaf()) f(n);
-    for (int i = 0; i < nodes[n].childCount; ++i) stack.push_back(children[nodes[n].childBegin + i]);
-  }
-}
-}  // namespace
 
 namespace {
 // Area mean of a per-node quantity over a surface's leaves.

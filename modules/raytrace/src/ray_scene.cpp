@@ -121,8 +121,9 @@ float RayScene::visibility(std::span<const glm::vec3> a, std::span<const glm::ve
   return float(free) / float(n);
 }
 
-RayHit RayScene::intersect(const Ray& ray) const {
-  rays_.fetch_add(1, std::memory_order_relaxed);
+namespace {
+
+RayHit intersectOne(RTCScene scene, const std::vector<int>& triangleToPolygon, const Ray& ray) {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
@@ -140,10 +141,10 @@ RayHit RayScene::intersect(const Ray& ray) const {
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->scene, &ctx, &rh);
+  rtcIntersect1(scene, &ctx, &rh);
   RayHit h;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
-  h.polygon = impl_->triangleToPolygon[rh.hit.primID];
+  h.polygon = triangleToPolygon[rh.hit.primID];
   h.t = rh.ray.tfar;
   h.point = ray.origin + h.t * ray.direction;
   const glm::vec3 ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
@@ -152,11 +153,21 @@ RayHit RayScene::intersect(const Ray& ray) const {
   return h;
 }
 
+}  // namespace
+
+RayHit RayScene::intersect(const Ray& ray) const {
+  rays_.fetch_add(1, std::memory_order_relaxed);
+  return intersectOne(impl_->scene, impl_->triangleToPolygon, ray);
+}
+
 void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits) const {
+  rays_.fetch_add(rays.size(), std::memory_order_relaxed);  // counted once, not per ray
+  auto body = [&](size_t b, size_t e) {
+    for (size_t i = b; i < e; ++i) hits[i] = intersectOne(impl_->scene, impl_->triangleToPolygon, rays[i]);
+  };
+  if (rays.size() < 512) return body(0, rays.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 256),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t i = r.begin(); i < r.end(); ++i) hits[i] = intersect(rays[i]);
-                    });
+                    [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
 }
 
 }  // namespace relume

@@ -110,11 +110,16 @@ ImageRGB renderSolution(const HierarchicalRadiosity& h, const Camera& cam, Rende
   const RayScene& scene = h.rayScene();
   const float invPi = float(1.0 / std::numbers::pi);
   tbb::parallel_for(tbb::blocked_range<int>(0, cam.height, 8), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y < rows.end(); ++y)
+    std::vector<Ray> rays(cam.width);
+    std::vector<RayHit> hits(cam.width);
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      for (int x = 0; x < cam.width; ++x)
+        rays[x] = Ray{glm::vec3(eye), glm::vec3(cam.rayDirection(x + 0.5, y + 0.5)), 0.f, 1e30f};
+      scene.intersect(rays, hits);
       for (int x = 0; x < cam.width; ++x) {
-        const glm::dvec3 d = cam.rayDirection(x + 0.5, y + 0.5);
-        const RayHit hit = scene.intersect(Ray{glm::vec3(eye), glm::vec3(d), 0.f, 1e30f});
+        const RayHit& hit = hits[x];
         if (hit.polygon < 0) continue;
+        const glm::dvec3 d = cam.rayDirection(x + 0.5, y + 0.5);
         const auto& surf = h.surfaces()[hit.polygon];
         const glm::dvec3 p = eye + double(hit.t) * d;
         const glm::dvec2 uv = h.toUV(hit.polygon, p);
@@ -143,6 +148,7 @@ ImageRGB renderSolution(const HierarchicalRadiosity& h, const Camera& cam, Rende
         }
         img.set(x, y, c);
       }
+    }
     progress.poll();
   });
   return img;

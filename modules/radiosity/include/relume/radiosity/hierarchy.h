@@ -152,6 +152,8 @@ class HierarchicalRadiosity {
   std::vector<Link> links_;
   std::vector<glm::vec3> B_, E_, Edown_;
 
+  double pushPull();
+
   friend struct Builder;
   friend bool refineLinks(struct RefineContext& ctx, Progress& progress);
 };
