@@ -10,5 +10,9 @@ int solveCommand(const QStringList& args, Progress& progress);
 int renderCommand(const QStringList& args, Progress& progress);
 int benchCommand(const QStringList& args, Progress& progress);
 int importCommand(const QStringList& args, Progress& progress);
+int preprocessCommand(const QStringList& args, Progress& progress);
+int relightCommand(const QStringList& args, Progress& progress);
+int evaluateCommand(const QStringList& args, Progress& progress);
+int compareCommand(const QStringList& args, Progress& progress);
 
 }  // namespace relume::cli

@@ -20,6 +20,11 @@ void usage() {
                "  render ROOM --camera NAME -o IMG.exr|png [--show leaves|links|visibility] [--eps X]\n"
                "  bench  ROOM --json OUT.json [--runs N]\n"
                "  import ROOM -o PROJECT      (write a Relume project)\n"
+               "  preprocess ROOM -o PROJECT  (textures, estimates, real shadows removed)\n"
+               "  relight PROJECT --lamp A=0 [--lamp B=2] [--virtual-lamp F] [--virtual-object F]\n"
+               "          [--method full|ratio-only] -o IMG.exr|png\n"
+               "  evaluate BUNDLE --out DIR   (every variant vs its truth image: report.json)\n"
+               "  compare RENDERING.exr BUNDLE --truth VARIANT  (the benchmark's PSNR)\n"
                "ROOM: a bundle folder (scene.json), a Relume project, or an .obj with its .json.\n"
                "Run 'relume <command> --help' for a command's options.\n");
 }
@@ -51,6 +56,10 @@ int main(int argc, char** argv) {
     if (cmd == "render") return relume::cli::renderCommand(rest, progress);
     if (cmd == "bench") return relume::cli::benchCommand(rest, progress);
     if (cmd == "import") return relume::cli::importCommand(rest, progress);
+    if (cmd == "preprocess") return relume::cli::preprocessCommand(rest, progress);
+    if (cmd == "relight") return relume::cli::relightCommand(rest, progress);
+    if (cmd == "evaluate") return relume::cli::evaluateCommand(rest, progress);
+    if (cmd == "compare") return relume::cli::compareCommand(rest, progress);
     std::fprintf(stderr, "relume: unknown command '%s'\n", qPrintable(cmd));
     usage();
     return 2;

@@ -9,8 +9,13 @@ void Progress::report(double fraction, const std::string& text) {
   if (callback_) callback_(fraction, text);
 }
 
+Progress::Progress(Progress& parent, double lo, double hi)
+    : callback_([&parent, lo, hi](double f, const std::string& text) { parent.report(lo + f * (hi - lo), text); }),
+      parent_(&parent) {}
+
 void Progress::poll() const {
   if (cancelled_.load()) throw Cancelled();
+  if (parent_) parent_->poll();
 }
 
 Progress& silentProgress() {

@@ -157,6 +157,12 @@ void readPhotos(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
   }
 }
 
+struct ObjPolygon {
+  std::string object, group, material;
+  std::vector<glm::dvec3> vertices;
+};
+std::vector<ObjPolygon> readObj(const QString& path);
+
 void readVariants(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
   for (const auto& vv : arr) {
     const QJsonObject vo = vv.toObject();
@@ -180,8 +186,15 @@ void readVariants(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
       const QJsonObject oo = ov.toObject();
       VirtualBox b;
       b.name = str(oo["name"].toString());
-      b.boxMin = jr.vec3(oo["box_min"], where, "box_min");
-      b.boxMax = jr.vec3(oo["box_max"], where, "box_max");
+      if (oo.contains("obj")) {
+        const QString objPath = QDir(QFileInfo(QString::fromStdString(jr.file)).absolutePath()).filePath(oo["obj"].toString());
+        for (const auto& op : readObj(objPath)) b.mesh.push_back(op.vertices);
+        if (b.mesh.empty()) jr.fail(where, "the mesh " + str(objPath) + " has no faces");
+      } else {
+        b.boxMin = jr.vec3(oo["box_min"], where, "box_min");
+        b.boxMax = jr.vec3(oo["box_max"], where, "box_max");
+        if (!glm::all(glm::lessThan(b.boxMin, b.boxMax))) jr.fail(where, "box_min must be below box_max on every axis");
+      }
       b.albedo = jr.vec3(oo["albedo"], where, "albedo");
       v.virtualObjects.push_back(b);
     }
@@ -192,10 +205,6 @@ void readVariants(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
 }
 
 // Minimal OBJ reader: o (object name), g (group), usemtl (material), v, f (one polygon per face).
-struct ObjPolygon {
-  std::string object, group, material;
-  std::vector<glm::dvec3> vertices;
-};
 
 std::vector<ObjPolygon> readObj(const QString& path) {
   QFile f(path);
@@ -384,6 +393,15 @@ Scene readProject(const std::string& projectPath) {
   return scene;
 }
 
+Variant readVariantFile(const std::string& path) {
+  const QJsonObject root = readJsonObject(QString::fromStdString(path));
+  Scene scene;
+  readVariants(QJsonArray{root}, JsonReader{path}, scene);
+  Variant v = scene.variants.front();
+  if (v.name.empty()) v.name = str(QFileInfo(QString::fromStdString(path)).completeBaseName());
+  return v;
+}
+
 Scene loadRoom(const std::string& path) {
   const QFileInfo fi(QString::fromStdString(path));
   if (!fi.exists()) throw Error(path, "", "no such file or folder");
@@ -415,7 +433,8 @@ QJsonArray toJson(const glm::dmat3& m) {
 }
 }  // namespace
 
-void saveProject(const Scene& scene, const std::string& folder, Progress& progress) {
+void saveProject(const Scene& scene, const std::string& folder, Progress& progress,
+                 const std::function<void(const std::string&)>& extra) {
   const QFileInfo target(QString::fromStdString(folder));
   const QString parent = target.absolutePath();
   if (!QDir().mkpath(parent)) throw Error(folder, "", "cannot create the parent folder");
@@ -486,6 +505,14 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
     if (!f.open(QIODevice::WriteOnly)) abandon("cannot write project.json: " + str(f.errorString()));
     f.write(QJsonDocument(root).toJson(QJsonDocument::Indented));
     if (!f.commit()) abandon("cannot write project.json: " + str(f.errorString()));
+  }
+  if (extra) {
+    try {
+      extra(str(staging));
+    } catch (...) {
+      QDir(staging).removeRecursively();
+      throw;
+    }
   }
   progress.poll();
   // Swap into place: old -> backup, staging -> target, drop backup.

@@ -241,19 +241,16 @@ struct Builder {
     h.nodes_[id].subdivided = true;
     const auto n = h.nodes_[id];
     const int s = n.surface;
-    const float du = n.u1 - n.u0, dv = n.v1 - n.v0;
-    const int nu = dv > 2 * du ? 1 : 2, nv = du > 2 * dv ? 1 : 2;
     std::vector<HierarchicalRadiosity::Node> kids;
-    for (int j = 0; j < nv; ++j)
-      for (int i = 0; i < nu; ++i) {
+    for (const glm::vec4& r : h.splitRects(id)) {
         HierarchicalRadiosity::Node c;
         c.parent = id;
         c.surface = s;
         c.level = n.level + 1;
-        c.u0 = n.u0 + du * i / nu;
-        c.u1 = i + 1 == nu ? n.u1 : n.u0 + du * (i + 1) / nu;
-        c.v0 = n.v0 + dv * j / nv;
-        c.v1 = j + 1 == nv ? n.v1 : n.v0 + dv * (j + 1) / nv;
+        c.u0 = r.x;
+        c.v0 = r.y;
+        c.u1 = r.z;
+        c.v1 = r.w;
         const auto clipped = clipToRect(im.uvPolys[s], {c.u0, c.v0}, {c.u1, c.v1});
         if (clipped.size() < 3) continue;
         setElementGeometry(c, clipped, s);
@@ -816,6 +813,35 @@ void HierarchicalRadiosity::setReflectance(int surface, const glm::dvec3& reflec
     impl_->rhoMax[n] = maxc(r);
   });
 }
+
+std::vector<glm::vec4> HierarchicalRadiosity::splitRects(int element) const {
+  const Node& n = nodes_[element];
+  const float du = n.u1 - n.u0, dv = n.v1 - n.v0;
+  const int nu = dv > 2 * du ? 1 : 2, nv = du > 2 * dv ? 1 : 2;
+  std::vector<glm::vec4> out;
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i)
+      out.emplace_back(n.u0 + du * i / nu, n.v0 + dv * j / nv, i + 1 == nu ? n.u1 : n.u0 + du * (i + 1) / nu,
+                       j + 1 == nv ? n.v1 : n.v0 + dv * (j + 1) / nv);
+  return out;
+}
+
+void HierarchicalRadiosity::subdivideElements(const std::vector<int>& elements) {
+  Builder b{*this, *impl_};
+  for (int e : elements)
+    if (!nodes_[e].isCluster() && nodes_[e].isLeaf()) b.subdivide(e);
+  impl_->gatherDirty = true;
+}
+
+void HierarchicalRadiosity::setElementReflectance(int node, const glm::dvec3& reflectance) {
+  const glm::vec3 r(reflectance);
+  forSubtree(nodes_, children_, node, [&](int n) {
+    impl_->rho[n] = r;
+    impl_->rhoMax[n] = maxc(r);
+  });
+}
+
+const glm::vec3& HierarchicalRadiosity::reflectanceOf(int node) const { return impl_->rho[node]; }
 
 void HierarchicalRadiosity::pushLampLinksToLeaves(Progress& progress) {
   RefineContext ctx{*this, *impl_, false, nullptr};

@@ -16,11 +16,9 @@ namespace relume {
 using radiosity::HierarchicalRadiosity;
 using radiosity::VisibilityType;
 
-namespace {
-
-// Radiosity at the four corners of every leaf: the mean of the leaves meeting at that corner
-// (probed just inside each quadrant around it), so that shading is continuous across leaves.
-std::vector<std::array<glm::vec3, 4>> leafCornerValues(const HierarchicalRadiosity& h) {
+std::vector<std::array<glm::vec3, 4>> leafCornerValues(const HierarchicalRadiosity& h,
+                                                       const std::vector<glm::vec3>& perNode,
+                                                       const std::vector<float>* weights) {
   const auto& nodes = h.nodes();
   std::vector<std::array<glm::vec3, 4>> out(nodes.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
@@ -32,22 +30,31 @@ std::vector<std::array<glm::vec3, 4>> leafCornerValues(const HierarchicalRadiosi
       const auto& root = nodes[h.surfaceRoot(N.surface)];
       for (int c = 0; c < 4; ++c) {
         glm::vec3 sum(0.f);
-        int count = 0;
+        float count = 0;
         for (int q = 0; q < 4; ++q) {
           const glm::dvec2 p = corners[c] + glm::dvec2((q & 1) ? eps : -eps, (q & 2) ? eps : -eps);
           if (p.x < root.u0 || p.x > root.u1 || p.y < root.v0 || p.y > root.v1) continue;
           const int leaf = h.findLeaf(N.surface, p);
           const auto& L = nodes[leaf];
           if (p.x < L.u0 || p.x > L.u1 || p.y < L.v0 || p.y > L.v1) continue;
-          sum += h.radiosity(leaf);
-          ++count;
+          const float w = weights ? (*weights)[leaf] : 1.f;
+          sum += w * perNode[leaf];
+          count += w;
         }
-        out[n][c] = count ? sum / float(count) : h.radiosity(int(n));
+        out[n][c] = count > 0 ? sum / count : perNode[n];
       }
     }
   });
   return out;
 }
+
+glm::vec3 interpolateCorners(const HierarchicalRadiosity::Node& L, const std::array<glm::vec3, 4>& k, glm::dvec2 uv) {
+  const float s = std::clamp(float((uv.x - L.u0) / std::max(1e-12f, L.u1 - L.u0)), 0.f, 1.f);
+  const float t = std::clamp(float((uv.y - L.v0) / std::max(1e-12f, L.v1 - L.v0)), 0.f, 1.f);
+  return (1 - s) * (1 - t) * k[0] + s * (1 - t) * k[1] + s * t * k[2] + (1 - s) * t * k[3];
+}
+
+namespace {
 
 glm::vec3 hashColour(uint32_t x) {
   x ^= x >> 16;
@@ -74,7 +81,11 @@ ImageRGB renderSolution(const HierarchicalRadiosity& h, const Camera& cam, Rende
   std::vector<std::array<glm::vec3, 4>> corners;
   std::vector<float> linkCount;
   std::vector<glm::vec3> visColour;
-  if (show == RenderShow::Radiance) corners = leafCornerValues(h);
+  if (show == RenderShow::Radiance) {
+    std::vector<glm::vec3> b(nodes.size());
+    for (size_t n = 0; n < nodes.size(); ++n) b[n] = h.radiosity(int(n));
+    corners = leafCornerValues(h, b);
+  }
   if (show == RenderShow::Links || show == RenderShow::Visibility) {
     // Per node: links arriving there; per leaf: summed over its ancestors too.
     std::vector<float> own(nodes.size(), 0.f);
@@ -131,11 +142,7 @@ ImageRGB renderSolution(const HierarchicalRadiosity& h, const Camera& cam, Rende
         const auto& L = nodes[leaf];
         glm::vec3 c;
         if (show == RenderShow::Radiance) {
-          const float s = std::clamp(float((uv.x - L.u0) / std::max(1e-12f, L.u1 - L.u0)), 0.f, 1.f);
-          const float t = std::clamp(float((uv.y - L.v0) / std::max(1e-12f, L.v1 - L.v0)), 0.f, 1.f);
-          const auto& k = corners[leaf];
-          const glm::vec3 b = (1 - s) * (1 - t) * k[0] + s * (1 - t) * k[1] + s * t * k[2] + (1 - s) * t * k[3];
-          c = b * invPi;
+          c = interpolateCorners(L, corners[leaf], uv) * invPi;
         } else {
           // Leaf borders drawn dark, about one pixel wide.
           const double dist = glm::length(p - eye);

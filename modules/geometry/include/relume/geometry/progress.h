@@ -12,6 +12,8 @@ class Progress {
 
   Progress() = default;
   explicit Progress(Callback cb) : callback_(std::move(cb)) {}
+  // A sub-stage: fractions map to [lo, hi] of `parent`, cancelling the parent cancels it too.
+  Progress(Progress& parent, double lo, double hi);
 
   // Reports the fraction done in [0,1] of the current stage; throws Cancelled when asked to stop.
   void report(double fraction, const std::string& text);
@@ -25,7 +27,9 @@ class Progress {
  private:
   Callback callback_;
   std::atomic<bool> cancelled_{false};
+  Progress* parent_ = nullptr;
 };
+using ProgressScope = Progress;
 
 // A Progress that reports nothing and never cancels.
 Progress& silentProgress();

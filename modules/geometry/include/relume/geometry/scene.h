@@ -28,6 +28,7 @@ struct VirtualBox {
   std::string name;
   glm::dvec3 boxMin{0.0}, boxMax{0.0};
   glm::dvec3 albedo{0.5};
+  std::vector<std::vector<glm::dvec3>> mesh;  // an OBJ mesh's polygons instead of the box, if any
 };
 
 struct Variant {

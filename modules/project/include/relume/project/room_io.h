@@ -1,5 +1,6 @@
 #pragma once
 // Reading rooms (bundle folders, OBJ + JSON, Relume projects) and writing Relume projects.
+#include <functional>
 #include <string>
 
 #include "relume/geometry/progress.h"
@@ -22,7 +23,13 @@ void checkPhotos(const Scene& scene);
 // Writes `scene` as a Relume project folder: project.json plus its photos copied into photos/.
 // Atomic: the folder is assembled beside the target and renamed into place; an existing project
 // is replaced only once the new one is complete. Throws relume::Error and leaves the old one.
-void saveProject(const Scene& scene, const std::string& folder, Progress& progress = silentProgress());
+// `extra` may write further files into the staging folder (its argument) before the swap.
+void saveProject(const Scene& scene, const std::string& folder, Progress& progress = silentProgress(),
+                 const std::function<void(const std::string&)>& extra = {});
+// A lighting change as a JSON file: the fields of a variant in scene.json ("lights",
+// "virtual_lights", "virtual_objects"); a virtual object may give "obj" (a mesh file, relative to
+// the JSON file) instead of box_min / box_max.
+Variant readVariantFile(const std::string& path);
 
 inline constexpr int kProjectVersion = 1;
 

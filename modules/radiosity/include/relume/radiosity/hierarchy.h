@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 #include <memory>
 #include <string>
 #include <vector>
@@ -112,6 +113,15 @@ class HierarchicalRadiosity {
   // receivers are opened so that these links land on the polygons, then refined by the oracle.
   void forceRefine(const std::vector<int>& receiverSurfaces, const std::vector<int>& sourceSurfaces,
                    Progress& progress = silentProgress());
+  // Subdivides leaf elements (quadtree split, as refinement does); links stay where they are, so
+  // call pushLampLinksToLeaves() after to bring lamp links down to the new leaves.
+  void subdivideElements(const std::vector<int>& elements);
+  // The rectangles (u0, v0, u1, v1) an element would be split into (before clipping).
+  std::vector<glm::vec4> splitRects(int element) const;
+  // Reflectance of an element and everything below it (per-element reflectance, e.g. from a
+  // texture); the surface's own value is left as it was.
+  void setElementReflectance(int node, const glm::dvec3& reflectance);
+  const glm::vec3& reflectanceOf(int node) const;
   // Links whose shaft (the convex hull of receiver and source bounds) the box crosses.
   std::vector<int> linksCrossingBox(const glm::vec3& boxMin, const glm::vec3& boxMax) const;
 

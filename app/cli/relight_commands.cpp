@@ -1,0 +1,369 @@
+// relume preprocess | relight | evaluate: Loscos et al. 2000 §4-5 from the command line.
+#include <QCommandLineParser>
+#include <QDir>
+#include <QFileInfo>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QSaveFile>
+#include <cstdio>
+#include <numbers>
+
+#include "commands.h"
+#include "relume/geometry/error.h"
+#include "relume/image/image.h"
+#include "relume/project/relight_store.h"
+#include "relume/project/room_io.h"
+#include "relume/relight/compare.h"
+#include "relume/relight/relighter.h"
+#include "relume/relight/solution_render.h"
+
+namespace relume::cli {
+
+namespace {
+
+std::string str(const QString& s) { return s.toStdString(); }
+QJsonArray rgbJson(const glm::dvec3& v) { return QJsonArray{v.x, v.y, v.z}; }
+
+void parseArgs(QCommandLineParser& p, const QStringList& args, int positional, const char* usage) {
+  p.addHelpOption();
+  if (!p.parse(args)) throw Error("", "command line", str(p.errorText()));
+  if (p.isSet("help")) {
+    std::fprintf(stdout, "%s\n%s", usage, qPrintable(p.helpText()));
+    std::exit(0);
+  }
+  if (p.positionalArguments().size() != positional) throw Error("", "command line", std::string("expected: ") + usage);
+}
+
+void addRelightOptions(QCommandLineParser& p) {
+  p.addOption({"mean-reflectance", "Average reflectance of the room (Eq. 1's rho-hat), refined afterwards.", "X"});
+  p.addOption({"colour-threshold", "CIELAB distance below which two colours are similar.", "X"});
+  p.addOption({"visibility-threshold", "Attenuation difference below which visibility is similar.", "X"});
+  p.addOption({"no-indirect", "Add back blocked direct light only (Eq. 5 without secondary sources)."});
+  p.addOption({"reference", "Step 2 (reference patches): weighted (default), paper, or off (T_final = T_inter).", "MODE"});
+  p.addOption({"equal-lamps", "Every lamp the same emittance (Eq. 2), no per-lamp least squares."});
+  p.addOption({"lamps-from-equations", "Estimate lamps by Eq. 2 / least squares even when the HDR photos show them."});
+  p.addOption({"eps", "Radiosity refinement threshold.", "X"});
+}
+
+RelightOptions relightOptions(const QCommandLineParser& p) {
+  RelightOptions o;
+  auto number = [&](const char* name, double& target, double lo, double hi) {
+    if (!p.isSet(name)) return;
+    bool ok = false;
+    const double v = p.value(name).toDouble(&ok);
+    if (!ok || !(v > lo && v < hi))
+      throw Error("", std::string("--") + name, "must be a number in (" + std::to_string(lo) + ", " + std::to_string(hi) + "), not '" + str(p.value(name)) + "'");
+    target = v;
+  };
+  number("mean-reflectance", o.meanReflectance, 0, 1);
+  number("colour-threshold", o.colourThreshold, 0, 1000);
+  number("visibility-threshold", o.visibilityThreshold, 0, 1);
+  number("eps", o.engine.epsilon, 0, 1e6);
+  o.blockedIndirect = !p.isSet("no-indirect");
+  if (p.isSet("reference")) {
+    const QString r = p.value("reference");
+    if (r == "off") o.reference = RelightOptions::Reference::Off;
+    else if (r == "paper") o.reference = RelightOptions::Reference::Paper;
+    else if (r == "weighted") o.reference = RelightOptions::Reference::Weighted;
+    else throw Error("", "--reference", "must be weighted, paper or off, not '" + str(r) + "'");
+  }
+  o.lampLeastSquares = !p.isSet("equal-lamps");
+  o.lampsFromPhoto = !p.isSet("lamps-from-equations");
+  return o;
+}
+
+void printEstimates(const RelightData& d) {
+  const auto& e = d.estimates;
+  std::fprintf(stderr, "mean reflectance: given %.3f, refined %.3f (%d rounds)\n", e.meanReflectanceGiven,
+               e.meanReflectanceRefined, e.reflectanceRounds);
+  std::fprintf(stderr, "lamp emittances (exitance, RGB) — using %s%s%s:\n", e.lampModel.c_str(),
+               e.lampModelReason.empty() ? "" : ": ", e.lampModelReason.c_str());
+  for (const auto& l : e.lamps)
+    std::fprintf(stderr, "  %-6s equal (Eq. 2) %.2f %.2f %.2f  least squares %.2f %.2f %.2f  photographed %.2f %.2f %.2f\n",
+                 l.name.c_str(), l.equal.x, l.equal.y, l.equal.z, l.leastSquares.x, l.leastSquares.y, l.leastSquares.z,
+                 l.photographed.x, l.photographed.y, l.photographed.z);
+  std::fprintf(stderr,
+               "texture-based refinement: %zu -> %zu elements (%zu subdivided, %zu cancelled); %zu occluded elements, "
+               "%zu on the frontier, %zu corrected from the frontier, %zu from the polygon's default reference; %.1f s\n",
+               e.leavesBeforeTextureRefinement, e.leavesAfter, e.texturesSubdivided, e.subdivisionsCancelled, e.occludedLeaves,
+               e.frontierLeaves, e.referencedByFrontier, e.referencedByDefault, e.seconds);
+}
+
+QJsonObject estimatesJson(const RelightData& d) {
+  const auto& e = d.estimates;
+  QJsonArray lamps;
+  for (const auto& l : e.lamps)
+    lamps.append(QJsonObject{{"name", QString::fromStdString(l.name)},
+                             {"equal", rgbJson(l.equal)},
+                             {"least_squares", rgbJson(l.leastSquares)},
+                             {"photographed", rgbJson(l.photographed)},
+                             {"used", rgbJson(l.used)}});
+  return {{"mean_reflectance_given", e.meanReflectanceGiven},
+          {"mean_reflectance_refined", e.meanReflectanceRefined},
+          {"lamp_model", QString::fromStdString(e.lampModel)},
+          {"lamp_model_reason", QString::fromStdString(e.lampModelReason)},
+          {"lamps", lamps},
+          {"elements_after_texture_refinement", double(e.leavesAfter)},
+          {"preprocess_seconds", e.seconds}};
+}
+
+// Lamp scales by name; every name must be a lamp of the room.
+std::vector<glm::dvec3> lampScales(const Scene& scene, const std::map<std::string, glm::dvec3>& byName, const std::string& where) {
+  std::vector<glm::dvec3> s(scene.lamps.size(), glm::dvec3(1.0));
+  for (const auto& [name, v] : byName) {
+    const int l = scene.findLamp(name);
+    if (l < 0) {
+      std::string names;
+      for (const auto& lamp : scene.lamps) names += (names.empty() ? "" : ", ") + lamp.name;
+      throw Error(where, "lamp '" + name + "'", "the room has no such lamp (lamps: " + names + ")");
+    }
+    for (double c : {v.x, v.y, v.z})
+      if (!(c >= 0) || !std::isfinite(c)) throw Error(where, "lamp '" + name + "'", "a scale must be a finite number >= 0");
+    s[l] = v;
+  }
+  return s;
+}
+
+void virtualsOf(const Variant& v, std::vector<VirtualLamp>& lamps, std::vector<VirtualObject>& objects) {
+  for (size_t i = 0; i < v.virtualLamps.size(); ++i)
+    lamps.push_back({v.virtualLamps[i].name.empty() ? "virtual_lamp_" + std::to_string(i) : v.virtualLamps[i].name,
+                     v.virtualLampPolygons[i], v.virtualLamps[i].radiance});
+  for (const auto& b : v.virtualObjects) {
+    const std::string name = b.name.empty() ? "virtual_object_" + std::to_string(objects.size()) : b.name;
+    if (b.mesh.empty()) objects.push_back(boxObject(name, b.boxMin, b.boxMax, b.albedo));
+    else objects.push_back(VirtualObject{name, b.mesh, b.albedo});
+  }
+}
+
+const Photo& photoNamed(const Scene& scene, const std::string& name) {
+  const Photo* p = scene.findPhoto(name);
+  if (!p) throw Error(scene.sourceFile, "photo '" + name + "'", "no photo has that name");
+  return *p;
+}
+
+std::string resolve(const Scene& scene, const std::string& rel) { return rel.front() == '/' ? rel : scene.baseDir + "/" + rel; }
+
+ImageRGB sideBySide(const std::vector<const ImageRGB*>& imgs) {
+  const int w = imgs[0]->width, h = imgs[0]->height, gap = 4;
+  ImageRGB out(int(imgs.size()) * (w + gap) - gap, h);
+  for (size_t k = 0; k < imgs.size(); ++k)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) out.set(int(k) * (w + gap) + x, y, imgs[k]->at(x, y));
+  return out;
+}
+
+}  // namespace
+
+int preprocessCommand(const QStringList& args, Progress& progress) {
+  QCommandLineParser p;
+  p.setApplicationDescription("Preprocess a room for relighting (Loscos et al. 2000 §4) and write a Relume project.");
+  p.addPositionalArgument("ROOM", "Bundle folder, Relume project or .obj with its .json.");
+  p.addOption({{"o", "output"}, "Project folder to write.", "PROJECT"});
+  addRelightOptions(p);
+  parseArgs(p, args, 1, "relume preprocess ROOM -o PROJECT");
+  if (!p.isSet("output")) throw Error("", "command line", "-o PROJECT is required");
+  const RelightOptions opt = relightOptions(p);
+  progress.report(0, "reading " + str(p.positionalArguments()[0]));
+  const Scene scene = loadRoom(str(p.positionalArguments()[0]));
+  ProgressScope work(progress, 0.0, 0.9);
+  const RelightData data = preprocessRoom(scene, opt, work);
+  printEstimates(data);
+  ProgressScope saving(progress, 0.9, 1.0);
+  saveRelightProject(scene, data, str(p.value("output")), saving);
+  std::fprintf(stderr, "wrote project %s\n", qPrintable(p.value("output")));
+  return 0;
+}
+
+int relightCommand(const QStringList& args, Progress& progress) {
+  QCommandLineParser p;
+  p.setApplicationDescription("Relight a preprocessed project and write the image seen from its photo.");
+  p.addPositionalArgument("PROJECT", "A project written by relume preprocess.");
+  p.addOption({"lamp", "NAME=S or NAME=R,G,B: scale of a real lamp's emittance (0 off, 2 doubled).", "NAME=S"});
+  p.addOption({"virtual-lamp", "JSON file with virtual_lights (as in a scene.json variant).", "FILE"});
+  p.addOption({"virtual-object", "JSON file with virtual_objects (box_min/box_max or obj, albedo).", "FILE"});
+  p.addOption({"method", "full (default) or ratio-only (original textures x B/B_orig).", "NAME"});
+  p.addOption({"camera", "Photo whose camera to render (default: the textures' photo).", "NAME"});
+  p.addOption({{"o", "output"}, "Output image (.exr linear radiance, .png at the photo's exposure).", "IMG"});
+  parseArgs(p, args, 1, "relume relight PROJECT --lamp A=0 [--virtual-lamp F] [--virtual-object F] -o IMG");
+  if (!p.isSet("output")) throw Error("", "command line", "-o IMG is required");
+  const QString out = p.value("output");
+  const QString ext = QFileInfo(out).suffix().toLower();
+  if (ext != "exr" && ext != "png") throw Error(str(out), "", "the output must end in .exr or .png");
+  RelightMethod method = RelightMethod::Full;
+  if (p.isSet("method")) {
+    if (p.value("method") == "ratio-only") method = RelightMethod::RatioOnly;
+    else if (p.value("method") != "full") throw Error("", "--method", "must be full or ratio-only");
+  }
+  const Scene scene = readProject(str(p.positionalArguments()[0]));
+  const RelightData data = readRelightData(scene);
+  std::map<std::string, glm::dvec3> scales;
+  for (const QString& s : p.values("lamp")) {
+    const int eq = s.indexOf('=');
+    if (eq <= 0) throw Error("", "--lamp " + str(s), "expected NAME=S or NAME=R,G,B");
+    const QStringList parts = s.mid(eq + 1).split(',');
+    glm::dvec3 v;
+    bool ok = parts.size() == 1 || parts.size() == 3;
+    for (int c = 0; c < 3 && ok; ++c) v[c] = parts[parts.size() == 1 ? 0 : c].toDouble(&ok);
+    if (!ok) throw Error("", "--lamp " + str(s), "expected NAME=S or NAME=R,G,B with numbers");
+    scales[str(s.left(eq))] = v;
+  }
+  const auto lampScale = lampScales(scene, scales, "--lamp");
+  std::vector<VirtualLamp> vlamps;
+  std::vector<VirtualObject> objects;
+  for (const QString& f : p.values("virtual-lamp")) {
+    const Variant v = readVariantFile(str(f));
+    if (v.virtualLamps.empty()) throw Error(str(f), "virtual_lights", "lists no virtual lamp");
+    virtualsOf(v, vlamps, objects);
+  }
+  for (const QString& f : p.values("virtual-object")) {
+    const Variant v = readVariantFile(str(f));
+    if (v.virtualObjects.empty()) throw Error(str(f), "virtual_objects", "lists no virtual object");
+    virtualsOf(v, vlamps, objects);
+  }
+  const Photo& photo = photoNamed(scene, p.isSet("camera") ? str(p.value("camera")) : data.photo);
+  RelightSession session(scene, data, vlamps, objects, progress,
+                         method == RelightMethod::Full ? SessionMesh::Refined : SessionMesh::Plain);
+  for (size_t l = 0; l < lampScale.size(); ++l) session.setLampScale(int(l), lampScale[l]);
+  const auto st = session.update(progress);
+  const ImageRGB img = session.render(photo.camera, method, progress);
+  writeImage(str(out), img, float(data.photoExposure));
+  std::fprintf(stderr, "relit in %d radiosity steps; wrote %s (%dx%d)\n", st.iterations, qPrintable(out), img.width, img.height);
+  return 0;
+}
+
+int compareCommand(const QStringList& args, Progress&) {
+  QCommandLineParser p;
+  p.setApplicationDescription("Score a rendering of a bundle's main view against a truth image (the benchmark protocol).");
+  p.addPositionalArgument("RENDERING", "Linear EXR of the main view.");
+  p.addPositionalArgument("BUNDLE", "The bundle folder.");
+  p.addOption({"truth", "Variant name (truth/NAME.exr), 'unoccluded', or 'photo' for photos/main.exr.", "NAME"});
+  parseArgs(p, args, 2, "relume compare RENDERING.exr BUNDLE --truth VARIANT");
+  const Scene scene = loadRoom(str(p.positionalArguments()[1]));
+  const Photo& main = photoNamed(scene, scene.mainPhoto);
+  const ImageRGB photo = readImageLinear(resolve(scene, main.hdr.empty() ? main.file : main.hdr));
+  const ImageRGB unocc = readImageLinear(scene.baseDir + "/truth/unoccluded.exr");
+  const std::string name = p.isSet("truth") ? str(p.value("truth")) : "photo";
+  const ImageRGB truth = name == "photo" ? photo : readImageLinear(scene.baseDir + "/truth/" + name + ".exr");
+  const ImageRGB img = readImageLinear(str(p.positionalArguments()[0]));
+  const CompareMasks masks = benchmarkMasks(photo, unocc);
+  const Comparison a = compareImages(img, truth, masks.all), b = compareImages(img, truth, masks.shadow);
+  std::printf("all %.2f dB (gain %.3f %.3f %.3f)  shadow %.2f dB\n", a.psnr, a.gain.x, a.gain.y, a.gain.z, b.psnr);
+  return 0;
+}
+
+int evaluateCommand(const QStringList& args, Progress& progress) {
+  QCommandLineParser p;
+  p.setApplicationDescription(
+      "Preprocess a ground-truth bundle from its photos, geometry, cameras and lamp polygons only, render every "
+      "variant with the full and the ratio-only method and compare with the truth images.");
+  p.addPositionalArgument("BUNDLE", "A bundle folder (scene.json with variants and truth images).");
+  p.addOption({"out", "Folder for report.json and the images.", "DIR"});
+  addRelightOptions(p);
+  parseArgs(p, args, 1, "relume evaluate BUNDLE --out DIR");
+  if (!p.isSet("out")) throw Error("", "command line", "--out DIR is required");
+  const QString outDir = p.value("out");
+  if (!QDir().mkpath(outDir)) throw Error(str(outDir), "", "cannot create the folder");
+  const RelightOptions opt = relightOptions(p);
+  Scene scene = loadRoom(str(p.positionalArguments()[0]));
+  // What a real user does not have is removed before anything else sees the scene.
+  for (auto& poly : scene.polygons) poly.albedo = glm::dvec3(0.5);
+  for (auto& l : scene.lamps) l.radiance = glm::dvec3(0.0);
+  ProgressScope pre(progress, 0.0, 0.5);
+  const RelightData data = preprocessRoom(scene, opt, pre);
+  printEstimates(data);
+  const Photo& main = photoNamed(scene, data.photo);
+  if (main.hdr.empty()) throw Error(scene.sourceFile, "photo " + main.name, "has no linear (EXR) version to compare against");
+  const ImageRGB photo = readImageLinear(resolve(scene, main.hdr));
+  const std::string unoccPath = scene.baseDir + "/truth/unoccluded.exr";
+  const ImageRGB unoccTruth = readImageLinear(unoccPath);
+  const CompareMasks masks = benchmarkMasks(photo, unoccTruth);
+  const auto dir = [&](const std::string& f) { return str(QDir(outDir).filePath(QString::fromStdString(f))); };
+  const float exposure = float(data.photoExposure);
+  auto scores = [&](const ImageRGB& img, const ImageRGB& truth) {
+    const Comparison a = compareImages(img, truth, masks.all), s = compareImages(img, truth, masks.shadow);
+    return QJsonObject{{"psnr_all", a.psnr}, {"psnr_shadow", s.psnr}, {"gain_all", rgbJson(a.gain)}, {"gain_shadow", rgbJson(s.gain)}};
+  };
+  QJsonObject report{{"bundle", QString::fromStdString(scene.baseDir)},
+                     {"estimates", estimatesJson(data)},
+                     {"mask_pixels", QJsonObject{{"all", double(std::count(masks.all.begin(), masks.all.end(), 1))},
+                                                  {"shadow", double(std::count(masks.shadow.begin(), masks.shadow.end(), 1))}}}};
+
+  ProgressScope base(progress, 0.5, 0.65);
+  RelightSession session(scene, data, {}, {}, base);
+  RelightSession plain(scene, data, {}, {}, silentProgress(), SessionMesh::Plain);
+  // Original lighting reprojected, and the unoccluded image.
+  {
+    const ImageRGB orig = session.render(main.camera, RelightMethod::Full);
+    const ImageRGB unocc = session.renderUnoccluded(main.camera);
+    writeImage(dir("original.full.exr"), orig);
+    const ImageRGB origTex = session.render(main.camera, RelightMethod::RatioOnly);
+    report["original_textures"] = scores(origTex, photo);
+    writeImage(dir("unoccluded.exr"), unocc);
+    writeImage(dir("unoccluded.png"), sideBySide({&photo, &unocc, &unoccTruth}), exposure);
+    report["original_reprojected"] = scores(orig, photo);
+    report["unoccluded"] = QJsonObject{{"full", scores(unocc, unoccTruth)}, {"photo_unchanged", scores(photo, unoccTruth)}};
+    ImageRGB mesh = renderSolution(session.engine(), main.camera, RenderShow::Leaves);
+    for (size_t i = 0; i < mesh.pixels.size(); ++i) mesh.pixels[i] *= photo.pixels[i] * exposure;
+    writeImage(dir("mesh.png"), mesh);
+    std::fprintf(stderr, "original lighting reprojected: %.2f dB (all); unoccluded vs truth: %.2f dB (shadow), photo %.2f dB\n",
+                 report["original_reprojected"].toObject()["psnr_all"].toDouble(),
+                 report["unoccluded"].toObject()["full"].toObject()["psnr_shadow"].toDouble(),
+                 report["unoccluded"].toObject()["photo_unchanged"].toObject()["psnr_shadow"].toDouble());
+  }
+  QJsonArray variants;
+  int done = 0;
+  for (const auto& v : scene.variants) {
+    progress.report(0.65 + 0.35 * done++ / std::max<size_t>(1, scene.variants.size()), "variant " + v.name);
+    if (v.hdr.empty()) continue;
+    const ImageRGB truth = readImageLinear(resolve(scene, v.hdr));
+    const auto scale = lampScales(scene, v.lampScale, scene.sourceFile);
+    std::vector<VirtualLamp> vlamps;
+    std::vector<VirtualObject> objects;
+    virtualsOf(v, vlamps, objects);
+    std::unique_ptr<RelightSession> own, ownPlain;
+    RelightSession* s = &session;
+    RelightSession* sp = &plain;
+    if (!vlamps.empty() || !objects.empty()) {
+      own = std::make_unique<RelightSession>(scene, data, vlamps, objects, progress);
+      ownPlain = std::make_unique<RelightSession>(scene, data, vlamps, objects, progress, SessionMesh::Plain);
+      s = own.get();
+      sp = ownPlain.get();
+    }
+    auto render = [&](RelightSession* x, RelightMethod m) {
+      for (size_t l = 0; l < scale.size(); ++l) x->setLampScale(int(l), scale[l]);
+      x->update(progress);
+      ImageRGB img = x->render(main.camera, m);
+      for (size_t l = 0; l < scale.size(); ++l) x->setLampScale(int(l), glm::dvec3(1.0));
+      x->update(progress);
+      return img;
+    };
+    const ImageRGB full = render(s, RelightMethod::Full);
+    const ImageRGB ratio = render(sp, RelightMethod::RatioOnly);
+    const ImageRGB ratioSameMesh = render(s, RelightMethod::RatioOnly);
+    writeImage(dir(v.name + ".full.exr"), full);
+    writeImage(dir(v.name + ".ratio-only.exr"), ratio);
+    writeImage(dir(v.name + ".png"), sideBySide({&photo, &ratio, &full, &truth}), exposure);
+    const QJsonObject f = scores(full, truth), r = scores(ratio, truth), u = scores(photo, truth),
+                      rs = scores(ratioSameMesh, truth);
+    variants.append(QJsonObject{{"name", QString::fromStdString(v.name)},
+                                {"full", f},
+                                {"ratio_only", r},
+                                {"ratio_only_on_refined_mesh", rs},
+                                {"photo_unchanged", u}});
+    std::fprintf(stderr,
+                 "%-18s full %6.2f / %6.2f dB  ratio-only %6.2f / %6.2f  (on refined mesh %6.2f / %6.2f)  photo %6.2f / %6.2f  "
+                 "(all / shadow)\n",
+                 v.name.c_str(), f["psnr_all"].toDouble(), f["psnr_shadow"].toDouble(), r["psnr_all"].toDouble(),
+                 r["psnr_shadow"].toDouble(), rs["psnr_all"].toDouble(), rs["psnr_shadow"].toDouble(), u["psnr_all"].toDouble(),
+                 u["psnr_shadow"].toDouble());
+  }
+  report["variants"] = variants;
+  QSaveFile f(QDir(outDir).filePath("report.json"));
+  if (!f.open(QIODevice::WriteOnly) || f.write(QJsonDocument(report).toJson()) < 0 || !f.commit())
+    throw Error(dir("report.json"), "", "cannot write");
+  std::fprintf(stderr, "wrote %s\n", dir("report.json").c_str());
+  return 0;
+}
+
+}  // namespace relume::cli

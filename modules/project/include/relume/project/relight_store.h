@@ -1,0 +1,22 @@
+#pragma once
+// A preprocessed room in a Relume project: the scene (with the estimated albedos and lamp
+// radiances in place of any it came with) plus relight/: relight.json (estimates, options,
+// reference patches, texture grids) and per polygon its original, unoccluded and reflectance
+// textures and the texel-source map as EXR files.
+#include <string>
+
+#include "relume/geometry/progress.h"
+#include "relume/geometry/scene.h"
+#include "relume/relight/relighter.h"
+
+namespace relume {
+
+// Atomic like saveProject: a failure leaves any existing project as it was.
+void saveRelightProject(const Scene& scene, const RelightData& data, const std::string& folder,
+                        Progress& progress = silentProgress());
+// The relighting data of a project read with readProject; throws relume::Error naming the file
+// when the project was not preprocessed or a file is missing or damaged.
+RelightData readRelightData(const Scene& project);
+bool hasRelightData(const std::string& projectFolder);
+
+}  // namespace relume

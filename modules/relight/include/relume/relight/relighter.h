@@ -1,0 +1,130 @@
+#pragma once
+// Relighting a photographed room (Loscos, Drettakis, Robert 2000 §4-5) on the hierarchical
+// radiosity engine: reflectance and lamp estimates from the photo textures, texture-based
+// refinement along real shadows, unoccluded illumination textures (blocked light added back,
+// then reference-patch correction), and the interactive session that displays T x B / D.
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "relume/geometry/progress.h"
+#include "relume/geometry/scene.h"
+#include "relume/image/image.h"
+#include "relume/radiosity/hierarchy.h"
+#include "relume/relight/texture.h"
+
+namespace relume {
+
+struct RelightOptions {
+  double meanReflectance = 0.5;      // rho-hat of Eq. 1, given by the user, then refined (§4)
+  double colourThreshold = 10.0;     // CIELAB distance (Eq. 4) below which colours are similar
+  double visibilityThreshold = 0.2;  // attenuation difference below which visibility is similar
+  bool blockedIndirect = true;       // Eq. 5 over secondary sources too (direct is always in)
+  bool lampLeastSquares = true;      // per-lamp emittances by least squares when well posed
+  bool lampsFromPhoto = true;        // lamps the HDR photos show: their measured radiance wins
+  // §4.3 (step 2). Paper: every occluded element takes its reference's reflectance. Weighted:
+  // the two estimates of the unoccluded colour are combined by inverse variance — step 1's error
+  // grows with the blocked fraction b as b / (1 - b) (the blocked light is an estimate; what is
+  // seen is the rest), the reference's is the colour mismatch, taken as equal at b = 1/2.
+  enum class Reference { Off, Paper, Weighted } reference = Reference::Weighted;
+  int textureRefineLevels = 4;       // passes of Fig. 12
+  double textureMinArea = 4e-4;      // m^2: texture-based refinement stops there
+  double occludedFraction = 0.02;    // an element is occluded when more of its direct light is blocked
+  radiosity::Options engine;         // the radiosity solution (BF oracle by default)
+};
+
+// A lamp added by the user: an emissive polygon (radiance RGB, exitance = pi x radiance).
+struct VirtualLamp {
+  std::string name;
+  std::vector<glm::dvec3> polygon;
+  glm::dvec3 radiance{0.0};
+};
+// A virtual object: a closed set of outward-facing convex polygons with one albedo.
+struct VirtualObject {
+  std::string name;
+  std::vector<std::vector<glm::dvec3>> polygons;
+  glm::dvec3 albedo{0.5};
+};
+VirtualObject boxObject(const std::string& name, const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& albedo);
+
+struct LampEstimate {
+  std::string name;
+  glm::dvec3 equal{0.0};         // Eq. 2, every lamp the same (exitance, W/m^2 units of pi x pixel)
+  glm::dvec3 leastSquares{0.0};  // per-lamp fit over unshadowed texels (0 when not solved)
+  glm::dvec3 photographed{0.0};  // pi x the median radiance of its texels in the HDR photos
+  glm::dvec3 used{0.0};
+};
+
+struct RelightEstimates {
+  double meanReflectanceGiven = 0, meanReflectanceRefined = 0;
+  int reflectanceRounds = 0;
+  std::string lampModel;  // "equal", "least-squares" or "photographed"
+  std::string lampModelReason;
+  std::vector<LampEstimate> lamps;  // in scene lamp order
+  size_t leavesBeforeTextureRefinement = 0, leavesAfter = 0, texturesSubdivided = 0, subdivisionsCancelled = 0;
+  size_t occludedLeaves = 0, frontierLeaves = 0, referencedByFrontier = 0, referencedByDefault = 0;
+  double seconds = 0;
+};
+
+// What preprocessing produces and a project stores.
+struct RelightData {
+  std::string photo;                    // the photo the textures come from
+  double photoExposure = 1.0;           // display gain: 8-bit photo = sRGB(exposure x radiance)
+  double colourScale = 1.0;             // texture radiance to Eq. 1 reflectance (for CIELAB)
+  std::vector<PolygonTexture> textures;  // per scene polygon
+  // The lamps' glow in the photo (linear radiance around each lamp's image, which the textures
+  // leave out) and per pixel the lamp it belongs to (-1 none): scaled with its lamp on display.
+  ImageRGB glow;
+  std::vector<int> glowLamp;
+  std::vector<glm::dvec3> lampExitance;  // per scene lamp, as estimated
+  std::map<std::string, glm::dvec2> referencePatch;  // per polygon name: uv of its default reference
+  std::map<std::string, glm::dvec2> referenceOverride;  // chosen by the user (wins over the above)
+  RelightEstimates estimates;
+  RelightOptions options;
+};
+
+// The whole preprocess of §4, up to T_final, B and D. Ignores the scene's albedos and lamp
+// strengths (a photographed room has none). Throws relume::Error on unusable input.
+RelightData preprocessRoom(const Scene& scene, const RelightOptions& options, Progress& progress = silentProgress());
+
+enum class RelightMethod { Full, RatioOnly };
+
+// The mesh a session solves on. Refined: the preprocess's (BF solution, lamp links at leaves,
+// texture-based refinement along real shadows; §4.1). Plain: the engine's BF solution alone — the
+// radiosity system of Drettakis et al. 1997 that the ratio-only baseline was shown with (Fig. 5).
+enum class SessionMesh { Refined, Plain };
+
+// The interactive phase (§4.4-5): a radiosity solution over the room plus virtual lamps and
+// objects, D computed with the original lighting, then lamp edits by radiosity steps only.
+class RelightSession {
+ public:
+  RelightSession(const Scene& scene, const RelightData& data, std::vector<VirtualLamp> virtualLamps = {},
+                 std::vector<VirtualObject> objects = {}, Progress& progress = silentProgress(),
+                 SessionMesh mesh = SessionMesh::Refined);
+  ~RelightSession();
+  // RGB multiplier of a real lamp's estimated emittance (0 = off, 2 = doubled, tints).
+  void setLampScale(int lamp, const glm::dvec3& scale);
+  void setVirtualLampRadiance(int lamp, const glm::dvec3& radiance);
+  // Radiosity steps (gather + push-pull, no refinement) until stable.
+  radiosity::SolveStats update(Progress& progress = silentProgress());
+  // The room seen through `camera`: texture x B / D (Full) or original texture x B / B_orig.
+  ImageRGB render(const Camera& camera, RelightMethod method, Progress& progress = silentProgress()) const;
+  // The unoccluded illumination texture seen through `camera` (original lamps, shadows removed).
+  ImageRGB renderUnoccluded(const Camera& camera) const;
+  const radiosity::HierarchicalRadiosity& engine() const;
+  radiosity::HierarchicalRadiosity& engine();
+  double insertSeconds() const;  // virtual lamp forced refinement + update
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Checks a virtual object against the room: inside the room's bounds and not cutting through
+// any real polygon. Throws relume::Error naming the object.
+void checkVirtualObject(const Scene& scene, const VirtualObject& object);
+
+}  // namespace relume

@@ -1,0 +1,647 @@
+// Preprocessing for virtual interactive relighting (Loscos, Drettakis, Robert 2000 §4).
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <numbers>
+
+#include "relight_common.h"
+#include "view_cast.h"
+#include "relume/geometry/error.h"
+#include "relume/image/image.h"
+#include "relume/radiosity/form_factor.h"
+#include "relume/raytrace/ray_scene.h"
+#include "relume/relight/relighter.h"
+#include "relume/relight/solution_render.h"
+
+namespace relume {
+
+using radiosity::HierarchicalRadiosity;
+using namespace detail;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+glm::dvec3 clampRho(const glm::dvec3& r) { return glm::clamp(r, glm::dvec3(0.005), glm::dvec3(0.95)); }
+
+double grey(const glm::dvec3& c) { return (c.x + c.y + c.z) / 3; }
+
+// Gain g with 8-bit photo ~ sRGB(g x radiance), from the pixels neither dark nor clipped.
+double photoExposure(const Scene& scene, const Photo& ph) {
+  if (ph.hdr.empty()) return 1.0;
+  auto path = [&](const std::string& rel) { return rel.front() == '/' ? rel : scene.baseDir + "/" + rel; };
+  const ImageRGB ldr = readImageLinear(path(ph.file)), hdr = readImageLinear(path(ph.hdr));
+  if (ldr.width != hdr.width || ldr.height != hdr.height) return 1.0;
+  double num = 0, den = 0;
+  for (size_t i = 0; i < ldr.pixels.size(); ++i) {
+    const double a = ldr.pixels[i], b = hdr.pixels[i];
+    if (a < 0.02 || a > 0.9 || b <= 0) continue;
+    num += a * b;
+    den += b * b;
+  }
+  return den > 0 ? num / den : 1.0;
+}
+
+// Small dense solve (Gaussian elimination with partial pivoting); false when singular.
+bool solveDense(std::vector<std::vector<double>> A, std::vector<double> b, std::vector<double>& x) {
+  const size_t n = b.size();
+  double scale = 0;
+  for (size_t i = 0; i < n; ++i) scale = std::max(scale, std::abs(A[i][i]));
+  for (size_t c = 0; c < n; ++c) {
+    size_t p = c;
+    for (size_t r = c + 1; r < n; ++r)
+      if (std::abs(A[r][c]) > std::abs(A[p][c])) p = r;
+    if (std::abs(A[p][c]) <= 1e-9 * scale) return false;
+    std::swap(A[p], A[c]);
+    std::swap(b[p], b[c]);
+    for (size_t r = c + 1; r < n; ++r) {
+      const double f = A[r][c] / A[c][c];
+      for (size_t k = c; k < n; ++k) A[r][k] -= f * A[c][k];
+      b[r] -= f * b[c];
+    }
+  }
+  x.assign(n, 0);
+  for (size_t c = n; c-- > 0;) {
+    double s = b[c];
+    for (size_t k = c + 1; k < n; ++k) s -= A[c][k] * x[k];
+    x[c] = s / A[c][c];
+  }
+  return true;
+}
+
+struct Leaf {
+  int node;
+  int surface;
+  double area;
+  glm::dvec3 tex;  // mean original texture radiance
+  double seen;     // fraction of its texels the main photo shows
+};
+
+}  // namespace
+
+RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RelightData out;
+  out.options = o;
+  if (!(o.meanReflectance > 0 && o.meanReflectance < 1))
+    throw Error(scene.sourceFile, "mean reflectance", "must lie in (0, 1)");
+  if (scene.lamps.empty())
+    throw Error(scene.sourceFile, "lamps", "the room has no lamp: relighting needs at least one real lamp polygon");
+  int photoIndex = -1;
+  for (size_t i = 0; i < scene.photos.size(); ++i)
+    if (scene.photos[i].name == scene.mainPhoto) photoIndex = int(i);
+  if (photoIndex < 0 && !scene.photos.empty()) photoIndex = 0;
+  if (photoIndex < 0) throw Error(scene.sourceFile, "photos", "the room has no photo to take textures from");
+  const Photo& photo = scene.photos[photoIndex];
+  out.photo = photo.name;
+  out.photoExposure = photoExposure(scene, photo);
+
+  const size_t np = scene.polygons.size(), nlamps = scene.lamps.size();
+  std::vector<int> lampSurfaces;
+  for (const auto& l : scene.lamps) lampSurfaces.push_back(l.polygon);
+  std::vector<uint8_t> real(np, 0);
+  for (size_t i = 0; i < np; ++i) real[i] = scene.polygons[i].kind == PolygonKind::Real;
+
+  // Textures (the ray scene of the room itself tells what the camera sees).
+  {
+    std::vector<std::vector<glm::dvec3>> polys;
+    for (const auto& p : scene.polygons) polys.push_back(p.vertices);
+    RayScene rays(polys);
+    ProgressScope scope(progress, 0.0, 0.15);
+    DewarpStats ds;
+    out.textures = dewarpPhotos(scene, rays, photoIndex, &ds, scope);
+    if (ds.fromMain == 0)
+      throw Error(scene.sourceFile, "photo " + photo.name, "its camera sees none of the polygons (check R and t)");
+  }
+  auto& tex = out.textures;
+
+  // Polygon means and the image average (Eq. 1's B_A), in radiosity units (pi x radiance).
+  std::vector<glm::dvec3> polyMean(np, glm::dvec3(0.0));
+  glm::dvec3 imageMean(0.0);
+  double seenArea = 0, realArea = 0, lampArea = 0;
+  for (size_t i = 0; i < np; ++i) {
+    const auto& t = tex[i];
+    double seen = 0;
+    polyMean[i] = kPi * glm::dvec3(t.mean(t.original, t.origin, t.uvOf(t.width, t.height), &seen));
+    const double a = polygonArea(scene.polygons[i].vertices);
+    if (real[i]) {
+      realArea += a;
+      imageMean += seen * a * polyMean[i];
+      seenArea += seen * a;
+    }
+  }
+  for (int s : lampSurfaces) lampArea += polygonArea(scene.polygons[s].vertices);
+  if (seenArea <= 0 || grey(imageMean) <= 0)
+    throw Error(scene.sourceFile, "photo " + photo.name, "shows no lit real surface to estimate reflectances from");
+  imageMean /= seenArea;
+
+  double rhoHat = o.meanReflectance;
+  // Polygons no photo shows (a wall behind the camera) still reflect light: they get the mean
+  // reflectance of the room (its colour from the photo), refined with the computed ones below.
+  std::vector<uint8_t> observed(np, 0);
+  for (size_t i = 0; i < np; ++i)
+    for (auto src : tex[i].source) observed[i] = observed[i] || src == TexelSource::MainPhoto || src == TexelSource::OtherPhoto;
+  glm::dvec3 meanRho = clampRho(rhoHat * imageMean / grey(imageMean));
+  auto eq1 = [&](double rh) {
+    std::vector<glm::dvec3> r(np, glm::dvec3(0.0));
+    for (size_t i = 0; i < np; ++i)
+      if (real[i]) r[i] = observed[i] ? clampRho(polyMean[i] / imageMean * rh) : clampRho(rh * imageMean / grey(imageMean));
+    return r;
+  };
+  auto rhoOf = [&](int surface, const glm::dvec3& radiance, const glm::dvec3& irradiance) {
+    return observed[surface] ? clampRho(kPi * radiance / glm::max(irradiance, glm::dvec3(1e-12))) : meanRho;
+  };
+  auto updateMeanRho = [&](const HierarchicalRadiosity& hr, const std::vector<Leaf>& ls) {
+    glm::dvec3 sum(0.0);
+    double area = 0;
+    for (const auto& L : ls)
+      if (observed[L.surface] && L.seen >= 0.5) {
+        sum += L.area * rhoOf(L.surface, L.tex, glm::dvec3(hr.irradiance(L.node)));
+        area += L.area;
+      }
+    if (area > 0) meanRho = sum / area;
+  };
+  auto eq2 = [&](double rh) {  // energy balance with uniform reflectance, every lamp the same
+    return (1 - rh) / rh * imageMean * realArea / lampArea;
+  };
+  std::vector<glm::dvec3> lampScale(nlamps, glm::dvec3(1.0));
+  auto exitances = [&](double rh) {
+    std::vector<glm::dvec3> e(nlamps);
+    for (size_t l = 0; l < nlamps; ++l) e[l] = eq2(rh) * lampScale[l];
+    return e;
+  };
+  out.estimates.meanReflectanceGiven = rhoHat;
+
+  radiosity::Options eo = o.engine;
+  HierarchicalRadiosity h(engineSurfaces(scene, eq1(rhoHat), exitances(rhoHat)), eo);
+  {
+    ProgressScope scope(progress, 0.15, 0.4);
+    h.solve(scope);
+    h.pushLampLinksToLeaves(scope);
+  }
+  auto leafData = [&]() {
+    const auto ids = leavesOf(h, real);
+    std::vector<Leaf> ls(ids.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, ids.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t k = r.begin(); k < r.end(); ++k) {
+        const auto& N = h.nodes()[ids[k]];
+        const auto& t = tex[N.surface];
+        double seen = 0;
+        const glm::vec3 m = t.mean(t.original, {N.u0, N.v0}, {N.u1, N.v1}, &seen);
+        ls[k] = Leaf{ids[k], N.surface, double(N.area), glm::dvec3(m), seen};
+      }
+    });
+    return ls;
+  };
+  std::vector<Leaf> leaves = leafData();
+  // The glow around lamps: the photo minus its reprojected textures, in the rings the textures
+  // left out.
+  {
+    const std::string rel = photo.hdr.empty() ? photo.file : photo.hdr;
+    const ImageRGB img = readImageLinear(rel.front() == '/' ? rel : scene.baseDir + "/" + rel);
+    const ImageRGB clean = castView(h, photo.camera, progress, [&](int s, int, glm::dvec2 uv) {
+      return tex[s].sample(tex[s].original, uv);
+    });
+    out.glowLamp = lampGlowRing(scene, h.rayScene(), photo.camera);
+    out.glow = ImageRGB(img.width, img.height);
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x)
+        if (out.glowLamp[size_t(y) * img.width + x] >= 0)
+          out.glow.set(x, y, glm::max(img.at(x, y) - clean.at(x, y), glm::vec3(0.f)));
+  }
+
+  // §4: the user's mean reflectance, then the mean of the computed reflectances (rho = B / E over
+  // unshadowed elements the photo shows) until it settles; per-lamp emittances by least squares.
+  auto unshadowedSeen = [&](const LinkSums& sums, const Leaf& L) {
+    return L.seen >= 0.8 && grey(glm::dvec3(sums.directBlocked[L.node])) <= 1e-3 * grey(glm::dvec3(sums.direct[L.node]));
+  };
+  std::string lsReason = o.lampLeastSquares ? "" : "switched off";
+  bool lsUsed = false;
+  std::vector<glm::dvec3> lsScale(nlamps, glm::dvec3(0.0));
+  // Direct form factor from each lamp at each leaf centre (for the per-lamp fit).
+  auto lampFactors = [&]() {
+    std::vector<std::vector<double>> F(leaves.size(), std::vector<double>(nlamps, 0.0));
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t k = r.begin(); k < r.end(); ++k) {
+        const auto& N = h.nodes()[leaves[k].node];
+        const glm::dvec3 n = glm::normalize(polygonNormal(scene.polygons[N.surface].vertices));
+        for (size_t l = 0; l < nlamps; ++l)
+          F[k][l] = radiosity::pointToPolygonFormFactor(glm::dvec3(N.center), n, scene.polygons[lampSurfaces[l]].vertices);
+      }
+    });
+    return F;
+  };
+  const auto F = lampFactors();
+  // Per-lamp least squares over unshadowed elements the photo shows: observed B = rho_surface x
+  // (sum_l m_l D_l + I), alternating between the surfaces' reflectances and the multipliers m of
+  // the lamps not `fixed` (their exitance e is known). With no lamp fixed the total power is kept
+  // (the scale of rho against m is otherwise free). False (with the reason) when ill-posed.
+  auto fitLamps = [&](const std::vector<glm::dvec3>& e, const std::vector<uint8_t>& fixed, std::vector<glm::dvec3>& mult,
+                      std::string& reason) {
+    const LinkSums sums = linkSums(h, true);
+    mult.assign(nlamps, glm::dvec3(1.0));
+    std::vector<size_t> rows;
+    for (size_t k = 0; k < leaves.size(); ++k)
+      if (unshadowedSeen(sums, leaves[k])) rows.push_back(k);
+    std::vector<size_t> freeL;
+    for (size_t l = 0; l < nlamps; ++l)
+      if (!fixed[l]) freeL.push_back(l);
+    const bool anyFixed = freeL.size() < nlamps;
+    if (freeL.empty()) return true;
+    for (int c = 0; c < 3; ++c) {
+      std::vector<double> m(nlamps, 1.0), y(rows.size()), I(rows.size());
+      std::vector<std::vector<double>> D(rows.size(), std::vector<double>(nlamps));
+      for (size_t r = 0; r < rows.size(); ++r) {
+        const Leaf& L = leaves[rows[r]];
+        y[r] = kPi * L.tex[c];
+        double dsum = 0;
+        for (size_t l = 0; l < nlamps; ++l) dsum += D[r][l] = F[rows[r]][l] * e[l][c];
+        I[r] = std::max(0.0, double(h.irradiance(L.node)[c]) - dsum);
+      }
+      double power0 = 0;
+      for (size_t l : freeL) power0 += e[l][c] * polygonArea(scene.polygons[lampSurfaces[l]].vertices);
+      for (int it = 0; it < 30; ++it) {
+        std::vector<double> sNum(np, 0), sDen(np, 0), rs(np, 0);
+        for (size_t r = 0; r < rows.size(); ++r) {
+          double H = I[r];
+          for (size_t l = 0; l < nlamps; ++l) H += m[l] * D[r][l];
+          const Leaf& L = leaves[rows[r]];
+          sNum[L.surface] += L.area * y[r] * H;
+          sDen[L.surface] += L.area * H * H;
+        }
+        for (size_t s = 0; s < np; ++s) rs[s] = sDen[s] > 0 ? sNum[s] / sDen[s] : 0;
+        // Robust weights: a polygon whose texture the constant-reflectance model fits badly (a
+        // checkerboard, a pattern) counts less, by its relative residual variance.
+        std::vector<double> res(np, 0), yy(np, 0), aa(np, 0), ws(np, 1.0);
+        for (size_t r = 0; r < rows.size(); ++r) {
+          const Leaf& L = leaves[rows[r]];
+          double H = I[r];
+          for (size_t l = 0; l < nlamps; ++l) H += m[l] * D[r][l];
+          const double d = y[r] - rs[L.surface] * H;
+          res[L.surface] += L.area * d * d;
+          yy[L.surface] += L.area * y[r];
+          aa[L.surface] += L.area;
+        }
+        for (size_t s = 0; s < np; ++s)
+          if (aa[s] > 0 && yy[s] > 0) {
+            const double meanY = yy[s] / aa[s];
+            ws[s] = 1.0 / (res[s] / aa[s] / (meanY * meanY) + 1e-4);
+          }
+        const size_t nf = freeL.size();
+        std::vector<std::vector<double>> A(nf, std::vector<double>(nf, 0));
+        std::vector<double> b(nf, 0);
+        for (size_t r = 0; r < rows.size(); ++r) {
+          const Leaf& L = leaves[rows[r]];
+          const double p = rs[L.surface], w = L.area * ws[L.surface];
+          if (p <= 0) continue;
+          double known = I[r];
+          for (size_t l = 0; l < nlamps; ++l)
+            if (fixed[l]) known += D[r][l];
+          for (size_t i = 0; i < nf; ++i) {
+            b[i] += w * p * D[r][freeL[i]] * (y[r] - p * known);
+            for (size_t k = 0; k < nf; ++k) A[i][k] += w * p * p * D[r][freeL[i]] * D[r][freeL[k]];
+          }
+        }
+        std::vector<double> x;
+        if (!solveDense(A, b, x)) {
+          reason = "singular: some lamp lights too few unshadowed elements the photo shows";
+          return false;
+        }
+        double power = 0;
+        for (size_t i = 0; i < nf; ++i) power += x[i] * e[freeL[i]][c] * polygonArea(scene.polygons[lampSurfaces[freeL[i]]].vertices);
+        for (size_t i = 0; i < nf; ++i) {
+          if (!(x[i] > 0) || power <= 0) {
+            reason = "lamp " + scene.lamps[freeL[i]].name + " came out non-positive";
+            return false;
+          }
+          m[freeL[i]] = anyFixed ? x[i] : x[i] * power0 / power;
+        }
+      }
+      for (size_t l = 0; l < nlamps; ++l) mult[l][c] = m[l];
+    }
+    return true;
+  };
+  int round = 0;
+  for (; round < 2; ++round) {
+    progress.report(0.4 + 0.02 * round, "estimating reflectances and lamps, round " + std::to_string(round + 1));
+    const auto rho = eq1(rhoHat);
+    const auto e = exitances(rhoHat);
+    for (size_t i = 0; i < np; ++i)
+      if (real[i]) h.setReflectance(int(i), rho[i]);
+    for (size_t l = 0; l < nlamps; ++l) h.setExitance(lampSurfaces[l], e[l]);
+    h.iterate(progress);
+    const LinkSums sums = linkSums(h, true);
+    double num = 0, den = 0;
+    for (const auto& L : leaves) {
+      if (!unshadowedSeen(sums, L)) continue;
+      const glm::dvec3 E(h.irradiance(L.node));
+      if (grey(E) <= 0) continue;
+      num += L.area * grey(clampRho(kPi * L.tex / glm::max(E, glm::dvec3(1e-12))));
+      den += L.area;
+    }
+    const double refined = den > 0 ? std::clamp(num / den, 0.02, 0.95) : rhoHat;
+    if (o.lampLeastSquares && nlamps > 1) {
+      std::vector<glm::dvec3> m;
+      lsUsed = fitLamps(e, std::vector<uint8_t>(nlamps, 0), m, lsReason);
+      for (size_t l = 0; l < nlamps; ++l) lampScale[l] = lsUsed ? lampScale[l] * m[l] : glm::dvec3(1.0);
+    }
+    if (round == 0) rhoHat = refined;  // §4: the given value, then the mean of the computed ones
+    else out.estimates.meanReflectanceRefined = refined;
+  }
+  out.estimates.reflectanceRounds = round;
+  out.estimates.lampModel = lsUsed ? "least-squares" : "equal";
+  out.estimates.lampModelReason = lsUsed ? "" : (nlamps < 2 ? "one lamp" : lsReason);
+  out.lampExitance = exitances(rhoHat);
+  // A lamp the (HDR) photos show is measured directly: pi x the median radiance of its texels.
+  std::vector<glm::dvec3> measured(nlamps, glm::dvec3(0.0));
+  for (size_t l = 0; l < nlamps; ++l) {
+    const auto& t = tex[lampSurfaces[l]];
+    std::array<std::vector<float>, 3> ch;
+    size_t inside = 0;
+    for (size_t k = 0; k < t.source.size(); ++k) {
+      inside += t.source[k] != TexelSource::Outside;
+      if (t.source[k] == TexelSource::MainPhoto || t.source[k] == TexelSource::OtherPhoto)
+        for (int c = 0; c < 3; ++c) ch[c].push_back(t.original[k][c]);
+    }
+    if (photo.hdr.empty() || ch[0].size() < 4 || ch[0].size() < inside / 4) continue;
+    for (int c = 0; c < 3; ++c) {
+      std::nth_element(ch[c].begin(), ch[c].begin() + ch[c].size() / 2, ch[c].end());
+      measured[l][c] = kPi * ch[c][ch[c].size() / 2];
+    }
+  }
+  // Photographed lamps are known; the others are scaled like them (least squares, or Eq. 2 when
+  // that is ill-posed), then fitted against them with the photographed ones held fixed.
+  std::vector<uint8_t> isMeasured(nlamps, 0);
+  size_t nMeasured = 0;
+  for (size_t l = 0; l < nlamps; ++l) nMeasured += isMeasured[l] = grey(measured[l]) > 0;
+  if (nMeasured > 0 && o.lampsFromPhoto) {
+    glm::dvec3 num(0.0), den(0.0);
+    for (size_t l = 0; l < nlamps; ++l)
+      if (isMeasured[l]) {
+        num += measured[l];
+        den += out.lampExitance[l];
+      }
+    const glm::dvec3 k = num / glm::max(den, glm::dvec3(1e-30));
+    for (size_t l = 0; l < nlamps; ++l) out.lampExitance[l] = isMeasured[l] ? measured[l] : out.lampExitance[l] * k;
+    out.estimates.lampModel = "photographed";
+    out.estimates.lampModelReason = "lamps seen in the HDR photo are measured";
+    if (nMeasured < nlamps) {
+      for (size_t l = 0; l < nlamps; ++l) h.setExitance(lampSurfaces[l], out.lampExitance[l]);
+      for (int r = 0; r < 3; ++r) {
+        h.iterate(progress);
+        for (const auto& L : leaves)
+          h.setElementReflectance(L.node, rhoOf(L.surface, L.tex, glm::dvec3(h.irradiance(L.node))));
+        updateMeanRho(h, leaves);
+      }
+      h.iterate(progress);
+      std::vector<glm::dvec3> m;
+      std::string why;
+      if (o.lampLeastSquares && fitLamps(out.lampExitance, isMeasured, m, why)) {
+        for (size_t l = 0; l < nlamps; ++l) out.lampExitance[l] *= m[l];
+        out.estimates.lampModel = "photographed+least-squares";
+        out.estimates.lampModelReason = "lamps the photo does not show fitted against those it shows";
+      } else {
+        out.estimates.lampModel = "photographed+scaled";
+        out.estimates.lampModelReason = "lamps the photo does not show scaled like those it shows" + (why.empty() ? "" : " (" + why + ")");
+      }
+    }
+  }
+  for (size_t l = 0; l < nlamps; ++l) {
+    LampEstimate le;
+    le.name = scene.lamps[l].name;
+    le.equal = eq2(rhoHat);
+    le.leastSquares = lsUsed ? eq2(rhoHat) * lampScale[l] : glm::dvec3(0.0);
+    le.photographed = measured[l];
+    le.used = out.lampExitance[l];
+    out.estimates.lamps.push_back(le);
+  }
+  for (size_t l = 0; l < nlamps; ++l) h.setExitance(lampSurfaces[l], out.lampExitance[l]);
+  // Per-element reflectance: the texture over the computed irradiance, a few rounds (the
+  // interreflections depend on the reflectances).
+  for (int r = 0; r < 4; ++r) {
+    h.iterate(progress);
+    for (const auto& L : leaves)
+      h.setElementReflectance(L.node, rhoOf(L.surface, L.tex, glm::dvec3(h.irradiance(L.node))));
+    updateMeanRho(h, leaves);
+  }
+  h.iterate(progress);
+
+  // §4.1: texture-based refinement along real shadows; lamp links at the leaves.
+  {
+    ProgressScope scope(progress, 0.55, 0.7);
+    out.colourScale = rhoHat / (grey(imageMean) / kPi);
+    textureRefine(h, tex, lampSurfaces, real, out.colourScale, o, &out.estimates, scope);
+  }
+  leaves = leafData();
+  // Reflectance per element from its texture and its computed irradiance; B_orig = D_orig.
+  auto setLeafReflectance = [&](const std::vector<glm::dvec3>& rho) {
+    for (size_t k = 0; k < leaves.size(); ++k) h.setElementReflectance(leaves[k].node, rho[k]);
+  };
+  {
+    h.iterate(progress);
+    std::vector<glm::dvec3> rho(leaves.size());
+    for (size_t k = 0; k < leaves.size(); ++k)
+      rho[k] = rhoOf(leaves[k].surface, leaves[k].tex, glm::dvec3(h.irradiance(leaves[k].node)));
+    setLeafReflectance(rho);
+    h.iterate(progress);
+  }
+
+  // §4.2, step 1: add the blocked light back (Eq. 5-6), modulating at leaf vertices.
+  progress.report(0.75, "adding blocked light back (Eq. 5-6)");
+  LinkSums sums = linkSums(h, o.blockedIndirect);
+  std::vector<glm::vec3> Enode(h.nodes().size());
+  for (size_t i = 0; i < Enode.size(); ++i) Enode[i] = h.irradiance(int(i));
+  // Corner values lean on the elements the photo shows: hidden ones (behind a poster, under a
+  // box) have no light to speak of and would spread their extreme ratios to visible neighbours.
+  auto seenWeights = [&]() {
+    std::vector<float> w(h.nodes().size(), 1.f);
+    for (const auto& L : leafData()) w[L.node] = float(L.seen) + 1e-3f;
+    return w;
+  };
+  auto forEachTexel = [&](const std::function<void(PolygonTexture&, size_t, int, glm::dvec2)>& fn) {
+    tbb::parallel_for(size_t(0), np, [&](size_t s) {
+      if (!real[s]) return;
+      auto& t = tex[s];
+      for (int y = 0; y < t.height; ++y)
+        for (int x = 0; x < t.width; ++x) {
+          if (t.source[t.index(x, y)] == TexelSource::Outside) continue;
+          const glm::dvec2 uv = t.uvOf(x + 0.5, y + 0.5);
+          fn(t, t.index(x, y), h.findLeaf(int(s), uv), uv);
+        }
+    });
+  };
+  {
+    const auto wSeen = seenWeights();
+    const auto cU = leafCornerValues(h, sums.unoccluded, &wSeen), cE = leafCornerValues(h, Enode, &wSeen);
+    for (size_t s = 0; s < np; ++s) tex[s].unoccluded = tex[s].original;
+    forEachTexel([&](PolygonTexture& t, size_t i, int leaf, glm::dvec2 uv) {
+      const auto& L = h.nodes()[leaf];
+      const glm::vec3 u = interpolateCorners(L, cU[leaf], uv), e = interpolateCorners(L, cE[leaf], uv);
+      const glm::vec3 f = glm::clamp(u / glm::max(e, glm::vec3(1e-20f)), glm::vec3(1.f), glm::vec3(50.f));
+      t.unoccluded[i] = t.original[i] * f;
+    });
+    for (size_t s = 0; s < np; ++s) fillSmoothly(tex[s], tex[s].unoccluded, true);
+  }
+  leaves = leafData();
+  std::vector<glm::dvec3> rhoInter(leaves.size());
+  for (size_t k = 0; k < leaves.size(); ++k) {
+    const auto& N = h.nodes()[leaves[k].node];
+    const auto& t = tex[N.surface];
+    const glm::dvec3 m(t.mean(t.unoccluded, {N.u0, N.v0}, {N.u1, N.v1}));
+    rhoInter[k] = rhoOf(leaves[k].surface, m, glm::dvec3(sums.unoccluded[leaves[k].node]));
+  }
+
+  // §4.3, step 2: reference patches on the frontier of unoccluded elements (Fig. 16), Eq. 7-9.
+  progress.report(0.82, "reference-patch correction (Eq. 7-9)");
+  std::vector<int> leafIndex(h.nodes().size(), -1);
+  for (size_t k = 0; k < leaves.size(); ++k) leafIndex[leaves[k].node] = int(k);
+  std::vector<uint8_t> occluded(leaves.size(), 0), unoccluded(leaves.size(), 0);
+  for (size_t k = 0; k < leaves.size(); ++k) {
+    const double d = grey(glm::dvec3(sums.direct[leaves[k].node]));
+    const double b = grey(glm::dvec3(sums.directBlocked[leaves[k].node]));
+    occluded[k] = d > 0 && b > o.occludedFraction * d;
+    unoccluded[k] = b <= 1e-3 * d;
+  }
+  std::vector<glm::dvec3> lab(leaves.size());
+  for (size_t k = 0; k < leaves.size(); ++k) lab[k] = linearRgbToLab(rhoInter[k]);
+  std::vector<std::vector<int>> frontier(np);
+  for (size_t k = 0; k < leaves.size(); ++k) {
+    if (!unoccluded[k] || leaves[k].seen < 0.5) continue;
+    for (int n : neighbours(h, leaves[k].node))
+      if (leafIndex[n] >= 0 && occluded[leafIndex[n]]) {
+        frontier[leaves[k].surface].push_back(int(k));
+        break;
+      }
+  }
+  // Default reference per polygon: the user's choice, else the unoccluded element the photo shows
+  // whose colour is nearest the polygon's mean unoccluded colour.
+  std::vector<int> defaultRef(np, -1);
+  {
+    std::vector<glm::dvec3> meanRho(np, glm::dvec3(0.0));
+    std::vector<double> wsum(np, 0);
+    for (size_t k = 0; k < leaves.size(); ++k)
+      if (unoccluded[k] && leaves[k].seen >= 0.5) {
+        meanRho[leaves[k].surface] += leaves[k].area * rhoInter[k];
+        wsum[leaves[k].surface] += leaves[k].area;
+      }
+    std::vector<double> best(np, 1e300);
+    for (size_t k = 0; k < leaves.size(); ++k) {
+      const int s = leaves[k].surface;
+      if (!unoccluded[k] || leaves[k].seen < 0.5 || wsum[s] <= 0) continue;
+      const double d = glm::length(lab[k] - linearRgbToLab(meanRho[s] / wsum[s]));
+      if (d < best[s]) {
+        best[s] = d;
+        defaultRef[s] = int(k);
+      }
+    }
+    for (size_t s = 0; s < np; ++s) {
+      const auto& name = scene.polygons[s].name;
+      if (defaultRef[s] >= 0) {
+        const auto& N = h.nodes()[leaves[defaultRef[s]].node];
+        out.referencePatch[name] = {0.5 * (N.u0 + N.u1), 0.5 * (N.v0 + N.v1)};
+      }
+    }
+  }
+  std::vector<glm::vec3> factor(h.nodes().size(), glm::vec3(1.f));
+  size_t nOcc = 0, nFront = 0, byFrontier = 0, byDefault = 0;
+  for (const auto& f : frontier) nFront += f.size();
+  if (o.reference != RelightOptions::Reference::Off) {
+    for (size_t k = 0; k < leaves.size(); ++k) {
+      if (!occluded[k]) continue;
+      ++nOcc;
+      const int s = leaves[k].surface;
+      const glm::dvec3 ci = glm::dvec3(h.nodes()[leaves[k].node].center);
+      int ref = -1;
+      double bestDist = 1e300;
+      for (int n : frontier[s]) {
+        if (glm::length(lab[n] - lab[k]) >= o.colourThreshold) continue;
+        const double d = glm::length(glm::dvec3(h.nodes()[leaves[n].node].center) - ci);
+        if (d < bestDist) {
+          bestDist = d;
+          ref = n;
+        }
+      }
+      if (ref >= 0) ++byFrontier;
+      else {
+        ref = defaultRef[s];
+        if (ref < 0) continue;
+        ++byDefault;
+      }
+      // Eq. 8 with the reflectance of step 1 (already divided by the unoccluded irradiance, so the
+      // form-factor ratio of Eq. 7 is inside it), then Eq. 9's modulation of T_inter.
+      glm::dvec3 f = rhoInter[ref] / rhoInter[k];
+      if (o.reference == RelightOptions::Reference::Weighted) {
+        const double d = grey(glm::dvec3(sums.direct[leaves[k].node]));
+        const double b = std::clamp(grey(glm::dvec3(sums.directBlocked[leaves[k].node])) / std::max(d, 1e-30), 0.0, 0.999);
+        const double r = b / (1 - b), w = r * r / (1 + r * r);
+        f = glm::pow(f, glm::dvec3(w));
+      }
+      factor[leaves[k].node] = glm::vec3(f);
+    }
+  }
+  // Override of a polygon's reference by the user: applied to all its occluded elements that had
+  // no frontier reference is what the workbench will edit; stored here for the project.
+  out.estimates.occludedLeaves = nOcc;
+  out.estimates.frontierLeaves = nFront;
+  out.estimates.referencedByFrontier = byFrontier;
+  out.estimates.referencedByDefault = byDefault;
+  {
+    const auto wSeen = seenWeights();
+    const auto cF = leafCornerValues(h, factor, &wSeen);
+    forEachTexel([&](PolygonTexture& t, size_t i, int leaf, glm::dvec2 uv) {
+      t.unoccluded[i] *= interpolateCorners(h.nodes()[leaf], cF[leaf], uv);
+    });
+    for (size_t s = 0; s < np; ++s) fillSmoothly(tex[s], tex[s].unoccluded, true);
+  }
+  // rho_final, B_final, and the reflectance map (T_final over the unoccluded irradiance).
+  progress.report(0.9, "final reflectances");
+  {
+    leaves = leafData();
+    std::vector<glm::dvec3> rho(leaves.size());
+    for (size_t k = 0; k < leaves.size(); ++k) {
+      const auto& N = h.nodes()[leaves[k].node];
+      const auto& t = tex[N.surface];
+      const glm::dvec3 m(t.mean(t.unoccluded, {N.u0, N.v0}, {N.u1, N.v1}));
+      rho[k] = rhoOf(leaves[k].surface, m, glm::dvec3(sums.unoccluded[leaves[k].node]));
+    }
+    setLeafReflectance(rho);
+    h.iterate(progress);
+    sums = linkSums(h, o.blockedIndirect);
+    const auto wSeen = seenWeights();
+    const auto cU = leafCornerValues(h, sums.unoccluded, &wSeen);
+    for (size_t s = 0; s < np; ++s) tex[s].albedo.assign(tex[s].original.size(), glm::vec3(0.f));
+    forEachTexel([&](PolygonTexture& t, size_t i, int leaf, glm::dvec2 uv) {
+      const glm::vec3 u = interpolateCorners(h.nodes()[leaf], cU[leaf], uv);
+      t.albedo[i] = glm::clamp(float(kPi) * t.unoccluded[i] / glm::max(u, glm::vec3(1e-20f)), glm::vec3(0.f), glm::vec3(1.f));
+    });
+    for (size_t s = 0; s < np; ++s) {
+      if (real[s] && !observed[s]) {  // nothing seen: the mean reflectance, lit by the solution
+        std::fill(tex[s].albedo.begin(), tex[s].albedo.end(), glm::vec3(meanRho));
+        const auto& t = tex[s];
+        for (int y = 0; y < t.height; ++y)
+          for (int x = 0; x < t.width; ++x) {
+            const glm::dvec2 uv = t.uvOf(x + 0.5, y + 0.5);
+            const int leaf = h.findLeaf(int(s), uv);
+            const glm::vec3 u = interpolateCorners(h.nodes()[leaf], cU[leaf], uv);
+            tex[s].original[t.index(x, y)] = tex[s].unoccluded[t.index(x, y)] = glm::vec3(meanRho) * u / float(kPi);
+          }
+      }
+      if (real[s]) fillSmoothly(tex[s], tex[s].albedo, true);
+    }
+    for (size_t s = 0; s < np; ++s)
+      if (!real[s]) {
+        tex[s].unoccluded = tex[s].original;
+        tex[s].albedo.assign(tex[s].original.size(), glm::vec3(0.f));
+      }
+  }
+  out.estimates.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  progress.report(1.0, "preprocessed");
+  return out;
+}
+
+}  // namespace relume

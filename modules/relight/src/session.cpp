@@ -1,0 +1,289 @@
+// The interactive relighting phase (Loscos et al. 2000 §4.4-5).
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <numbers>
+
+#include "relight_common.h"
+#include "view_cast.h"
+#include "relume/geometry/error.h"
+#include "relume/image/image.h"
+#include "relume/raytrace/ray_scene.h"
+#include "relume/relight/relighter.h"
+#include "relume/relight/solution_render.h"
+
+namespace relume {
+
+using radiosity::HierarchicalRadiosity;
+using namespace detail;
+
+VirtualObject boxObject(const std::string& name, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& albedo) {
+  const double x0 = a.x, y0 = a.y, z0 = a.z, x1 = b.x, y1 = b.y, z1 = b.z;
+  VirtualObject o;
+  o.name = name;
+  o.albedo = albedo;
+  o.polygons = {{{x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}},   // -z
+                {{x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}},   // +z
+                {{x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}},   // -y
+                {{x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}, {x1, y1, z0}},   // +y
+                {{x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}},   // -x
+                {{x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}}};  // +x
+  return o;
+}
+
+void checkVirtualObject(const Scene& scene, const VirtualObject& object) {
+  const std::string what = "virtual object '" + object.name + "'";
+  for (double c : {object.albedo.x, object.albedo.y, object.albedo.z})
+    if (!(c > 0 && c <= 1)) throw Error(scene.sourceFile, what, "albedo must lie in (0, 1]");
+  if (object.polygons.empty()) throw Error(scene.sourceFile, what, "has no polygons");
+  glm::dvec3 lo(1e300), hi(-1e300), olo(1e300), ohi(-1e300);
+  for (const auto& p : scene.polygons)
+    for (const auto& v : p.vertices) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+  for (const auto& p : object.polygons)
+    for (const auto& v : p) {
+      if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+        throw Error(scene.sourceFile, what, "has a vertex that is not a finite number");
+      olo = glm::min(olo, v);
+      ohi = glm::max(ohi, v);
+    }
+  const double tol = 1e-3;
+  if (glm::any(glm::lessThan(olo, lo - tol)) || glm::any(glm::greaterThan(ohi, hi + tol)))
+    throw Error(scene.sourceFile, what, "lies (partly) outside the room");
+  // Shrunk by 1 mm towards its centre, no edge of the object may cross a real polygon and no
+  // edge of a real polygon may cross the object.
+  const glm::dvec3 c = 0.5 * (olo + ohi);
+  auto shrink = [&](const glm::dvec3& v) { return v + 1e-3 * glm::normalize(c - v); };
+  std::vector<std::vector<glm::dvec3>> room, obj;
+  for (const auto& p : scene.polygons) room.push_back(p.vertices);
+  for (const auto& p : object.polygons) {
+    std::vector<glm::dvec3> q;
+    for (const auto& v : p) q.push_back(shrink(v));
+    obj.push_back(q);
+  }
+  const RayScene roomRays(room), objRays(obj);
+  auto crosses = [](const RayScene& rays, const std::vector<std::vector<glm::dvec3>>& polys) -> int {
+    for (size_t i = 0; i < polys.size(); ++i)
+      for (size_t k = 0; k < polys[i].size(); ++k)
+        if (rays.occluded(glm::vec3(polys[i][k]), glm::vec3(polys[i][(k + 1) % polys[i].size()]), 0.f)) return int(i);
+    return -1;
+  };
+  if (crosses(roomRays, obj) >= 0 || crosses(objRays, room) >= 0) {
+    // Name the real polygon it cuts.
+    for (const auto& p : scene.polygons) {
+      const RayScene one({p.vertices});
+      if (crosses(one, obj) >= 0 || crosses(objRays, {p.vertices}) >= 0)
+        throw Error(scene.sourceFile, what, "intersects polygon '" + p.name + "'");
+    }
+    throw Error(scene.sourceFile, what, "intersects the room's polygons");
+  }
+}
+
+struct RelightSession::Impl {
+  size_t np = 0;
+  std::vector<PolygonTexture> textures;
+  std::vector<PolygonKind> kinds;
+  std::unique_ptr<HierarchicalRadiosity> h;
+  std::vector<int> lampSurfaces, vlampSurfaces;
+  std::vector<glm::dvec3> baseExitance, vlampExitance, lampScale;
+  ImageRGB glow;
+  std::vector<int> glowLamp;
+  Camera photoCamera;
+  std::vector<glm::vec3> D, Borig;
+  std::vector<std::array<glm::vec3, 4>> cD, cBorig, cB;
+  double insertSeconds = 0;
+
+  std::vector<glm::vec3> cur;
+  std::vector<float> seenWeight;  // per node: corner values lean on what the photos show
+  // What the display ratio is made of: irradiance on real surfaces (B / D = E / (E + E-bar) there,
+  // whatever each element's reflectance, so T_inter's modulation and the display's cancel exactly
+  // under the original lighting), radiosity on lamps and virtual surfaces.
+  bool byIrradiance(int node) const {
+    const int s = h->nodes()[node].surface;
+    return s >= 0 && size_t(s) < np && kinds[s] == PolygonKind::Real;
+  }
+  glm::vec3 shading(int node) const { return byIrradiance(node) ? h->irradiance(node) : h->radiosity(node); }
+  // Seen from the photo's own camera, each lamp's glow follows its lamp (or stays as photographed).
+  void addGlow(const Camera& camera, ImageRGB& img, bool original) const {
+    const auto& pc = photoCamera;
+    if (camera.width != glow.width || camera.height != glow.height || camera.K != pc.K || camera.R != pc.R ||
+        camera.t != pc.t || glowLamp.empty())
+      return;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        const int l = glowLamp[size_t(y) * img.width + x];
+        if (l >= 0) img.set(x, y, img.at(x, y) + glow.at(x, y) * (original ? glm::vec3(1.f) : glm::vec3(lampScale[l])));
+      }
+  }
+  void refreshCorners() {
+    cur.resize(h->nodes().size());
+    for (size_t n = 0; n < cur.size(); ++n) cur[n] = shading(int(n));
+    cB = leafCornerValues(*h, cur, &seenWeight);
+  }
+};
+
+RelightSession::RelightSession(const Scene& scene, const RelightData& data, std::vector<VirtualLamp> virtualLamps,
+                               std::vector<VirtualObject> objects, Progress& progress, SessionMesh mesh)
+    : impl_(std::make_unique<Impl>()) {
+  auto& im = *impl_;
+  im.np = scene.polygons.size();
+  if (data.textures.size() != im.np || data.lampExitance.size() != scene.lamps.size())
+    throw Error(scene.sourceFile, "relighting data", "does not match the room (re-run relume preprocess)");
+  im.textures = data.textures;
+  for (const auto& p : scene.polygons) im.kinds.push_back(p.kind);
+  std::vector<uint8_t> real(im.np, 0), seen(im.np, 0);
+  std::vector<glm::dvec3> refl(im.np, glm::dvec3(0.0));
+  for (size_t i = 0; i < im.np; ++i) {
+    real[i] = scene.polygons[i].kind == PolygonKind::Real;
+    const auto& t = im.textures[i];
+    for (auto s : t.source) seen[i] = seen[i] || s == TexelSource::MainPhoto || s == TexelSource::OtherPhoto;
+    if (real[i] && !t.albedo.empty()) refl[i] = glm::dvec3(t.mean(t.albedo, t.origin, t.uvOf(t.width, t.height)));
+  }
+  auto surfaces = engineSurfaces(scene, refl, data.lampExitance);
+  for (const auto& l : scene.lamps) im.lampSurfaces.push_back(l.polygon);
+  im.baseExitance = data.lampExitance;
+  im.lampScale.assign(scene.lamps.size(), glm::dvec3(1.0));
+  im.glow = data.glow;
+  im.glowLamp = data.glowLamp;
+  if (const Photo* ph = scene.findPhoto(data.photo)) im.photoCamera = ph->camera;
+  for (const auto& v : virtualLamps) {
+    if (v.polygon.size() < 3) throw Error(scene.sourceFile, "virtual lamp '" + v.name + "'", "needs a polygon of 3 or more vertices");
+    for (double c : {v.radiance.x, v.radiance.y, v.radiance.z})
+      if (!(c >= 0) || !std::isfinite(c)) throw Error(scene.sourceFile, "virtual lamp '" + v.name + "'", "radiance must be finite and >= 0");
+    radiosity::Surface s;
+    s.name = v.name;
+    s.vertices = v.polygon;
+    s.exitance = std::numbers::pi * v.radiance;
+    im.vlampSurfaces.push_back(int(surfaces.size()));
+    im.vlampExitance.push_back(s.exitance);
+    surfaces.push_back(s);
+  }
+  std::vector<std::pair<int, glm::dvec3>> objectSurfaces;
+  for (const auto& o : objects) {
+    checkVirtualObject(scene, o);
+    for (size_t k = 0; k < o.polygons.size(); ++k) {
+      radiosity::Surface s;
+      s.name = o.name + "_" + std::to_string(k);
+      s.vertices = o.polygons[k];
+      s.reflectance = o.albedo;
+      objectSurfaces.emplace_back(int(surfaces.size()), o.albedo);
+      surfaces.push_back(s);
+    }
+  }
+  im.h = std::make_unique<HierarchicalRadiosity>(std::move(surfaces), data.options.engine);
+  auto& h = *im.h;
+  {
+    ProgressScope scope(progress, 0.0, 0.5);
+    h.solve(scope);
+    if (mesh == SessionMesh::Refined) h.pushLampLinksToLeaves(scope);
+  }
+  if (mesh == SessionMesh::Refined) {
+    ProgressScope scope(progress, 0.5, 0.8);
+    textureRefine(h, im.textures, im.lampSurfaces, real, data.colourScale, data.options, nullptr, scope);
+  }
+  if (!im.vlampSurfaces.empty()) {
+    // §4.5: links from a virtual lamp forced onto the polygons the photos show.
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<int> receivers;
+    for (size_t i = 0; i < im.np; ++i)
+      if (seen[i]) receivers.push_back(int(i));
+    for (const auto& [s, a] : objectSurfaces) receivers.push_back(s);
+    h.forceRefine(receivers, im.vlampSurfaces, progress);
+    h.pushLampLinksToLeaves(progress);
+    h.iterate(progress);
+    im.insertSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  // Per-element reflectance from the reflectance maps.
+  im.seenWeight.assign(h.nodes().size(), 1.f);
+  for (int leaf : leavesOf(h, real)) {
+    const auto& N = h.nodes()[leaf];
+    const auto& t = im.textures[N.surface];
+    double seenFraction = 0;
+    if (!t.albedo.empty())
+      h.setElementReflectance(leaf, glm::dvec3(t.mean(t.albedo, {N.u0, N.v0}, {N.u1, N.v1}, &seenFraction)));
+    im.seenWeight[leaf] = float(seenFraction) + 1e-3f;
+  }
+  // D with the original lighting, before anything virtual adds light (§2.4: D is the display
+  // factor of the real room; virtual objects then make B < D where they cast shadows).
+  for (int s : im.vlampSurfaces) h.setExitance(s, glm::dvec3(0.0));
+  for (const auto& [s, a] : objectSurfaces) h.setReflectance(s, glm::dvec3(0.0));
+  h.iterate(progress);
+  const LinkSums sums = linkSums(h, data.options.blockedIndirect);
+  const size_t nn = h.nodes().size();
+  im.D.resize(nn);
+  im.Borig.resize(nn);
+  for (size_t n = 0; n < nn; ++n) {
+    im.Borig[n] = im.shading(int(n));
+    im.D[n] = im.byIrradiance(int(n)) ? im.Borig[n] + sums.blocked[n] : im.Borig[n];
+  }
+  im.cD = leafCornerValues(h, im.D, &im.seenWeight);
+  im.cBorig = leafCornerValues(h, im.Borig, &im.seenWeight);
+  for (size_t k = 0; k < im.vlampSurfaces.size(); ++k) h.setExitance(im.vlampSurfaces[k], im.vlampExitance[k]);
+  for (const auto& [s, a] : objectSurfaces) h.setReflectance(s, a);
+  update(progress);
+  progress.report(1.0, "relighting session ready");
+}
+
+RelightSession::~RelightSession() = default;
+
+const HierarchicalRadiosity& RelightSession::engine() const { return *impl_->h; }
+HierarchicalRadiosity& RelightSession::engine() { return *impl_->h; }
+double RelightSession::insertSeconds() const { return impl_->insertSeconds; }
+
+void RelightSession::setLampScale(int lamp, const glm::dvec3& scale) {
+  impl_->h->setExitance(impl_->lampSurfaces.at(lamp), impl_->baseExitance.at(lamp) * scale);
+  impl_->lampScale.at(lamp) = scale;
+}
+
+void RelightSession::setVirtualLampRadiance(int lamp, const glm::dvec3& radiance) {
+  impl_->vlampExitance.at(lamp) = std::numbers::pi * radiance;
+  impl_->h->setExitance(impl_->vlampSurfaces.at(lamp), impl_->vlampExitance[lamp]);
+}
+
+radiosity::SolveStats RelightSession::update(Progress& progress) {
+  const auto st = impl_->h->iterate(progress);
+  impl_->refreshCorners();
+  return st;
+}
+
+
+ImageRGB RelightSession::render(const Camera& camera, RelightMethod method, Progress& progress) const {
+  const auto& im = *impl_;
+  const auto& h = *im.h;
+  const float invPi = float(1.0 / std::numbers::pi);
+  const auto& den = method == RelightMethod::Full ? im.cD : im.cBorig;
+  ImageRGB img = castView(h, camera, progress, [&](int s, int leaf, glm::dvec2 uv) {
+    const auto& L = h.nodes()[leaf];
+    const glm::vec3 b = interpolateCorners(L, im.cB[leaf], uv);
+    if (size_t(s) >= im.np) return b * invPi;  // virtual: radiosity (shaded by the solution)
+    const auto& t = im.textures[s];
+    const bool useFinal = method == RelightMethod::Full && !t.unoccluded.empty();
+    const glm::vec3 tex = t.sample(useFinal ? t.unoccluded : t.original, uv);
+    if (im.kinds[s] == PolygonKind::Window) return tex;
+    const glm::vec3 d = interpolateCorners(L, den[leaf], uv);
+    glm::vec3 ratio;
+    for (int c = 0; c < 3; ++c) ratio[c] = d[c] > 1e-12f ? b[c] / d[c] : 1.f;
+    return tex * ratio;
+  });
+  im.addGlow(camera, img, false);
+  return img;
+}
+
+ImageRGB RelightSession::renderUnoccluded(const Camera& camera) const {
+  const auto& im = *impl_;
+  ImageRGB img = castView(*im.h, camera, silentProgress(), [&](int s, int, glm::dvec2 uv) {
+    if (size_t(s) >= im.np) return glm::vec3(0.f);
+    const auto& t = im.textures[s];
+    return t.sample(t.unoccluded.empty() ? t.original : t.unoccluded, uv);
+  });
+  im.addGlow(camera, img, true);
+  return img;
+}
+
+}  // namespace relume

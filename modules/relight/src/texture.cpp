@@ -1,0 +1,336 @@
+#include "relume/relight/texture.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "relume/geometry/error.h"
+#include "relume/geometry/scene.h"
+#include "relume/image/image.h"
+#include "relume/raytrace/ray_scene.h"
+
+namespace relume {
+
+namespace {
+
+// Which polygon each pixel centre of `cam` sees (-1: none).
+std::vector<int> polygonIds(const Camera& cam, const RayScene& rays) {
+  std::vector<int> ids(size_t(cam.width) * cam.height, -1);
+  const glm::vec3 eye(cam.center());
+  tbb::parallel_for(tbb::blocked_range<int>(0, cam.height, 8), [&](const tbb::blocked_range<int>& r) {
+    std::vector<Ray> rs(cam.width);
+    std::vector<RayHit> hits(cam.width);
+    for (int y = r.begin(); y < r.end(); ++y) {
+      for (int x = 0; x < cam.width; ++x) rs[x] = Ray{eye, glm::vec3(cam.rayDirection(x + 0.5, y + 0.5)), 0.f, 1e30f};
+      rays.intersect(rs, hits);
+      for (int x = 0; x < cam.width; ++x) ids[size_t(y) * cam.width + x] = hits[x].polygon;
+    }
+  });
+  return ids;
+}
+
+// How far (pixels) a lamp's glow reaches into what surrounds its image: a fraction of the frame.
+int glowRadius(int width) { return std::max(2, int(std::lround(0.025 * width))); }
+
+// Pixels next to a lamp's image mix its glow into whatever else they show (antialiasing, lens
+// bloom): they are given to nobody but the lamp.
+void isolateLamps(std::vector<int>& ids, int width, int height, const std::vector<uint8_t>& isLamp, int radius) {
+  const std::vector<int> orig = ids;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const int id = orig[size_t(y) * width + x];
+      if (id >= 0 && isLamp[id]) continue;
+      bool near = false;
+      for (int dy = -radius; dy <= radius && !near; ++dy)
+        for (int dx = -radius; dx <= radius && !near; ++dx) {
+          const int xx = x + dx, yy = y + dy;
+          if (xx < 0 || yy < 0 || xx >= width || yy >= height) continue;
+          const int o = orig[size_t(yy) * width + xx];
+          near = o >= 0 && isLamp[o];
+        }
+      if (near) ids[size_t(y) * width + x] = -2;
+    }
+}
+
+// Bilinear sample using only the pixels that see `polygon`, so that no colour bleeds in from a
+// neighbouring polygon (a lamp's glow onto the ceiling around it, a wall into the floor's edge).
+bool sampleOwnPixels(const ImageRGB& img, const std::vector<int>& ids, int polygon, double x, double y, glm::vec3& out) {
+  x -= 0.5;
+  y -= 0.5;
+  const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+  const float fx = float(x - x0), fy = float(y - y0);
+  glm::vec3 sum(0.f);
+  float wsum = 0.f;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const int xx = std::clamp(x0 + i, 0, img.width - 1), yy = std::clamp(y0 + j, 0, img.height - 1);
+      if (ids[size_t(yy) * img.width + xx] != polygon) continue;
+      const float w = (i ? fx : 1 - fx) * (j ? fy : 1 - fy) + 1e-4f;
+      sum += w * img.at(xx, yy);
+      wsum += w;
+    }
+  if (wsum <= 0.f) return false;
+  out = sum / wsum;
+  return true;
+}
+
+// Area in pixels of the polygon's image in `cam` (clipped to the near plane and the frame).
+double projectedArea(const Camera& cam, const std::vector<glm::dvec3>& poly) {
+  const glm::dvec3 c = cam.center();
+  const glm::dvec3 forward = glm::transpose(cam.R) * glm::dvec3(0, 0, 1);
+  const auto front = clipToHalfSpace(poly, c + 1e-3 * forward, forward);
+  if (front.size() < 3) return 0;
+  std::vector<glm::dvec2> px;
+  for (const auto& p : front) {
+    glm::dvec2 q;
+    cam.project(p, q);
+    px.push_back(q);
+  }
+  if (polygonArea2D(px) < 0) std::reverse(px.begin(), px.end());
+  const auto inFrame = clipToRect(px, {0, 0}, {double(cam.width), double(cam.height)});
+  return inFrame.size() < 3 ? 0 : std::abs(polygonArea2D(inFrame));
+}
+
+ImageRGB readPhoto(const Scene& scene, const Photo& ph) {
+  const std::string rel = ph.hdr.empty() ? ph.file : ph.hdr;
+  return readImageLinear(rel.front() == '/' ? rel : scene.baseDir + "/" + rel);
+}
+
+// Samples `img` (taken by `cam`) at the texels of `t` still lacking a value and marks them.
+size_t sampleFromPhoto(PolygonTexture& t, const Camera& cam, const ImageRGB& img, const std::vector<int>& ids,
+                       const RayScene& rays, TexelSource mark, const std::vector<uint8_t>& need) {
+  const glm::dvec3 eye = cam.center();
+  std::vector<Segment> segs;
+  std::vector<size_t> idx;
+  std::vector<glm::dvec2> px;
+  for (int y = 0; y < t.height; ++y)
+    for (int x = 0; x < t.width; ++x) {
+      const size_t i = t.index(x, y);
+      if (!need[i]) continue;
+      const glm::dvec3 p = t.frame.toWorld(t.uvOf(x + 0.5, y + 0.5));
+      if (glm::dot(t.frame.normal, eye - p) <= 0) continue;  // the camera sees the back
+      glm::dvec2 q;
+      if (!cam.project(p, q) || q.x < 0 || q.y < 0 || q.x >= cam.width || q.y >= cam.height) continue;
+      segs.push_back({glm::vec3(eye), glm::vec3(p)});
+      idx.push_back(i);
+      px.push_back(q);
+    }
+  std::vector<uint8_t> blocked(segs.size(), 0);
+  rays.occluded(segs, blocked, 2e-4f);
+  size_t n = 0;
+  for (size_t k = 0; k < segs.size(); ++k) {
+    if (blocked[k] || !sampleOwnPixels(img, ids, t.polygon, px[k].x, px[k].y, t.original[idx[k]])) continue;
+    t.source[idx[k]] = mark;
+    ++n;
+  }
+  return n;
+}
+
+}  // namespace
+
+glm::vec3 PolygonTexture::sample(const std::vector<glm::vec3>& layer, glm::dvec2 uv) const {
+  const double x = (uv.x - origin.x) / texel - 0.5, y = (uv.y - origin.y) / texel - 0.5;
+  const int x0 = std::clamp(int(std::floor(x)), 0, width - 1), y0 = std::clamp(int(std::floor(y)), 0, height - 1);
+  const int x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
+  const float fx = float(std::clamp(x - x0, 0.0, 1.0)), fy = float(std::clamp(y - y0, 0.0, 1.0));
+  return (1 - fx) * (1 - fy) * layer[index(x0, y0)] + fx * (1 - fy) * layer[index(x1, y0)] +
+         (1 - fx) * fy * layer[index(x0, y1)] + fx * fy * layer[index(x1, y1)];
+}
+
+glm::vec3 PolygonTexture::mean(const std::vector<glm::vec3>& layer, glm::dvec2 lo, glm::dvec2 hi, double* seen) const {
+  const int x0 = std::max(0, int(std::ceil((lo.x - origin.x) / texel - 0.5)));
+  const int x1 = std::min(width - 1, int(std::floor((hi.x - origin.x) / texel - 0.5)));
+  const int y0 = std::max(0, int(std::ceil((lo.y - origin.y) / texel - 0.5)));
+  const int y1 = std::min(height - 1, int(std::floor((hi.y - origin.y) / texel - 0.5)));
+  glm::dvec3 sum(0.0);
+  size_t n = 0, fromMain = 0;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const size_t i = index(x, y);
+      if (source[i] == TexelSource::Outside) continue;
+      sum += glm::dvec3(layer[i]);
+      ++n;
+      fromMain += source[i] == TexelSource::MainPhoto;
+    }
+  if (n == 0) {
+    const glm::dvec2 c = 0.5 * (lo + hi);
+    if (seen) {
+      const int x = std::clamp(int((c.x - origin.x) / texel), 0, width - 1);
+      const int y = std::clamp(int((c.y - origin.y) / texel), 0, height - 1);
+      *seen = source[index(x, y)] == TexelSource::MainPhoto ? 1.0 : 0.0;
+    }
+    return sample(layer, c);
+  }
+  if (seen) *seen = double(fromMain) / double(n);
+  return glm::vec3(sum / double(n));
+}
+
+void fillSmoothly(PolygonTexture& t, std::vector<glm::vec3>& layer, bool outsideOnly) {
+  // Pull: a pyramid of weighted means of the known texels; push: unknown texels take the
+  // (bilinearly upsampled) value of the coarser level.
+  struct Level {
+    int w, h;
+    std::vector<glm::vec3> c;
+    std::vector<float> wt;
+  };
+  std::vector<Level> lv;
+  Level base{t.width, t.height, layer, std::vector<float>(layer.size(), 0.f)};
+  for (size_t i = 0; i < layer.size(); ++i)
+    if (outsideOnly ? t.source[i] != TexelSource::Outside
+                    : (t.source[i] == TexelSource::MainPhoto || t.source[i] == TexelSource::OtherPhoto))
+      base.wt[i] = 1.f;
+  lv.push_back(std::move(base));
+  while (lv.back().w > 1 || lv.back().h > 1) {
+    const Level& f = lv.back();
+    Level c{(f.w + 1) / 2, (f.h + 1) / 2, {}, {}};
+    c.c.assign(size_t(c.w) * c.h, glm::vec3(0.f));
+    c.wt.assign(size_t(c.w) * c.h, 0.f);
+    for (int y = 0; y < f.h; ++y)
+      for (int x = 0; x < f.w; ++x) {
+        const size_t i = size_t(y) * f.w + x, j = size_t(y / 2) * c.w + x / 2;
+        c.c[j] += f.wt[i] * f.c[i];
+        c.wt[j] += f.wt[i];
+      }
+    for (size_t j = 0; j < c.c.size(); ++j)
+      if (c.wt[j] > 0) {
+        c.c[j] /= c.wt[j];
+        c.wt[j] = std::min(1.f, c.wt[j]);
+      }
+    lv.push_back(std::move(c));
+  }
+  for (size_t k = lv.size() - 1; k-- > 0;) {
+    Level& f = lv[k];
+    const Level& c = lv[k + 1];
+    for (int y = 0; y < f.h; ++y)
+      for (int x = 0; x < f.w; ++x) {
+        const size_t i = size_t(y) * f.w + x;
+        if (f.wt[i] >= 1.f) continue;
+        // Bilinear in the coarse level (texel centres at (X + 0.5) * 2 in fine units).
+        const double cx = std::clamp((x + 0.5) / 2 - 0.5, 0.0, double(c.w - 1));
+        const double cy = std::clamp((y + 0.5) / 2 - 0.5, 0.0, double(c.h - 1));
+        const int x0 = int(cx), y0 = int(cy), x1 = std::min(x0 + 1, c.w - 1), y1 = std::min(y0 + 1, c.h - 1);
+        const float fx = float(cx - x0), fy = float(cy - y0);
+        const glm::vec3 up = (1 - fx) * (1 - fy) * c.c[size_t(y0) * c.w + x0] + fx * (1 - fy) * c.c[size_t(y0) * c.w + x1] +
+                             (1 - fx) * fy * c.c[size_t(y1) * c.w + x0] + fx * fy * c.c[size_t(y1) * c.w + x1];
+        f.c[i] = f.wt[i] * f.c[i] + (1 - f.wt[i]) * up;
+        f.wt[i] = 1.f;
+      }
+  }
+  layer = std::move(lv[0].c);
+}
+
+std::vector<PolygonTexture> dewarpPhotos(const Scene& scene, const RayScene& rays, int photoIndex, DewarpStats* stats,
+                                         Progress& progress) {
+  const Photo& main = scene.photos.at(photoIndex);
+  std::vector<ImageRGB> images(scene.photos.size());
+  std::vector<std::vector<int>> ids(scene.photos.size());
+  images[photoIndex] = readPhoto(scene, main);
+  std::vector<uint8_t> isLamp(scene.polygons.size(), 0);
+  for (size_t i = 0; i < scene.polygons.size(); ++i) isLamp[i] = scene.polygons[i].kind == PolygonKind::Light;
+  auto idsOf = [&](const Camera& c) {
+    auto v = polygonIds(c, rays);
+    isolateLamps(v, c.width, c.height, isLamp, glowRadius(c.width));
+    return v;
+  };
+  ids[photoIndex] = idsOf(main.camera);
+  const auto& cam = main.camera;
+  std::vector<PolygonTexture> out(scene.polygons.size());
+  DewarpStats st;
+  for (size_t p = 0; p < scene.polygons.size(); ++p) {
+    progress.report(0.9 * double(p) / scene.polygons.size(), "de-warping " + scene.polygons[p].name);
+    const auto& poly = scene.polygons[p].vertices;
+    PolygonTexture& t = out[p];
+    t.polygon = int(p);
+    t.frame = PlaneFrame::of(poly);
+    std::vector<glm::dvec2> uvPoly;
+    glm::dvec2 lo(1e300), hi(-1e300);
+    for (const auto& v : poly) {
+      uvPoly.push_back(t.frame.toUV(v));
+      lo = glm::min(lo, uvPoly.back());
+      hi = glm::max(hi, uvPoly.back());
+    }
+    // Resolution: one texel per photo pixel on average over the polygon's image (the best view
+    // when the chosen photo does not see it), bounded to 4..1024 texels a side.
+    const double area = polygonArea(poly);
+    double pixels = projectedArea(cam, poly);
+    if (pixels < 16)
+      for (const auto& ph : scene.photos) pixels = std::max(pixels, projectedArea(ph.camera, poly));
+    const glm::dvec2 ext = hi - lo;
+    double texel = pixels >= 16 ? std::sqrt(area / pixels) : std::sqrt(area) / 32;
+    texel = std::clamp(texel, std::max(ext.x, ext.y) / 1024, std::max(1e-4, std::min(ext.x, ext.y) / 4));
+    t.texel = texel;
+    t.width = std::max(1, int(std::ceil(ext.x / texel)) + 2);
+    t.height = std::max(1, int(std::ceil(ext.y / texel)) + 2);
+    t.origin = lo - glm::dvec2(texel);
+    const size_t n = size_t(t.width) * t.height;
+    t.source.assign(n, TexelSource::Outside);
+    t.original.assign(n, glm::vec3(0.f));
+    std::vector<uint8_t> need(n, 0);
+    for (int y = 0; y < t.height; ++y)
+      for (int x = 0; x < t.width; ++x)
+        if (insideConvex2D(uvPoly, t.uvOf(x + 0.5, y + 0.5), 1e-9)) {
+          need[t.index(x, y)] = 1;
+          t.source[t.index(x, y)] = TexelSource::Smooth;
+        }
+    const size_t inside = size_t(std::count(need.begin(), need.end(), 1));
+    st.texels += inside;
+    const size_t fromMain = sampleFromPhoto(t, cam, images[photoIndex], ids[photoIndex], rays, TexelSource::MainPhoto, need);
+    st.fromMain += fromMain;
+    size_t missing = inside - fromMain;
+    for (size_t q = 0; q < scene.photos.size() && missing > 0; ++q) {
+      if (int(q) == photoIndex || projectedArea(scene.photos[q].camera, poly) < 1) continue;
+      for (size_t i = 0; i < n; ++i) need[i] = t.source[i] == TexelSource::Smooth;
+      if (images[q].width == 0) {
+        images[q] = readPhoto(scene, scene.photos[q]);
+        ids[q] = idsOf(scene.photos[q].camera);
+      }
+      const size_t got = sampleFromPhoto(t, scene.photos[q].camera, images[q], ids[q], rays, TexelSource::OtherPhoto, need);
+      st.fromOther += got;
+      missing -= got;
+    }
+    st.smooth += missing;
+    fillSmoothly(t, t.original, false);
+  }
+  progress.report(1.0, "textures de-warped");
+  if (stats) *stats = st;
+  return out;
+}
+
+std::vector<int> lampGlowRing(const Scene& scene, const RayScene& rays, const Camera& cam) {
+  const std::vector<int> ids = polygonIds(cam, rays);
+  std::vector<int> ring(ids.size(), -1);
+  const int radius = glowRadius(cam.width);
+  for (int y = 0; y < cam.height; ++y)
+    for (int x = 0; x < cam.width; ++x) {
+      const int id = ids[size_t(y) * cam.width + x];
+      if (id >= 0 && scene.lampOfPolygon(id) >= 0) continue;
+      int best = -1, bestD = 1 << 30;
+      for (int dy = -radius; dy <= radius; ++dy)
+        for (int dx = -radius; dx <= radius; ++dx) {
+          const int xx = x + dx, yy = y + dy;
+          if (xx < 0 || yy < 0 || xx >= cam.width || yy >= cam.height) continue;
+          const int o = ids[size_t(yy) * cam.width + xx];
+          const int lamp = o >= 0 ? scene.lampOfPolygon(o) : -1;
+          if (lamp >= 0 && dx * dx + dy * dy < bestD) {
+            bestD = dx * dx + dy * dy;
+            best = lamp;
+          }
+        }
+      ring[size_t(y) * cam.width + x] = best;
+    }
+  return ring;
+}
+
+glm::dvec3 linearRgbToLab(const glm::dvec3& rgb) {
+  const double X = 0.4124 * rgb.r + 0.3576 * rgb.g + 0.1805 * rgb.b;
+  const double Y = 0.2126 * rgb.r + 0.7152 * rgb.g + 0.0722 * rgb.b;
+  const double Z = 0.0193 * rgb.r + 0.1192 * rgb.g + 0.9505 * rgb.b;
+  auto f = [](double t) { return t > 216.0 / 24389.0 ? std::cbrt(t) : (24389.0 / 27.0 * t + 16) / 116; };
+  const double fx = f(X / 0.95047), fy = f(Y), fz = f(Z / 1.08883);
+  return {116 * fy - 16, 500 * (fx - fy), 200 * (fy - fz)};
+}
+
+}  // namespace relume
