@@ -223,7 +223,7 @@ int relightCommand(const QStringList& args, Progress& progress) {
   }
   const Photo& photo = photoNamed(scene, p.isSet("camera") ? str(p.value("camera")) : data.photo);
   RelightSession session(scene, data, vlamps, objects, progress,
-                         method == RelightMethod::Full ? SessionMesh::Refined : SessionMesh::Plain);
+                         method == RelightMethod::Full ? SessionMesh::Refined : SessionMesh::Interactive);
   for (size_t l = 0; l < lampScale.size(); ++l) session.setLampScale(int(l), lampScale[l]);
   const auto st = session.update(progress);
   const ImageRGB img = session.render(photo.camera, method, progress);
@@ -291,7 +291,7 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
 
   ProgressScope base(progress, 0.5, 0.65);
   RelightSession session(scene, data, {}, {}, base);
-  RelightSession plain(scene, data, {}, {}, silentProgress(), SessionMesh::Plain);
+  RelightSession plain(scene, data, {}, {}, silentProgress(), SessionMesh::Interactive);
   // Original lighting reprojected, and the unoccluded image.
   {
     const ImageRGB orig = session.render(main.camera, RelightMethod::Full);
@@ -326,7 +326,7 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
     RelightSession* sp = &plain;
     if (!vlamps.empty() || !objects.empty()) {
       own = std::make_unique<RelightSession>(scene, data, vlamps, objects, progress);
-      ownPlain = std::make_unique<RelightSession>(scene, data, vlamps, objects, progress, SessionMesh::Plain);
+      ownPlain = std::make_unique<RelightSession>(scene, data, vlamps, objects, progress, SessionMesh::Interactive);
       s = own.get();
       sp = ownPlain.get();
     }
@@ -339,24 +339,25 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
       return img;
     };
     const ImageRGB full = render(s, RelightMethod::Full);
-    const ImageRGB ratio = render(sp, RelightMethod::RatioOnly);
-    const ImageRGB ratioSameMesh = render(s, RelightMethod::RatioOnly);
+    const ImageRGB ratio = render(s, RelightMethod::RatioOnly);
+    const ImageRGB fullI = render(sp, RelightMethod::Full);
+    const ImageRGB ratioI = render(sp, RelightMethod::RatioOnly);
     writeImage(dir(v.name + ".full.exr"), full);
     writeImage(dir(v.name + ".ratio-only.exr"), ratio);
     writeImage(dir(v.name + ".png"), sideBySide({&photo, &ratio, &full, &truth}), exposure);
     const QJsonObject f = scores(full, truth), r = scores(ratio, truth), u = scores(photo, truth),
-                      rs = scores(ratioSameMesh, truth);
+                      fi = scores(fullI, truth), ri = scores(ratioI, truth);
     variants.append(QJsonObject{{"name", QString::fromStdString(v.name)},
                                 {"full", f},
                                 {"ratio_only", r},
-                                {"ratio_only_on_refined_mesh", rs},
+                                {"interactive_mesh", QJsonObject{{"full", fi}, {"ratio_only", ri}}},
                                 {"photo_unchanged", u}});
+    auto pr = [](const QJsonObject& o) { return std::make_pair(o["psnr_all"].toDouble(), o["psnr_shadow"].toDouble()); };
     std::fprintf(stderr,
-                 "%-18s full %6.2f / %6.2f dB  ratio-only %6.2f / %6.2f  (on refined mesh %6.2f / %6.2f)  photo %6.2f / %6.2f  "
-                 "(all / shadow)\n",
-                 v.name.c_str(), f["psnr_all"].toDouble(), f["psnr_shadow"].toDouble(), r["psnr_all"].toDouble(),
-                 r["psnr_shadow"].toDouble(), rs["psnr_all"].toDouble(), rs["psnr_shadow"].toDouble(), u["psnr_all"].toDouble(),
-                 u["psnr_shadow"].toDouble());
+                 "%-18s full %5.2f/%5.2f  ratio-only %5.2f/%5.2f | interactive mesh: full %5.2f/%5.2f  ratio-only %5.2f/%5.2f "
+                 "| photo %5.2f/%5.2f dB (all/shadow)\n",
+                 v.name.c_str(), pr(f).first, pr(f).second, pr(r).first, pr(r).second, pr(fi).first, pr(fi).second,
+                 pr(ri).first, pr(ri).second, pr(u).first, pr(u).second);
   }
   report["variants"] = variants;
   QSaveFile f(QDir(outDir).filePath("report.json"));

@@ -253,18 +253,20 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
       if (!fixed[l]) freeL.push_back(l);
     const bool anyFixed = freeL.size() < nlamps;
     if (freeL.empty()) return true;
-    for (int c = 0; c < 3; ++c) {
+    // One multiplier per lamp on the luminance (mean of R, G, B): a lamp's colour cannot be told
+    // apart from the colours of what it lights, so it keeps the colour it was given.
+    {
       std::vector<double> m(nlamps, 1.0), y(rows.size()), I(rows.size());
       std::vector<std::vector<double>> D(rows.size(), std::vector<double>(nlamps));
       for (size_t r = 0; r < rows.size(); ++r) {
         const Leaf& L = leaves[rows[r]];
-        y[r] = kPi * L.tex[c];
+        y[r] = kPi * grey(L.tex);
         double dsum = 0;
-        for (size_t l = 0; l < nlamps; ++l) dsum += D[r][l] = F[rows[r]][l] * e[l][c];
-        I[r] = std::max(0.0, double(h.irradiance(L.node)[c]) - dsum);
+        for (size_t l = 0; l < nlamps; ++l) dsum += D[r][l] = F[rows[r]][l] * grey(e[l]);
+        I[r] = std::max(0.0, grey(glm::dvec3(h.irradiance(L.node))) - dsum);
       }
       double power0 = 0;
-      for (size_t l : freeL) power0 += e[l][c] * polygonArea(scene.polygons[lampSurfaces[l]].vertices);
+      for (size_t l : freeL) power0 += grey(e[l]) * polygonArea(scene.polygons[lampSurfaces[l]].vertices);
       for (int it = 0; it < 30; ++it) {
         std::vector<double> sNum(np, 0), sDen(np, 0), rs(np, 0);
         for (size_t r = 0; r < rows.size(); ++r) {
@@ -313,7 +315,7 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
           return false;
         }
         double power = 0;
-        for (size_t i = 0; i < nf; ++i) power += x[i] * e[freeL[i]][c] * polygonArea(scene.polygons[lampSurfaces[freeL[i]]].vertices);
+        for (size_t i = 0; i < nf; ++i) power += x[i] * grey(e[freeL[i]]) * polygonArea(scene.polygons[lampSurfaces[freeL[i]]].vertices);
         for (size_t i = 0; i < nf; ++i) {
           if (!(x[i] > 0) || power <= 0) {
             reason = "lamp " + scene.lamps[freeL[i]].name + " came out non-positive";
@@ -322,7 +324,7 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
           m[freeL[i]] = anyFixed ? x[i] : x[i] * power0 / power;
         }
       }
-      for (size_t l = 0; l < nlamps; ++l) mult[l][c] = m[l];
+      for (size_t l = 0; l < nlamps; ++l) mult[l] = glm::dvec3(m[l]);
     }
     return true;
   };

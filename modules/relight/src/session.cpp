@@ -53,9 +53,6 @@ void checkVirtualObject(const Scene& scene, const VirtualObject& object) {
       olo = glm::min(olo, v);
       ohi = glm::max(ohi, v);
     }
-  const double tol = 1e-3;
-  if (glm::any(glm::lessThan(olo, lo - tol)) || glm::any(glm::greaterThan(ohi, hi + tol)))
-    throw Error(scene.sourceFile, what, "lies (partly) outside the room");
   // Shrunk by 1 mm towards its centre, no edge of the object may cross a real polygon and no
   // edge of a real polygon may cross the object.
   const glm::dvec3 c = 0.5 * (olo + ohi);
@@ -83,6 +80,9 @@ void checkVirtualObject(const Scene& scene, const VirtualObject& object) {
     }
     throw Error(scene.sourceFile, what, "intersects the room's polygons");
   }
+  const double tol = 1e-3;
+  if (glm::any(glm::lessThan(olo, lo - tol)) || glm::any(glm::greaterThan(ohi, hi + tol)))
+    throw Error(scene.sourceFile, what, "lies (partly) outside the room");
 }
 
 struct RelightSession::Impl {
@@ -176,12 +176,14 @@ RelightSession::RelightSession(const Scene& scene, const RelightData& data, std:
       surfaces.push_back(s);
     }
   }
-  im.h = std::make_unique<HierarchicalRadiosity>(std::move(surfaces), data.options.engine);
+  radiosity::Options eo = data.options.engine;
+  if (mesh == SessionMesh::Interactive) eo.oracle = radiosity::Oracle::BFV;
+  im.h = std::make_unique<HierarchicalRadiosity>(std::move(surfaces), eo);
   auto& h = *im.h;
   {
     ProgressScope scope(progress, 0.0, 0.5);
     h.solve(scope);
-    if (mesh == SessionMesh::Refined) h.pushLampLinksToLeaves(scope);
+    h.pushLampLinksToLeaves(scope);
   }
   if (mesh == SessionMesh::Refined) {
     ProgressScope scope(progress, 0.5, 0.8);

@@ -93,9 +93,9 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& options, Pr
 enum class RelightMethod { Full, RatioOnly };
 
 // The mesh a session solves on. Refined: the preprocess's (BF solution, lamp links at leaves,
-// texture-based refinement along real shadows; §4.1). Plain: the engine's BF solution alone — the
-// radiosity system of Drettakis et al. 1997 that the ratio-only baseline was shown with (Fig. 5).
-enum class SessionMesh { Refined, Plain };
+// texture-based refinement along real shadows; §4.1). Interactive: §4.4's coarser BFV solution,
+// lamp links at its leaves for D (fewer elements in shadow, faster updates).
+enum class SessionMesh { Refined, Interactive };
 
 // The interactive phase (§4.4-5): a radiosity solution over the room plus virtual lamps and
 // objects, D computed with the original lighting, then lamp edits by radiosity steps only.

@@ -1,0 +1,222 @@
+// Relighting on the sample room, judged against its own truth renders (Blender, same camera).
+#include <gtest/gtest.h>
+
+#include <QDir>
+#include <QTemporaryDir>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <memory>
+
+#include "relume/geometry/error.h"
+#include "relume/image/image.h"
+#include "relume/project/relight_store.h"
+#include "relume/project/room_io.h"
+#include "relume/relight/compare.h"
+#include "relume/relight/relighter.h"
+
+using namespace relume;
+
+namespace {
+
+const std::string kRoom = std::string(RELUME_SOURCE_DIR) + "/resources/sample_room";
+
+struct SampleRoom {
+  Scene scene;
+  RelightData data;
+  ImageRGB photo, unoccludedTruth, aOffTruth;
+  CompareMasks masks;
+};
+
+// Preprocessed once for the whole suite (a few seconds), from what a photographer has: photos,
+// cameras, geometry and which polygons are lamps — the albedos and lamp strengths are wiped.
+const SampleRoom& room() {
+  static std::unique_ptr<SampleRoom> r = [] {
+    auto s = std::make_unique<SampleRoom>();
+    s->scene = readBundle(kRoom);
+    for (auto& p : s->scene.polygons) p.albedo = glm::dvec3(0.5);
+    for (auto& l : s->scene.lamps) l.radiance = glm::dvec3(0.0);
+    s->data = preprocessRoom(s->scene, RelightOptions{});
+    s->photo = readImageLinear(kRoom + "/photos/main.exr");
+    s->unoccludedTruth = readImageLinear(kRoom + "/truth/unoccluded.exr");
+    s->aOffTruth = readImageLinear(kRoom + "/truth/A_off.exr");
+    s->masks = benchmarkMasks(s->photo, s->unoccludedTruth);
+    return s;
+  }();
+  return *r;
+}
+
+const Camera& mainCamera() { return room().scene.findPhoto("main")->camera; }
+
+double shadowPsnr(const ImageRGB& img, const ImageRGB& truth) { return compareImages(img, truth, room().masks.shadow).psnr; }
+
+// The claim "lamp A's old shadow is gone": over the shadow regions the relit image matches the
+// truth render with A off to 30 dB, and beats leaving the photo as it was by 10 dB.
+::testing::AssertionResult oldShadowGone(const ImageRGB& img) {
+  const double p = shadowPsnr(img, room().aOffTruth), unchanged = shadowPsnr(room().photo, room().aOffTruth);
+  if (p >= 30.0 && p >= unchanged + 10.0) return ::testing::AssertionSuccess() << p << " dB";
+  return ::testing::AssertionFailure() << "shadow-mask PSNR " << p << " dB (photo unchanged: " << unchanged << " dB)";
+}
+
+}  // namespace
+
+TEST(Relight, EstimatesLampsNearTheirTrueEmittance) {
+  // scene.json's true radiances (exitance = pi x radiance) are read here only to judge. Lamps the
+  // photo does not show are estimated from how they light the room: within 40 %, not better.
+  const Scene truth = readBundle(kRoom);
+  for (size_t l = 0; l < truth.lamps.size(); ++l) {
+    const double trueGrey = M_PI * (truth.lamps[l].radiance.x + truth.lamps[l].radiance.y + truth.lamps[l].radiance.z) / 3;
+    const auto& u = room().data.lampExitance[l];
+    EXPECT_NEAR((u.x + u.y + u.z) / 3, trueGrey, 0.4 * trueGrey) << truth.lamps[l].name;
+  }
+}
+
+TEST(Relight, OriginalLightingReprojectsThePhoto) {
+  RelightSession s(room().scene, room().data);
+  const ImageRGB img = s.render(mainCamera(), RelightMethod::Full);
+  EXPECT_GE(compareImages(img, room().photo, room().masks.all).psnr, 35.0);
+}
+
+TEST(Relight, UnoccludedImageHasTheRealShadowsRemoved) {
+  RelightSession s(room().scene, room().data);
+  const ImageRGB img = s.renderUnoccluded(mainCamera());
+  const double p = shadowPsnr(img, room().unoccludedTruth), unchanged = shadowPsnr(room().photo, room().unoccludedTruth);
+  EXPECT_GE(p, 28.0);
+  EXPECT_GE(p, unchanged + 8.0);
+}
+
+TEST(Relight, LampOffRemovesItsOldShadow) {
+  RelightSession s(room().scene, room().data);
+  s.setLampScale(room().scene.findLamp("A"), glm::dvec3(0.0));
+  s.update();
+  EXPECT_TRUE(oldShadowGone(s.render(mainCamera(), RelightMethod::Full)));
+}
+
+TEST(Relight, TheShadowTestFailsOnAnImageThatKeepsTheOldShadow) {
+  // The photo itself keeps lamp A's shadow (and A's light): the criterion must reject it.
+  EXPECT_FALSE(oldShadowGone(room().photo));
+}
+
+TEST(Relight, VirtualBoxCastsItsShadowWhereGeometrySays) {
+  const glm::dvec3 lo(0.7, 1.5, 0.0), hi(1.1, 1.9, 0.35);
+  RelightSession before(room().scene, room().data);
+  RelightSession after(room().scene, room().data, {}, {boxObject("box", lo, hi, glm::dvec3(0.6, 0.2, 0.2))});
+  const ImageRGB a = before.render(mainCamera(), RelightMethod::Full), b = after.render(mainCamera(), RelightMethod::Full);
+  // Floor points classified by geometry alone: hidden from every lamp's centre by the box, or
+  // seen by all of them and far from the box.
+  auto blockedBy = [&](const glm::dvec3& p, const glm::dvec3& q) {  // segment p-q against the box (slabs)
+    double t0 = 0, t1 = 1;
+    for (int k = 0; k < 3; ++k) {
+      const double d = q[k] - p[k];
+      if (std::abs(d) < 1e-12) {
+        if (p[k] < lo[k] || p[k] > hi[k]) return false;
+        continue;
+      }
+      double ta = (lo[k] - p[k]) / d, tb = (hi[k] - p[k]) / d;
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    return t0 <= t1;
+  };
+  std::vector<glm::dvec3> lampCentres;
+  for (const auto& l : room().scene.lamps) {
+    glm::dvec3 c(0.0);
+    for (const auto& v : room().scene.polygons[l.polygon].vertices) c += v;
+    lampCentres.push_back(c / double(room().scene.polygons[l.polygon].vertices.size()));
+  }
+  double umbraRatio = 0, litRatio = 0;
+  int nUmbra = 0, nLit = 0;
+  for (double x = 0.2; x < 3.8; x += 0.05)
+    for (double y = 0.8; y < 4.8; y += 0.05) {
+      const glm::dvec3 p(x, y, 0.0);
+      if (x > lo.x - 0.02 && x < hi.x + 0.02 && y > lo.y - 0.02 && y < hi.y + 0.02) continue;
+      glm::dvec2 px;
+      if (!mainCamera().project(p, px) || px.x < 1 || px.y < 1 || px.x >= a.width - 1 || px.y >= a.height - 1) continue;
+      int blocked = 0;
+      for (const auto& c : lampCentres) blocked += blockedBy(p, c);
+      const glm::vec3 ca = a.at(int(px.x), int(px.y)), cb = b.at(int(px.x), int(px.y));
+      const double la = ca.x + ca.y + ca.z, lb = cb.x + cb.y + cb.z;
+      if (la <= 0) continue;
+      const double dist = glm::length(glm::dvec2(x, y) - glm::dvec2(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y)));
+      if (blocked == int(lampCentres.size())) {
+        umbraRatio += lb / la;
+        ++nUmbra;
+      } else if (blocked == 0 && dist > 1.5) {
+        litRatio += lb / la;
+        ++nLit;
+      }
+    }
+  ASSERT_GT(nUmbra, 0) << "the box should hide some visible floor from every lamp";
+  ASSERT_GT(nLit, 20);
+  EXPECT_LT(umbraRatio / nUmbra, 0.6) << "floor in the box's umbra should lose most of its light";
+  EXPECT_NEAR(litRatio / nLit, 1.0, 0.03) << "floor far from the box should not change";
+  // The box itself is shaded by the solution, not black.
+  glm::dvec2 c;
+  ASSERT_TRUE(mainCamera().project(glm::dvec3(0.9, 1.5, 0.2), c));
+  const glm::vec3 face = b.at(int(c.x), int(c.y));
+  EXPECT_GT(face.x, 0.05f * (a.at(int(c.x), int(c.y)).x));
+  EXPECT_GT(face.x, face.z) << "the box's red albedo shows";
+}
+
+TEST(Relight, VirtualLampBrightensWhatItFaces) {
+  VirtualLamp v{"spot", {{1.8, 2.5, 1.6}, {1.8, 2.8, 1.6}, {2.1, 2.8, 1.6}, {2.1, 2.5, 1.6}}, glm::dvec3(0.0)};
+  // One-sided: the polygon faces down when its vertices turn clockwise seen from above.
+  v.polygon = {{1.8, 2.5, 1.6}, {2.1, 2.5, 1.6}, {2.1, 2.8, 1.6}, {1.8, 2.8, 1.6}};
+  std::reverse(v.polygon.begin(), v.polygon.end());
+  v.radiance = glm::dvec3(20.0);
+  RelightSession s(room().scene, room().data, {v});
+  const ImageRGB lit = s.render(mainCamera(), RelightMethod::Full);
+  s.setVirtualLampRadiance(0, glm::dvec3(0.0));
+  s.update();
+  const ImageRGB off = s.render(mainCamera(), RelightMethod::Full);
+  glm::dvec2 px;
+  ASSERT_TRUE(mainCamera().project(glm::dvec3(1.95, 2.65, 0.74), px));  // the table top below it
+  EXPECT_GT(lit.at(int(px.x), int(px.y)).y, 1.3f * off.at(int(px.x), int(px.y)).y);
+}
+
+TEST(Relight, ProjectRoundTripRelightsTheSame) {
+  QTemporaryDir dir;
+  const std::string folder = dir.filePath("p").toStdString();
+  saveRelightProject(room().scene, room().data, folder);
+  const Scene project = readProject(folder);
+  const RelightData back = readRelightData(project);
+  RelightSession a(room().scene, room().data), b(project, back);
+  for (auto* s : {&a, &b}) {
+    s->setLampScale(0, glm::dvec3(0.0));
+    s->update();
+  }
+  const ImageRGB ia = a.render(mainCamera(), RelightMethod::Full), ib = b.render(mainCamera(), RelightMethod::Full);
+  EXPECT_GE(compareImages(ib, ia, std::vector<uint8_t>(room().masks.all.size(), 1)).psnr, 45.0);
+  // The project holds estimates, not the bundle's values.
+  const Scene truth = readBundle(kRoom);
+  EXPECT_NE(project.lamps[0].radiance, truth.lamps[0].radiance);
+}
+
+TEST(Relight, BadInputIsRefusedWithAClearError) {
+  const Scene& scene = room().scene;
+  auto message = [](auto&& fn) {
+    try {
+      fn();
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // A box through the left wall.
+  EXPECT_NE(message([&] { checkVirtualObject(scene, boxObject("crate", {-0.2, 1.0, 0.0}, {0.3, 1.4, 0.4}, glm::dvec3(0.5))); })
+                .find("intersects polygon 'wall_left'"),
+            std::string::npos);
+  EXPECT_NE(message([&] { checkVirtualObject(scene, boxObject("crate", {1.0, 1.0, 0.0}, {1.3, 1.4, 0.4}, glm::dvec3(1.5))); })
+                .find("albedo"),
+            std::string::npos);
+  // A camera that sees none of the polygons (turned to look away, out of the room).
+  Scene away = scene;
+  for (auto& ph : away.photos) ph.camera.t = glm::dvec3(0, 0, -50);
+  EXPECT_NE(message([&] { preprocessRoom(away, RelightOptions{}); }).find("sees none of the polygons"), std::string::npos);
+  Scene noPhotos = scene;
+  noPhotos.photos.clear();
+  EXPECT_NE(message([&] { preprocessRoom(noPhotos, RelightOptions{}); }).find("no photo"), std::string::npos);
+  Scene noLamps = scene;
+  noLamps.lamps.clear();
+  EXPECT_NE(message([&] { preprocessRoom(noLamps, RelightOptions{}); }).find("no lamp"), std::string::npos);
+}
