@@ -1,16 +1,23 @@
 #!/usr/bin/env bash
-# The main job on the bundled sample room: solve it and write the rendered images to out/.
+# The main job on the bundled sample room, headless: preprocess it for relighting (textures,
+# estimates, real shadows removed), relight it several ways, and score it against its truth
+# renders. Everything lands in out/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
 room=resources/sample_room
+relume=./build/app/cli/relume
 mkdir -p out
-./build/app/cli/relume solve "$room" --json out/sample_solution.json
-for cam in main view0 view3; do
-  ./build/app/cli/relume render "$room" --camera "$cam" -o "out/$cam.png"
-  ./build/app/cli/relume render "$room" --camera "$cam" -o "out/$cam.exr"
-done
-for show in leaves links visibility; do
-  ./build/app/cli/relume render "$room" --camera main --show "$show" -o "out/main_$show.png"
-done
-echo "Wrote out/sample_solution.json and the images in out/ (compare out/main.png with $room/photos/main.png)."
+$relume preprocess "$room" -o out/sample.relume
+$relume relight out/sample.relume -o out/relit_original.png
+$relume relight out/sample.relume --lamp A=0 -o out/relit_A_off.png
+$relume relight out/sample.relume --lamp B=2 -o out/relit_B_double.png
+$relume relight out/sample.relume --lamp A=0 --lamp C=1.6,1.1,0.6 -o out/relit_warm.png
+$relume relight out/sample.relume --virtual-object resources/examples/virtual_box.json -o out/relit_virtual_box.png
+$relume relight out/sample.relume --lamp A=0 --lamp B=0 --lamp C=0 --virtual-lamp resources/examples/virtual_lamp.json \
+  -o out/relit_virtual_lamp.png
+$relume relight out/sample.relume --lamp A=0 --method ratio-only -o out/relit_A_off_ratio_only.png
+$relume evaluate "$room" --out out/evaluation
+$relume render "$room" --camera main --show leaves -o out/main_leaves.png
+echo "Wrote the relit images out/relit_*.png, the project out/sample.relume and out/evaluation/report.json"
+echo "(out/evaluation/*.png: photo | ratio-only | full | truth, side by side)."

@@ -44,5 +44,45 @@ code=$?
 check "Ctrl-C cancels with exit 130" "[ $code -eq 130 ]"
 check "and leaves no file" "[ -z \"\$(ls '$tmp' | grep cancel.json)\" ]"
 
+# Relighting: preprocess into a project, relight from it, and the errors a user can make.
+"$relume" preprocess "$room" -o "$tmp/lit.relume" 2>"$tmp/pre.err"
+check "preprocess exits 0 and prints progress and estimates" \
+  "[ $? -eq 0 ] && grep -q 'texture-based refinement' '$tmp/pre.err' && grep -q 'lamp emittances' '$tmp/pre.err'"
+check "the project holds relighting data" "[ -s '$tmp/lit.relume/relight/relight.json' ]"
+"$relume" relight "$tmp/lit.relume" --lamp A=0 --lamp C=1,0.8,0.6 -o "$tmp/relit.png" 2>/dev/null
+check "relight writes a PNG" "[ -s '$tmp/relit.png' ]"
+"$relume" relight "$tmp/lit.relume" --lamp A=0 --method ratio-only -o "$tmp/ratio.exr" 2>/dev/null
+check "relight --method ratio-only writes an EXR" "[ -s '$tmp/ratio.exr' ]"
+cat > "$tmp/box.json" <<'JSON'
+{"virtual_objects": [{"name": "crate", "box_min": [0.7, 1.5, 0.0], "box_max": [1.1, 1.9, 0.35], "albedo": [0.6, 0.2, 0.2]}]}
+JSON
+"$relume" relight "$tmp/lit.relume" --virtual-object "$tmp/box.json" -o "$tmp/box.png" 2>/dev/null
+check "relight with a virtual box writes a PNG" "[ -s '$tmp/box.png' ]"
+"$relume" relight "$tmp/lit.relume" --lamp Z=0 -o "$tmp/bad.png" 2>"$tmp/bad.err"
+check "an unknown lamp is an error naming it and the lamps there are" \
+  "[ $? -eq 1 ] && grep -q \"lamp 'Z'\" '$tmp/bad.err' && grep -q 'lamps: A, B, C' '$tmp/bad.err' && [ ! -e '$tmp/bad.png' ]"
+cat > "$tmp/wall.json" <<'JSON'
+{"virtual_objects": [{"name": "through", "box_min": [-0.3, 1.0, 0.0], "box_max": [0.3, 1.4, 0.4], "albedo": [0.5, 0.5, 0.5]}]}
+JSON
+"$relume" relight "$tmp/lit.relume" --virtual-object "$tmp/wall.json" -o "$tmp/bad2.png" 2>"$tmp/bad2.err"
+check "a box through a wall is an error naming both" \
+  "[ $? -eq 1 ] && grep -q \"'through'\" '$tmp/bad2.err' && grep -q 'wall_left' '$tmp/bad2.err' && [ ! -e '$tmp/bad2.png' ]"
+sed 's/0.6, 0.2, 0.2/1.6, 0.2, 0.2/' "$tmp/box.json" > "$tmp/albedo.json"
+"$relume" relight "$tmp/lit.relume" --virtual-object "$tmp/albedo.json" -o "$tmp/bad3.png" 2>"$tmp/bad3.err"
+check "an albedo above 1 is an error" "[ $? -eq 1 ] && grep -q 'albedo' '$tmp/bad3.err' && [ ! -e '$tmp/bad3.png' ]"
+"$relume" relight "$tmp/sample.relume" -o "$tmp/bad4.png" 2>"$tmp/bad4.err"
+check "relighting a project never preprocessed says so" "[ $? -eq 1 ] && grep -q 'relume preprocess' '$tmp/bad4.err'"
+
+# Ctrl-C during preprocess leaves the existing project as it was.
+cp "$tmp/lit.relume/relight/relight.json" "$tmp/before.json"
+"$relume" preprocess "$room" -o "$tmp/lit.relume" --eps 0.0005 2>/dev/null &
+pid=$!
+sleep 2
+kill -INT $pid
+wait $pid
+code=$?
+check "Ctrl-C cancels preprocess with exit 130" "[ $code -eq 130 ]"
+check "and the project is untouched" "cmp -s '$tmp/before.json' '$tmp/lit.relume/relight/relight.json' && [ -z \"\$(ls -a '$tmp' | grep saving)\" ]"
+
 if [ $fail -eq 0 ]; then echo "cli: all passed"; fi
 exit $fail
