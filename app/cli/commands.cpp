@@ -309,6 +309,10 @@ int benchCommand(const QStringList& args, Progress& progress) {
                                    {"rss_growth_bytes_per_link",
                                     double(rssAfter - std::min(rssAfter, rssBefore)) / double(std::max<size_t>(1, tt.links))}};
   }
+  if (!scene.lamps.empty() && !scene.photos.empty()) {
+    ProgressScope rp(progress, 0.7, 1.0);
+    out["relight"] = relightBench(scene, runs, rp);
+  }
   out["peak_memory_bytes"] = qint64(peakRssBytes());
   writeJsonAtomically(p.value("json"), out);
   std::fprintf(stderr, "%s\n", QJsonDocument(out).toJson(QJsonDocument::Indented).constData());

@@ -1,5 +1,6 @@
 #pragma once
 // The `relume` subcommands. Each returns the process exit code.
+#include <QJsonObject>
 #include <QStringList>
 
 #include "relume/geometry/progress.h"
@@ -14,5 +15,12 @@ int preprocessCommand(const QStringList& args, Progress& progress);
 int relightCommand(const QStringList& args, Progress& progress);
 int evaluateCommand(const QStringList& args, Progress& progress);
 int compareCommand(const QStringList& args, Progress& progress);
+}  // namespace relume::cli
+namespace relume {
+struct Scene;
+}
+namespace relume::cli {
+// The relighting figures of `relume bench` (medians of `runs`).
+QJsonObject relightBench(const Scene& scene, int runs, Progress& progress);
 
 }  // namespace relume::cli

@@ -6,6 +6,8 @@
 #include <QJsonDocument>
 #include <QJsonObject>
 #include <QSaveFile>
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <numbers>
 
@@ -230,6 +232,102 @@ int relightCommand(const QStringList& args, Progress& progress) {
   writeImage(str(out), img, float(data.photoExposure));
   std::fprintf(stderr, "relit in %d radiosity steps; wrote %s (%dx%d)\n", st.iterations, qPrintable(out), img.width, img.height);
   return 0;
+}
+
+QJsonObject relightBench(const Scene& sceneIn, int runs, Progress& progress) {
+  using clock = std::chrono::steady_clock;
+  auto ms = [](clock::time_point a) { return std::chrono::duration<double, std::milli>(clock::now() - a).count(); };
+  auto med = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : (v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]));
+  };
+  Scene scene = sceneIn;
+  for (auto& poly : scene.polygons) poly.albedo = glm::dvec3(0.5);
+  std::vector<double> pre;
+  RelightData data;
+  for (int r = 0; r < std::max(1, std::min(runs, 3)); ++r) {
+    progress.report(0.1 * r, "bench: preprocess run " + std::to_string(r + 1));
+    const auto t0 = clock::now();
+    data = preprocessRoom(scene, RelightOptions{});
+    pre.push_back(ms(t0) / 1000.0);
+  }
+  QJsonObject out{{"preprocess_median_seconds", med(pre)}};
+  const Camera& cam0 = photoNamed(scene, data.photo).camera;
+  Camera cam = cam0;  // the main view at 640 x 480
+  const double sx = 640.0 / cam0.width, sy = 480.0 / cam0.height;
+  cam.K[0][0] *= sx;
+  cam.K[2][0] *= sx;
+  cam.K[1][1] *= sy;
+  cam.K[2][1] *= sy;
+  cam.width = 640;
+  cam.height = 480;
+  for (auto mesh : {SessionMesh::Refined, SessionMesh::Interactive}) {
+    const char* name = mesh == SessionMesh::Refined ? "refined_mesh" : "interactive_mesh";
+    progress.report(0.4, std::string("bench: relighting on the ") + name);
+    RelightSession s(scene, data, {}, {}, silentProgress(), mesh);
+    std::vector<double> step, render;
+    for (int r = 0; r < std::max(runs, 5); ++r) {
+      s.setLampScale(0, glm::dvec3(r % 2 ? 1.0 : 0.0));
+      const auto t0 = clock::now();
+      s.engine().iterate();
+      step.push_back(ms(t0));
+      const auto t1 = clock::now();
+      s.update();  // corner values for display
+      s.render(cam, RelightMethod::Full);
+      render.push_back(ms(t1));
+    }
+    out[name] = QJsonObject{{"links", double(s.engine().links().size())},
+                            {"leaves", double(s.engine().totals().leaves)},
+                            {"lamp_edit_radiosity_step_median_ms", med(step)},
+                            {"display_update_and_render_640x480_median_ms", med(render)}};
+  }
+  {  // a virtual box moved by 10 cm, back and forth
+    progress.report(0.7, "bench: moving a virtual box");
+    glm::dvec3 lo(1e300), hi(-1e300);
+    for (const auto& p : scene.polygons)
+      if (p.kind == PolygonKind::Real)
+        for (const auto& v : p.vertices) {
+          lo = glm::min(lo, v);
+          hi = glm::max(hi, v);
+        }
+    // A 30 cm box on the floor at a third of the room, clear of furniture when possible.
+    glm::dvec3 c(lo.x + 0.3 * (hi.x - lo.x), lo.y + 0.3 * (hi.y - lo.y), lo.z);
+    VirtualObject box = boxObject("bench_box", c, c + glm::dvec3(0.3, 0.3, 0.3), glm::dvec3(0.5));
+    try {
+      RelightSession s(scene, data, {}, {box});
+      std::vector<double> t;
+      size_t updated = 0;
+      for (int r = 0; r < std::max(runs, 5); ++r) {
+        const auto t0 = clock::now();
+        updated = s.moveObject(0, glm::dvec3(r % 2 ? -0.1 : 0.1, 0, 0));
+        t.push_back(ms(t0));
+      }
+      out["virtual_object_move_10cm"] = QJsonObject{{"median_ms", med(t)},
+                                                     {"links_updated", double(updated)},
+                                                     {"links", double(s.engine().links().size())}};
+    } catch (const Error& e) {
+      out["virtual_object_move_10cm"] = QJsonObject{{"skipped", QString::fromStdString(e.what())}};
+    }
+  }
+  {  // a virtual lamp inserted: forced refinement of its links onto the photographed polygons
+    progress.report(0.85, "bench: inserting a virtual lamp");
+    const double z = 0.0;
+    glm::dvec3 lo(1e300), hi(-1e300);
+    for (const auto& p : scene.polygons)
+      for (const auto& v : p.vertices) {
+        lo = glm::min(lo, v);
+        hi = glm::max(hi, v);
+      }
+    const glm::dvec3 c(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z + 0.7 * (hi.z - lo.z) + z);
+    VirtualLamp v{"bench_lamp", {c + glm::dvec3(0, 0.3, 0), c + glm::dvec3(0.3, 0.3, 0), c + glm::dvec3(0.3, 0, 0), c}, glm::dvec3(20.0)};
+    std::vector<double> t;
+    for (int r = 0; r < std::max(1, std::min(runs, 3)); ++r) {
+      RelightSession s(scene, data, {v});
+      t.push_back(s.insertSeconds() * 1000.0);
+    }
+    out["virtual_lamp_insert_median_ms"] = med(t);
+  }
+  return out;
 }
 
 int compareCommand(const QStringList& args, Progress&) {

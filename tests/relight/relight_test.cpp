@@ -220,3 +220,21 @@ TEST(Relight, BadInputIsRefusedWithAClearError) {
   noLamps.lamps.clear();
   EXPECT_NE(message([&] { preprocessRoom(noLamps, RelightOptions{}); }).find("no lamp"), std::string::npos);
 }
+
+TEST(Relight, MovingAVirtualBoxUpdatesOnlyTheLinksItCrossesAndMatchesAFreshSolution) {
+  const glm::dvec3 lo(0.7, 1.5, 0.0), hi(1.1, 1.9, 0.35), step(0.6, 0.3, 0.0);
+  RelightSession moving(room().scene, room().data, {}, {boxObject("box", lo, hi, glm::dvec3(0.6, 0.2, 0.2))});
+  const size_t updated = moving.moveObject(0, step);
+  EXPECT_GT(updated, 0u);
+  EXPECT_LT(updated, moving.engine().links().size() / 2) << "passive links are kept";
+  RelightSession fresh(room().scene, room().data, {}, {boxObject("box", lo + step, hi + step, glm::dvec3(0.6, 0.2, 0.2))});
+  const ImageRGB a = moving.render(mainCamera(), RelightMethod::Full), b = fresh.render(mainCamera(), RelightMethod::Full);
+  const ImageRGB before = RelightSession(room().scene, room().data, {}, {boxObject("box", lo, hi, glm::dvec3(0.6, 0.2, 0.2))})
+                              .render(mainCamera(), RelightMethod::Full);
+  const std::vector<uint8_t> all(room().masks.all.size(), 1);
+  const double moved = compareImages(a, b, all).psnr, stale = compareImages(before, b, all).psnr;
+  EXPECT_GE(moved, 35.0);
+  EXPECT_GE(moved, stale + 5.0) << "the moved box's image must match its new place, not its old one";
+  // Into the wall: refused, and the box stays where it was.
+  EXPECT_THROW(moving.moveObject(0, glm::dvec3(-2.0, 0, 0)), Error);
+}

@@ -880,6 +880,80 @@ void HierarchicalRadiosity::forceRefine(const std::vector<int>& receiverSurfaces
   iterate(progress);
 }
 
+size_t HierarchicalRadiosity::translateSurfaces(const std::vector<int>& moved, const glm::dvec3& offset) {
+  auto& im = *impl_;
+  std::vector<uint8_t> isMoved(surfaces_.size(), 0);
+  glm::vec3 oldMin(1e30f), oldMax(-1e30f);
+  for (int s : moved) {
+    isMoved[s] = 1;
+    oldMin = glm::min(oldMin, nodes_[surfaceRoot_[s]].bmin);
+    oldMax = glm::max(oldMax, nodes_[surfaceRoot_[s]].bmax);
+  }
+  const glm::vec3 d(offset);
+  // Geometry: vertices, frames, every element below the moved surfaces.
+  std::vector<uint8_t> touched(nodes_.size(), 0);  // nodes whose geometry changed
+  for (int s : moved) {
+    for (auto& v : surfaces_[s].vertices) v += offset;
+    im.frames[s].origin += offset;
+    forSubtree(nodes_, children_, surfaceRoot_[s], [&](int n) {
+      nodes_[n].center += d;
+      nodes_[n].bmin += d;
+      nodes_[n].bmax += d;
+      touched[n] = 1;
+    });
+  }
+  // Clusters containing them: bounds and centres again, children before parents.
+  for (size_t i = nodes_.size(); i-- > 0;) {
+    Node& me = nodes_[i];
+    if (!me.isCluster()) continue;
+    bool any = false;
+    glm::vec3 lo(1e30f), hi(-1e30f), c(0.f);
+    for (int k = 0; k < me.childCount; ++k) {
+      const int ch = children_[me.childBegin + k];
+      any = any || touched[ch];
+      lo = glm::min(lo, nodes_[ch].bmin);
+      hi = glm::max(hi, nodes_[ch].bmax);
+      c += nodes_[ch].center * nodes_[ch].area;
+    }
+    if (!any) continue;
+    touched[i] = 1;
+    me.bmin = lo;
+    me.bmax = hi;
+    me.center = me.area > 0 ? c / me.area : 0.5f * (lo + hi);
+    float r = 0.f;
+    for (int k = 0; k < 8; ++k) {
+      const glm::vec3 corner((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z);
+      r = std::max(r, glm::length(corner - me.center));
+    }
+    me.radius = r;
+  }
+  std::vector<std::vector<glm::dvec3>> polys;
+  for (const auto& sf : surfaces_) polys.push_back(sf.vertices);
+  const uint64_t counted = im.rays->raysCast();
+  im.rays = std::make_unique<RayScene>(polys);
+  im.raysAtStart -= std::min(im.raysAtStart, counted);
+  // Links to update: an end moved (F and V), or the shaft crosses the old or new bounds (V).
+  std::vector<uint8_t> redo(links_.size(), 0);
+  for (int i : linksCrossingBox(oldMin, oldMax)) redo[i] = 1;
+  for (int i : linksCrossingBox(oldMin + d, oldMax + d)) redo[i] = 1;
+  for (size_t i = 0; i < links_.size(); ++i)
+    if (touched[links_[i].receiver] || touched[links_[i].source]) redo[i] = 2;
+  std::vector<int> work;
+  for (size_t i = 0; i < links_.size(); ++i)
+    if (redo[i] && links_[i].receiver != links_[i].source) work.push_back(int(i));
+  Kernel k{*this, im, nodes_, options_.quadratureOrder};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, work.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t j = r.begin(); j < r.end(); ++j) {
+      Link& l = links_[work[j]];
+      if (redo[work[j]] == 2) l.formFactor = float(k.formFactor(l.receiver, l.source, l.variation));
+      l.visibility = k.visibility(l.receiver, l.source, options_.visibilityRays, options_.seed);
+      l.type = classify(l.visibility);
+    }
+  });
+  im.gatherDirty = true;
+  return work.size();
+}
+
 std::vector<int> HierarchicalRadiosity::linksCrossingBox(const glm::vec3& cmin, const glm::vec3& cmax) const {
   // The shaft is the convex hull of the two bounding boxes A, B: the union over t in [0,1] of the
   // boxes (1-t)A + tB. The query box meets it iff some t satisfies, on every axis,

@@ -95,6 +95,9 @@ struct RelightSession::Impl {
   ImageRGB glow;
   std::vector<int> glowLamp;
   Camera photoCamera;
+  Scene scene;                                   // for checking where objects may go
+  std::vector<VirtualObject> objects;
+  std::vector<std::vector<int>> objectSurfaceIds;  // per object
   std::vector<glm::vec3> D, Borig;
   std::vector<std::array<glm::vec3, 4>> cD, cBorig, cB;
   double insertSeconds = 0;
@@ -165,9 +168,13 @@ RelightSession::RelightSession(const Scene& scene, const RelightData& data, std:
     surfaces.push_back(s);
   }
   std::vector<std::pair<int, glm::dvec3>> objectSurfaces;
+  im.scene = scene;
+  im.objects = objects;
   for (const auto& o : objects) {
     checkVirtualObject(scene, o);
+    im.objectSurfaceIds.emplace_back();
     for (size_t k = 0; k < o.polygons.size(); ++k) {
+      im.objectSurfaceIds.back().push_back(int(surfaces.size()));
       radiosity::Surface s;
       s.name = o.name + "_" + std::to_string(k);
       s.vertices = o.polygons[k];
@@ -246,6 +253,18 @@ void RelightSession::setLampScale(int lamp, const glm::dvec3& scale) {
 void RelightSession::setVirtualLampRadiance(int lamp, const glm::dvec3& radiance) {
   impl_->vlampExitance.at(lamp) = std::numbers::pi * radiance;
   impl_->h->setExitance(impl_->vlampSurfaces.at(lamp), impl_->vlampExitance[lamp]);
+}
+
+size_t RelightSession::moveObject(int object, const glm::dvec3& offset, Progress& progress) {
+  auto& im = *impl_;
+  VirtualObject moved = im.objects.at(object);
+  for (auto& p : moved.polygons)
+    for (auto& v : p) v += offset;
+  checkVirtualObject(im.scene, moved);
+  im.objects[object] = moved;
+  const size_t n = im.h->translateSurfaces(im.objectSurfaceIds[object], offset);
+  update(progress);
+  return n;
 }
 
 radiosity::SolveStats RelightSession::update(Progress& progress) {

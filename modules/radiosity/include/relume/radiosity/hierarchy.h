@@ -122,6 +122,11 @@ class HierarchicalRadiosity {
   // texture); the surface's own value is left as it was.
   void setElementReflectance(int node, const glm::dvec3& reflectance);
   const glm::vec3& reflectanceOf(int node) const;
+  // Moves surfaces (a virtual object) rigidly by `offset` (Drettakis-Sillion 1997): the ray scene
+  // is rebuilt, F and V are recomputed for the links with an end on or around the moved surfaces
+  // and V for the links whose shaft the old or the new bounds cross; every other link is kept as
+  // it is (passive). No refinement. Returns the number of links updated; call iterate() after.
+  size_t translateSurfaces(const std::vector<int>& surfaces, const glm::dvec3& offset);
   // Links whose shaft (the convex hull of receiver and source bounds) the box crosses.
   std::vector<int> linksCrossingBox(const glm::vec3& boxMin, const glm::vec3& boxMax) const;
 

@@ -108,6 +108,10 @@ class RelightSession {
   // RGB multiplier of a real lamp's estimated emittance (0 = off, 2 = doubled, tints).
   void setLampScale(int lamp, const glm::dvec3& scale);
   void setVirtualLampRadiance(int lamp, const glm::dvec3& radiance);
+  // Moves a virtual object (index in the constructor's list): links whose shafts its old or new
+  // bounds cross are updated, the others kept; then radiosity steps. Throws relume::Error (and
+  // leaves it where it was) when the new place intersects the room. Returns the links updated.
+  size_t moveObject(int object, const glm::dvec3& offset, Progress& progress = silentProgress());
   // Radiosity steps (gather + push-pull, no refinement) until stable.
   radiosity::SolveStats update(Progress& progress = silentProgress());
   // The room seen through `camera`: texture x B / D (Full) or original texture x B / B_orig.
