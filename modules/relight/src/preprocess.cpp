@@ -140,6 +140,30 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
     throw Error(scene.sourceFile, "photo " + photo.name, "shows no lit real surface to estimate reflectances from");
   imageMean /= seenArea;
 
+  // A lamp the (HDR) photos show is measured directly: pi x the median radiance of its texels.
+  std::vector<glm::dvec3> measured(nlamps, glm::dvec3(0.0));
+  for (size_t l = 0; l < nlamps; ++l) {
+    const auto& t = tex[lampSurfaces[l]];
+    std::array<std::vector<float>, 3> ch;
+    size_t inside = 0;
+    for (size_t k = 0; k < t.source.size(); ++k) {
+      inside += t.source[k] != TexelSource::Outside;
+      if (t.source[k] == TexelSource::MainPhoto || t.source[k] == TexelSource::OtherPhoto)
+        for (int c = 0; c < 3; ++c) ch[c].push_back(t.original[k][c]);
+    }
+    if (photo.hdr.empty() || ch[0].size() < 4 || ch[0].size() < inside / 4) continue;
+    for (int c = 0; c < 3; ++c) {
+      std::nth_element(ch[c].begin(), ch[c].begin() + ch[c].size() / 2, ch[c].end());
+      measured[l][c] = kPi * ch[c][ch[c].size() / 2];
+    }
+  }
+  // A lamp the photo shows no brighter than the room's surfaces is off: there is no light of it
+  // to estimate or take away (a room lit by daylight is another method's).
+  for (size_t l = 0; l < nlamps; ++l)
+    if (grey(measured[l]) > 0 && grey(measured[l]) <= 2.0 * grey(imageMean) / (o.meanReflectance))
+      throw Error(scene.sourceFile, "lamp " + scene.lamps[l].name,
+                  "is off in the photo (its pixels are no brighter than the room's surfaces); relighting starts from "
+                  "the lamps that lit the photo");
   double rhoHat = o.meanReflectance;
   // Polygons no photo shows (a wall behind the camera) still reflect light: they get the mean
   // reflectance of the room (its colour from the photo), refined with the computed ones below.
@@ -359,23 +383,6 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
   out.estimates.lampModel = lsUsed ? "least-squares" : "equal";
   out.estimates.lampModelReason = lsUsed ? "" : (nlamps < 2 ? "one lamp" : lsReason);
   out.lampExitance = exitances(rhoHat);
-  // A lamp the (HDR) photos show is measured directly: pi x the median radiance of its texels.
-  std::vector<glm::dvec3> measured(nlamps, glm::dvec3(0.0));
-  for (size_t l = 0; l < nlamps; ++l) {
-    const auto& t = tex[lampSurfaces[l]];
-    std::array<std::vector<float>, 3> ch;
-    size_t inside = 0;
-    for (size_t k = 0; k < t.source.size(); ++k) {
-      inside += t.source[k] != TexelSource::Outside;
-      if (t.source[k] == TexelSource::MainPhoto || t.source[k] == TexelSource::OtherPhoto)
-        for (int c = 0; c < 3; ++c) ch[c].push_back(t.original[k][c]);
-    }
-    if (photo.hdr.empty() || ch[0].size() < 4 || ch[0].size() < inside / 4) continue;
-    for (int c = 0; c < 3; ++c) {
-      std::nth_element(ch[c].begin(), ch[c].begin() + ch[c].size() / 2, ch[c].end());
-      measured[l][c] = kPi * ch[c][ch[c].size() / 2];
-    }
-  }
   // Photographed lamps are known; the others are scaled like them (least squares, or Eq. 2 when
   // that is ill-posed), then fitted against them with the photographed ones held fixed.
   std::vector<uint8_t> isMeasured(nlamps, 0);
