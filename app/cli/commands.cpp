@@ -77,17 +77,6 @@ rad::Options engineOptions(const QCommandLineParser& p) {
   return o;
 }
 
-void parseOrThrow(QCommandLineParser& p, const QStringList& args, int positional, const char* usage) {
-  p.addHelpOption();
-  if (!p.parse(args)) throw Error("", "command line", str(p.errorText()));
-  if (p.isSet("help")) {
-    std::fprintf(stdout, "%s\n%s", usage, qPrintable(p.helpText()));
-    std::exit(0);
-  }
-  if (p.positionalArguments().size() != positional)
-    throw Error("", "command line", std::string("expected: ") + usage);
-}
-
 void writeJsonAtomically(const QString& path, const QJsonObject& obj) {
   QSaveFile f(path);
   if (!f.open(QIODevice::WriteOnly)) throw Error(str(path), "", "cannot write: " + str(f.errorString()));
@@ -108,6 +97,17 @@ double seconds(std::chrono::steady_clock::time_point a) {
 }
 
 }  // namespace
+
+void parseOrThrow(QCommandLineParser& p, const QStringList& args, int positional, const char* usage) {
+  p.addHelpOption();
+  if (!p.parse(args)) throw Error("", "command line", str(p.errorText()));
+  if (p.isSet("help")) {
+    std::fprintf(stdout, "%s\n%s", usage, qPrintable(p.helpText()));
+    std::exit(0);
+  }
+  if (p.positionalArguments().size() != positional)
+    throw Error("", "command line", std::string("expected: ") + usage);
+}
 
 int solveCommand(const QStringList& args, Progress& progress) {
   QCommandLineParser p;

@@ -5,7 +5,12 @@
 
 #include "relume/geometry/progress.h"
 
+class QCommandLineParser;
+
 namespace relume::cli {
+
+// Parses `args` (help printed on --help); throws relume::Error unless `positional` arguments remain.
+void parseOrThrow(QCommandLineParser& p, const QStringList& args, int positional, const char* usage);
 
 int solveCommand(const QStringList& args, Progress& progress);
 int renderCommand(const QStringList& args, Progress& progress);

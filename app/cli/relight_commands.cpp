@@ -27,16 +27,6 @@ namespace {
 std::string str(const QString& s) { return s.toStdString(); }
 QJsonArray rgbJson(const glm::dvec3& v) { return QJsonArray{v.x, v.y, v.z}; }
 
-void parseArgs(QCommandLineParser& p, const QStringList& args, int positional, const char* usage) {
-  p.addHelpOption();
-  if (!p.parse(args)) throw Error("", "command line", str(p.errorText()));
-  if (p.isSet("help")) {
-    std::fprintf(stdout, "%s\n%s", usage, qPrintable(p.helpText()));
-    std::exit(0);
-  }
-  if (p.positionalArguments().size() != positional) throw Error("", "command line", std::string("expected: ") + usage);
-}
-
 void addRelightOptions(QCommandLineParser& p) {
   p.addOption({"mean-reflectance", "Average reflectance of the room (Eq. 1's rho-hat), refined afterwards.", "X"});
   p.addOption({"colour-threshold", "CIELAB distance below which two colours are similar.", "X"});
@@ -163,7 +153,7 @@ int preprocessCommand(const QStringList& args, Progress& progress) {
   p.addPositionalArgument("ROOM", "Bundle folder, Relume project or .obj with its .json.");
   p.addOption({{"o", "output"}, "Project folder to write.", "PROJECT"});
   addRelightOptions(p);
-  parseArgs(p, args, 1, "relume preprocess ROOM -o PROJECT");
+  parseOrThrow(p, args, 1, "relume preprocess ROOM -o PROJECT");
   if (!p.isSet("output")) throw Error("", "command line", "-o PROJECT is required");
   const RelightOptions opt = relightOptions(p);
   progress.report(0, "reading " + str(p.positionalArguments()[0]));
@@ -187,7 +177,7 @@ int relightCommand(const QStringList& args, Progress& progress) {
   p.addOption({"method", "full (default) or ratio-only (original textures x B/B_orig).", "NAME"});
   p.addOption({"camera", "Photo whose camera to render (default: the textures' photo).", "NAME"});
   p.addOption({{"o", "output"}, "Output image (.exr linear radiance, .png at the photo's exposure).", "IMG"});
-  parseArgs(p, args, 1, "relume relight PROJECT --lamp A=0 [--virtual-lamp F] [--virtual-object F] -o IMG");
+  parseOrThrow(p, args, 1, "relume relight PROJECT --lamp A=0 [--virtual-lamp F] [--virtual-object F] -o IMG");
   if (!p.isSet("output")) throw Error("", "command line", "-o IMG is required");
   const QString out = p.value("output");
   const QString ext = QFileInfo(out).suffix().toLower();
@@ -336,7 +326,7 @@ int compareCommand(const QStringList& args, Progress&) {
   p.addPositionalArgument("RENDERING", "Linear EXR of the main view.");
   p.addPositionalArgument("BUNDLE", "The bundle folder.");
   p.addOption({"truth", "Variant name (truth/NAME.exr), 'unoccluded', or 'photo' for photos/main.exr.", "NAME"});
-  parseArgs(p, args, 2, "relume compare RENDERING.exr BUNDLE --truth VARIANT");
+  parseOrThrow(p, args, 2, "relume compare RENDERING.exr BUNDLE --truth VARIANT");
   const Scene scene = loadRoom(str(p.positionalArguments()[1]));
   const Photo& main = photoNamed(scene, scene.mainPhoto);
   const ImageRGB photo = readImageLinear(resolve(scene, main.hdr.empty() ? main.file : main.hdr));
@@ -358,7 +348,7 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
   p.addPositionalArgument("BUNDLE", "A bundle folder (scene.json with variants and truth images).");
   p.addOption({"out", "Folder for report.json and the images.", "DIR"});
   addRelightOptions(p);
-  parseArgs(p, args, 1, "relume evaluate BUNDLE --out DIR");
+  parseOrThrow(p, args, 1, "relume evaluate BUNDLE --out DIR");
   if (!p.isSet("out")) throw Error("", "command line", "--out DIR is required");
   const QString outDir = p.value("out");
   if (!QDir().mkpath(outDir)) throw Error(str(outDir), "", "cannot create the folder");

@@ -383,6 +383,18 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
   out.estimates.lampModel = lsUsed ? "least-squares" : "equal";
   out.estimates.lampModelReason = lsUsed ? "" : (nlamps < 2 ? "one lamp" : lsReason);
   out.lampExitance = exitances(rhoHat);
+  // Per-element reflectance: the texture over the computed irradiance, a few rounds (the
+  // interreflections depend on the reflectances).
+  auto radiometricReflectances = [&](const std::vector<glm::dvec3>& exitance, int rounds) {
+    for (size_t l = 0; l < nlamps; ++l) h.setExitance(lampSurfaces[l], exitance[l]);
+    for (int r = 0; r < rounds; ++r) {
+      h.iterate(progress);
+      for (const auto& L : leaves)
+        h.setElementReflectance(L.node, rhoOf(L.surface, L.tex, glm::dvec3(h.irradiance(L.node))));
+      updateMeanRho(h, leaves);
+    }
+    h.iterate(progress);
+  };
   // Photographed lamps are known; the others are scaled like them (least squares, or Eq. 2 when
   // that is ill-posed), then fitted against them with the photographed ones held fixed.
   std::vector<uint8_t> isMeasured(nlamps, 0);
@@ -400,14 +412,7 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
     out.estimates.lampModel = "photographed";
     out.estimates.lampModelReason = "lamps seen in the HDR photo are measured";
     if (nMeasured < nlamps) {
-      for (size_t l = 0; l < nlamps; ++l) h.setExitance(lampSurfaces[l], out.lampExitance[l]);
-      for (int r = 0; r < 3; ++r) {
-        h.iterate(progress);
-        for (const auto& L : leaves)
-          h.setElementReflectance(L.node, rhoOf(L.surface, L.tex, glm::dvec3(h.irradiance(L.node))));
-        updateMeanRho(h, leaves);
-      }
-      h.iterate(progress);
+      radiometricReflectances(out.lampExitance, 3);
       std::vector<glm::dvec3> m;
       std::string why;
       if (o.lampLeastSquares && fitLamps(out.lampExitance, isMeasured, m, why)) {
@@ -429,16 +434,7 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
     le.used = out.lampExitance[l];
     out.estimates.lamps.push_back(le);
   }
-  for (size_t l = 0; l < nlamps; ++l) h.setExitance(lampSurfaces[l], out.lampExitance[l]);
-  // Per-element reflectance: the texture over the computed irradiance, a few rounds (the
-  // interreflections depend on the reflectances).
-  for (int r = 0; r < 4; ++r) {
-    h.iterate(progress);
-    for (const auto& L : leaves)
-      h.setElementReflectance(L.node, rhoOf(L.surface, L.tex, glm::dvec3(h.irradiance(L.node))));
-    updateMeanRho(h, leaves);
-  }
-  h.iterate(progress);
+  radiometricReflectances(out.lampExitance, 4);
 
   // §4.1: texture-based refinement along real shadows; lamp links at the leaves.
   {

@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "relume/raytrace/ray_scene.h"
+#include "view_cast.h"
 
 namespace relume {
 
@@ -76,7 +77,6 @@ glm::vec3 heat(float t) {  // blue -> green -> yellow -> red
 }  // namespace
 
 ImageRGB renderSolution(const HierarchicalRadiosity& h, const Camera& cam, RenderShow show, Progress& progress) {
-  ImageRGB img(cam.width, cam.height);
   const auto& nodes = h.nodes();
   std::vector<std::array<glm::vec3, 4>> corners;
   std::vector<float> linkCount;
@@ -118,47 +118,19 @@ ImageRGB renderSolution(const HierarchicalRadiosity& h, const Camera& cam, Rende
   float maxLinks = 1.f;
   for (float c : linkCount) maxLinks = std::max(maxLinks, c);
   const glm::dvec3 eye = cam.center();
-  const RayScene& scene = h.rayScene();
   const float invPi = float(1.0 / std::numbers::pi);
-  tbb::parallel_for(tbb::blocked_range<int>(0, cam.height, 8), [&](const tbb::blocked_range<int>& rows) {
-    std::vector<Ray> rays(cam.width);
-    std::vector<RayHit> hits(cam.width);
-    for (int y = rows.begin(); y < rows.end(); ++y) {
-      for (int x = 0; x < cam.width; ++x)
-        rays[x] = Ray{glm::vec3(eye), glm::vec3(cam.rayDirection(x + 0.5, y + 0.5)), 0.f, 1e30f};
-      scene.intersect(rays, hits);
-      for (int x = 0; x < cam.width; ++x) {
-        const RayHit& hit = hits[x];
-        if (hit.polygon < 0) continue;
-        const glm::dvec3 d = cam.rayDirection(x + 0.5, y + 0.5);
-        const auto& surf = h.surfaces()[hit.polygon];
-        const glm::dvec3 p = eye + double(hit.t) * d;
-        const glm::dvec2 uv = h.toUV(hit.polygon, p);
-        // Back faces of one-sided polygons are black.
-        if (glm::dot(glm::dvec3(d), glm::normalize(glm::cross(surf.vertices[1] - surf.vertices[0],
-                                                              surf.vertices[2] - surf.vertices[0]))) > 0)
-          continue;
-        const int leaf = h.findLeaf(hit.polygon, uv);
-        const auto& L = nodes[leaf];
-        glm::vec3 c;
-        if (show == RenderShow::Radiance) {
-          c = interpolateCorners(L, corners[leaf], uv) * invPi;
-        } else {
-          // Leaf borders drawn dark, about one pixel wide.
-          const double dist = glm::length(p - eye);
-          const double px = 1.5 * dist / cam.fx();
-          const bool border = uv.x - L.u0 < px || L.u1 - uv.x < px || uv.y - L.v0 < px || L.v1 - uv.y < px;
-          if (show == RenderShow::Leaves) c = hashColour(uint32_t(leaf));
-          else if (show == RenderShow::Links) c = heat(std::log1p(linkCount[leaf]) / std::log1p(maxLinks));
-          else c = visColour[leaf];
-          if (border) c *= 0.25f;
-        }
-        img.set(x, y, c);
-      }
-    }
-    progress.poll();
+  return detail::castView(h, cam, progress, [&](int, int leaf, glm::dvec2 uv) {
+    const auto& L = nodes[leaf];
+    if (show == RenderShow::Radiance) return interpolateCorners(L, corners[leaf], uv) * invPi;
+    // Leaf borders drawn dark, about one pixel wide (the hit point from uv, its distance from the eye).
+    const double px = 1.5 * glm::length(h.toWorld(L.surface, uv) - eye) / cam.fx();
+    const bool border = uv.x - L.u0 < px || L.u1 - uv.x < px || uv.y - L.v0 < px || L.v1 - uv.y < px;
+    glm::vec3 c;
+    if (show == RenderShow::Leaves) c = hashColour(uint32_t(leaf));
+    else if (show == RenderShow::Links) c = heat(std::log1p(linkCount[leaf]) / std::log1p(maxLinks));
+    else c = visColour[leaf];
+    return border ? c * 0.25f : c;
   });
-  return img;
 }
 
 }  // namespace relume
