@@ -48,6 +48,7 @@ QJsonObject optionsJson(const RelightOptions& o) {
           {"texture_min_area", o.textureMinArea},
           {"occluded_fraction", o.occludedFraction},
           {"epsilon", o.engine.epsilon},
+          {"interactive_epsilon", o.interactiveEpsilon},
           {"min_area", o.engine.minArea},
           {"oracle", o.engine.oracle == radiosity::Oracle::BF ? "bf" : "bfv"},
           {"visibility_rays", o.engine.visibilityRays}};
@@ -178,6 +179,7 @@ RelightData readRelightData(const Scene& scene) {
   op.textureMinArea = o["texture_min_area"].toDouble(op.textureMinArea);
   op.occludedFraction = o["occluded_fraction"].toDouble(op.occludedFraction);
   op.engine.epsilon = o["epsilon"].toDouble(op.engine.epsilon);
+  op.interactiveEpsilon = o["interactive_epsilon"].toDouble(op.interactiveEpsilon);
   op.engine.minArea = o["min_area"].toDouble(op.engine.minArea);
   op.engine.oracle = o["oracle"].toString() == "bfv" ? radiosity::Oracle::BFV : radiosity::Oracle::BF;
   op.engine.visibilityRays = o["visibility_rays"].toInt(op.engine.visibilityRays);

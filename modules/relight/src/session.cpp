@@ -184,7 +184,10 @@ RelightSession::RelightSession(const Scene& scene, const RelightData& data, std:
     }
   }
   radiosity::Options eo = data.options.engine;
-  if (mesh == SessionMesh::Interactive) eo.oracle = radiosity::Oracle::BFV;
+  if (mesh == SessionMesh::Interactive) {
+    eo.oracle = radiosity::Oracle::BFV;
+    eo.epsilon = data.options.interactiveEpsilon;
+  }
   im.h = std::make_unique<HierarchicalRadiosity>(std::move(surfaces), eo);
   auto& h = *im.h;
   {

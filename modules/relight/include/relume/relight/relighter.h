@@ -34,6 +34,7 @@ struct RelightOptions {
   double textureMinArea = 4e-4;      // m^2: texture-based refinement stops there
   double occludedFraction = 0.02;    // an element is occluded when more of its direct light is blocked
   radiosity::Options engine;         // the radiosity solution (BF oracle by default)
+  double interactiveEpsilon = 0.02;  // refinement threshold of §4.4's coarser interactive (BFV) mesh
 };
 
 // A lamp added by the user: an emissive polygon (radiance RGB, exitance = pi x radiance).
