@@ -31,7 +31,7 @@ void addRelightOptions(QCommandLineParser& p) {
   p.addOption({"mean-reflectance", "Average reflectance of the room (Eq. 1's rho-hat), refined afterwards.", "X"});
   p.addOption({"colour-threshold", "CIELAB distance below which two colours are similar.", "X"});
   p.addOption({"visibility-threshold", "Attenuation difference below which visibility is similar.", "X"});
-  p.addOption({"no-indirect", "Add back blocked direct light only (Eq. 5 without secondary sources)."});
+  p.addOption({"blocked-indirect", "Add back blocked light from secondary sources too (Eq. 5 in full; default: direct only)."});
   p.addOption({"reference", "Step 2 (reference patches): weighted (default), paper, or off (T_final = T_inter).", "MODE"});
   p.addOption({"equal-lamps", "Every lamp the same emittance (Eq. 2), no per-lamp least squares."});
   p.addOption({"lamps-from-equations", "Estimate lamps by Eq. 2 / least squares even when the HDR photos show them."});
@@ -52,7 +52,7 @@ RelightOptions relightOptions(const QCommandLineParser& p) {
   number("colour-threshold", o.colourThreshold, 0, 1000);
   number("visibility-threshold", o.visibilityThreshold, 0, 1);
   number("eps", o.engine.epsilon, 0, 1e6);
-  o.blockedIndirect = !p.isSet("no-indirect");
+  o.blockedIndirect = p.isSet("blocked-indirect");
   if (p.isSet("reference")) {
     const QString r = p.value("reference");
     if (r == "off") o.reference = RelightOptions::Reference::Off;

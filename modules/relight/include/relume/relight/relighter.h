@@ -22,7 +22,10 @@ struct RelightOptions {
   double meanReflectance = 0.5;      // rho-hat of Eq. 1, given by the user, then refined (§4)
   double colourThreshold = 10.0;     // CIELAB distance (Eq. 4) below which colours are similar
   double visibilityThreshold = 0.2;  // attenuation difference below which visibility is similar
-  bool blockedIndirect = true;       // Eq. 5 over secondary sources too (direct is always in)
+  // Eq. 5 over secondary sources too (direct is always in). Off by default: the paper found it
+  // "not decisive", and blocked indirect light is the least reliable estimate (it rests on every
+  // reconstructed surface); measured, it over-brightens the unoccluded textures.
+  bool blockedIndirect = false;
   bool lampLeastSquares = true;      // per-lamp emittances by least squares when well posed
   bool lampsFromPhoto = true;        // lamps the HDR photos show: their measured radiance wins
   // §4.3 (step 2). Paper: every occluded element takes its reference's reflectance. Weighted:
