@@ -36,6 +36,7 @@ void addRelightOptions(QCommandLineParser& p) {
   p.addOption({"equal-lamps", "Every lamp the same emittance (Eq. 2), no per-lamp least squares."});
   p.addOption({"lamps-from-equations", "Estimate lamps by Eq. 2 / least squares even when the HDR photos show them."});
   p.addOption({"eps", "Radiosity refinement threshold.", "X"});
+  p.addOption({"reference-patch", "POLYGON=U,V: the polygon's default reference patch (plane coordinates, metres).", "P=U,V"});
 }
 
 RelightOptions relightOptions(const QCommandLineParser& p) {
@@ -62,6 +63,15 @@ RelightOptions relightOptions(const QCommandLineParser& p) {
   }
   o.lampLeastSquares = !p.isSet("equal-lamps");
   o.lampsFromPhoto = !p.isSet("lamps-from-equations");
+  for (const QString& r : p.values("reference-patch")) {
+    const int eq = r.indexOf('=');
+    const QStringList uv = r.mid(eq + 1).split(',');
+    bool okU = false, okV = false;
+    if (eq <= 0 || uv.size() != 2) throw Error("", "--reference-patch " + str(r), "expected POLYGON=U,V");
+    const double u = uv[0].toDouble(&okU), v = uv[1].toDouble(&okV);
+    if (!okU || !okV) throw Error("", "--reference-patch " + str(r), "U and V must be numbers");
+    o.referenceOverride[str(r.left(eq))] = {u, v};
+  }
   return o;
 }
 

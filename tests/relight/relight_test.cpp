@@ -238,3 +238,23 @@ TEST(Relight, MovingAVirtualBoxUpdatesOnlyTheLinksItCrossesAndMatchesAFreshSolut
   // Into the wall: refused, and the box stays where it was.
   EXPECT_THROW(moving.moveObject(0, glm::dvec3(-2.0, 0, 0)), Error);
 }
+
+TEST(Relight, TheUserPicksAPolygonsReferencePatchAndTheProjectKeepsIt) {
+  RelightOptions o;
+  const auto& floor = room().scene.polygons[room().scene.findPolygon("floor")].vertices;
+  const PlaneFrame f = PlaneFrame::of(floor);
+  const glm::dvec2 uv = f.toUV(glm::dvec3(3.5, 1.0, 0.0));
+  o.referenceOverride["floor"] = uv;
+  const RelightData d = preprocessRoom(room().scene, o);
+  ASSERT_EQ(d.referenceOverride.count("floor"), 1u);
+  QTemporaryDir dir;
+  const std::string folder = dir.filePath("p").toStdString();
+  saveRelightProject(room().scene, d, folder);
+  const RelightData back = readRelightData(readProject(folder));
+  ASSERT_EQ(back.referenceOverride.count("floor"), 1u);
+  EXPECT_NEAR(back.referenceOverride.at("floor").x, uv.x, 1e-9);
+  o.referenceOverride = {{"no_such_polygon", uv}};
+  EXPECT_THROW(preprocessRoom(room().scene, o), Error);
+  o.referenceOverride = {{"floor", glm::dvec2(1e3, 1e3)}};
+  EXPECT_THROW(preprocessRoom(room().scene, o), Error);
+}

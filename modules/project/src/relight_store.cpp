@@ -204,6 +204,7 @@ RelightData readRelightData(const Scene& scene) {
   const QJsonObject refs = root["reference_patches"].toObject(), overrides = root["reference_overrides"].toObject();
   for (auto it = refs.begin(); it != refs.end(); ++it) d.referencePatch[it.key().toStdString()] = v2(it.value());
   for (auto it = overrides.begin(); it != overrides.end(); ++it) d.referenceOverride[it.key().toStdString()] = v2(it.value());
+  d.options.referenceOverride = d.referenceOverride;
   const QJsonArray texs = root["textures"].toArray();
   if (size_t(texs.size()) != scene.polygons.size())
     throw Error(path, "textures", "lists " + std::to_string(texs.size()) + " polygons, the project has " +

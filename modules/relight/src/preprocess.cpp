@@ -85,6 +85,12 @@ struct Leaf {
 }  // namespace
 
 RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress& progress) {
+  auto uvPolygon = [&](int s) {
+    const PlaneFrame f = PlaneFrame::of(scene.polygons[s].vertices);
+    std::vector<glm::dvec2> uv;
+    for (const auto& v : scene.polygons[s].vertices) uv.push_back(f.toUV(v));
+    return uv;
+  };
   const auto t0 = std::chrono::steady_clock::now();
   RelightData out;
   out.options = o;
@@ -550,6 +556,17 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
         const auto& N = h.nodes()[leaves[defaultRef[s]].node];
         out.referencePatch[name] = {0.5 * (N.u0 + N.u1), 0.5 * (N.v0 + N.v1)};
       }
+    }
+    // The user's choice wins: the element under the chosen point of that polygon.
+    for (const auto& [name, uv] : o.referenceOverride) {
+      const int s = scene.findPolygon(name);
+      if (s < 0) throw Error(scene.sourceFile, "reference patch '" + name + "'", "the room has no polygon of that name");
+      if (!insideConvex2D(uvPolygon(s), uv, 1e-9))
+        throw Error(scene.sourceFile, "reference patch '" + name + "'", "the point lies outside the polygon");
+      const int leaf = h.findLeaf(s, uv);
+      if (leafIndex[leaf] < 0) throw Error(scene.sourceFile, "reference patch '" + name + "'", "no element there");
+      defaultRef[s] = leafIndex[leaf];
+      out.referenceOverride[name] = uv;
     }
   }
   std::vector<glm::vec3> factor(h.nodes().size(), glm::vec3(1.f));

@@ -37,7 +37,10 @@ struct RelightOptions {
   double textureMinArea = 4e-4;      // m^2: texture-based refinement stops there
   double occludedFraction = 0.02;    // an element is occluded when more of its direct light is blocked
   radiosity::Options engine;         // the radiosity solution (BF oracle by default)
-  double interactiveEpsilon = 0.02;  // refinement threshold of §4.4's coarser interactive (BFV) mesh
+  double interactiveEpsilon = 0.02;
+  // Default reference patch per polygon name, chosen by the user (plane coordinates u, v of the
+  // polygon's frame, PlaneFrame::of its vertices); polygons not named get one chosen automatically.
+  std::map<std::string, glm::dvec2> referenceOverride;  // refinement threshold of §4.4's coarser interactive (BFV) mesh
 };
 
 // A lamp added by the user: an emissive polygon (radiance RGB, exitance = pi x radiance).
