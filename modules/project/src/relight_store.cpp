@@ -198,6 +198,7 @@ RelightData readRelightData(const Scene& scene) {
       if (e.name == l.name) {
         d.lampExitance.push_back(e.used);
         found = true;
+        break;
       }
     if (!found) throw Error(path, "lamp " + l.name, "has no estimate (re-run relume preprocess)");
   }
@@ -220,6 +221,8 @@ RelightData readRelightData(const Scene& scene) {
     t.texel = to["texel"].toDouble();
     t.width = to["width"].toInt();
     t.height = to["height"].toInt();
+    if (!(t.texel > 0) || t.width <= 0 || t.height <= 0)
+      throw Error(path, "textures", "polygon '" + scene.polygons[i].name + "' has no valid texture grid");
     auto load = [&](const char* layer) {
       const std::string file = dir.filePath(QString::fromStdString(texName(i, layer))).toStdString();
       const ImageRGB img = readImageLinear(file);

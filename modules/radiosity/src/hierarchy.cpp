@@ -1013,6 +1013,10 @@ glm::dvec3 HierarchicalRadiosity::surfaceIrradiance(int surface) const {
 
 int HierarchicalRadiosity::findLeaf(int surface, glm::dvec2 uv) const {
   int n = surfaceRoot_[surface];
+  {  // points just outside the root (rounding at an edge) belong to the nearest element
+    const Node& R = nodes_[n];
+    uv = glm::clamp(uv, glm::dvec2(R.u0, R.v0), glm::dvec2(R.u1, R.v1));
+  }
   for (;;) {
     const Node& N = nodes_[n];
     int next = -1;

@@ -45,6 +45,7 @@ ImageRGB boxDownsample(const ImageRGB& img, int f) {
 CompareMasks benchmarkMasks(const ImageRGB& photo, const ImageRGB& unoccluded) {
   if (photo.width != unoccluded.width || photo.height != unoccluded.height)
     throw Error("", "comparison", "the photo and truth/unoccluded differ in size");
+  if (photo.width < 4 || photo.height < 4) throw Error("", "comparison", "images must be at least 4x4 pixels");
   const ImageRGB p = boxDownsample(photo, 4), u = boxDownsample(unoccluded, 4);
   CompareMasks m;
   m.width = p.width;
@@ -72,6 +73,8 @@ Comparison compareImages(const ImageRGB& rendering, const ImageRGB& truth, const
     throw Error("", "comparison", "the rendering is " + std::to_string(rendering.width) + "x" + std::to_string(rendering.height) +
                                       ", the truth " + std::to_string(truth.width) + "x" + std::to_string(truth.height));
   const ImageRGB r = boxDownsample(rendering, 4), t = boxDownsample(truth, 4);
+  if (mask.size() != size_t(r.width) * r.height)
+    throw Error("", "comparison", "the mask does not match the images' size");
   Comparison c;
   glm::dvec3 num(0.0), den(0.0);
   std::vector<float> tv;

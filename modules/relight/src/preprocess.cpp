@@ -180,7 +180,7 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
   auto eq1 = [&](double rh) {
     std::vector<glm::dvec3> r(np, glm::dvec3(0.0));
     for (size_t i = 0; i < np; ++i)
-      if (real[i]) r[i] = observed[i] ? clampRho(polyMean[i] / imageMean * rh) : clampRho(rh * imageMean / grey(imageMean));
+      if (real[i]) r[i] = observed[i] ? clampRho(polyMean[i] / glm::max(imageMean, glm::dvec3(1e-12)) * rh) : clampRho(rh * imageMean / grey(imageMean));
     return r;
   };
   auto rhoOf = [&](int surface, const glm::dvec3& radiance, const glm::dvec3& irradiance) {
@@ -647,11 +647,14 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
         const auto& t = tex[s];
         for (int y = 0; y < t.height; ++y)
           for (int x = 0; x < t.width; ++x) {
+            if (t.source[t.index(x, y)] == TexelSource::Outside) continue;
             const glm::dvec2 uv = t.uvOf(x + 0.5, y + 0.5);
             const int leaf = h.findLeaf(int(s), uv);
             const glm::vec3 u = interpolateCorners(h.nodes()[leaf], cU[leaf], uv);
             tex[s].original[t.index(x, y)] = tex[s].unoccluded[t.index(x, y)] = glm::vec3(meanRho) * u / float(kPi);
           }
+        fillSmoothly(tex[s], tex[s].original, true);
+        fillSmoothly(tex[s], tex[s].unoccluded, true);
       }
       if (real[s]) fillSmoothly(tex[s], tex[s].albedo, true);
     }

@@ -75,14 +75,24 @@ LampVisibility::LampVisibility(const HierarchicalRadiosity& h, std::vector<int> 
 }
 
 std::vector<float> LampVisibility::at(int surface, const glm::vec4& rect) const {
-  const glm::dvec3 n = glm::normalize(polygonNormal(h_.surfaces()[surface].vertices));
+  const auto& verts = h_.surfaces()[surface].vertices;
+  const glm::dvec3 n = glm::normalize(polygonNormal(verts));
+  // Receiver points inside the element (its rectangle clipped to the polygon).
+  std::vector<glm::dvec2> uvPoly;
+  for (const auto& v : verts) uvPoly.push_back(h_.toUV(surface, v));
+  std::vector<glm::dvec3> recv;
+  for (int i = 0; int(recv.size()) < kReceiverPoints && i < 8 * kReceiverPoints; ++i) {
+    const glm::dvec2 q = r2(i + 7);
+    const glm::dvec2 uv(rect.x + q.x * (rect.z - rect.x), rect.y + q.y * (rect.w - rect.y));
+    if (insideConvex2D(uvPoly, uv, 1e-9)) recv.push_back(h_.toWorld(surface, uv));
+  }
+  if (recv.empty()) recv.push_back(h_.toWorld(surface, {0.5 * (rect.x + rect.z), 0.5 * (rect.y + rect.w)}));
   std::vector<Segment> segs;
   std::vector<int> owner;
   for (size_t l = 0; l < lamps_.size(); ++l) {
     const auto& lp = points_[l];
-    for (int i = 0; i < kReceiverPoints; ++i) {
-      const glm::dvec2 q = r2(i + 7);
-      const glm::dvec3 p = h_.toWorld(surface, {rect.x + q.x * (rect.z - rect.x), rect.y + q.y * (rect.w - rect.y)});
+    for (size_t i = 0; i < recv.size(); ++i) {
+      const glm::dvec3& p = recv[i];
       for (int k = 0; k < kPairsPerPoint; ++k) {
         const glm::dvec3& a = lp[(i * kPairsPerPoint + k) % lp.size()];
         const glm::dvec3 d = a - p;

@@ -225,6 +225,10 @@ RelightSession::RelightSession(const Scene& scene, const RelightData& data, std:
   // factor of the real room; virtual objects then make B < D where they cast shadows).
   for (int s : im.vlampSurfaces) h.setExitance(s, glm::dvec3(0.0));
   for (const auto& [s, a] : objectSurfaces) h.setReflectance(s, glm::dvec3(0.0));
+  // The real room's B_orig has no virtual shadows in it: the objects step out of the room (far
+  // above it) while it is taken, then come back (only the links they cross are redone).
+  const glm::dvec3 away(0.0, 0.0, 1000.0);
+  for (const auto& ids : im.objectSurfaceIds) h.translateSurfaces(ids, away);
   h.iterate(progress);
   const LinkSums sums = linkSums(h, data.options.blockedIndirect);
   const size_t nn = h.nodes().size();
@@ -236,6 +240,7 @@ RelightSession::RelightSession(const Scene& scene, const RelightData& data, std:
   }
   im.cD = leafCornerValues(h, im.D, &im.seenWeight);
   im.cBorig = leafCornerValues(h, im.Borig, &im.seenWeight);
+  for (const auto& ids : im.objectSurfaceIds) h.translateSurfaces(ids, -away);
   for (size_t k = 0; k < im.vlampSurfaces.size(); ++k) h.setExitance(im.vlampSurfaces[k], im.vlampExitance[k]);
   for (const auto& [s, a] : objectSurfaces) h.setReflectance(s, a);
   update(progress);
@@ -264,8 +269,8 @@ size_t RelightSession::moveObject(int object, const glm::dvec3& offset, Progress
   for (auto& p : moved.polygons)
     for (auto& v : p) v += offset;
   checkVirtualObject(im.scene, moved);
-  im.objects[object] = moved;
   const size_t n = im.h->translateSurfaces(im.objectSurfaceIds[object], offset);
+  im.objects[object] = moved;
   update(progress);
   return n;
 }

@@ -260,7 +260,8 @@ std::vector<PolygonTexture> dewarpPhotos(const Scene& scene, const RayScene& ray
       for (const auto& ph : scene.photos) pixels = std::max(pixels, projectedArea(ph.camera, poly));
     const glm::dvec2 ext = hi - lo;
     double texel = pixels >= 16 ? std::sqrt(area / pixels) : std::sqrt(area) / 32;
-    texel = std::clamp(texel, std::max(ext.x, ext.y) / 1024, std::max(1e-4, std::min(ext.x, ext.y) / 4));
+    const double finest = std::max(ext.x, ext.y) / 1024;
+    texel = std::clamp(texel, finest, std::max(finest, std::max(1e-4, std::min(ext.x, ext.y) / 4)));
     t.texel = texel;
     t.width = std::max(1, int(std::ceil(ext.x / texel)) + 2);
     t.height = std::max(1, int(std::ceil(ext.y / texel)) + 2);
