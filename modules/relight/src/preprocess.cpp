@@ -175,7 +175,7 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
   // reflectance of the room (its colour from the photo), refined with the computed ones below.
   std::vector<uint8_t> observed(np, 0);
   for (size_t i = 0; i < np; ++i)
-    for (auto src : tex[i].source) observed[i] = observed[i] || src == TexelSource::MainPhoto || src == TexelSource::OtherPhoto;
+    observed[i] = tex[i].photographed();
   glm::dvec3 meanRho = clampRho(rhoHat * imageMean / grey(imageMean));
   auto eq1 = [&](double rh) {
     std::vector<glm::dvec3> r(np, glm::dvec3(0.0));
@@ -469,11 +469,8 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
   for (size_t i = 0; i < Enode.size(); ++i) Enode[i] = h.irradiance(int(i));
   // Corner values lean on the elements the photo shows: hidden ones (behind a poster, under a
   // box) have no light to speak of and would spread their extreme ratios to visible neighbours.
-  auto seenWeights = [&]() {
-    std::vector<float> w(h.nodes().size(), 1.f);
-    for (const auto& L : leafData()) w[L.node] = float(L.seen) + 1e-3f;
-    return w;
-  };
+  std::vector<float> wSeen(h.nodes().size(), 1.f);
+  for (const auto& L : leaves) wSeen[L.node] = float(L.seen) + 1e-3f;
   auto forEachTexel = [&](const std::function<void(PolygonTexture&, size_t, int, glm::dvec2)>& fn) {
     tbb::parallel_for(size_t(0), np, [&](size_t s) {
       if (!real[s]) return;
@@ -487,7 +484,6 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
     });
   };
   {
-    const auto wSeen = seenWeights();
     const auto cU = leafCornerValues(h, sums.unoccluded, &wSeen), cE = leafCornerValues(h, Enode, &wSeen);
     for (size_t s = 0; s < np; ++s) tex[s].unoccluded = tex[s].original;
     forEachTexel([&](PolygonTexture& t, size_t i, int leaf, glm::dvec2 uv) {
@@ -498,14 +494,19 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
     });
     for (size_t s = 0; s < np; ++s) fillSmoothly(tex[s], tex[s].unoccluded, true);
   }
-  leaves = leafData();
-  std::vector<glm::dvec3> rhoInter(leaves.size());
-  for (size_t k = 0; k < leaves.size(); ++k) {
-    const auto& N = h.nodes()[leaves[k].node];
-    const auto& t = tex[N.surface];
-    const glm::dvec3 m(t.mean(t.unoccluded, {N.u0, N.v0}, {N.u1, N.v1}));
-    rhoInter[k] = rhoOf(leaves[k].surface, m, glm::dvec3(sums.unoccluded[leaves[k].node]));
-  }
+  // Reflectance per element of the current unoccluded texture over the unoccluded irradiance
+  // (rho_inter after step 1, rho_final after step 2). The mesh no longer changes from here.
+  auto unoccludedReflectances = [&]() {
+    std::vector<glm::dvec3> rho(leaves.size());
+    for (size_t k = 0; k < leaves.size(); ++k) {
+      const auto& N = h.nodes()[leaves[k].node];
+      const auto& t = tex[N.surface];
+      const glm::dvec3 m(t.mean(t.unoccluded, {N.u0, N.v0}, {N.u1, N.v1}));
+      rho[k] = rhoOf(leaves[k].surface, m, glm::dvec3(sums.unoccluded[leaves[k].node]));
+    }
+    return rho;
+  };
+  const std::vector<glm::dvec3> rhoInter = unoccludedReflectances();
 
   // §4.3, step 2: reference patches on the frontier of unoccluded elements (Fig. 16), Eq. 7-9.
   progress.report(0.82, "reference-patch correction (Eq. 7-9)");
@@ -613,7 +614,6 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
   out.estimates.referencedByFrontier = byFrontier;
   out.estimates.referencedByDefault = byDefault;
   {
-    const auto wSeen = seenWeights();
     const auto cF = leafCornerValues(h, factor, &wSeen);
     forEachTexel([&](PolygonTexture& t, size_t i, int leaf, glm::dvec2 uv) {
       t.unoccluded[i] *= interpolateCorners(h.nodes()[leaf], cF[leaf], uv);
@@ -623,18 +623,9 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
   // rho_final, B_final, and the reflectance map (T_final over the unoccluded irradiance).
   progress.report(0.9, "final reflectances");
   {
-    leaves = leafData();
-    std::vector<glm::dvec3> rho(leaves.size());
-    for (size_t k = 0; k < leaves.size(); ++k) {
-      const auto& N = h.nodes()[leaves[k].node];
-      const auto& t = tex[N.surface];
-      const glm::dvec3 m(t.mean(t.unoccluded, {N.u0, N.v0}, {N.u1, N.v1}));
-      rho[k] = rhoOf(leaves[k].surface, m, glm::dvec3(sums.unoccluded[leaves[k].node]));
-    }
-    setLeafReflectance(rho);
+    setLeafReflectance(unoccludedReflectances());
     h.iterate(progress);
     sums = linkSums(h, o.blockedIndirect);
-    const auto wSeen = seenWeights();
     const auto cU = leafCornerValues(h, sums.unoccluded, &wSeen);
     for (size_t s = 0; s < np; ++s) tex[s].albedo.assign(tex[s].original.size(), glm::vec3(0.f));
     forEachTexel([&](PolygonTexture& t, size_t i, int leaf, glm::dvec2 uv) {

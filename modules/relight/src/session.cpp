@@ -145,7 +145,7 @@ RelightSession::RelightSession(const Scene& scene, const RelightData& data, std:
   for (size_t i = 0; i < im.np; ++i) {
     real[i] = scene.polygons[i].kind == PolygonKind::Real;
     const auto& t = im.textures[i];
-    for (auto s : t.source) seen[i] = seen[i] || s == TexelSource::MainPhoto || s == TexelSource::OtherPhoto;
+    seen[i] = t.photographed();
     if (real[i] && !t.albedo.empty()) refl[i] = glm::dvec3(t.mean(t.albedo, t.origin, t.uvOf(t.width, t.height)));
   }
   auto surfaces = engineSurfaces(scene, refl, data.lampExitance);

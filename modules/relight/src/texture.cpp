@@ -131,6 +131,11 @@ size_t sampleFromPhoto(PolygonTexture& t, const Camera& cam, const ImageRGB& img
 
 }  // namespace
 
+bool PolygonTexture::photographed() const {
+  return std::any_of(source.begin(), source.end(),
+                     [](TexelSource s) { return s == TexelSource::MainPhoto || s == TexelSource::OtherPhoto; });
+}
+
 glm::vec3 PolygonTexture::sample(const std::vector<glm::vec3>& layer, glm::dvec2 uv) const {
   const double x = (uv.x - origin.x) / texel - 0.5, y = (uv.y - origin.y) / texel - 0.5;
   const int x0 = std::clamp(int(std::floor(x)), 0, width - 1), y0 = std::clamp(int(std::floor(y)), 0, height - 1);

@@ -38,6 +38,8 @@ struct PolygonTexture {
   std::vector<glm::vec3> albedo;      // reflectance map (empty until preprocessed)
 
   size_t index(int x, int y) const { return size_t(y) * width + x; }
+  // Does any photo show part of the polygon?
+  bool photographed() const;
   glm::dvec2 uvOf(double x, double y) const { return origin + texel * glm::dvec2(x, y); }
   // Bilinear lookup of a layer at plane coordinates uv (clamped to the grid).
   glm::vec3 sample(const std::vector<glm::vec3>& layer, glm::dvec2 uv) const;
