@@ -77,14 +77,16 @@ rad::Options engineOptions(const QCommandLineParser& p) {
   return o;
 }
 
+QJsonArray rgb(const glm::dvec3& v) { return QJsonArray{v.x, v.y, v.z}; }
+
+}  // namespace
+
 void writeJsonAtomically(const QString& path, const QJsonObject& obj) {
   QSaveFile f(path);
   if (!f.open(QIODevice::WriteOnly)) throw Error(str(path), "", "cannot write: " + str(f.errorString()));
   f.write(QJsonDocument(obj).toJson(QJsonDocument::Indented));
   if (!f.commit()) throw Error(str(path), "", "cannot write: " + str(f.errorString()));
 }
-
-QJsonArray rgb(const glm::dvec3& v) { return QJsonArray{v.x, v.y, v.z}; }
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -96,7 +98,6 @@ double seconds(std::chrono::steady_clock::time_point a) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
 }
 
-}  // namespace
 
 void parseOrThrow(QCommandLineParser& p, const QStringList& args, int positional, const char* usage) {
   p.addHelpOption();
@@ -312,6 +313,10 @@ int benchCommand(const QStringList& args, Progress& progress) {
   if (!scene.lamps.empty() && !scene.photos.empty()) {
     ProgressScope rp(progress, 0.7, 1.0);
     out["relight"] = relightBench(scene, runs, rp);
+  }
+  {
+    ProgressScope rp(progress, 0.97, 1.0);
+    out["reconstruct"] = reconstructBench(scene, runs, rp);
   }
   out["peak_memory_bytes"] = qint64(peakRssBytes());
   writeJsonAtomically(p.value("json"), out);

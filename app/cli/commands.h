@@ -2,12 +2,19 @@
 // The `relume` subcommands. Each returns the process exit code.
 #include <QJsonObject>
 #include <QStringList>
+#include <chrono>
+#include <vector>
 
 #include "relume/geometry/progress.h"
 
 class QCommandLineParser;
 
 namespace relume::cli {
+
+// Writes JSON through a temporary file renamed into place.
+void writeJsonAtomically(const QString& path, const QJsonObject& obj);
+double median(std::vector<double> v);
+double seconds(std::chrono::steady_clock::time_point since);
 
 // Parses `args` (help printed on --help); throws relume::Error unless `positional` arguments remain.
 void parseOrThrow(QCommandLineParser& p, const QStringList& args, int positional, const char* usage);
@@ -20,6 +27,11 @@ int preprocessCommand(const QStringList& args, Progress& progress);
 int relightCommand(const QStringList& args, Progress& progress);
 int evaluateCommand(const QStringList& args, Progress& progress);
 int compareCommand(const QStringList& args, Progress& progress);
+int reconstructCommand(const QStringList& args, Progress& progress);
+int alignCommand(const QStringList& args, Progress& progress);
+int triangulateCommand(const QStringList& args, Progress& progress);
+int hdrMergeCommand(const QStringList& args, Progress& progress);
+int calibrateCommand(const QStringList& args, Progress& progress);
 }  // namespace relume::cli
 namespace relume {
 struct Scene;
@@ -27,5 +39,7 @@ struct Scene;
 namespace relume::cli {
 // The relighting figures of `relume bench` (medians of `runs`).
 QJsonObject relightBench(const Scene& scene, int runs, Progress& progress);
+// The reconstruction figures: COLMAP on the room's photos, triangulation and polygon fitting.
+QJsonObject reconstructBench(const Scene& scene, int runs, Progress& progress);
 
 }  // namespace relume::cli

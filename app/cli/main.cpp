@@ -25,6 +25,11 @@ void usage() {
                "          [--method full|ratio-only] -o IMG.exr|png\n"
                "  evaluate BUNDLE --out DIR   (every variant vs its truth image: report.json)\n"
                "  compare RENDERING.exr BUNDLE --truth VARIANT  (the benchmark's PSNR)\n"
+               "  reconstruct PHOTOS_DIR --out WORKSPACE [--scale P1,P2,M --floor P1,P2,P3]  (COLMAP)\n"
+               "  align MODEL --to REFERENCE [-o ALIGNED]  (camera-centre errors after a similarity fit)\n"
+               "  triangulate WORKSPACE --clicks CLICKS.json -o PROJECT  (polygons from clicked corners)\n"
+               "  hdr-merge IMAGES... -o OUT.exr [--times T1,T2,..|--ev EV1,EV2,..]\n"
+               "  calibrate CHECKERBOARD_DIR --pattern 9x6 --square 0.025 [-o intrinsics.json]\n"
                "ROOM: a bundle folder (scene.json), a Relume project, or an .obj with its .json.\n"
                "Run 'relume <command> --help' for a command's options.\n");
 }
@@ -60,6 +65,11 @@ int main(int argc, char** argv) {
     if (cmd == "relight") return relume::cli::relightCommand(rest, progress);
     if (cmd == "evaluate") return relume::cli::evaluateCommand(rest, progress);
     if (cmd == "compare") return relume::cli::compareCommand(rest, progress);
+    if (cmd == "reconstruct") return relume::cli::reconstructCommand(rest, progress);
+    if (cmd == "align") return relume::cli::alignCommand(rest, progress);
+    if (cmd == "triangulate") return relume::cli::triangulateCommand(rest, progress);
+    if (cmd == "hdr-merge") return relume::cli::hdrMergeCommand(rest, progress);
+    if (cmd == "calibrate") return relume::cli::calibrateCommand(rest, progress);
     std::fprintf(stderr, "relume: unknown command '%s'\n", qPrintable(cmd));
     usage();
     return 2;

@@ -138,7 +138,7 @@ void virtualsOf(const Variant& v, std::vector<VirtualLamp>& lamps, std::vector<V
   }
 }
 
-const Photo& photoNamed(const Scene& scene, const std::string& name) {
+const Photo& photoNamedian(const Scene& scene, const std::string& name) {
   const Photo* p = scene.findPhoto(name);
   if (!p) throw Error(scene.sourceFile, "photo '" + name + "'", "no photo has that name");
   return *p;
@@ -223,7 +223,7 @@ int relightCommand(const QStringList& args, Progress& progress) {
     if (v.virtualObjects.empty()) throw Error(str(f), "virtual_objects", "lists no virtual object");
     virtualsOf(v, vlamps, objects);
   }
-  const Photo& photo = photoNamed(scene, p.isSet("camera") ? str(p.value("camera")) : data.photo);
+  const Photo& photo = photoNamedian(scene, p.isSet("camera") ? str(p.value("camera")) : data.photo);
   RelightSession session(scene, data, vlamps, objects, progress,
                          method == RelightMethod::Full ? SessionMesh::Refined : SessionMesh::Interactive);
   for (size_t l = 0; l < lampScale.size(); ++l) session.setLampScale(int(l), lampScale[l]);
@@ -237,10 +237,6 @@ int relightCommand(const QStringList& args, Progress& progress) {
 QJsonObject relightBench(const Scene& sceneIn, int runs, Progress& progress) {
   using clock = std::chrono::steady_clock;
   auto ms = [](clock::time_point a) { return std::chrono::duration<double, std::milli>(clock::now() - a).count(); };
-  auto med = [](std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : (v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]));
-  };
   Scene scene = sceneIn;
   for (auto& poly : scene.polygons) poly.albedo = glm::dvec3(0.5);
   std::vector<double> pre;
@@ -251,8 +247,8 @@ QJsonObject relightBench(const Scene& sceneIn, int runs, Progress& progress) {
     data = preprocessRoom(scene, RelightOptions{});
     pre.push_back(ms(t0) / 1000.0);
   }
-  QJsonObject out{{"preprocess_median_seconds", med(pre)}};
-  const Camera& cam0 = photoNamed(scene, data.photo).camera;
+  QJsonObject out{{"preprocess_median_seconds", median(pre)}};
+  const Camera& cam0 = photoNamedian(scene, data.photo).camera;
   Camera cam = cam0;  // the main view at 640 x 480
   const double sx = 640.0 / cam0.width, sy = 480.0 / cam0.height;
   cam.K[0][0] *= sx;
@@ -278,8 +274,8 @@ QJsonObject relightBench(const Scene& sceneIn, int runs, Progress& progress) {
     }
     out[name] = QJsonObject{{"links", double(s.engine().links().size())},
                             {"leaves", double(s.engine().totals().leaves)},
-                            {"lamp_edit_radiosity_step_median_ms", med(step)},
-                            {"display_update_and_render_640x480_median_ms", med(render)}};
+                            {"lamp_edit_radiosity_step_median_ms", median(step)},
+                            {"display_update_and_render_640x480_median_ms", median(render)}};
   }
   {  // a virtual box moved by 10 cm, back and forth
     progress.report(0.7, "bench: moving a virtual box");
@@ -304,7 +300,7 @@ QJsonObject relightBench(const Scene& sceneIn, int runs, Progress& progress) {
           updated = s.moveObject(0, glm::dvec3(r % 2 ? -0.1 : 0.1, 0, 0));
           t.push_back(ms(t0));
         }
-        out[name] = QJsonObject{{"median_ms", med(t)}, {"links_updated", double(updated)}, {"links", double(s.engine().links().size())}};
+        out[name] = QJsonObject{{"median_ms", median(t)}, {"links_updated", double(updated)}, {"links", double(s.engine().links().size())}};
       } catch (const Error& e) {
         out[name] = QJsonObject{{"skipped", QString::fromStdString(e.what())}};
       }
@@ -326,7 +322,7 @@ QJsonObject relightBench(const Scene& sceneIn, int runs, Progress& progress) {
       RelightSession s(scene, data, {v});
       t.push_back(s.insertSeconds() * 1000.0);
     }
-    out["virtual_lamp_insert_median_ms"] = med(t);
+    out["virtual_lamp_insert_median_ms"] = median(t);
   }
   return out;
 }
@@ -339,7 +335,7 @@ int compareCommand(const QStringList& args, Progress&) {
   p.addOption({"truth", "Variant name (truth/NAME.exr), 'unoccluded', or 'photo' for photos/main.exr.", "NAME"});
   parseOrThrow(p, args, 2, "relume compare RENDERING.exr BUNDLE --truth VARIANT");
   const Scene scene = loadRoom(str(p.positionalArguments()[1]));
-  const Photo& main = photoNamed(scene, scene.mainPhoto);
+  const Photo& main = photoNamedian(scene, scene.mainPhoto);
   const ImageRGB photo = readImageLinear(resolve(scene, main.hdr.empty() ? main.file : main.hdr));
   const ImageRGB unocc = readImageLinear(scene.baseDir + "/truth/unoccluded.exr");
   const std::string name = p.isSet("truth") ? str(p.value("truth")) : "photo";
@@ -358,20 +354,39 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
       "variant with the full and the ratio-only method and compare with the truth images.");
   p.addPositionalArgument("BUNDLE", "A bundle folder (scene.json with variants and truth images).");
   p.addOption({"out", "Folder for report.json and the images.", "DIR"});
+  p.addOption({"geometry",
+               "Use this room's polygons, lamps and cameras (e.g. a project of `relume triangulate`) with the "
+               "bundle's photos' truth images.",
+               "ROOM"});
   addRelightOptions(p);
-  parseOrThrow(p, args, 1, "relume evaluate BUNDLE --out DIR");
+  parseOrThrow(p, args, 1, "relume evaluate BUNDLE --out DIR [--geometry PROJECT]");
   if (!p.isSet("out")) throw Error("", "command line", "--out DIR is required");
   const QString outDir = p.value("out");
   if (!QDir().mkpath(outDir)) throw Error(str(outDir), "", "cannot create the folder");
   const RelightOptions opt = relightOptions(p);
   Scene scene = loadRoom(str(p.positionalArguments()[0]));
+  if (p.isSet("geometry")) {
+    const Scene g = loadRoom(str(p.value("geometry")));
+    for (const auto& v : scene.variants)
+      for (const auto& [lamp, scale] : v.lampScale)
+        if (g.findLamp(lamp) < 0)
+          throw Error(g.sourceFile, "lamp " + lamp, "variant " + v.name + " of the bundle switches it, but this room has no such lamp");
+    scene.polygons = g.polygons;
+    scene.lamps = g.lamps;
+    scene.photos = g.photos;
+    for (auto& ph : scene.photos) {
+      ph.file = resolve(g, ph.file);
+      if (!ph.hdr.empty()) ph.hdr = resolve(g, ph.hdr);
+    }
+    scene.mainPhoto = g.mainPhoto;
+  }
   // What a real user does not have is removed before anything else sees the scene.
   for (auto& poly : scene.polygons) poly.albedo = glm::dvec3(0.5);
   for (auto& l : scene.lamps) l.radiance = glm::dvec3(0.0);
   ProgressScope pre(progress, 0.0, 0.5);
   const RelightData data = preprocessRoom(scene, opt, pre);
   printEstimates(data);
-  const Photo& main = photoNamed(scene, data.photo);
+  const Photo& main = photoNamedian(scene, data.photo);
   if (main.hdr.empty()) throw Error(scene.sourceFile, "photo " + main.name, "has no linear (EXR) version to compare against");
   const ImageRGB photo = readImageLinear(resolve(scene, main.hdr));
   const std::string unoccPath = scene.baseDir + "/truth/unoccluded.exr";

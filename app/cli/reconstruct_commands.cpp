@@ -1,0 +1,501 @@
+// relume reconstruct | align | triangulate | hdr-merge | calibrate: from photographs to a project.
+#include <QCommandLineParser>
+#include <QDir>
+#include <QFileInfo>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QSaveFile>
+#include <QTemporaryDir>
+#include <glm/geometric.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <random>
+
+#include "commands.h"
+#include "relume/geometry/error.h"
+#include "relume/image/image.h"
+#include "relume/project/room_io.h"
+#include "relume/reconstruct/clicks.h"
+#include "relume/reconstruct/colmap_driver.h"
+#include "relume/reconstruct/colmap_model.h"
+#include "relume/reconstruct/multiview.h"
+#include "relume/reconstruct/photos.h"
+#include "relume/reconstruct/polygon_fit.h"
+
+namespace fs = std::filesystem;
+
+namespace relume::cli {
+
+using namespace relume::recon;
+
+namespace {
+std::string str(const QString& s) { return s.toStdString(); }
+
+std::vector<double> numbers(const QString& text, const std::string& option) {
+  std::vector<double> v;
+  for (const QString& part : text.split(',', Qt::SkipEmptyParts)) {
+    bool ok = false;
+    double x;
+    const QString p = part.trimmed();
+    if (p.contains('/')) {  // 1/30
+      const auto nd = p.split('/');
+      const double a = nd.value(0).toDouble(&ok), b = ok ? nd.value(1).toDouble(&ok) : 0;
+      x = ok && b != 0 ? a / b : 0;
+      ok = ok && b != 0;
+    } else {
+      x = p.toDouble(&ok);
+    }
+    if (!ok) throw Error("", option, "'" + str(part) + "' is not a number");
+    v.push_back(x);
+  }
+  return v;
+}
+
+// WORKSPACE: a `relume reconstruct` workspace (sparse/ + workspace.json), or a COLMAP model
+// folder; the photos folder comes from --photos, the workspace, or a photos/ folder beside it.
+struct Workspace {
+  std::string modelFolder, photosDir;
+};
+Workspace openWorkspace(const QString& path, const QString& photosOption) {
+  Workspace w;
+  const QDir d(path);
+  if (!d.exists()) throw Error(str(path), "", "no such workspace or model folder");
+  if (d.exists("sparse/cameras.txt") || d.exists("sparse/cameras.bin")) w.modelFolder = str(d.filePath("sparse"));
+  else if (d.exists("cameras.txt") || d.exists("cameras.bin")) w.modelFolder = str(d.path());
+  if (!photosOption.isEmpty()) w.photosDir = str(photosOption);
+  else if (d.exists("workspace.json")) {
+    QFile f(d.filePath("workspace.json"));
+    if (f.open(QIODevice::ReadOnly)) w.photosDir = str(QJsonDocument::fromJson(f.readAll()).object()["photos"].toString());
+  }
+  if (w.photosDir.empty()) {
+    QDir up(d);
+    if (up.cdUp() && up.exists("photos")) w.photosDir = str(up.filePath("photos"));
+  }
+  return w;
+}
+
+glm::dvec3 meanCentre(const ColmapModel& m) {
+  glm::dvec3 c(0.0);
+  for (const auto& [id, im] : m.images) c += im.center() / double(m.images.size());
+  return c;
+}
+
+const ColmapPoint& pointById(const ColmapModel& m, const QString& id, const std::string& option) {
+  bool ok = false;
+  const qint64 v = id.trimmed().toLongLong(&ok);
+  const auto it = m.points.find(v);
+  if (!ok || it == m.points.end())
+    throw Error("", option, "'" + str(id) + "' is not a 3-D point id of the model (see points3D.txt)");
+  return it->second;
+}
+
+// --scale P1,P2,METRES and --floor P1,P2,P3[,...] with points given by `lookup`.
+Similarity metricFromOptions(const QCommandLineParser& p, const std::function<glm::dvec3(const QString&, const std::string&)>& lookup,
+                             const glm::dvec3& cameras) {
+  const QStringList sc = p.value("scale").split(',');
+  if (sc.size() != 3) throw Error("", "--scale", "expected P1,P2,METRES");
+  bool ok = false;
+  const double metres = sc[2].toDouble(&ok);
+  if (!ok) throw Error("", "--scale", "'" + str(sc[2]) + "' is not a distance in metres");
+  std::vector<glm::dvec3> floor;
+  if (p.isSet("floor")) {
+    const QStringList fl = p.value("floor").split(',');
+    if (fl.size() < 3) throw Error("", "--floor", "expected three or more points P1,P2,P3");
+    for (const auto& f : fl) floor.push_back(lookup(f, "--floor"));
+  }
+  return metricFrame(lookup(sc[0], "--scale"), lookup(sc[1], "--scale"), metres, floor, cameras);
+}
+}  // namespace
+
+int reconstructCommand(const QStringList& args, Progress& progress) {
+  QCommandLineParser p;
+  p.setApplicationDescription("Photos to a COLMAP sparse model (cameras and points) with COLMAP's command line.");
+  p.addPositionalArgument("PHOTOS_DIR", "Folder of photos (JPEG, PNG, TIFF).");
+  p.addOption({"out", "Workspace folder (model as text in WORKSPACE/sparse).", "WORKSPACE"});
+  p.addOption({"matcher", "exhaustive (default) or sequential.", "M"});
+  p.addOption({"intrinsics", "Known intrinsics (JSON from `relume calibrate`), held fixed.", "FILE"});
+  p.addOption({"camera", "Known intrinsics as MODEL:p1,p2,... (COLMAP's order), held fixed.", "SPEC"});
+  p.addOption({"scale", "Metric scale: two 3-D point ids and their distance.", "P1,P2,METRES"});
+  p.addOption({"floor", "Floor plane: three or more 3-D point ids (z = 0, +Z up).", "P1,P2,P3"});
+  p.addOption({"colmap", "The COLMAP executable (default: $RELUME_COLMAP or colmap on PATH).", "PATH"});
+  parseOrThrow(p, args, 1, "relume reconstruct PHOTOS_DIR --out WORKSPACE [--scale P1,P2,M --floor P1,P2,P3]");
+  if (!p.isSet("out")) throw Error("", "command line", "--out WORKSPACE is required");
+  if (p.isSet("floor") && !p.isSet("scale")) throw Error("", "--floor", "needs --scale too (the metric frame takes both)");
+  ColmapOptions opt;
+  opt.executable = str(p.value("colmap"));
+  if (p.isSet("matcher")) opt.matcher = str(p.value("matcher"));
+  if (p.isSet("intrinsics")) {
+    const Intrinsics in = readIntrinsics(str(p.value("intrinsics")));
+    opt.cameraModel = "OPENCV";
+    opt.cameraParams = {in.fx, in.fy, in.cx, in.cy, in.k1, in.k2, in.p1, in.p2};
+  } else if (p.isSet("camera")) {
+    const QStringList mp = p.value("camera").split(':');
+    if (mp.size() != 2) throw Error("", "--camera", "expected MODEL:p1,p2,... e.g. PINHOLE:800,800,640,480");
+    opt.cameraModel = str(mp[0]);
+    opt.cameraParams = numbers(mp[1], "--camera");
+  }
+  const std::string photos = str(QFileInfo(p.positionalArguments()[0]).absoluteFilePath());
+  const std::string ws = str(p.value("out"));
+  ColmapRun run = runColmap(photos, ws, opt, progress);
+  if (!run.leftOut.empty()) {
+    std::string l;
+    for (const auto& s : run.leftOut) l += " " + s;
+    std::fprintf(stderr, "warning: COLMAP could not register%s\n", l.c_str());
+  }
+  if (p.isSet("scale")) {
+    const Similarity S = metricFromOptions(
+        p, [&](const QString& id, const std::string& o) { return pointById(run.model, id, o).xyz; }, meanCentre(run.model));
+    transformModel(run.model, S);
+    writeColmapText(run.model, run.modelFolder);
+  }
+  QJsonArray reg, left;
+  for (const auto& s : run.registered) reg.append(QString::fromStdString(s));
+  for (const auto& s : run.leftOut) left.append(QString::fromStdString(s));
+  writeJsonAtomically(QDir(QString::fromStdString(ws)).filePath("workspace.json"),
+                      QJsonObject{{"photos", QString::fromStdString(photos)},
+                                  {"registered", reg},
+                                  {"left_out", left},
+                                  {"points", qint64(run.model.points.size())},
+                                  {"metric", p.isSet("scale")},
+                                  {"seconds", QJsonObject{{"features", run.secondsFeatures},
+                                                          {"matching", run.secondsMatching},
+                                                          {"mapping", run.secondsMapping}}}});
+  std::fprintf(stderr, "reconstructed: %zu of %zu photos registered, %zu points -> %s\n", run.registered.size(),
+               run.registered.size() + run.leftOut.size(), run.model.points.size(), run.modelFolder.c_str());
+  return 0;
+}
+
+int alignCommand(const QStringList& args, Progress& progress) {
+  QCommandLineParser p;
+  p.setApplicationDescription(
+      "Fit the similarity that takes a model's camera centres to known ones (matched by photo name); "
+      "print the per-camera error and optionally write the aligned model.");
+  p.addPositionalArgument("MODEL", "Workspace or COLMAP model folder.");
+  p.addOption({"to", "Reference: a COLMAP model folder, workspace, or room bundle/project.", "REF"});
+  p.addOption({QStringList{"o", "output"}, "Write the aligned model (text) here.", "DIR"});
+  p.addOption({"json", "Write the errors as JSON.", "OUT.json"});
+  parseOrThrow(p, args, 1, "relume align MODEL --to REFERENCE [-o ALIGNED_DIR] [--json OUT.json]");
+  if (!p.isSet("to")) throw Error("", "command line", "--to REFERENCE is required");
+  const Workspace w = openWorkspace(p.positionalArguments()[0], "");
+  if (w.modelFolder.empty()) throw Error(str(p.positionalArguments()[0]), "", "holds no COLMAP model");
+  ColmapModel model = readColmapModel(w.modelFolder);
+  // Reference camera centres by photo name.
+  std::map<std::string, glm::dvec3> ref;
+  const QString to = p.value("to");
+  const Workspace rw = openWorkspace(to, "");
+  if (!rw.modelFolder.empty() && !QFileInfo(QDir(to).filePath("scene.json")).exists() && !QFileInfo(QDir(to).filePath("project.json")).exists()) {
+    const ColmapModel r = readColmapModel(rw.modelFolder);
+    for (const auto& [id, im] : r.images) ref[fs::path(im.name).stem().string()] = im.center();
+  } else {
+    const Scene s = loadRoom(str(to));
+    for (const auto& ph : s.photos) ref[ph.name] = ph.camera.center();
+  }
+  std::vector<glm::dvec3> est, tru;
+  std::vector<std::string> names;
+  for (const auto& [id, im] : model.images) {
+    const auto it = ref.find(fs::path(im.name).stem().string());
+    if (it == ref.end()) continue;
+    est.push_back(im.center());
+    tru.push_back(it->second);
+    names.push_back(fs::path(im.name).stem().string());
+  }
+  if (est.size() < 3) throw Error(str(to), "", "shares " + std::to_string(est.size()) + " photo name(s) with the model; alignment needs 3 or more");
+  progress.report(0, "aligning " + std::to_string(est.size()) + " cameras");
+  const CenterAlignment a = alignCenters(est, tru);
+  QJsonObject per;
+  for (size_t i = 0; i < names.size(); ++i) {
+    per[QString::fromStdString(names[i])] = a.errors[i];
+    std::printf("%-16s camera-centre error %.4f m\n", names[i].c_str(), a.errors[i]);
+  }
+  std::printf("median %.4f m, max %.4f m over %zu cameras (scale %.6g)\n", a.median, a.max, names.size(), a.S.s);
+  if (p.isSet("json"))
+    writeJsonAtomically(p.value("json"), QJsonObject{{"cameras", int(names.size())},
+                                                     {"median_m", a.median},
+                                                     {"max_m", a.max},
+                                                     {"scale", a.S.s},
+                                                     {"errors_m", per}});
+  if (p.isSet("output")) {
+    transformModel(model, a.S);
+    writeColmapText(model, str(p.value("output")));
+  }
+  return 0;
+}
+
+int triangulateCommand(const QStringList& args, Progress& progress) {
+  QCommandLineParser p;
+  p.setApplicationDescription(
+      "Corners clicked in two or more photos -> 3-D points and polygons -> a Relume project "
+      "(TotalCalib-style). Without a model in WORKSPACE, the cameras are solved from the clicks.");
+  p.addPositionalArgument("WORKSPACE", "Workspace of `relume reconstruct`, a COLMAP model folder, or a new folder.");
+  p.addOption({"clicks", "The clicks (JSON; see README).", "CLICKS.json"});
+  p.addOption({QStringList{"o", "output"}, "The Relume project to write.", "PROJECT"});
+  p.addOption({"photos", "The photos folder (default: from the workspace, or photos/ beside it).", "DIR"});
+  p.addOption({"intrinsics", "Without a model: the camera's intrinsics (JSON of `relume calibrate`).", "FILE"});
+  p.addOption({"focal", "Without a model: focal length in pixels (principal point at the centre).", "F"});
+  p.addOption({"scale", "Without a model: two point names and their distance.", "P1,P2,METRES"});
+  p.addOption({"floor", "Without a model: three or more floor point names (z = 0).", "P1,P2,P3"});
+  parseOrThrow(p, args, 1, "relume triangulate WORKSPACE --clicks CLICKS.json -o PROJECT");
+  if (!p.isSet("clicks") || !p.isSet("output")) throw Error("", "command line", "--clicks CLICKS.json and -o PROJECT are required");
+  const Workspace w = openWorkspace(p.positionalArguments()[0], p.value("photos"));
+  if (w.photosDir.empty()) throw Error(str(p.positionalArguments()[0]), "", "the photos folder is unknown; pass --photos DIR");
+  const Clicks clicks = readClicks(str(p.value("clicks")));
+  ColmapModel model;
+  if (!w.modelFolder.empty()) {
+    model = readColmapModel(w.modelFolder);
+  } else {
+    // TotalCalib: cameras from the clicked correspondences and known intrinsics.
+    progress.report(0.05, "solving the cameras from the clicks");
+    std::vector<std::string> photoNames;
+    std::map<std::string, int> index;
+    for (const auto& [n, pt] : clicks.points)
+      for (const auto& [photo, px] : pt.clicks)
+        if (!index.count(photo)) index[photo] = int(photoNames.size()), photoNames.push_back(photo);
+    ColmapCamera cam;
+    cam.id = 1;
+    if (p.isSet("intrinsics")) {
+      const Intrinsics in = readIntrinsics(str(p.value("intrinsics")));
+      cam.model = "OPENCV";
+      cam.width = in.width;
+      cam.height = in.height;
+      cam.params = {in.fx, in.fy, in.cx, in.cy, in.k1, in.k2, in.p1, in.p2};
+    } else if (p.isSet("focal")) {
+      int wdt = 0, hgt = 0;
+      const auto files = listPhotos(w.photosDir);
+      for (const auto& f : files)
+        if (fs::path(f).stem() == photoNames.front()) imageSize(f, wdt, hgt);
+      if (wdt == 0) throw Error(w.photosDir, "", "has no photo named " + photoNames.front());
+      cam.model = "PINHOLE";
+      cam.width = wdt;
+      cam.height = hgt;
+      const double f = p.value("focal").toDouble();
+      if (!(f > 0)) throw Error("", "--focal", "must be a positive number of pixels");
+      cam.params = {f, f, wdt / 2.0, hgt / 2.0};
+    } else {
+      throw Error(str(p.positionalArguments()[0]), "", "holds no COLMAP model: give --intrinsics or --focal to solve the cameras from the clicks");
+    }
+    std::vector<Track> tracks;
+    for (const auto& [n, pt] : clicks.points) {
+      if (pt.typed) continue;
+      Track t;
+      t.name = n;
+      for (const auto& [photo, px] : pt.clicks) {
+        const glm::dvec2 u = cam.undistort(px);
+        t.clicks.emplace_back(index[photo], glm::dvec2(cam.fx() * u.x + cam.cx(), cam.fy() * u.y + cam.cy()));
+      }
+      tracks.push_back(t);
+    }
+    Camera K;
+    K.K = cam.K();
+    K.width = cam.width;
+    K.height = cam.height;
+    const CameraSolution sol = solveCameras(std::vector<Camera>(photoNames.size(), K), photoNames, tracks);
+    model.cameras[1] = cam;
+    std::map<std::string, int> imageId;
+    for (size_t i = 0; i < photoNames.size(); ++i) {
+      if (!sol.posed[i]) {
+        std::fprintf(stderr, "warning: photo %s could not be posed from its clicks\n", photoNames[i].c_str());
+        continue;
+      }
+      ColmapImage im;
+      im.id = int(i + 1);
+      im.camera = 1;
+      std::string file = photoNames[i];
+      for (const auto& f : listPhotos(w.photosDir))
+        if (fs::path(f).stem() == photoNames[i] && fs::path(f).extension() != ".exr") file = fs::path(f).filename().string();
+      im.name = file;
+      im.setRotation(sol.cameras[i].R);
+      im.t = sol.cameras[i].t;
+      model.images[im.id] = im;
+    }
+    std::fprintf(stderr, "cameras solved from %zu clicked points: reprojection rms %.3f px\n", tracks.size(), sol.rmsError);
+    if (!p.isSet("scale")) throw Error("", "--scale", "without a model the metric frame is needed: --scale P1,P2,METRES [--floor P1,P2,P3]");
+    std::map<std::string, glm::dvec3> pts;
+    for (size_t k = 0; k < tracks.size(); ++k)
+      if (sol.triangulated[k]) pts[tracks[k].name] = sol.points[k].X;
+    const Similarity S = metricFromOptions(
+        p,
+        [&](const QString& n, const std::string& o) {
+          const auto it = pts.find(str(n.trimmed()));
+          if (it == pts.end()) throw Error(str(p.value("clicks")), o, "'" + str(n) + "' is not a clicked point that could be triangulated");
+          return it->second;
+        },
+        meanCentre(model));
+    transformModel(model, S);
+  }
+  progress.report(0.3, "triangulating " + std::to_string(clicks.points.size()) + " points");
+  QTemporaryDir tmp;
+  TriangulationReport report;
+  const Scene scene = sceneFromClicks(clicks, model, w.photosDir, str(tmp.path()) + "/undistorted", report);
+  double worst = 0;
+  std::string worstName;
+  QJsonObject pts;
+  for (const auto& [n, tp] : report.points) {
+    QJsonArray errs;
+    for (double e : tp.reprojectionError) errs.append(e);
+    pts[QString::fromStdString(n)] = QJsonObject{{"xyz", QJsonArray{tp.X.x, tp.X.y, tp.X.z}}, {"reprojection_px", errs}};
+    if (tp.maxError() > worst) worst = tp.maxError(), worstName = n;
+  }
+  QJsonObject planes;
+  for (const auto& [n, r] : report.planeRms) planes[QString::fromStdString(n)] = r;
+  std::fprintf(stderr, "triangulated %zu points (largest reprojection error %.2f px, point %s), %zu polygons, %zu lamps\n",
+               report.points.size(), worst, worstName.c_str(), scene.polygons.size(), scene.lamps.size());
+  const QJsonObject rep{{"points", pts}, {"plane_rms_m", planes}, {"seconds", report.seconds}};
+  saveProject(scene, str(p.value("output")), progress, [&](const std::string& staging) {
+    writeJsonAtomically(QDir(QString::fromStdString(staging)).filePath("triangulation.json"), rep);
+  });
+  std::fprintf(stderr, "wrote %s\n", qPrintable(p.value("output")));
+  return 0;
+}
+
+int hdrMergeCommand(const QStringList& args, Progress& progress) {
+  QCommandLineParser p;
+  p.setApplicationDescription("Merge a bracket of 8-bit exposures into a radiance image (Debevec-Malik).");
+  p.addPositionalArgument("IMAGES", "Two or more exposures of one viewpoint.", "IMAGES...");
+  p.addOption({QStringList{"o", "output"}, "The radiance image (.exr).", "OUT.exr"});
+  p.addOption({"times", "Exposure times in seconds (e.g. 1/60,1/15,1/4); default: EXIF.", "T1,T2,..."});
+  p.addOption({"ev", "Exposure steps in EV (t = 2^EV, Loscos 2000 Appendix B); default: EXIF.", "EV1,EV2,..."});
+  p.addOption({"response", "Also write the recovered response curve (CSV).", "FILE.csv"});
+  p.addHelpOption();
+  if (!p.parse(args)) throw Error("", "command line", str(p.errorText()));
+  if (p.isSet("help")) {
+    std::fprintf(stdout, "%s", qPrintable(p.helpText()));
+    return 0;
+  }
+  if (!p.isSet("output")) throw Error("", "command line", "-o OUT.exr is required");
+  if (QFileInfo(p.value("output")).suffix().toLower() != "exr") throw Error(str(p.value("output")), "", "the output must be an .exr");
+  std::vector<std::string> files;
+  for (const auto& f : p.positionalArguments()) files.push_back(str(f));
+  std::vector<double> times;
+  if (p.isSet("times")) times = numbers(p.value("times"), "--times");
+  else if (p.isSet("ev"))
+    for (double ev : numbers(p.value("ev"), "--ev")) times.push_back(exposureFromEv(ev));
+  const HdrResult r = mergeBracket(files, times, progress);
+  writeImage(str(p.value("output")), r.radiance);
+  if (p.isSet("response")) {
+    QSaveFile f(p.value("response"));
+    if (!f.open(QIODevice::WriteOnly)) throw Error(str(p.value("response")), "", "cannot write the file");
+    f.write("value,r,g,b\n");
+    for (int z = 0; z < 256; ++z)
+      f.write(QString("%1,%2,%3,%4\n").arg(z).arg(r.response[0][z]).arg(r.response[1][z]).arg(r.response[2][z]).toUtf8());
+    if (!f.commit()) throw Error(str(p.value("response")), "", "cannot write the file");
+  }
+  std::fprintf(stderr, "merged %zu exposures -> %s\n", files.size(), qPrintable(p.value("output")));
+  return 0;
+}
+
+int calibrateCommand(const QStringList& args, Progress& progress) {
+  QCommandLineParser p;
+  p.setApplicationDescription("Intrinsics and distortion from checkerboard photos (OpenCV calibrateCamera).");
+  p.addPositionalArgument("CHECKERBOARD_DIR", "Folder of checkerboard photos, one camera setting.");
+  p.addOption({"pattern", "Inner corners, columns x rows (e.g. 9x6).", "CxR"});
+  p.addOption({"square", "Square size in metres (e.g. 0.025).", "METRES"});
+  p.addOption({QStringList{"o", "output"}, "Intrinsics JSON (default: CHECKERBOARD_DIR/intrinsics.json).", "FILE"});
+  parseOrThrow(p, args, 1, "relume calibrate CHECKERBOARD_DIR --pattern 9x6 --square 0.025 [-o intrinsics.json]");
+  if (!p.isSet("pattern") || !p.isSet("square")) throw Error("", "command line", "--pattern CxR and --square METRES are required");
+  const QStringList pat = p.value("pattern").toLower().split('x');
+  bool ok1 = false, ok2 = false, ok3 = false;
+  const int cols = pat.value(0).toInt(&ok1), rows = pat.value(1).toInt(&ok2);
+  const double square = p.value("square").toDouble(&ok3);
+  if (pat.size() != 2 || !ok1 || !ok2) throw Error("", "--pattern", "expected inner corners as CxR, e.g. 9x6");
+  if (!ok3) throw Error("", "--square", "'" + str(p.value("square")) + "' is not a length in metres");
+  const std::string dir = str(p.positionalArguments()[0]);
+  std::vector<std::string> files;
+  for (const auto& f : listPhotos(dir))
+    if (fs::path(f).extension() != ".exr") files.push_back(f);
+  const Intrinsics in = calibrateCheckerboard(files, cols, rows, square, progress);
+  const std::string out = p.isSet("output") ? str(p.value("output")) : (fs::path(dir) / "intrinsics.json").string();
+  writeIntrinsics(in, out);
+  for (const auto& r : in.rejected) std::fprintf(stderr, "warning: no checkerboard found in %s\n", r.c_str());
+  std::printf("fx %.2f fy %.2f cx %.2f cy %.2f k1 %.5f k2 %.5f p1 %.5f p2 %.5f, rms %.3f px, %zu photos -> %s\n", in.fx, in.fy,
+              in.cx, in.cy, in.k1, in.k2, in.p1, in.p2, in.rms, in.used.size(), out.c_str());
+  std::printf("COLMAP camera: OPENCV %d %d %.6f %.6f %.6f %.6f %.8f %.8f %.8f %.8f\n", in.width, in.height, in.fx, in.fy,
+              in.cx, in.cy, in.k1, in.k2, in.p1, in.p2);
+  return 0;
+}
+
+QJsonObject reconstructBench(const Scene& scene, int runs, Progress& progress) {
+  QJsonObject out;
+  // Triangulation and polygon fitting of 100 points: 25 quadrilaterals, each corner seen by 3
+  // cameras of a room-sized rig, 0.5 px click noise.
+  {
+    std::mt19937 rng(11);
+    std::normal_distribution<double> noise(0, 0.5);
+    std::vector<Camera> cams(3);
+    for (int i = 0; i < 3; ++i) {
+      Camera& c = cams[i];
+      c.width = 1600, c.height = 1200;
+      c.K[0][0] = c.K[1][1] = 1400;
+      c.K[2][0] = 800, c.K[2][1] = 600;
+      const glm::dvec3 eye(-0.8 + 0.8 * i, -3.0, 1.5), target(0, 0, 1.2);
+      const glm::dvec3 z = glm::normalize(target - eye), x = glm::normalize(glm::cross(glm::dvec3(0, 0, -1), z)),
+                       y = glm::cross(z, x);
+      for (int k = 0; k < 3; ++k) c.R[k][0] = x[k], c.R[k][1] = y[k], c.R[k][2] = z[k];
+      c.t = -(c.R * eye);
+    }
+    std::vector<std::vector<std::vector<Observation>>> quads(25);
+    for (int q = 0; q < 25; ++q) {
+      const glm::dvec3 o(-1.0 + 0.4 * (q % 5), 0.1 * (q / 5), 0.4 + 0.35 * (q / 5));
+      for (int k = 0; k < 4; ++k) {
+        const glm::dvec3 X = o + glm::dvec3(0.3 * (k == 1 || k == 2), 0.05 * k, 0.25 * (k >= 2));
+        std::vector<Observation> obs;
+        for (auto& c : cams) {
+          glm::dvec2 px;
+          c.project(X, px);
+          obs.push_back({&c, "bench", px + glm::dvec2(noise(rng), noise(rng))});
+        }
+        quads[q].push_back(obs);
+      }
+    }
+    std::vector<double> ms;
+    size_t vertices = 0;
+    for (int r = 0; r < std::max(runs, 5); ++r) {
+      const auto t0 = std::chrono::steady_clock::now();
+      PickedPolygons picked;
+      for (int q = 0; q < 25; ++q) {
+        std::vector<glm::dvec3> pts;
+        for (const auto& obs : quads[q]) pts.push_back(triangulatePoint(obs, "bench point").X);
+        picked.add(std::to_string(q).append("-bench"), "bench", false, pts, cams[1].center());
+      }
+      ms.push_back(1000 * seconds(t0));
+      vertices = 0;
+      for (int id : picked.ids()) vertices += picked.get(id).vertices.size();
+    }
+    out["triangulate_and_fit_100_points_median_ms"] = median(ms);
+    out["polygon_vertices"] = qint64(vertices);
+  }
+  // COLMAP on the room's photos (skipped, and said so, when COLMAP is missing).
+  const Photo* main = scene.findPhoto(scene.mainPhoto);
+  if (main) {
+    const std::string photosDir = (fs::path(scene.baseDir) / main->file).parent_path().string();
+    try {
+      findColmap();
+      std::vector<double> feat, match, map, total;
+      size_t registered = 0, photos = 0;
+      for (int r = 0; r < std::min(runs, 3); ++r) {
+        ProgressScope sub(progress, double(r) / std::min(runs, 3), double(r + 1) / std::min(runs, 3));
+        QTemporaryDir tmp;
+        const auto t0 = std::chrono::steady_clock::now();
+        const ColmapRun run = runColmap(photosDir, str(tmp.path()), ColmapOptions{}, sub);
+        total.push_back(seconds(t0));
+        feat.push_back(run.secondsFeatures);
+        match.push_back(run.secondsMatching);
+        map.push_back(run.secondsMapping);
+        registered = run.registered.size();
+        photos = run.registered.size() + run.leftOut.size();
+      }
+      out["colmap"] = QJsonObject{{"photos", qint64(photos)},
+                                  {"registered", qint64(registered)},
+                                  {"median_seconds", median(total)},
+                                  {"features_median_seconds", median(feat)},
+                                  {"matching_median_seconds", median(match)},
+                                  {"mapping_median_seconds", median(map)}};
+    } catch (const Error& e) {
+      out["colmap"] = QJsonObject{{"skipped", QString::fromStdString(e.what())}};
+    }
+  }
+  return out;
+}
+
+}  // namespace relume::cli

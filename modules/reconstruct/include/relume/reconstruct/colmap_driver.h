@@ -1,0 +1,52 @@
+#pragma once
+// Runs COLMAP's command line (feature_extractor, exhaustive/sequential matcher, mapper) as child
+// processes: CPU SIFT, progress read from their output, Cancel kills them. The workspace holds
+// COLMAP's database and models (colmap/) and the chosen model as text (sparse/).
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "relume/geometry/progress.h"
+#include "relume/reconstruct/colmap_model.h"
+
+namespace relume::recon {
+
+struct ColmapOptions {
+  std::string executable;           // empty: $RELUME_COLMAP, else `colmap` on PATH
+  std::string matcher = "exhaustive";  // or "sequential" (photos taken in order)
+  // Known intrinsics (e.g. from `relume calibrate` or EXIF): COLMAP model and its parameters,
+  // held fixed in bundle adjustment. Empty: COLMAP's own guess (SIMPLE_RADIAL, refined).
+  std::string cameraModel;
+  std::vector<double> cameraParams;
+  bool singleCamera = true;  // every photo from one camera
+  // Rooms are low-texture: more, weaker SIFT features than COLMAP's default (0.0067), and the
+  // mapper accepts models of 2+ images and initial pairs with 30+ inliers (default 100).
+  double siftPeakThreshold = 0.002;
+  int initMinInliers = 30;
+  int absPoseMinInliers = 15;
+  int threads = -1;
+};
+
+struct ColmapRun {
+  std::string modelFolder;              // WORKSPACE/sparse (text)
+  ColmapModel model;
+  std::vector<std::string> registered;  // image names
+  std::vector<std::string> leftOut;     // photos COLMAP could not register
+  double secondsFeatures = 0, secondsMatching = 0, secondsMapping = 0;
+};
+
+// The COLMAP executable, or throws relume::Error explaining how to install it.
+std::string findColmap(const std::string& preferred = "");
+
+// Photos of `photosDir` (8-bit JPEG/PNG/TIFF; EXR files are left to the HDR path) to a sparse
+// model in `workspace`. Throws relume::Error when COLMAP is missing, when a step fails (quoting
+// its last lines), or when fewer than 2 photos register (naming the photos left out); Cancelled
+// when progress is cancelled (the child process is killed, the previous sparse/ stays).
+ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, const ColmapOptions& options,
+                    Progress& progress);
+
+// Runs one COLMAP subcommand; progress lines are matched by `onLine`. Throws as runColmap does.
+void runColmapStep(const std::string& colmap, const std::vector<std::string>& args, const std::string& what,
+                   Progress& progress, const std::function<void(const std::string&)>& onLine);
+
+}  // namespace relume::recon

@@ -1,0 +1,23 @@
+#pragma once
+// Match proposals for a clicked point (the TotalCalib workflow): where the point clicked in one
+// photo probably is in another — along the epipolar line when both cameras are known, else
+// anywhere — by normalised cross-correlation of the patch around the click.
+#include <glm/vec2.hpp>
+#include <vector>
+
+#include "relume/geometry/camera.h"
+#include "relume/reconstruct/photos.h"
+
+namespace relume::recon {
+
+struct MatchProposal {
+  glm::dvec2 pixel{0.0};
+  double score = 0;  // NCC in [-1, 1]
+};
+
+// Best `count` proposals in `b` for pixel `pa` of `a`, best first, at least `radius` pixels apart.
+// With cameras (both non-null) only the epipolar line of `pa` is searched.
+std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const Image8& b, const Camera* ca,
+                                          const Camera* cb, int count = 3, int radius = 7);
+
+}  // namespace relume::recon

@@ -1,0 +1,227 @@
+#include "relume/reconstruct/colmap_driver.h"
+
+#include <QProcess>
+#include <QProcessEnvironment>
+#include <QStandardPaths>
+#include <QStringList>
+
+#include <chrono>
+#include <cstdlib>
+#include <deque>
+#include <filesystem>
+#include <regex>
+#include <set>
+
+#include "relume/geometry/error.h"
+#include "relume/reconstruct/photos.h"
+
+namespace fs = std::filesystem;
+
+namespace relume::recon {
+
+std::string findColmap(const std::string& preferred) {
+  std::string name = preferred;
+  if (name.empty()) {
+    const char* env = std::getenv("RELUME_COLMAP");
+    name = env && *env ? env : "colmap";
+  }
+  if (name.find('/') != std::string::npos) {
+    if (fs::exists(name)) return name;
+    throw Error(name, "", "COLMAP is not there (RELUME_COLMAP or --colmap names a missing file)");
+  }
+  const QString found = QStandardPaths::findExecutable(QString::fromStdString(name));
+  if (found.isEmpty())
+    throw Error(name, "", "COLMAP is not installed or not on PATH; install it (Debian: apt-get install colmap) "
+                          "or name the executable with RELUME_COLMAP");
+  return found.toStdString();
+}
+
+void runColmapStep(const std::string& colmap, const std::vector<std::string>& args, const std::string& what,
+                   Progress& progress, const std::function<void(const std::string&)>& onLine) {
+  QProcess proc;
+  QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+  env.insert("QT_QPA_PLATFORM", "offscreen");  // COLMAP links Qt; no display is needed
+  proc.setProcessEnvironment(env);
+  proc.setProcessChannelMode(QProcess::MergedChannels);
+  QStringList qargs;
+  for (const auto& a : args) qargs << QString::fromStdString(a);
+  proc.start(QString::fromStdString(colmap), qargs);
+  if (!proc.waitForStarted(10000))
+    throw Error(colmap, what, "could not be started: " + proc.errorString().toStdString());
+  std::deque<std::string> tail;
+  std::string pending;
+  auto consume = [&]() {
+    pending += proc.readAll().toStdString();
+    size_t nl;
+    while ((nl = pending.find('\n')) != std::string::npos) {
+      std::string line = pending.substr(0, nl);
+      pending.erase(0, nl + 1);
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      if (line.empty()) continue;
+      tail.push_back(line);
+      if (tail.size() > 12) tail.pop_front();
+      if (onLine) onLine(line);
+    }
+  };
+  while (!proc.waitForFinished(100)) {
+    consume();
+    if (progress.cancelled()) {
+      proc.kill();
+      proc.waitForFinished(5000);
+      throw Cancelled();
+    }
+    if (proc.state() == QProcess::NotRunning) break;
+  }
+  consume();
+  if (!pending.empty()) tail.push_back(pending);
+  if (proc.exitStatus() != QProcess::NormalExit || proc.exitCode() != 0) {
+    std::string last;
+    for (const auto& l : tail) last += "\n    " + l;
+    throw Error(colmap, what, "failed (exit code " + std::to_string(proc.exitCode()) + "); its last lines:" + last);
+  }
+}
+
+namespace {
+std::string num(double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+}  // namespace
+
+ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, const ColmapOptions& opt,
+                    Progress& progress) {
+  // The photos COLMAP will see: 8-bit images, each checked to be readable first (named if not).
+  std::vector<std::string> names;
+  for (const auto& f : listPhotos(photosDir)) {
+    if (fs::path(f).extension() == ".exr" || fs::path(f).extension() == ".EXR") continue;
+    const PhotoInfo info = readPhotoInfo(f);
+    readImage8(f);  // decodes the whole file: a truncated image is named here, not deep in COLMAP
+    (void)info;
+    names.push_back(fs::path(f).filename().string());
+  }
+  if (names.size() < 2) throw Error(photosDir, "", "holds " + std::to_string(names.size()) + " photo(s); reconstruction needs two or more");
+  const std::string colmap = findColmap(opt.executable);
+  const fs::path ws(workspace), scratch = ws / "colmap";
+  std::error_code ec;
+  fs::create_directories(scratch, ec);
+  if (ec) throw Error(workspace, "", "cannot create the workspace: " + ec.message());
+  const fs::path db = scratch / "database.db";
+  fs::remove(db, ec);
+  fs::remove_all(scratch / "sparse", ec);
+  fs::create_directories(scratch / "sparse");
+  // Only the 8-bit photos: a list file, so COLMAP leaves the EXRs alone.
+  const fs::path list = scratch / "image_list.txt";
+  {
+    FILE* f = std::fopen(list.c_str(), "w");
+    if (!f) throw Error(list.string(), "", "cannot write the file");
+    for (const auto& n : names) std::fprintf(f, "%s\n", n.c_str());
+    std::fclose(f);
+  }
+  const std::string threads = std::to_string(opt.threads);
+  ColmapRun run;
+  const double n = double(names.size());
+  using clock = std::chrono::steady_clock;
+
+  // 1. Features (CPU SIFT).
+  auto t0 = clock::now();
+  {
+    Progress sub(progress, 0.0, 0.3);
+    std::vector<std::string> a = {"feature_extractor", "--database_path", db.string(), "--image_path", photosDir,
+                                  "--image_list_path", list.string(), "--SiftExtraction.use_gpu", "0",
+                                  "--SiftExtraction.num_threads", threads, "--SiftExtraction.peak_threshold",
+                                  num(opt.siftPeakThreshold), "--ImageReader.single_camera", opt.singleCamera ? "1" : "0"};
+    if (!opt.cameraModel.empty()) {
+      std::string params;
+      for (double p : opt.cameraParams) params += (params.empty() ? "" : ",") + num(p);
+      a.insert(a.end(), {"--ImageReader.camera_model", opt.cameraModel, "--ImageReader.camera_params", params});
+    }
+    const std::regex re(R"(Processed file \[(\d+)/(\d+)\])");
+    sub.report(0, "COLMAP: extracting features of " + std::to_string(names.size()) + " photos");
+    runColmapStep(colmap, a, "feature_extractor", sub, [&](const std::string& line) {
+      std::smatch m;
+      if (std::regex_search(line, m, re))
+        sub.report(std::stod(m[1]) / std::max(1.0, std::stod(m[2])), "COLMAP: features " + m[1].str() + "/" + m[2].str());
+    });
+  }
+  auto t1 = clock::now();
+  // 2. Matching.
+  {
+    Progress sub(progress, 0.3, 0.5);
+    const bool seq = opt.matcher == "sequential";
+    if (!seq && opt.matcher != "exhaustive")
+      throw Error("", "--matcher", "must be exhaustive or sequential, not '" + opt.matcher + "'");
+    std::vector<std::string> a = {seq ? "sequential_matcher" : "exhaustive_matcher", "--database_path", db.string(),
+                                  "--SiftMatching.use_gpu", "0", "--SiftMatching.num_threads", threads};
+    const std::regex re(R"(Matching (?:block|image) \[(\d+)/(\d+))");
+    sub.report(0, "COLMAP: matching (" + opt.matcher + ")");
+    runColmapStep(colmap, a, opt.matcher + "_matcher", sub, [&](const std::string& line) {
+      std::smatch m;
+      if (std::regex_search(line, m, re))
+        sub.report(std::stod(m[1]) / std::max(1.0, std::stod(m[2])), "COLMAP: matching " + m[1].str() + "/" + m[2].str());
+    });
+  }
+  auto t2 = clock::now();
+  // 3. Incremental mapping.
+  {
+    Progress sub(progress, 0.5, 0.95);
+    const bool fixIntrinsics = !opt.cameraModel.empty();
+    std::vector<std::string> a = {"mapper", "--database_path", db.string(), "--image_path", photosDir, "--output_path",
+                                  (scratch / "sparse").string(), "--Mapper.num_threads", threads,
+                                  "--Mapper.min_model_size", "2", "--Mapper.init_min_num_inliers",
+                                  std::to_string(opt.initMinInliers), "--Mapper.abs_pose_min_num_inliers",
+                                  std::to_string(opt.absPoseMinInliers)};
+    if (fixIntrinsics)
+      a.insert(a.end(), {"--Mapper.ba_refine_focal_length", "0", "--Mapper.ba_refine_principal_point", "0",
+                         "--Mapper.ba_refine_extra_params", "0"});
+    const std::regex re(R"(Registering image #\d+ \((\d+)\))");
+    sub.report(0, "COLMAP: mapping");
+    try {
+      runColmapStep(colmap, a, "mapper", sub, [&](const std::string& line) {
+        std::smatch m;
+        if (std::regex_search(line, m, re))
+          sub.report(std::stod(m[1]) / n, "COLMAP: registered " + m[1].str() + " of " + std::to_string(names.size()) + " photos");
+      });
+    } catch (const Error& e) {
+      // COLMAP 3.8 exits with an error when no model could be made at all: say what that means.
+      if (!fs::exists(scratch / "sparse" / "0")) {
+        std::string all;
+        for (const auto& nm : names) all += (all.empty() ? "" : ", ") + nm;
+        throw Error(photosDir, "COLMAP mapper",
+                    "fewer than 2 photos registered (0 of " + std::to_string(names.size()) +
+                        "; left out: " + all + "). Too little overlap or texture: try more photos, known intrinsics "
+                        "(--camera/--intrinsics), or clicked correspondences (`relume triangulate` without a model). " +
+                        e.problem());
+      }
+      throw;
+    }
+  }
+  auto t3 = clock::now();
+  // The largest model.
+  int bestImages = -1;
+  fs::path best;
+  for (const auto& e : fs::directory_iterator(scratch / "sparse")) {
+    if (!e.is_directory()) continue;
+    const ColmapModel m = readColmapModel(e.path().string());
+    if (int(m.images.size()) > bestImages) bestImages = int(m.images.size()), best = e.path(), run.model = m;
+  }
+  std::set<std::string> reg;
+  for (const auto& [id, im] : run.model.images) reg.insert(im.name);
+  for (const auto& nme : names) (reg.count(nme) ? run.registered : run.leftOut).push_back(nme);
+  if (run.registered.size() < 2) {
+    std::string left;
+    for (const auto& l : run.leftOut) left += (left.empty() ? "" : ", ") + l;
+    throw Error(photosDir, "COLMAP mapper",
+                "fewer than 2 photos registered (" + std::to_string(run.registered.size()) + "); left out: " + left);
+  }
+  run.modelFolder = (ws / "sparse").string();
+  writeColmapText(run.model, run.modelFolder);
+  progress.report(1, "COLMAP: " + std::to_string(run.registered.size()) + " of " + std::to_string(names.size()) +
+                         " photos registered, " + std::to_string(run.model.points.size()) + " points");
+  run.secondsFeatures = std::chrono::duration<double>(t1 - t0).count();
+  run.secondsMatching = std::chrono::duration<double>(t2 - t1).count();
+  run.secondsMapping = std::chrono::duration<double>(t3 - t2).count();
+  return run;
+}
+
+}  // namespace relume::recon

@@ -1,0 +1,489 @@
+#include "relume/reconstruct/multiview.h"
+
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <numeric>
+
+#include "relume/geometry/error.h"
+
+namespace relume::recon {
+
+namespace {
+
+glm::dmat3 toGlm(const cv::Matx33d& m) {
+  glm::dmat3 g;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) g[c][r] = m(r, c);
+  return g;
+}
+cv::Matx33d toCv(const glm::dmat3& g) {
+  cv::Matx33d m;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) m(r, c) = g[c][r];
+  return m;
+}
+glm::dmat3 rodrigues(const glm::dvec3& w) {
+  cv::Matx33d R;
+  cv::Rodrigues(cv::Vec3d(w.x, w.y, w.z), R);
+  return toGlm(R);
+}
+glm::dvec3 rodriguesInv(const glm::dmat3& R) {
+  cv::Vec3d w;
+  cv::Rodrigues(toCv(R), w);
+  return {w[0], w[1], w[2]};
+}
+
+// Pixel residual of X in camera (K, R, t); false when X is behind it.
+bool residual(const Camera& c, const glm::dvec3& X, const glm::dvec2& px, glm::dvec2& r) {
+  glm::dvec2 p;
+  if (!c.project(X, p)) return false;
+  r = p - px;
+  return true;
+}
+
+// Generic dense Levenberg-Marquardt with a numerical Jacobian (small problems only).
+// `f(params, residuals)` returns false when the parameters are invalid (e.g. behind a camera).
+double levenbergMarquardt(std::vector<double>& x, int nres,
+                          const std::function<bool(const std::vector<double>&, std::vector<double>&)>& f, int iters,
+                          const std::vector<int>& fixed = {}) {
+  const int n = int(x.size());
+  std::vector<double> r(nres), rt(nres);
+  if (!f(x, r)) return -1;
+  auto cost = [](const std::vector<double>& v) { return std::inner_product(v.begin(), v.end(), v.begin(), 0.0); };
+  double c = cost(r), lambda = 1e-3;
+  std::vector<bool> isFixed(n, false);
+  for (int i : fixed) isFixed[i] = true;
+  cv::Mat J(nres, n, CV_64F);
+  for (int it = 0; it < iters; ++it) {
+    for (int j = 0; j < n; ++j) {
+      if (isFixed[j]) {
+        for (int i = 0; i < nres; ++i) J.at<double>(i, j) = 0;
+        continue;
+      }
+      std::vector<double> xp = x;
+      const double h = 1e-6 * std::max(1.0, std::abs(x[j]));
+      xp[j] += h;
+      if (!f(xp, rt)) {
+        xp[j] = x[j] - h;
+        f(xp, rt);
+        for (int i = 0; i < nres; ++i) J.at<double>(i, j) = (r[i] - rt[i]) / h;
+      } else {
+        for (int i = 0; i < nres; ++i) J.at<double>(i, j) = (rt[i] - r[i]) / h;
+      }
+    }
+    cv::Mat rm(nres, 1, CV_64F, r.data());
+    cv::Mat A = J.t() * J, g = J.t() * rm;
+    bool improved = false;
+    for (int tries = 0; tries < 10 && !improved; ++tries) {
+      cv::Mat Ad = A.clone();
+      for (int j = 0; j < n; ++j) Ad.at<double>(j, j) += lambda * (A.at<double>(j, j) + 1e-12) + (isFixed[j] ? 1.0 : 0.0);
+      cv::Mat dx;
+      if (!cv::solve(Ad, -g, dx, cv::DECOMP_CHOLESKY) && !cv::solve(Ad, -g, dx, cv::DECOMP_SVD)) break;
+      std::vector<double> xn = x;
+      for (int j = 0; j < n; ++j) xn[j] += dx.at<double>(j);
+      if (f(xn, rt) && cost(rt) < c) {
+        const double rel = (c - cost(rt)) / std::max(c, 1e-300);
+        x = xn;
+        r = rt;
+        c = cost(rt);
+        lambda = std::max(lambda / 10, 1e-12);
+        improved = true;
+        if (rel < 1e-12) return c;
+      } else {
+        lambda *= 10;
+      }
+    }
+    if (!improved) break;
+  }
+  return c;
+}
+
+}  // namespace
+
+double TriangulatedPoint::maxError() const {
+  return reprojectionError.empty() ? 0 : *std::max_element(reprojectionError.begin(), reprojectionError.end());
+}
+
+TriangulatedPoint triangulatePoint(const std::vector<Observation>& obs, const std::string& what) {
+  if (obs.size() < 2)
+    throw Error("", what, "is clicked in " + std::to_string(obs.size()) + " photo(s); triangulation needs two or more");
+  // DLT: each view gives two rows of A X = 0 (normalised coordinates for conditioning).
+  cv::Mat A(int(obs.size()) * 2, 4, CV_64F);
+  for (size_t i = 0; i < obs.size(); ++i) {
+    const Camera& c = *obs[i].camera;
+    const double x = (obs[i].pixel.x - c.cx()) / c.fx(), y = (obs[i].pixel.y - c.cy()) / c.fy();
+    for (int k = 0; k < 4; ++k) {
+      const double p0 = k < 3 ? c.R[k][0] : c.t.x, p1 = k < 3 ? c.R[k][1] : c.t.y, p2 = k < 3 ? c.R[k][2] : c.t.z;
+      A.at<double>(int(2 * i), k) = x * p2 - p0;
+      A.at<double>(int(2 * i + 1), k) = y * p2 - p1;
+    }
+  }
+  // Rays that (nearly) coincide: the largest angle between any two viewing rays.
+  double maxAngle = 0;
+  for (size_t i = 0; i < obs.size(); ++i)
+    for (size_t j = i + 1; j < obs.size(); ++j) {
+      const glm::dvec3 di = obs[i].camera->rayDirection(obs[i].pixel.x, obs[i].pixel.y);
+      const glm::dvec3 dj = obs[j].camera->rayDirection(obs[j].pixel.x, obs[j].pixel.y);
+      maxAngle = std::max(maxAngle, std::acos(std::clamp(glm::dot(di, dj), -1.0, 1.0)));
+    }
+  cv::Mat w, u, vt;
+  cv::SVD::compute(A, w, u, vt, cv::SVD::FULL_UV);
+  const double hw = vt.at<double>(3, 3);
+  if (maxAngle < 1e-3 || std::abs(hw) < 1e-12)
+    throw Error("", what, "is seen along (nearly) the same ray from every photo; click it in photos taken further apart");
+  TriangulatedPoint tp;
+  tp.X = {vt.at<double>(3, 0) / hw, vt.at<double>(3, 1) / hw, vt.at<double>(3, 2) / hw};
+  for (const auto& o : obs) {
+    const glm::dvec3 c = o.camera->R * tp.X + o.camera->t;
+    if (c.z <= 0) throw Error("", what, "lies behind the camera of photo " + o.photo + " (a wrong click or a wrong camera)");
+  }
+  // Gauss-Newton with damping on the reprojection error, analytic Jacobian.
+  for (int it = 0; it < 20; ++it) {
+    glm::dmat3 JtJ(0.0);
+    glm::dvec3 Jtr(0.0);
+    double cost = 0;
+    for (const auto& o : obs) {
+      const Camera& c = *o.camera;
+      const glm::dvec3 p = c.R * tp.X + c.t;
+      const glm::dvec2 r(c.fx() * p.x / p.z + c.cx() - o.pixel.x, c.fy() * p.y / p.z + c.cy() - o.pixel.y);
+      cost += glm::dot(r, r);
+      // d(u)/dX = fx (R0 / z - x R2 / z^2), rows of R are R[.][k]
+      const glm::dvec3 R0(c.R[0][0], c.R[1][0], c.R[2][0]), R1(c.R[0][1], c.R[1][1], c.R[2][1]),
+          R2(c.R[0][2], c.R[1][2], c.R[2][2]);
+      const glm::dvec3 ju = c.fx() * (R0 / p.z - p.x * R2 / (p.z * p.z));
+      const glm::dvec3 jv = c.fy() * (R1 / p.z - p.y * R2 / (p.z * p.z));
+      JtJ += glm::outerProduct(ju, ju) + glm::outerProduct(jv, jv);
+      Jtr += ju * r.x + jv * r.y;
+    }
+    for (int k = 0; k < 3; ++k) JtJ[k][k] *= 1.0 + 1e-9;
+    if (std::abs(glm::determinant(JtJ)) < 1e-300) break;
+    const glm::dvec3 step = -(glm::inverse(JtJ) * Jtr);
+    const glm::dvec3 Xn = tp.X + step;
+    double costN = 0;
+    bool ok = true;
+    for (const auto& o : obs) {
+      glm::dvec2 r;
+      if (!residual(*o.camera, Xn, o.pixel, r)) ok = false;
+      else costN += glm::dot(r, r);
+    }
+    if (!ok || costN > cost) break;
+    tp.X = Xn;
+    if (glm::length(step) < 1e-12 * (1 + glm::length(tp.X))) break;
+  }
+  double sum = 0;
+  for (const auto& o : obs) {
+    glm::dvec2 r;
+    if (!residual(*o.camera, tp.X, o.pixel, r))
+      throw Error("", what, "lies behind the camera of photo " + o.photo + " (a wrong click or a wrong camera)");
+    tp.reprojectionError.push_back(glm::length(r));
+    sum += glm::dot(r, r);
+  }
+  tp.rmsError = std::sqrt(sum / obs.size());
+  return tp;
+}
+
+Similarity fitSimilarity(const std::vector<glm::dvec3>& from, const std::vector<glm::dvec3>& to) {
+  if (from.size() != to.size() || from.size() < 3)
+    throw Error("", "similarity", "needs three or more pairs of points");
+  const double n = double(from.size());
+  glm::dvec3 mf(0.0), mt(0.0);
+  for (size_t i = 0; i < from.size(); ++i) mf += from[i], mt += to[i];
+  mf /= n;
+  mt /= n;
+  cv::Matx33d C = cv::Matx33d::zeros();
+  double varF = 0;
+  for (size_t i = 0; i < from.size(); ++i) {
+    const glm::dvec3 a = from[i] - mf, b = to[i] - mt;
+    varF += glm::dot(a, a);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) C(r, c) += b[r] * a[c];
+  }
+  varF /= n;
+  C *= 1.0 / n;
+  cv::Mat w, u, vt;
+  cv::SVD::compute(cv::Mat(C), w, u, vt);
+  if (varF < 1e-18 || w.at<double>(1) < 1e-9 * w.at<double>(0))
+    throw Error("", "similarity", "the points are collinear or coincide; the fit needs a spread in two directions");
+  cv::Matx33d D = cv::Matx33d::eye();
+  if (cv::determinant(u) * cv::determinant(vt) < 0) D(2, 2) = -1;
+  const cv::Matx33d R = cv::Matx33d(cv::Mat(u)) * D * cv::Matx33d(cv::Mat(vt));
+  const double s = (w.at<double>(0) * D(0, 0) + w.at<double>(1) * D(1, 1) + w.at<double>(2) * D(2, 2)) / varF;
+  Similarity S;
+  S.s = s;
+  S.R = toGlm(R);
+  S.t = mt - s * (S.R * mf);
+  return S;
+}
+
+Similarity metricFrame(const glm::dvec3& a, const glm::dvec3& b, double metres, const std::vector<glm::dvec3>& floor,
+                       const glm::dvec3& above) {
+  const double d = glm::length(b - a);
+  if (d < 1e-12) throw Error("", "--scale", "the two points coincide");
+  if (!(metres > 0)) throw Error("", "--scale", "the distance must be positive");
+  Similarity S;
+  S.s = metres / d;
+  if (floor.size() >= 3) {
+    glm::dvec3 n(0.0), c(0.0);
+    for (const auto& p : floor) c += p;
+    c /= double(floor.size());
+    // Newell-free robust normal: largest cross product of pairs around the centroid.
+    for (size_t i = 0; i < floor.size(); ++i)
+      for (size_t j = i + 1; j < floor.size(); ++j) {
+        glm::dvec3 x = glm::cross(floor[i] - c, floor[j] - c);
+        if (glm::dot(x, n) < 0) x = -x;
+        n += x;
+      }
+    const double spread = glm::length(floor[1] - floor[0]) + glm::length(floor[2] - floor[0]);
+    if (glm::length(n) < 1e-6 * spread * spread)
+      throw Error("", "--floor", "the floor points are collinear; pick three points that span the floor");
+    n = glm::normalize(n);
+    if (glm::dot(above - floor[0], n) < 0) n = -n;
+    // Rotation taking n to +Z, keeping the model's x as close to +X as possible.
+    glm::dvec3 x = glm::dvec3(1, 0, 0) - n * n.x;
+    if (glm::length(x) < 1e-6) x = glm::dvec3(0, 1, 0) - n * n.y;
+    x = glm::normalize(x);
+    const glm::dvec3 y = glm::cross(n, x);
+    glm::dmat3 R;  // rows x, y, n
+    for (int k = 0; k < 3; ++k) {
+      R[k][0] = x[k];
+      R[k][1] = y[k];
+      R[k][2] = n[k];
+    }
+    S.R = R;
+    const glm::dvec3 o = floor[0];
+    S.t = -S.s * (R * o);
+  }
+  return S;
+}
+
+CenterAlignment alignCenters(const std::vector<glm::dvec3>& estimated, const std::vector<glm::dvec3>& truth) {
+  CenterAlignment a;
+  a.S = fitSimilarity(estimated, truth);
+  for (size_t i = 0; i < estimated.size(); ++i) a.errors.push_back(glm::length(a.S.apply(estimated[i]) - truth[i]));
+  std::vector<double> e = a.errors;
+  std::sort(e.begin(), e.end());
+  a.median = e.size() % 2 ? e[e.size() / 2] : 0.5 * (e[e.size() / 2 - 1] + e[e.size() / 2]);
+  a.max = e.back();
+  return a;
+}
+
+RelativePose relativePose(const std::vector<glm::dvec2>& p1, const std::vector<glm::dvec2>& p2, const glm::dmat3& K1,
+                          const glm::dmat3& K2) {
+  if (p1.size() != p2.size() || p1.size() < 8)
+    throw Error("", "correspondences", "a relative pose needs 8 or more points clicked in both photos (have " +
+                                           std::to_string(std::min(p1.size(), p2.size())) + ")");
+  std::vector<cv::Point2d> a, b;
+  for (size_t i = 0; i < p1.size(); ++i) {
+    a.emplace_back(p1[i].x, p1[i].y);
+    b.emplace_back(p2[i].x, p2[i].y);
+  }
+  // Fundamental matrix by RANSAC (its inliers), then the essential matrix in normalised coordinates.
+  std::vector<uchar> fmask;
+  const cv::Mat F = cv::findFundamentalMat(a, b, cv::FM_RANSAC, 3.0, 0.999, fmask);
+  if (F.empty()) throw Error("", "correspondences", "no fundamental matrix fits the clicks (degenerate configuration?)");
+  std::vector<cv::Point2d> na, nb;
+  std::vector<int> idx;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (!fmask[i]) continue;
+    na.emplace_back((a[i].x - K1[2][0]) / K1[0][0], (a[i].y - K1[2][1]) / K1[1][1]);
+    nb.emplace_back((b[i].x - K2[2][0]) / K2[0][0], (b[i].y - K2[2][1]) / K2[1][1]);
+    idx.push_back(int(i));
+  }
+  if (na.size() < 6) throw Error("", "correspondences", "too few clicks agree on one epipolar geometry");
+  cv::Mat emask;
+  const double thr = 3.0 / std::max(K1[0][0], K2[0][0]);
+  cv::Mat E = cv::findEssentialMat(na, nb, cv::Mat::eye(3, 3, CV_64F), cv::RANSAC, 0.999, thr, emask);
+  if (E.rows != 3) E = E.rowRange(0, 3);
+  cv::Mat Rm, tm;
+  cv::recoverPose(E, na, nb, cv::Mat::eye(3, 3, CV_64F), Rm, tm, emask);
+  RelativePose rp;
+  rp.inliers.assign(p1.size(), false);
+  std::vector<int> in;
+  for (size_t k = 0; k < idx.size(); ++k)
+    if (emask.at<uchar>(int(k))) {
+      rp.inliers[idx[k]] = true;
+      in.push_back(idx[k]);
+    }
+  glm::dmat3 R = toGlm(cv::Matx33d(Rm));
+  glm::dvec3 t(tm.at<double>(0), tm.at<double>(1), tm.at<double>(2));
+  t = glm::normalize(t);
+  // Non-linear refinement of (R, t) on the Sampson distance in pixels: rotation vector increment
+  // (3) and a tangent step of the unit translation (2).
+  const glm::dmat3 K1i = glm::inverse(K1), K2i = glm::inverse(K2);
+  glm::dvec3 e1 = glm::normalize(glm::cross(t, std::abs(t.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+  glm::dvec3 e2 = glm::cross(t, e1);
+  auto pose = [&](const std::vector<double>& x, glm::dmat3& Ro, glm::dvec3& to) {
+    Ro = rodrigues({x[0], x[1], x[2]}) * R;
+    to = glm::normalize(t + x[3] * e1 + x[4] * e2);
+  };
+  auto sampson = [&](const std::vector<double>& x, std::vector<double>& res) {
+    glm::dmat3 Ro;
+    glm::dvec3 to;
+    pose(x, Ro, to);
+    glm::dmat3 tx(0.0);
+    tx[1][0] = -to.z; tx[2][0] = to.y; tx[0][1] = to.z; tx[2][1] = -to.x; tx[0][2] = -to.y; tx[1][2] = to.x;
+    const glm::dmat3 Fm = glm::transpose(K2i) * tx * Ro * K1i;
+    for (size_t k = 0; k < in.size(); ++k) {
+      const glm::dvec3 x1(p1[in[k]], 1.0), x2(p2[in[k]], 1.0);
+      const glm::dvec3 Fx1 = Fm * x1, Ftx2 = glm::transpose(Fm) * x2;
+      const double num = glm::dot(x2, Fx1);
+      const double den = Fx1.x * Fx1.x + Fx1.y * Fx1.y + Ftx2.x * Ftx2.x + Ftx2.y * Ftx2.y;
+      res[k] = den > 0 ? num / std::sqrt(den) : 0;
+    }
+    return true;
+  };
+  std::vector<double> x(5, 0.0);
+  const double cost = levenbergMarquardt(x, int(in.size()), sampson, 50);
+  pose(x, rp.R, rp.t);
+  rp.fundamentalRms = std::sqrt(std::max(cost, 0.0) / std::max<size_t>(in.size(), 1));
+  return rp;
+}
+
+CameraSolution solveCameras(const std::vector<Camera>& intr, const std::vector<std::string>& names,
+                            const std::vector<Track>& tracks) {
+  const int nPhotos = int(intr.size());
+  CameraSolution sol;
+  sol.cameras = intr;
+  sol.posed.assign(nPhotos, false);
+  sol.points.resize(tracks.size());
+  sol.triangulated.assign(tracks.size(), false);
+  // Initial pair: the two photos sharing most tracks.
+  int bi = -1, bj = -1;
+  size_t best = 0;
+  for (int i = 0; i < nPhotos; ++i)
+    for (int j = i + 1; j < nPhotos; ++j) {
+      size_t n = 0;
+      for (const auto& t : tracks) {
+        bool hi = false, hj = false;
+        for (const auto& c : t.clicks) hi |= c.first == i, hj |= c.first == j;
+        n += hi && hj;
+      }
+      if (n > best) best = n, bi = i, bj = j;
+    }
+  if (bi < 0 || best < 8)
+    throw Error("", "correspondences", "no two photos share 8 or more clicked points (most shared: " + std::to_string(best) + ")");
+  std::vector<glm::dvec2> a, b;
+  for (const auto& t : tracks) {
+    glm::dvec2 pa, pb;
+    bool hi = false, hj = false;
+    for (const auto& c : t.clicks) {
+      if (c.first == bi) pa = c.second, hi = true;
+      if (c.first == bj) pb = c.second, hj = true;
+    }
+    if (hi && hj) a.push_back(pa), b.push_back(pb);
+  }
+  const RelativePose rp = relativePose(a, b, intr[bi].K, intr[bj].K);
+  sol.cameras[bi].R = glm::dmat3(1.0);
+  sol.cameras[bi].t = glm::dvec3(0.0);
+  sol.cameras[bj].R = rp.R;
+  sol.cameras[bj].t = rp.t;
+  sol.posed[bi] = sol.posed[bj] = true;
+  auto triangulateAll = [&]() {
+    for (size_t k = 0; k < tracks.size(); ++k) {
+      std::vector<Observation> obs;
+      for (const auto& c : tracks[k].clicks)
+        if (sol.posed[c.first]) obs.push_back({&sol.cameras[c.first], names[c.first], c.second});
+      sol.triangulated[k] = false;
+      if (obs.size() < 2) continue;
+      try {
+        sol.points[k] = triangulatePoint(obs, tracks[k].name);
+        sol.triangulated[k] = true;
+      } catch (const Error&) {
+      }
+    }
+  };
+  triangulateAll();
+  // Resection of the remaining photos, most triangulated tracks first.
+  for (;;) {
+    int next = -1;
+    size_t most = 0;
+    for (int i = 0; i < nPhotos; ++i) {
+      if (sol.posed[i]) continue;
+      size_t n = 0;
+      for (size_t k = 0; k < tracks.size(); ++k)
+        for (const auto& c : tracks[k].clicks) n += c.first == i && sol.triangulated[k];
+      if (n > most) most = n, next = i;
+    }
+    if (next < 0 || most < 6) break;
+    std::vector<cv::Point3d> X;
+    std::vector<cv::Point2d> x;
+    for (size_t k = 0; k < tracks.size(); ++k)
+      for (const auto& c : tracks[k].clicks)
+        if (c.first == next && sol.triangulated[k]) {
+          X.emplace_back(sol.points[k].X.x, sol.points[k].X.y, sol.points[k].X.z);
+          x.emplace_back(c.second.x, c.second.y);
+        }
+    cv::Vec3d rv, tv;
+    const cv::Mat K(toCv(intr[next].K));
+    if (!cv::solvePnPRansac(X, x, K, cv::noArray(), rv, tv, false, 200, 4.0, 0.999)) break;
+    cv::solvePnPRefineLM(X, x, K, cv::noArray(), rv, tv);
+    sol.cameras[next].R = rodrigues({rv[0], rv[1], rv[2]});
+    sol.cameras[next].t = {tv[0], tv[1], tv[2]};
+    sol.posed[next] = true;
+    triangulateAll();
+  }
+  // Bundle adjustment: poses of every posed photo but the first, and every triangulated point.
+  std::vector<int> cams, pts;
+  for (int i = 0; i < nPhotos; ++i)
+    if (sol.posed[i] && i != bi) cams.push_back(i);
+  for (size_t k = 0; k < tracks.size(); ++k)
+    if (sol.triangulated[k]) pts.push_back(int(k));
+  std::vector<double> x;
+  for (int i : cams) {
+    const glm::dvec3 w = rodriguesInv(sol.cameras[i].R);
+    x.insert(x.end(), {w.x, w.y, w.z, sol.cameras[i].t.x, sol.cameras[i].t.y, sol.cameras[i].t.z});
+  }
+  for (int k : pts) x.insert(x.end(), {sol.points[k].X.x, sol.points[k].X.y, sol.points[k].X.z});
+  int nres = 0;
+  for (int k : pts)
+    for (const auto& c : tracks[k].clicks) nres += sol.posed[c.first] ? 2 : 0;
+  auto unpack = [&](const std::vector<double>& v, std::vector<Camera>& cs) {
+    cs = sol.cameras;
+    for (size_t ci = 0; ci < cams.size(); ++ci) {
+      cs[cams[ci]].R = rodrigues({v[6 * ci], v[6 * ci + 1], v[6 * ci + 2]});
+      cs[cams[ci]].t = {v[6 * ci + 3], v[6 * ci + 4], v[6 * ci + 5]};
+    }
+  };
+  auto ba = [&](const std::vector<double>& v, std::vector<double>& res) {
+    std::vector<Camera> cs;
+    unpack(v, cs);
+    int r = 0;
+    const size_t off = 6 * cams.size();
+    for (size_t pk = 0; pk < pts.size(); ++pk) {
+      const glm::dvec3 X(v[off + 3 * pk], v[off + 3 * pk + 1], v[off + 3 * pk + 2]);
+      for (const auto& c : tracks[pts[pk]].clicks) {
+        if (!sol.posed[c.first]) continue;
+        glm::dvec2 e;
+        if (!residual(cs[c.first], X, c.second, e)) return false;
+        res[r++] = e.x;
+        res[r++] = e.y;
+      }
+    }
+    return true;
+  };
+  // Fix the scale gauge: the first translation component of the initial pair's second camera.
+  std::vector<int> fixedParams;
+  for (size_t ci = 0; ci < cams.size(); ++ci)
+    if (cams[ci] == bj) {
+      int largest = 0;
+      for (int k = 1; k < 3; ++k)
+        if (std::abs(sol.cameras[bj].t[k]) > std::abs(sol.cameras[bj].t[largest])) largest = k;
+      fixedParams.push_back(int(6 * ci + 3 + largest));
+    }
+  const double cost = levenbergMarquardt(x, nres, ba, 30, fixedParams);
+  unpack(x, sol.cameras);
+  const size_t off = 6 * cams.size();
+  for (size_t pk = 0; pk < pts.size(); ++pk) sol.points[pts[pk]].X = {x[off + 3 * pk], x[off + 3 * pk + 1], x[off + 3 * pk + 2]};
+  triangulateAll();
+  sol.rmsError = std::sqrt(std::max(cost, 0.0) / std::max(nres / 2, 1));
+  return sol;
+}
+
+}  // namespace relume::recon

@@ -1,0 +1,341 @@
+#include "relume/reconstruct/photos.h"
+
+#include <OpenImageIO/imageio.h>
+#include <QFile>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QSaveFile>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/photo.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "relume/geometry/error.h"
+
+namespace fs = std::filesystem;
+
+namespace relume::recon {
+
+namespace {
+std::string lower(std::string s) {
+  for (auto& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+bool isPhotoExtension(const std::string& ext) {
+  const std::string e = lower(ext);
+  return e == ".jpg" || e == ".jpeg" || e == ".png" || e == ".tif" || e == ".tiff" || e == ".exr";
+}
+double attr(const OIIO::ImageSpec& s, std::initializer_list<const char*> names) {
+  for (const char* n : names) {
+    const OIIO::ParamValue* p = s.find_attribute(n);
+    if (p) return p->get_float();
+  }
+  return 0;
+}
+bool hasAttr(const OIIO::ImageSpec& s, std::initializer_list<const char*> names) {
+  for (const char* n : names)
+    if (s.find_attribute(n)) return true;
+  return false;
+}
+std::string formatTime(double t) {
+  char b[64];
+  if (t < 1) std::snprintf(b, sizeof b, "1/%.4g s", 1 / t);
+  else std::snprintf(b, sizeof b, "%.4g s", t);
+  return b;
+}
+}  // namespace
+
+double PhotoInfo::focalPixels() const {
+  if (focal35mm <= 0 || width <= 0) return 0;
+  return focal35mm / 36.0 * std::max(width, height);
+}
+
+PhotoInfo readPhotoInfo(const std::string& path) {
+  if (!fs::exists(path)) throw Error(path, "", "the file does not exist");
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw Error(path, "", "cannot read the image: " + OIIO::geterror());
+  const OIIO::ImageSpec& s = in->spec();
+  PhotoInfo p;
+  p.path = path;
+  p.width = s.width;
+  p.height = s.height;
+  p.channels = s.nchannels;
+  p.floatData = s.format.is_floating_point();
+  p.focalMm = attr(s, {"Exif:FocalLength", "FocalLength"});
+  p.focal35mm = attr(s, {"Exif:FocalLengthIn35mmFilm", "FocalLengthIn35mmFilm"});
+  p.exposureTime = attr(s, {"ExposureTime", "Exif:ExposureTime"});
+  p.fNumber = attr(s, {"FNumber", "Exif:FNumber"});
+  p.iso = attr(s, {"Exif:PhotographicSensitivity", "Exif:ISOSpeedRatings", "ISOSpeedRatings"});
+  p.hasExposureBias = hasAttr(s, {"Exif:ExposureBiasValue", "ExposureBiasValue"});
+  p.exposureBias = attr(s, {"Exif:ExposureBiasValue", "ExposureBiasValue"});
+  p.make = s.get_string_attribute("Make");
+  p.model = s.get_string_attribute("Model");
+  if (p.width <= 0 || p.height <= 0) throw Error(path, "", "the image has no pixels");
+  return p;
+}
+
+std::vector<std::string> listPhotos(const std::string& folder) {
+  if (!fs::is_directory(folder)) throw Error(folder, "", "is not a folder of photos");
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(folder))
+    if (e.is_regular_file() && isPhotoExtension(e.path().extension().string())) files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+double exposureFromEv(double ev, double referenceTime) { return referenceTime * std::pow(2.0, ev); }
+
+std::vector<std::vector<PhotoInfo>> groupBrackets(const std::vector<PhotoInfo>& photos) {
+  std::vector<std::vector<PhotoInfo>> groups;
+  auto exposureKey = [](const PhotoInfo& p) {
+    return p.exposureTime > 0 ? p.exposureTime : (p.hasExposureBias ? exposureFromEv(p.exposureBias) : 0.0);
+  };
+  for (const auto& p : photos) {
+    const double key = exposureKey(p);
+    bool join = !groups.empty() && key > 0 && !p.floatData;
+    if (join) {
+      const PhotoInfo& q = groups.back().front();
+      join = q.width == p.width && q.height == p.height && q.make == p.make && q.model == p.model && !q.floatData &&
+             exposureKey(q) > 0;
+      for (const auto& m : groups.back()) join = join && std::abs(exposureKey(m) - key) > 1e-3 * key;
+    }
+    if (join) groups.back().push_back(p);
+    else groups.push_back({p});
+  }
+  return groups;
+}
+
+Image8 readImage8(const std::string& path) {
+  if (!fs::exists(path)) throw Error(path, "", "the file does not exist");
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw Error(path, "", "cannot read the image: " + OIIO::geterror());
+  const OIIO::ImageSpec& s = in->spec();
+  if (s.format.is_floating_point() || s.format.size() != 1)
+    throw Error(path, "", "is not an 8-bit image (an exposure bracket needs the camera's 8-bit JPEG/PNG/TIFF files)");
+  Image8 img;
+  img.width = s.width;
+  img.height = s.height;
+  std::vector<unsigned char> raw(size_t(s.width) * s.height * s.nchannels);
+  if (!in->read_image(0, 0, 0, s.nchannels, OIIO::TypeDesc::UINT8, raw.data()))
+    throw Error(path, "", "cannot decode the image (truncated or corrupt?): " + in->geterror());
+  img.pixels.resize(size_t(s.width) * s.height * 3);
+  for (size_t i = 0; i < size_t(s.width) * s.height; ++i)
+    for (int c = 0; c < 3; ++c) img.pixels[i * 3 + c] = raw[i * s.nchannels + std::min(c, s.nchannels - 1)];
+  return img;
+}
+
+HdrResult mergeBracket(const std::vector<std::string>& files, std::vector<double> times, Progress& progress) {
+  if (files.size() < 2) throw Error(files.empty() ? "" : files[0], "", "an HDR merge needs two or more exposures");
+  if (!times.empty() && times.size() != files.size())
+    throw Error("", "--times", "gives " + std::to_string(times.size()) + " exposure times for " + std::to_string(files.size()) + " images");
+  if (times.empty()) {
+    std::vector<PhotoInfo> infos;
+    for (const auto& f : files) infos.push_back(readPhotoInfo(f));
+    const bool allTimes = std::all_of(infos.begin(), infos.end(), [](const PhotoInfo& p) { return p.exposureTime > 0; });
+    const bool allEv = std::all_of(infos.begin(), infos.end(), [](const PhotoInfo& p) { return p.hasExposureBias; });
+    for (const auto& p : infos) {
+      if (allTimes) times.push_back(p.exposureTime);
+      else if (allEv) times.push_back(exposureFromEv(p.exposureBias));
+    }
+    if (times.empty()) {
+      for (const auto& p : infos)
+        if (p.exposureTime <= 0 && !p.hasExposureBias)
+          throw Error(p.path, "EXIF", "gives neither an exposure time nor an exposure bias; pass --times");
+      throw Error(files[0], "EXIF", "the bracket mixes exposure times and exposure biases; pass --times");
+    }
+  }
+  for (size_t i = 0; i < times.size(); ++i)
+    if (!(times[i] > 0)) throw Error(files[i], "exposure time", "must be positive");
+  std::vector<Image8> images;
+  for (size_t i = 0; i < files.size(); ++i) {
+    progress.report(0.3 * i / files.size(), "reading " + files[i]);
+    images.push_back(readImage8(files[i]));
+  }
+  Progress sub(progress, 0.3, 1.0);
+  return mergeBracket(images, times, files, sub);
+}
+
+HdrResult mergeBracket(const std::vector<Image8>& images, const std::vector<double>& times,
+                       const std::vector<std::string>& files, Progress& progress) {
+  if (images.size() < 2) throw Error("", "bracket", "an HDR merge needs two or more exposures");
+  if (times.size() != images.size() || files.size() != images.size())
+    throw Error("", "bracket", "needs one exposure time and one name per image");
+  for (size_t i = 0; i < times.size(); ++i)
+    if (!(times[i] > 0)) throw Error(files[i], "exposure time", "must be positive");
+  std::vector<cv::Mat> imgs;
+  const int w = images[0].width, h = images[0].height;
+  for (size_t i = 0; i < images.size(); ++i) {
+    const Image8& im = images[i];
+    if (im.width != w || im.height != h)
+      throw Error(files[i], "", "is " + std::to_string(im.width) + "x" + std::to_string(im.height) + ", the bracket's first image " +
+                                    std::to_string(w) + "x" + std::to_string(h));
+    imgs.push_back(cv::Mat(h, w, CV_8UC3, const_cast<unsigned char*>(im.pixels.data())).clone());
+  }
+  for (size_t i = 0; i < times.size(); ++i)
+    for (size_t j = i + 1; j < times.size(); ++j)
+      if (std::abs(times[i] - times[j]) < 1e-6 * times[i])
+        throw Error(files[j], "exposure time", "equals that of " + files[i] + " (" + formatTime(times[i]) + "): not a bracket");
+  std::vector<float> tf(times.begin(), times.end());
+  progress.report(0.5, "recovering the camera response (Debevec-Malik)");
+  cv::Mat response;
+  cv::createCalibrateDebevec()->process(imgs, response, tf);
+  progress.report(0.8, "merging " + std::to_string(imgs.size()) + " exposures");
+  // Merge with inverse-variance weights: a pixel value z pins ln E to within the quantisation
+  // step times g'(z) (g = ln response), so w(z) = hat(z) / g'(z)^2; the hat (Debevec & Malik's
+  // triangle) drops clipped values. Pixels clipped in every exposure take the nearest usable one.
+  std::vector<double> g[3], wgt[3];
+  for (int c = 0; c < 3; ++c) {
+    g[c].resize(256);
+    wgt[c].resize(256);
+    for (int z = 0; z < 256; ++z) g[c][z] = std::log(std::max(double(response.at<cv::Vec3f>(z, 0)[c]), 1e-30));
+    for (int z = 0; z < 256; ++z) {
+      const double slope = (g[c][std::min(z + 1, 255)] - g[c][std::max(z - 1, 0)]) / (std::min(z + 1, 255) - std::max(z - 1, 0));
+      const double hat = std::min(z, 255 - z);
+      wgt[c][z] = hat / std::max(slope * slope, 1e-12);
+    }
+  }
+  std::vector<double> lnT(times.size());
+  size_t shortest = 0, longest = 0;
+  for (size_t i = 0; i < times.size(); ++i) {
+    lnT[i] = std::log(times[i]);
+    if (times[i] < times[shortest]) shortest = i;
+    if (times[i] > times[longest]) longest = i;
+  }
+  HdrResult r;
+  r.times = times;
+  r.radiance = ImageRGB(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      glm::vec3 out;
+      for (int c = 0; c < 3; ++c) {
+        double num = 0, den = 0;
+        for (size_t i = 0; i < imgs.size(); ++i) {
+          const int z = imgs[i].at<cv::Vec3b>(y, x)[c];
+          num += wgt[c][z] * (g[c][z] - lnT[i]);
+          den += wgt[c][z];
+        }
+        double lnE;
+        if (den > 0) lnE = num / den;
+        else if (imgs[shortest].at<cv::Vec3b>(y, x)[c] >= 128) lnE = g[c][254] - lnT[shortest];  // clipped white
+        else lnE = g[c][1] - lnT[longest];                                                         // black
+        out[c] = float(std::exp(lnE));
+      }
+      r.radiance.set(x, y, out);
+    }
+  for (int c = 0; c < 3; ++c) {
+    r.response[c].resize(256);
+    for (int z = 0; z < 256; ++z) r.response[c][z] = response.at<cv::Vec3f>(z, 0)[c];
+  }
+  progress.report(1, "merged");
+  return r;
+}
+
+void writeImage8(const std::string& path, const Image8& image) {
+  const std::string tmp = path + ".tmp" + fs::path(path).extension().string();
+  {
+    auto out = OIIO::ImageOutput::create(tmp);
+    if (!out) throw Error(path, "", "cannot create an image writer: " + OIIO::geterror());
+    const OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+    if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, image.pixels.data()) || !out->close())
+      throw Error(path, "", "cannot write the image: " + out->geterror());
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) throw Error(path, "", "cannot replace the file: " + ec.message());
+}
+
+Intrinsics calibrateCheckerboard(const std::vector<std::string>& files, int cols, int rows, double square,
+                                 Progress& progress) {
+  if (cols < 2 || rows < 2) throw Error("", "--pattern", "needs at least 2x2 inner corners");
+  if (!(square > 0)) throw Error("", "--square", "the square size must be positive (metres)");
+  if (files.empty()) throw Error("", "checkerboard", "no photos given");
+  const cv::Size pattern(cols, rows);
+  std::vector<cv::Point3f> board;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) board.emplace_back(float(c * square), float(r * square), 0.f);
+  std::vector<std::vector<cv::Point3f>> objectPoints;
+  std::vector<std::vector<cv::Point2f>> imagePoints;
+  Intrinsics in;
+  for (size_t i = 0; i < files.size(); ++i) {
+    progress.report(0.8 * i / files.size(), "finding the checkerboard in " + files[i]);
+    const Image8 im = readImage8(files[i]);
+    if (in.width == 0) in.width = im.width, in.height = im.height;
+    else if (im.width != in.width || im.height != in.height)
+      throw Error(files[i], "", "has another size than " + files[0] + "; calibrate one camera setting at a time");
+    cv::Mat rgb(im.height, im.width, CV_8UC3, const_cast<unsigned char*>(im.pixels.data())), gray;
+    cv::cvtColor(rgb, gray, cv::COLOR_RGB2GRAY);
+    std::vector<cv::Point2f> corners;
+    const bool found = cv::findChessboardCorners(
+        gray, pattern, corners, cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_FAST_CHECK);
+    if (!found) {
+      in.rejected.push_back(files[i]);
+      continue;
+    }
+    cv::cornerSubPix(gray, corners, cv::Size(5, 5), cv::Size(-1, -1),
+                     cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-3));
+    // OpenCV's corners put the top-left pixel's centre at (0, 0); Relume's at (0.5, 0.5).
+    for (auto& c : corners) c += cv::Point2f(0.5f, 0.5f);
+    imagePoints.push_back(corners);
+    objectPoints.push_back(board);
+    in.used.push_back(files[i]);
+  }
+  if (imagePoints.size() < 3) {
+    std::string names;
+    for (const auto& f : in.rejected) names += (names.empty() ? "" : ", ") + fs::path(f).filename().string();
+    throw Error(files.size() == 1 ? files[0] : fs::path(files[0]).parent_path().string(), "checkerboard",
+                "a " + std::to_string(cols) + "x" + std::to_string(rows) + " inner-corner checkerboard was found in " +
+                    std::to_string(imagePoints.size()) + " photo(s); calibration needs 3 or more (not found in: " + names + ")");
+  }
+  progress.report(0.85, "calibrating from " + std::to_string(imagePoints.size()) + " photos");
+  cv::Mat K, dist;
+  std::vector<cv::Mat> rv, tv;
+  in.rms = cv::calibrateCamera(objectPoints, imagePoints, cv::Size(in.width, in.height), K, dist, rv, tv,
+                               cv::CALIB_FIX_K3);
+  in.fx = K.at<double>(0, 0);
+  in.fy = K.at<double>(1, 1);
+  in.cx = K.at<double>(0, 2);
+  in.cy = K.at<double>(1, 2);
+  in.k1 = dist.at<double>(0);
+  in.k2 = dist.at<double>(1);
+  in.p1 = dist.at<double>(2);
+  in.p2 = dist.at<double>(3);
+  progress.report(1, "calibrated");
+  return in;
+}
+
+void writeIntrinsics(const Intrinsics& in, const std::string& path) {
+  QJsonObject o{{"width", in.width}, {"height", in.height}, {"model", "OPENCV"},
+                {"fx", in.fx}, {"fy", in.fy}, {"cx", in.cx}, {"cy", in.cy},
+                {"k1", in.k1}, {"k2", in.k2}, {"p1", in.p1}, {"p2", in.p2}, {"rms_pixels", in.rms}};
+  QSaveFile f(QString::fromStdString(path));
+  if (!f.open(QIODevice::WriteOnly) || f.write(QJsonDocument(o).toJson()) < 0 || !f.commit())
+    throw Error(path, "", "cannot write the file");
+}
+
+Intrinsics readIntrinsics(const std::string& path) {
+  QFile f(QString::fromStdString(path));
+  if (!f.open(QIODevice::ReadOnly)) throw Error(path, "", "cannot open the file");
+  QJsonParseError err;
+  const QJsonDocument doc = QJsonDocument::fromJson(f.readAll(), &err);
+  if (doc.isNull() || !doc.isObject()) throw Error(path, "", "is not JSON: " + err.errorString().toStdString());
+  const QJsonObject o = doc.object();
+  Intrinsics in;
+  in.width = o["width"].toInt();
+  in.height = o["height"].toInt();
+  in.fx = o["fx"].toDouble();
+  in.fy = o["fy"].toDouble();
+  in.cx = o["cx"].toDouble();
+  in.cy = o["cy"].toDouble();
+  in.k1 = o["k1"].toDouble();
+  in.k2 = o["k2"].toDouble();
+  in.p1 = o["p1"].toDouble();
+  in.p2 = o["p2"].toDouble();
+  if (in.width <= 0 || in.height <= 0 || !(in.fx > 0) || !(in.fy > 0))
+    throw Error(path, "", "needs width, height and positive fx, fy (as `relume calibrate` writes them)");
+  return in;
+}
+
+}  // namespace relume::recon

@@ -1,0 +1,616 @@
+// Reconstruction: COLMAP models, triangulation, polygon picking, metric frame, cameras from
+// correspondences, HDR merge, checkerboard calibration, and the COLMAP driver's errors.
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "relume/geometry/error.h"
+#include "relume/reconstruct/colmap_driver.h"
+#include "relume/reconstruct/colmap_model.h"
+#include "relume/reconstruct/multiview.h"
+#include "relume/reconstruct/photos.h"
+#include "relume/reconstruct/polygon_fit.h"
+
+namespace fs = std::filesystem;
+using namespace relume;
+using namespace relume::recon;
+
+namespace {
+
+fs::path tempDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("relume_recon_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// A camera at `eye` looking at `target`, image y pointing down the world's -Z.
+Camera lookAt(glm::dvec3 eye, glm::dvec3 target, int w, int h, double f) {
+  Camera c;
+  c.width = w;
+  c.height = h;
+  c.K[0][0] = c.K[1][1] = f;
+  c.K[2][0] = w / 2.0;
+  c.K[2][1] = h / 2.0;
+  const glm::dvec3 z = glm::normalize(target - eye), x = glm::normalize(glm::cross(glm::dvec3(0, 0, -1), z)),
+                   y = glm::cross(z, x);
+  for (int k = 0; k < 3; ++k) c.R[k][0] = x[k], c.R[k][1] = y[k], c.R[k][2] = z[k];
+  c.t = -(c.R * eye);
+  return c;
+}
+
+std::string errorText(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool colmapAvailable() {
+  try {
+    findColmap();
+    return true;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+ColmapModel sampleModel() {
+  ColmapModel m;
+  m.cameras[1] = {1, "SIMPLE_PINHOLE", 640, 480, {500, 320, 240}};
+  m.cameras[2] = {2, "PINHOLE", 800, 600, {700, 710, 400, 300}};
+  m.cameras[3] = {3, "SIMPLE_RADIAL", 640, 480, {520, 321, 239, -0.05}};
+  m.cameras[4] = {4, "RADIAL", 640, 480, {530, 322, 238, -0.08, 0.01}};
+  m.cameras[5] = {5, "OPENCV", 1024, 768, {900, 905, 512, 384, -0.1, 0.02, 0.001, -0.002}};
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (int i = 1; i <= 5; ++i) {
+    ColmapImage im;
+    im.id = i * 10;
+    im.camera = i;
+    im.name = "photo" + std::to_string(i) + ".jpg";
+    im.q = glm::normalize(glm::dvec4(1 + U(rng), 0.3 * U(rng), 0.3 * U(rng), 0.3 * U(rng)));
+    im.t = {U(rng), U(rng), 3 + U(rng)};
+    im.points = {{{10.5, 20.25}, 7}, {{100.125, 200.5}, -1}};
+    m.images[im.id] = im;
+  }
+  ColmapPoint p;
+  p.id = 7;
+  p.xyz = {0.1, -0.2, 2.5};
+  p.rgb = {10, 200, 30};
+  p.error = 0.42;
+  p.track = {{10, 0}, {20, 0}};
+  m.points[7] = p;
+  return m;
+}
+
+void expectSameModel(const ColmapModel& a, const ColmapModel& b) {
+  ASSERT_EQ(a.cameras.size(), b.cameras.size());
+  for (const auto& [id, c] : a.cameras) {
+    const auto& d = b.cameras.at(id);
+    EXPECT_EQ(c.model, d.model);
+    EXPECT_EQ(c.width, d.width);
+    ASSERT_EQ(c.params.size(), d.params.size());
+    for (size_t k = 0; k < c.params.size(); ++k) EXPECT_NEAR(c.params[k], d.params[k], 1e-9);
+  }
+  ASSERT_EQ(a.images.size(), b.images.size());
+  for (const auto& [id, im] : a.images) {
+    const auto& jm = b.images.at(id);
+    EXPECT_EQ(im.name, jm.name);
+    EXPECT_EQ(im.camera, jm.camera);
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(im.q[k], jm.q[k], 1e-9);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(im.t[k], jm.t[k], 1e-9);
+    ASSERT_EQ(im.points.size(), jm.points.size());
+    for (size_t k = 0; k < im.points.size(); ++k) {
+      EXPECT_NEAR(im.points[k].xy.x, jm.points[k].xy.x, 1e-9);
+      EXPECT_EQ(im.points[k].point3D, jm.points[k].point3D);
+    }
+  }
+  ASSERT_EQ(a.points.size(), b.points.size());
+  for (const auto& [id, p] : a.points) {
+    const auto& q = b.points.at(id);
+    EXPECT_NEAR(glm::length(p.xyz - q.xyz), 0, 1e-9);
+    EXPECT_EQ(p.rgb, q.rgb);
+    ASSERT_EQ(p.track.size(), q.track.size());
+    EXPECT_EQ(p.track[1].image, q.track[1].image);
+  }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- COLMAP models
+
+TEST(ColmapModel, TextRoundTripKeepsEverything) {
+  const fs::path d = tempDir("text");
+  const ColmapModel m = sampleModel();
+  writeColmapText(m, d.string());
+  expectSameModel(m, readColmapModel(d.string()));
+}
+
+TEST(ColmapModel, BinaryReadMatchesColmapsOwnConversion) {
+  if (!colmapAvailable()) GTEST_SKIP() << "colmap is not installed";
+  const fs::path d = tempDir("bin");
+  const ColmapModel m = sampleModel();
+  writeColmapText(m, (d / "txt").string());
+  fs::create_directories(d / "bin");
+  const std::string cmd = findColmap() + " model_converter --input_path " + (d / "txt").string() + " --output_path " +
+                          (d / "bin").string() + " --output_type BIN > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  ASSERT_TRUE(fs::exists(d / "bin" / "images.bin"));
+  expectSameModel(m, readColmapBinary((d / "bin").string()));
+  // A truncated file is reported, naming it.
+  fs::resize_file(d / "bin" / "images.bin", fs::file_size(d / "bin" / "images.bin") / 2);
+  const std::string e = errorText([&] { readColmapBinary((d / "bin").string()); });
+  EXPECT_NE(e.find("images.bin"), std::string::npos) << e;
+  EXPECT_NE(e.find("truncated"), std::string::npos) << e;
+}
+
+TEST(ColmapModel, UnsupportedCameraModelIsNamed) {
+  const fs::path d = tempDir("unsupported");
+  std::ofstream(d / "cameras.txt") << "1 FOV 640 480 500 320 240 0.1\n";
+  std::ofstream(d / "images.txt") << "";
+  const std::string e = errorText([&] { readColmapModel(d.string()); });
+  EXPECT_NE(e.find("FOV"), std::string::npos) << e;
+  EXPECT_NE(e.find("cameras.txt:1"), std::string::npos) << e;
+}
+
+TEST(ColmapModel, DistortionInvertsForEveryModel) {
+  const ColmapModel m = sampleModel();
+  for (const auto& [id, c] : m.cameras)
+    for (double x = -0.5; x <= 0.5; x += 0.1)
+      for (double y = -0.4; y <= 0.4; y += 0.1) {
+        const glm::dvec2 px = c.distort({x, y});
+        const glm::dvec2 back = c.undistort(px);
+        EXPECT_NEAR(back.x, x, 1e-9) << c.model;
+        EXPECT_NEAR(back.y, y, 1e-9) << c.model;
+      }
+  // OPENCV's tangential terms move points off the radial line (so they are not ignored).
+  const ColmapCamera& cv = m.cameras.at(5);
+  const glm::dvec2 p = cv.distort({0.3, 0.3});
+  EXPECT_GT(std::abs((p.x - cv.cx()) / cv.fx() - (p.y - cv.cy()) / cv.fy()), 1e-4);
+}
+
+TEST(ColmapModel, SimilarityMovesCamerasWithThePoints) {
+  ColmapModel m = sampleModel();
+  const ColmapImage before = m.images.at(10);
+  const Camera cb = m.camera(before);
+  glm::dvec2 p0;
+  ASSERT_TRUE(cb.project(m.points.at(7).xyz, p0));
+  Similarity S;
+  S.s = 2.5;
+  S.R = glm::dmat3(0, 1, 0, -1, 0, 0, 0, 0, 1);  // 90 degrees about Z
+  S.t = {1, 2, 3};
+  transformModel(m, S);
+  glm::dvec2 p1;
+  ASSERT_TRUE(m.camera(m.images.at(10)).project(m.points.at(7).xyz, p1));
+  EXPECT_NEAR(glm::length(p1 - p0), 0, 1e-9);
+  EXPECT_NEAR(glm::length(m.images.at(10).center() - S.apply(before.center())), 0, 1e-9);
+}
+
+// ---------------------------------------------------------------- triangulation
+
+namespace {
+struct Rig {
+  std::vector<Camera> cams;
+  std::vector<glm::dvec3> points;
+};
+// Three photos of a 1600x1200 camera (60 deg across), 0.8 m apart, 3 m from 100 points on
+// 25 quadrilaterals spread over a 2.4 x 1.6 m wall-like patch.
+Rig wallRig() {
+  Rig r;
+  for (int i = 0; i < 3; ++i) r.cams.push_back(lookAt({-0.8 + 0.8 * i, -3.0, 1.4}, {0, 0, 1.2}, 1600, 1200, 1385));
+  for (int q = 0; q < 25; ++q) {
+    const glm::dvec3 o(-1.2 + 0.5 * (q % 5), 0.08 * (q % 3), 0.3 + 0.35 * (q / 5));
+    r.points.push_back(o);
+    r.points.push_back(o + glm::dvec3(0.3, 0, 0));
+    r.points.push_back(o + glm::dvec3(0.3, 0, 0.25));
+    r.points.push_back(o + glm::dvec3(0, 0, 0.25));
+  }
+  return r;
+}
+std::vector<Observation> observe(const Rig& r, const glm::dvec3& X, std::mt19937* rng, double sigma) {
+  std::normal_distribution<double> N(0, sigma);
+  std::vector<Observation> obs;
+  for (const auto& c : r.cams) {
+    glm::dvec2 px;
+    EXPECT_TRUE(c.project(X, px));
+    if (rng) px += glm::dvec2(N(*rng), N(*rng));
+    obs.push_back({&c, "photo", px});
+  }
+  return obs;
+}
+}  // namespace
+
+TEST(Triangulation, NoiseFreeClicksGiveCornersWithin1mm) {
+  const Rig r = wallRig();
+  double worst = 0;
+  for (const auto& X : r.points) {
+    const TriangulatedPoint tp = triangulatePoint(observe(r, X, nullptr, 0), "corner");
+    worst = std::max(worst, glm::length(tp.X - X));
+    EXPECT_LT(tp.rmsError, 1e-6);
+  }
+  EXPECT_LT(worst, 1e-3);
+}
+
+TEST(Triangulation, OnePixelClickNoiseAt3mStaysWithin2cm) {
+  const Rig r = wallRig();
+  std::mt19937 rng(5);
+  double worst = 0, rms = 0;
+  for (const auto& X : r.points) {
+    const TriangulatedPoint tp = triangulatePoint(observe(r, X, &rng, 1.0), "corner");
+    worst = std::max(worst, glm::length(tp.X - X));
+    rms += tp.rmsError * tp.rmsError;
+  }
+  EXPECT_LT(worst, 0.02);
+  // The reported reprojection error reflects the click noise (2 dof of 6 absorbed by the point).
+  EXPECT_GT(std::sqrt(rms / r.points.size()), 0.5);
+  EXPECT_LT(std::sqrt(rms / r.points.size()), 1.2);
+}
+
+TEST(Triangulation, PointBehindACameraIsNamed) {
+  const Camera a = lookAt({0, 0, 1}, {0, 5, 1}, 640, 480, 500), b = lookAt({1, 0, 1}, {1, 5, 1}, 640, 480, 500);
+  // Rays that diverge: a clicked left of centre, b right of centre; their lines meet behind.
+  const std::vector<Observation> obs = {{&a, "left.jpg", {220, 240}}, {&b, "right.jpg", {420, 240}}};
+  const std::string e = errorText([&] { triangulatePoint(obs, "point P"); });
+  EXPECT_NE(e.find("behind the camera"), std::string::npos) << e;
+  EXPECT_NE(e.find("point P"), std::string::npos) << e;
+}
+
+TEST(Triangulation, OneClickAndIdenticalRaysAreErrors) {
+  const Camera a = lookAt({0, 0, 1}, {0, 5, 1}, 640, 480, 500);
+  EXPECT_NE(errorText([&] { triangulatePoint({{&a, "a", {300, 200}}}, "P"); }).find("two or more"), std::string::npos);
+  EXPECT_NE(errorText([&] { triangulatePoint({{&a, "a", {300, 200}}, {&a, "a again", {300, 200}}}, "P"); }).find("same ray"),
+            std::string::npos);
+}
+
+// ---------------------------------------------------------------- polygons
+
+TEST(PolygonFit, CollinearPointsAreRefused) {
+  const std::string e = errorText([] { fitPlane({{0, 0, 0}, {1, 1, 0}, {2, 2, 0}, {3, 3, 0}}, "polygon shelf"); });
+  EXPECT_NE(e.find("collinear"), std::string::npos) << e;
+  EXPECT_NE(e.find("polygon shelf"), std::string::npos) << e;
+}
+
+TEST(PolygonFit, OrdersCornersConvexWithTheNormalTowardsTheCameras) {
+  // A floor rectangle picked in scrambled order with an inner point; cameras above it.
+  const std::vector<glm::dvec3> pts = {{4, 3, 0.01}, {0, 0, -0.01}, {2, 1.5, 0}, {0, 3, 0.01}, {4, 0, -0.01}};
+  const Plane pl = fitPlane(pts, "floor");
+  EXPECT_NEAR(std::abs(pl.normal.z), 1.0, 1e-3);
+  const auto poly = convexPolygon(pts, pl, {2, 1.5, 1.6}, "floor");
+  ASSERT_EQ(poly.size(), 4u);  // the inner point is dropped
+  EXPECT_GT(polygonNormal(poly).z, 0.999);
+  EXPECT_NEAR(polygonArea(poly), 12.0, 0.05);
+  const auto under = convexPolygon(pts, pl, {2, 1.5, -1.0}, "ceiling seen from below");
+  EXPECT_LT(polygonNormal(under).z, -0.999);
+}
+
+TEST(PolygonFit, RectangleConstraintSquaresANoisyQuad) {
+  const std::vector<glm::dvec3> q = {{0.01, 0, 0}, {2.0, -0.01, 0}, {2.01, 1.0, 0}, {-0.01, 1.01, 0}};
+  const auto r = rectify(q, "poster");
+  for (int i = 0; i < 4; ++i) {
+    const glm::dvec3 e1 = r[(i + 1) % 4] - r[i], e2 = r[(i + 2) % 4] - r[(i + 1) % 4];
+    EXPECT_NEAR(glm::dot(e1, e2), 0, 1e-9);
+    EXPECT_LT(glm::length(r[i] - q[i]), 0.02);
+  }
+}
+
+TEST(PolygonFit, EditingKeepsIdsStable) {
+  PickedPolygons m;
+  const glm::dvec3 viewer(0.5, 0.5, 2);
+  const int a = m.add("left", "floor", false, {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, viewer);
+  const int b = m.add("right", "floor", false, {{1, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}}, viewer);
+  const int c = m.add("lamp", "light_A", true, {{0, 0, 2.5}, {0.3, 0, 2.5}, {0.3, 0.3, 2.5}}, viewer);
+  EXPECT_EQ(m.get(c).kind, PolygonKind::Light);
+  int corner = 0;  // the corner at (0.3, 0, 2.5), wherever the fit put it in the order
+  for (int k = 0; k < 3; ++k)
+    if (glm::length(m.get(c).vertices[k] - glm::dvec3(0.3, 0, 2.5)) < 1e-9) corner = k;
+  m.moveVertex(c, corner, {0.4, -0.05, 2.5});
+  EXPECT_NEAR(glm::length(m.get(c).vertices[corner] - glm::dvec3(0.4, -0.05, 2.5)), 0, 1e-9);
+  EXPECT_TRUE(m.contains(c));
+  m.merge(a, b);
+  EXPECT_FALSE(m.contains(b));
+  EXPECT_EQ(m.get(a).name, "left");
+  EXPECT_NEAR(polygonArea(m.get(a).vertices), 2.0, 1e-9);
+  m.remove(c);
+  const int d = m.add("wall", "wall", false, {{0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}}, {1, 0.5, 0.5});
+  EXPECT_NE(d, b);
+  EXPECT_NE(d, c);  // ids are never reused
+  EXPECT_EQ(m.ids(), (std::vector<int>{a, d}));
+  const std::string e = errorText([&] { m.merge(a, d); });
+  EXPECT_NE(e.find("not coplanar"), std::string::npos) << e;
+}
+
+TEST(PolygonFit, SnapsPolygonsToOneCommonPlane) {
+  PickedPolygons m;
+  const int a = m.add("wall part 1", "wall", false, {{0, 0.00, 0}, {1, 0.02, 0}, {1, 0.02, 1}, {0, 0.00, 1}}, {0.5, 2, 0.5});
+  const int b = m.add("wall part 2", "wall", false, {{1, -0.01, 0}, {2, 0.01, 0}, {2, 0.01, 1}, {1, -0.01, 1}}, {1.5, 2, 0.5});
+  m.snapToCommonPlane({a, b});
+  std::vector<glm::dvec3> all = m.get(a).vertices;
+  all.insert(all.end(), m.get(b).vertices.begin(), m.get(b).vertices.end());
+  EXPECT_LT(fitPlane(all, "both").rms, 1e-9);
+}
+
+// ---------------------------------------------------------------- metric frame
+
+TEST(MetricFrame, SimilarityFitRecoversAKnownTransform) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> U(-2, 2);
+  Similarity S;
+  S.s = 0.37;
+  S.R = glm::dmat3(glm::dvec3(0.36, 0.48, -0.8), glm::dvec3(-0.8, 0.6, 0), glm::dvec3(0.48, 0.64, 0.6));
+  S.t = {0.3, -1, 2};
+  std::vector<glm::dvec3> a, b;
+  for (int i = 0; i < 10; ++i) {
+    a.push_back({U(rng), U(rng), U(rng)});
+    b.push_back(S.apply(a.back()));
+  }
+  const Similarity F = fitSimilarity(a, b);
+  EXPECT_NEAR(F.s, S.s, 1e-9);
+  for (const auto& p : a) EXPECT_NEAR(glm::length(F.apply(p) - S.apply(p)), 0, 1e-9);
+}
+
+TEST(MetricFrame, ScaleAndFloorGiveMetresWithZUp) {
+  // A model in an arbitrary frame: the true room under an unknown similarity.
+  Similarity hidden;
+  hidden.s = 0.2;
+  hidden.R = glm::dmat3(glm::dvec3(0, 0, 1), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0));
+  hidden.t = {5, 6, 7};
+  const glm::dvec3 f0(0, 0, 0), f1(4, 0, 0), f2(4, 5, 0), camera(2, 2.5, 1.5), top(4, 5, 2.6);
+  const Similarity M = metricFrame(hidden.apply(f0), hidden.apply(f1), 4.0,
+                                   {hidden.apply(f0), hidden.apply(f1), hidden.apply(f2)}, hidden.apply(camera));
+  EXPECT_NEAR(M.apply(hidden.apply(f2)).z, 0, 1e-9);
+  EXPECT_NEAR(M.apply(hidden.apply(camera)).z, 1.5, 1e-9);  // above the floor, in metres
+  EXPECT_NEAR(M.apply(hidden.apply(top)).z, 2.6, 1e-9);
+  EXPECT_NEAR(glm::length(M.apply(hidden.apply(f2)) - M.apply(hidden.apply(f0))), std::sqrt(41.0), 1e-9);
+  const std::string e = errorText([&] { metricFrame(f0, f1, 4.0, {f0, f1, {8, 0, 0}}, camera); });
+  EXPECT_NE(e.find("collinear"), std::string::npos) << e;
+}
+
+// ---------------------------------------------------------------- cameras from clicks
+
+TEST(Correspondences, CamerasFromThirtyClicksMatchTheTruth) {
+  // Five photos of a room corner region; 36 clicked points on floor, walls and a table.
+  std::vector<Camera> truth;
+  for (int i = 0; i < 5; ++i)
+    truth.push_back(lookAt({0.6 + 0.7 * i, 0.5 + 0.3 * (i % 3), 1.4 + 0.15 * (i % 2)}, {2.0 + 0.2 * (i - 2), 4.0, 0.9}, 1600,
+                           1200, 1385));
+  std::vector<glm::dvec3> pts;
+  for (int i = 0; i < 12; ++i) pts.push_back({0.3 + 0.3 * i, 5.0, 0.2 + 0.18 * i});          // back wall
+  for (int i = 0; i < 12; ++i) pts.push_back({0.4 + 0.28 * i, 3.0 + 0.15 * (i % 4), 0.0});  // floor
+  for (int i = 0; i < 12; ++i) pts.push_back({1.5 + 0.1 * (i % 6), 3.6 + 0.2 * (i / 6), 0.75 + 0.02 * i});  // table
+  std::mt19937 rng(21);
+  std::normal_distribution<double> N(0, 0.5);
+  std::vector<Track> tracks;
+  for (size_t k = 0; k < pts.size(); ++k) {
+    Track t;
+    t.name = "p" + std::to_string(k);
+    for (int i = 0; i < 5; ++i) {
+      glm::dvec2 px;
+      if (truth[i].project(pts[k], px) && px.x > 0 && px.y > 0 && px.x < 1600 && px.y < 1200)
+        t.clicks.emplace_back(i, px + glm::dvec2(N(rng), N(rng)));
+    }
+    tracks.push_back(t);
+  }
+  std::vector<Camera> intr = truth;
+  const CameraSolution sol = solveCameras(intr, {"a", "b", "c", "d", "e"}, tracks);
+  std::vector<glm::dvec3> est, tru;
+  for (int i = 0; i < 5; ++i) {
+    ASSERT_TRUE(sol.posed[i]) << "photo " << i;
+    est.push_back(sol.cameras[i].center());
+    tru.push_back(truth[i].center());
+  }
+  const CenterAlignment a = alignCenters(est, tru);
+  EXPECT_LT(a.max, 0.01) << "camera centres after the similarity fit";
+  EXPECT_LT(sol.rmsError, 1.0);
+  // Points land within a centimetre or two after the same similarity.
+  double worst = 0;
+  for (size_t k = 0; k < pts.size(); ++k)
+    if (sol.triangulated[k]) worst = std::max(worst, glm::length(a.S.apply(sol.points[k].X) - pts[k]));
+  EXPECT_LT(worst, 0.02);
+}
+
+TEST(Correspondences, RelativePoseNeedsEightClicks) {
+  const std::string e = errorText([] { relativePose({{1, 1}, {2, 2}}, {{1, 1}, {2, 2}}, glm::dmat3(1.0), glm::dmat3(1.0)); });
+  EXPECT_NE(e.find("8 or more"), std::string::npos) << e;
+}
+
+// ---------------------------------------------------------------- HDR
+
+TEST(Hdr, EvStepsFollowTheFStopTable) {
+  EXPECT_DOUBLE_EQ(exposureFromEv(0, 0.1), 0.1);
+  EXPECT_DOUBLE_EQ(exposureFromEv(-2, 0.1), 0.025);
+  EXPECT_NEAR(exposureFromEv(1.5, 1), 2 * std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(exposureFromEv(-0.5, 1), 1 / std::sqrt(2.0), 1e-12);
+}
+
+TEST(Hdr, MergedBracketRecoversRadianceRatiosWithin5Percent) {
+  // A radiance image spanning 1:2000 and a camera response that is not a power law.
+  const int w = 96, h = 64;
+  std::vector<double> E(w * h);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> U(0, 1);
+  for (int i = 0; i < w * h; ++i) E[i] = std::exp(std::log(0.0005) * (1 - (i % w) / double(w - 1)) + 0.2 * U(rng));
+  auto response = [](double x) {  // film-like S curve on log exposure
+    const double v = std::log10(std::max(x, 1e-9));
+    return 255.0 / (1 + std::exp(-2.2 * (v + 1.0)));
+  };
+  // Two stops apart, covering the scene: every pixel is well exposed in at least one image.
+  const std::vector<double> times = {1.0 / 64, 1.0 / 16, 1.0 / 4, 1.0, 4.0, 16.0, 64.0};
+  std::vector<Image8> bracket;
+  for (double t : times) {
+    Image8 im;
+    im.width = w;
+    im.height = h;
+    im.pixels.resize(size_t(w) * h * 3);
+    for (int i = 0; i < w * h; ++i)
+      for (int c = 0; c < 3; ++c) {
+        const double tint = 1.0 + 0.2 * c;
+        im.pixels[3 * i + c] = (unsigned char)std::clamp(std::lround(response(E[i] * tint * t)), 0L, 255L);
+      }
+    bracket.push_back(im);
+  }
+  const HdrResult r = mergeBracket(bracket, times, {"1", "2", "3", "4", "5", "6", "7"}, silentProgress());
+  // One scale per channel (radiance is relative); then every pixel's ratio to the truth.
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> ratio;
+    for (int i = 0; i < w * h; ++i) ratio.push_back(r.radiance.pixels[3 * i + c] / (E[i] * (1.0 + 0.2 * c)));
+    std::vector<double> sorted = ratio;
+    std::sort(sorted.begin(), sorted.end());
+    const double scale = sorted[sorted.size() / 2];
+    double worst = 0;
+    for (double q : ratio) worst = std::max(worst, std::abs(q / scale - 1));
+    EXPECT_LT(worst, 0.05) << "channel " << c;
+  }
+}
+
+TEST(Hdr, UnreadableAndMismatchedExposuresAreNamed) {
+  const fs::path d = tempDir("hdr");
+  Image8 a;
+  a.width = 32, a.height = 24;
+  a.pixels.assign(32 * 24 * 3, 100);
+  writeImage8((d / "a.png").string(), a);
+  Image8 b = a;
+  b.width = 16;
+  b.pixels.resize(16 * 24 * 3);
+  writeImage8((d / "b.png").string(), b);
+  std::string e = errorText([&] { mergeBracket({(d / "a.png").string(), (d / "b.png").string()}, {0.1, 0.4}, silentProgress()); });
+  EXPECT_NE(e.find("b.png"), std::string::npos) << e;
+  // A truncated file.
+  fs::copy_file(d / "a.png", d / "cut.png");
+  fs::resize_file(d / "cut.png", fs::file_size(d / "cut.png") / 3);
+  e = errorText([&] { mergeBracket({(d / "a.png").string(), (d / "cut.png").string()}, {0.1, 0.4}, silentProgress()); });
+  EXPECT_NE(e.find("cut.png"), std::string::npos) << e;
+  // No exposure data at all.
+  e = errorText([&] { mergeBracket({(d / "a.png").string(), (d / "a.png").string()}, {}, silentProgress()); });
+  EXPECT_NE(e.find("exposure"), std::string::npos) << e;
+}
+
+// ---------------------------------------------------------------- calibration
+
+namespace {
+// Renders a checkerboard (cols+1 x rows+1 squares of `sq` metres, white border) seen by a camera
+// with radial distortion, 3x3 supersampled.
+Image8 renderBoard(const Camera& cam, double k1, int cols, int rows, double sq) {
+  Image8 im;
+  im.width = cam.width;
+  im.height = cam.height;
+  im.pixels.resize(size_t(im.width) * im.height * 3);
+  ColmapCamera cc{1, "RADIAL", cam.width, cam.height, {cam.fx(), cam.cx(), cam.cy(), k1, 0}};
+  const glm::dmat3 Rt = glm::transpose(cam.R);
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x) {
+      double v = 0;
+      for (int sy = 0; sy < 3; ++sy)
+        for (int sx = 0; sx < 3; ++sx) {
+          const glm::dvec2 n = cc.undistort({x + (sx + 0.5) / 3, y + (sy + 0.5) / 3});
+          const glm::dvec3 d = Rt * glm::dvec3(n, 1.0), o = cam.center();
+          const double t = -o.z / d.z;  // board plane z = 0
+          double val = 0.5;
+          if (t > 0) {
+            const glm::dvec3 p = o + d * t;
+            const double u = p.x / sq + 1, w = p.y / sq + 1;  // squares start one square before corner 0
+            if (u >= -1 && w >= -1 && u < cols + 2 && w < rows + 2) {
+              const bool inside = u >= 0 && w >= 0 && u < cols + 1 && w < rows + 1;
+              val = inside ? ((int(std::floor(u)) + int(std::floor(w))) % 2 ? 0.95 : 0.05) : 0.95;
+            }
+          }
+          v += val / 9;
+        }
+      for (int c = 0; c < 3; ++c) im.pixels[(size_t(y) * im.width + x) * 3 + c] = (unsigned char)std::lround(v * 255);
+    }
+  return im;
+}
+}  // namespace
+
+TEST(Calibration, CheckerboardPhotosGiveTheIntrinsics) {
+  const fs::path d = tempDir("calib");
+  const int cols = 9, rows = 6;
+  const double sq = 0.025, k1 = -0.12;
+  std::vector<std::string> files;
+  const glm::dvec3 centre(4 * sq, 2.5 * sq, 0);
+  const glm::dvec3 eyes[] = {{0.0, -0.1, -0.45}, {0.25, 0.1, -0.4}, {-0.1, 0.25, -0.42}, {0.3, -0.15, -0.5},
+                             {-0.15, -0.2, -0.38}, {0.1, 0.3, -0.5}, {0.35, 0.2, -0.35}, {-0.2, 0.05, -0.45}};
+  int i = 0;
+  for (const auto& e : eyes) {
+    Camera cam = lookAt(centre + e, centre, 640, 480, 600);
+    const std::string f = (d / ("board" + std::to_string(i++) + ".png")).string();
+    writeImage8(f, renderBoard(cam, k1, cols, rows, sq));
+    files.push_back(f);
+  }
+  const Intrinsics in = calibrateCheckerboard(files, cols, rows, sq, silentProgress());
+  EXPECT_EQ(in.used.size(), files.size());
+  EXPECT_NEAR(in.fx, 600, 6);
+  EXPECT_NEAR(in.fy, 600, 6);
+  EXPECT_NEAR(in.cx, 320, 4);
+  EXPECT_NEAR(in.cy, 240, 4);
+  EXPECT_NEAR(in.k1, k1, 0.03);
+  EXPECT_LT(in.rms, 0.5);
+}
+
+TEST(Calibration, NoCheckerboardIsAClearError) {
+  const fs::path d = tempDir("nocalib");
+  Image8 blank;
+  blank.width = 320, blank.height = 240;
+  blank.pixels.assign(320 * 240 * 3, 128);
+  std::vector<std::string> files;
+  for (int i = 0; i < 3; ++i) {
+    files.push_back((d / ("wall" + std::to_string(i) + ".png")).string());
+    writeImage8(files.back(), blank);
+  }
+  const std::string e = errorText([&] { calibrateCheckerboard(files, 9, 6, 0.025, silentProgress()); });
+  EXPECT_NE(e.find("checkerboard"), std::string::npos) << e;
+  EXPECT_NE(e.find("wall0.png"), std::string::npos) << e;
+}
+
+// ---------------------------------------------------------------- COLMAP driver
+
+TEST(ColmapDriver, MissingColmapSaysHowToInstallIt) {
+  const fs::path d = tempDir("nocolmap");
+  Image8 a;
+  a.width = 64, a.height = 48;
+  a.pixels.assign(64 * 48 * 3, 90);
+  writeImage8((d / "a.png").string(), a);
+  writeImage8((d / "b.png").string(), a);
+  ColmapOptions o;
+  o.executable = "relume-no-such-colmap";
+  const std::string e = errorText([&] { runColmap(d.string(), (d / "ws").string(), o, silentProgress()); });
+  EXPECT_NE(e.find("not installed"), std::string::npos) << e;
+  EXPECT_NE(e.find("apt-get install colmap"), std::string::npos) << e;
+}
+
+TEST(ColmapDriver, TruncatedPhotoIsNamedBeforeColmapRuns) {
+  const fs::path d = tempDir("truncated");
+  Image8 a;
+  a.width = 64, a.height = 48;
+  a.pixels.assign(64 * 48 * 3, 90);
+  writeImage8((d / "a.png").string(), a);
+  writeImage8((d / "b.png").string(), a);
+  fs::resize_file(d / "b.png", fs::file_size(d / "b.png") / 2);
+  const std::string e = errorText([&] { runColmap(d.string(), (d / "ws").string(), {}, silentProgress()); });
+  EXPECT_NE(e.find("b.png"), std::string::npos) << e;
+}
+
+TEST(ColmapDriver, FewerThanTwoRegisteredPhotosNamesThem) {
+  if (!colmapAvailable()) GTEST_SKIP() << "colmap is not installed";
+  const fs::path d = tempDir("unrelated");
+  std::mt19937 rng(1);
+  for (const char* n : {"noise1.png", "noise2.png", "noise3.png"}) {
+    Image8 a;
+    a.width = 160, a.height = 120;
+    a.pixels.resize(160 * 120 * 3);
+    for (auto& p : a.pixels) p = (unsigned char)(rng() % 256);
+    writeImage8((d / n).string(), a);
+  }
+  const std::string e = errorText([&] { runColmap(d.string(), (d / "ws").string(), {}, silentProgress()); });
+  EXPECT_NE(e.find("fewer than 2"), std::string::npos) << e;
+  EXPECT_NE(e.find("noise2.png"), std::string::npos) << e;
+  EXPECT_FALSE(fs::exists(d / "ws" / "sparse" / "cameras.txt"));
+}
