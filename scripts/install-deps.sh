@@ -3,7 +3,7 @@
 set -euo pipefail
 pkgs=(cmake ninja-build ccache g++ pkg-config python3
       qt6-base-dev libglm-dev libtbb-dev libembree-dev
-      libopenimageio-dev openimageio-tools libopencv-dev libgtest-dev)
+      libopenimageio-dev openimageio-tools libopencv-dev libgtest-dev colmap)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -170,17 +170,29 @@ int reconstructCommand(const QStringList& args, Progress& progress) {
 int alignCommand(const QStringList& args, Progress& progress) {
   QCommandLineParser p;
   p.setApplicationDescription(
-      "Fit the similarity that takes a model's camera centres to known ones (matched by photo name); "
-      "print the per-camera error and optionally write the aligned model.");
+      "Put a model into the metric frame: either the similarity that takes its camera centres to known ones "
+      "(--to, matched by photo name; prints the per-camera error), or a known distance and the floor "
+      "(--scale, --floor: 3-D point ids of the model). Writes the moved model with -o.");
   p.addPositionalArgument("MODEL", "Workspace or COLMAP model folder.");
   p.addOption({"to", "Reference: a COLMAP model folder, workspace, or room bundle/project.", "REF"});
+  p.addOption({"scale", "Two 3-D point ids and their distance.", "P1,P2,METRES"});
+  p.addOption({"floor", "Three or more 3-D point ids on the floor (z = 0, +Z up).", "P1,P2,P3"});
   p.addOption({QStringList{"o", "output"}, "Write the aligned model (text) here.", "DIR"});
   p.addOption({"json", "Write the errors as JSON.", "OUT.json"});
-  parseOrThrow(p, args, 1, "relume align MODEL --to REFERENCE [-o ALIGNED_DIR] [--json OUT.json]");
-  if (!p.isSet("to")) throw Error("", "command line", "--to REFERENCE is required");
+  parseOrThrow(p, args, 1, "relume align MODEL (--to REFERENCE | --scale P1,P2,M [--floor P1,P2,P3]) [-o DIR] [--json F]");
+  if (p.isSet("to") == p.isSet("scale")) throw Error("", "command line", "give either --to REFERENCE or --scale P1,P2,METRES");
+  if (p.isSet("floor") && !p.isSet("scale")) throw Error("", "--floor", "needs --scale too (the metric frame takes both)");
   const Workspace w = openWorkspace(p.positionalArguments()[0], "");
   if (w.modelFolder.empty()) throw Error(str(p.positionalArguments()[0]), "", "holds no COLMAP model");
   ColmapModel model = readColmapModel(w.modelFolder);
+  if (p.isSet("scale")) {
+    const Similarity S = metricFromOptions(
+        p, [&](const QString& id, const std::string& o) { return pointById(model, id, o).xyz; }, meanCentre(model));
+    transformModel(model, S);
+    std::printf("metric frame: scale %.6g\n", S.s);
+    if (p.isSet("output")) writeColmapText(model, str(p.value("output")));
+    return 0;
+  }
   // Reference camera centres by photo name.
   std::map<std::string, glm::dvec3> ref;
   const QString to = p.value("to");
@@ -329,14 +341,25 @@ int triangulateCommand(const QStringList& args, Progress& progress) {
   TriangulationReport report;
   const Scene scene = sceneFromClicks(clicks, model, w.photosDir, str(tmp.path()) + "/undistorted", report);
   double worst = 0;
-  std::string worstName;
+  std::string worstName, weak;
   QJsonObject pts;
   for (const auto& [n, tp] : report.points) {
     QJsonArray errs;
     for (double e : tp.reprojectionError) errs.append(e);
-    pts[QString::fromStdString(n)] = QJsonObject{{"xyz", QJsonArray{tp.X.x, tp.X.y, tp.X.z}}, {"reprojection_px", errs}};
+    QJsonObject o{{"xyz", QJsonArray{tp.X.x, tp.X.y, tp.X.z}}};
+    if (!tp.reprojectionError.empty()) {
+      o["reprojection_px"] = errs;
+      o["ray_angle_deg"] = tp.rayAngleDeg;
+      if (tp.rayAngleDeg < 10) weak += " " + n + QString(" (%1 deg)").arg(tp.rayAngleDeg, 0, 'f', 1).toStdString();
+    } else {
+      o["typed"] = true;
+    }
+    pts[QString::fromStdString(n)] = o;
     if (tp.maxError() > worst) worst = tp.maxError(), worstName = n;
   }
+  if (!weak.empty())
+    std::fprintf(stderr, "warning: clicked in photos taken from nearly the same direction, so their depth is weak "
+                         "(click them in a photo further to the side):%s\n", weak.c_str());
   QJsonObject planes;
   for (const auto& [n, r] : report.planeRms) planes[QString::fromStdString(n)] = r;
   std::fprintf(stderr, "triangulated %zu points (largest reprojection error %.2f px, point %s), %zu polygons, %zu lamps\n",

@@ -3,7 +3,7 @@
 Run inside Blender (Debian's `blender` package, Cycles on the CPU):
 
     blender -b --factory-startup -P resources/scripts/make_sample_room.py -- \
-        --out resources/sample_room [--samples 128] [--width 320] [--height 240] [--only-data]
+        --out resources/sample_room [--samples 256] [--width 640] [--height 480] [--only-data]
 
 It writes a bundle in the layout of the benchmark rooms (scene.json, geometry.obj,
 colmap/cameras.txt + images.txt, photos/*.png|exr, truth/*.png|exr). All geometry is defined
@@ -419,7 +419,7 @@ def render(out, scene_desc, samples):
 
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    out, samples, width, height, only_data = "resources/sample_room", 128, 320, 240, False
+    out, samples, width, height, only_data = "resources/sample_room", 256, 640, 480, False
     i = 0
     while i < len(argv):
         a = argv[i]

@@ -1,12 +1,6 @@
 #!/usr/bin/env bash
 # End-to-end: the relume command on the sample room, as a user runs it.
-set -u
-relume=$1
-room=$2
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fail=0
-check() { if eval "$2"; then echo "ok: $1"; else echo "FAILED: $1"; fail=1; fi; }
+source "$(dirname "$0")/common.sh"
 
 "$relume" solve "$room" --json "$tmp/solve.json" 2>"$tmp/solve.err"
 check "solve exits 0" "[ $? -eq 0 ]"

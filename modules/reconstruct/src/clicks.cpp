@@ -163,20 +163,59 @@ Scene sceneFromClicks(const Clicks& clicks, const ColmapModel& model, const std:
       throw Error(clicks.file, e.element(), e.problem());
     }
   }
-  // Planes: shared by key, else per polygon.
+  // 1. A plane per polygon (or per shared "plane" key) through its corners.
   std::map<std::string, std::vector<glm::dvec3>> planePoints;
   for (const auto& poly : clicks.polygons)
     if (!poly.plane.empty())
       for (const auto& c : poly.corners) planePoints[poly.plane].push_back(report.points.at(c).X);
   glm::dvec3 allCentres(0.0);
   for (const auto& [n, c] : cams) allCentres += c.center() / double(cams.size());
+  std::vector<Plane> planes;
+  std::map<std::string, std::vector<size_t>> polygonsOfPoint;
+  for (size_t k = 0; k < clicks.polygons.size(); ++k) {
+    const auto& poly = clicks.polygons[k];
+    std::vector<glm::dvec3> pts;
+    for (const auto& c : poly.corners) {
+      pts.push_back(report.points.at(c).X);
+      polygonsOfPoint[c].push_back(k);
+    }
+    try {
+      planes.push_back(fitPlane(poly.plane.empty() ? pts : planePoints[poly.plane], "polygon " + poly.name));
+    } catch (const Error& e) {
+      throw Error(clicks.file, e.element(), e.problem());
+    }
+    double rms = 0;
+    for (const auto& p : pts) rms += std::pow(glm::dot(p - planes.back().point, planes.back().normal), 2);
+    report.planeRms[poly.name] = std::sqrt(rms / pts.size());
+  }
+  // 2. Corners shared by several polygons go where their planes meet, so that the polygons join
+  // without gaps: least squares over the planes, held weakly at the triangulated point (a corner
+  // of one polygon is projected onto its plane, of two onto their common line, of three or more
+  // onto their intersection).
+  std::map<std::string, glm::dvec3> corner;
+  for (const auto& [name, polys] : polygonsOfPoint) {
+    const glm::dvec3 X0 = report.points.at(name).X;
+    const double lambda = 1e-6;
+    glm::dmat3 A(lambda);
+    glm::dvec3 b = lambda * X0;
+    for (size_t k : polys) {
+      const Plane& pl = planes[k];
+      A += glm::outerProduct(pl.normal, pl.normal);
+      b += pl.normal * glm::dot(pl.normal, pl.point);
+    }
+    corner[name] = glm::inverse(A) * b;
+  }
+  // 3. The polygons through their corners.
   PickedPolygons picked;
-  for (const auto& poly : clicks.polygons) {
+  for (size_t k = 0; k < clicks.polygons.size(); ++k) {
+    const auto& poly = clicks.polygons[k];
     std::vector<glm::dvec3> pts;
     glm::dvec3 viewer(0.0);
     int nv = 0;
+    bool shared = false;
     for (const auto& c : poly.corners) {
-      pts.push_back(report.points.at(c).X);
+      pts.push_back(corner.at(c));
+      shared = shared || polygonsOfPoint.at(c).size() > 1;
       for (const auto& [photo, px] : clicks.points.at(c).clicks) {
         viewer += model.camera(*imageOf(photo)).center();
         ++nv;
@@ -184,11 +223,13 @@ Scene sceneFromClicks(const Clicks& clicks, const ColmapModel& model, const std:
     }
     viewer = nv ? viewer / double(nv) : allCentres;
     try {
-      const Plane pl = fitPlane(poly.plane.empty() ? pts : planePoints[poly.plane], "polygon " + poly.name);
+      const Plane& pl = planes[k];
       std::vector<glm::dvec3> onPlane;
       for (const auto& p : pts) onPlane.push_back(pl.project(p));
       PolygonConstraints con;
-      con.rectangle = poly.rectangle;
+      // Squaring moves corners; where a corner is shared, meeting the other polygons comes first.
+      con.rectangle = poly.rectangle && !shared;
+      con.keepOrder = true;
       Polygon P;
       P.name = poly.name;
       P.group = poly.group;
@@ -197,9 +238,6 @@ Scene sceneFromClicks(const Clicks& clicks, const ColmapModel& model, const std:
       P.vertices = convexPolygon(onPlane, pl, viewer, "polygon " + poly.name, con);
       if (poly.albedo) P.albedo = *poly.albedo;
       picked.addExact(P);
-      double rms = 0;
-      for (const auto& p : pts) rms += std::pow(glm::dot(p - pl.point, pl.normal), 2);
-      report.planeRms[poly.name] = std::sqrt(rms / pts.size());
     } catch (const Error& e) {
       throw Error(clicks.file, e.element(), e.problem());
     }

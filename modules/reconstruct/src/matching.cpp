@@ -51,17 +51,40 @@ std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const 
   const cv::Mat patch = ga(cv::Rect(ax - half, ay - half, 2 * half + 1, 2 * half + 1));
   std::vector<MatchProposal> cands;
   if (ca && cb) {
-    // Epipolar line: the ray of pa, projected into b between near and far depths.
-    const glm::dvec3 o = ca->center(), d = ca->rayDirection(pa.x, pa.y);
+    // Plane sweep along the ray of pa: at each depth the patch is taken as a plane parallel to
+    // a's image plane, its pixels projected into b and sampled there (scale and perspective
+    // change between the photos are followed), scored by NCC.
+    const glm::dvec3 o = ca->center();
+    const glm::dmat3 Rt = glm::transpose(ca->R);
+    auto bilinear = [&](double x, double y, bool& ok) {
+      x -= 0.5, y -= 0.5;  // pixel centres at +0.5
+      const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+      if (x0 < 0 || y0 < 0 || x0 + 1 >= b.width || y0 + 1 >= b.height) {
+        ok = false;
+        return 0.0;
+      }
+      const double fx = x - x0, fy = y - y0;
+      return (1 - fy) * ((1 - fx) * gb.at<float>(y0, x0) + fx * gb.at<float>(y0, x0 + 1)) +
+             fy * ((1 - fx) * gb.at<float>(y0 + 1, x0) + fx * gb.at<float>(y0 + 1, x0 + 1));
+    };
+    cv::Mat warped(patch.size(), CV_32F);
     glm::dvec2 prev(-1e9);
-    for (double depth = 0.05; depth < 100; depth *= 1.002) {
+    for (double depth = 0.1; depth < 100; depth *= 1.002) {
       glm::dvec2 p;
-      if (!cb->project(o + d * depth, p)) continue;
-      if (glm::length(p - prev) < 0.7) continue;
+      const glm::dvec3 centreRay = Rt * glm::dvec3((pa.x - ca->cx()) / ca->fx(), (pa.y - ca->cy()) / ca->fy(), 1.0);
+      if (!cb->project(o + centreRay * depth, p)) continue;
+      if (glm::length(p - prev) < 0.5) continue;
       prev = p;
-      const int x = int(std::floor(p.x)), y = int(std::floor(p.y));
-      if (x - half < 0 || y - half < 0 || x + half >= b.width || y + half >= b.height) continue;
-      cands.push_back({glm::dvec2(x + 0.5, y + 0.5), ncc(patch, gb(cv::Rect(x - half, y - half, 2 * half + 1, 2 * half + 1)))});
+      bool ok = true;
+      for (int dy = -half; dy <= half && ok; ++dy)
+        for (int dx = -half; dx <= half && ok; ++dx) {
+          const double px = ax + 0.5 + dx, py = ay + 0.5 + dy;
+          const glm::dvec3 X = o + Rt * glm::dvec3((px - ca->cx()) / ca->fx(), (py - ca->cy()) / ca->fy(), 1.0) * depth;
+          glm::dvec2 q;
+          if (!cb->project(X, q)) ok = false;
+          else warped.at<float>(dy + half, dx + half) = float(bilinear(q.x, q.y, ok));
+        }
+      if (ok) cands.push_back({p, ncc(patch, warped)});
     }
   } else {
     cv::Mat res;

@@ -139,6 +139,7 @@ TriangulatedPoint triangulatePoint(const std::vector<Observation>& obs, const st
   if (maxAngle < 1e-3 || std::abs(hw) < 1e-12)
     throw Error("", what, "is seen along (nearly) the same ray from every photo; click it in photos taken further apart");
   TriangulatedPoint tp;
+  tp.rayAngleDeg = maxAngle * 180.0 / M_PI;
   tp.X = {vt.at<double>(3, 0) / hw, vt.at<double>(3, 1) / hw, vt.at<double>(3, 2) / hw};
   for (const auto& o : obs) {
     const glm::dvec3 c = o.camera->R * tp.X + o.camera->t;

@@ -72,8 +72,26 @@ std::vector<glm::dvec3> convexPolygon(const std::vector<glm::dvec3>& pts, const 
     const glm::dvec3 d = p - plane.point;
     p2.emplace_back(glm::dot(d, u), glm::dot(d, v));
   }
-  const std::vector<int> h = hull2D(p2);
+  std::vector<int> h = hull2D(p2);
   if (h.size() < 3) throw Error("", what, "its points are collinear: they enclose no area");
+  if (constraints.keepOrder && h.size() == pts.size()) {
+    // The given order, if it walks around the hull (in either direction) from the first corner.
+    const size_t n = pts.size();
+    auto idx = [&](long k) { return size_t(((k % long(n)) + long(n)) % long(n)); };
+    auto isOrder = [&](long dir) {
+      for (size_t i = 0; i < n; ++i)
+        if (cross2(p2[idx(long(i) * dir)], p2[idx((long(i) + 1) * dir)], p2[idx((long(i) + 2) * dir)]) <= 0) return false;
+      return true;
+    };
+    std::vector<int> given(n);
+    if (isOrder(1)) {
+      for (size_t i = 0; i < n; ++i) given[i] = int(i);
+      h = given;
+    } else if (isOrder(-1)) {
+      for (size_t i = 0; i < n; ++i) given[i] = int(idx(-long(i)));
+      h = given;
+    }
+  }
   std::vector<glm::dvec3> out;
   for (int i : h) out.push_back(plane.point + u * p2[i].x + v * p2[i].y);
   if (constraints.rectangle) {

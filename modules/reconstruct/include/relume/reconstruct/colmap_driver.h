@@ -21,7 +21,7 @@ struct ColmapOptions {
   bool singleCamera = true;  // every photo from one camera
   // Rooms are low-texture: more, weaker SIFT features than COLMAP's default (0.0067), and the
   // mapper accepts models of 2+ images and initial pairs with 30+ inliers (default 100).
-  double siftPeakThreshold = 0.002;
+  double siftPeakThreshold = 0.001;
   int initMinInliers = 30;
   int absPoseMinInliers = 15;
   int threads = -1;

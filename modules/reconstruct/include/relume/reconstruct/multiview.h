@@ -22,6 +22,7 @@ struct TriangulatedPoint {
   glm::dvec3 X{0.0};
   std::vector<double> reprojectionError;  // pixels, per observation
   double rmsError = 0;
+  double rayAngleDeg = 0;  // widest angle between two of its viewing rays: below ~10 deg depth is weak
   double maxError() const;
 };
 

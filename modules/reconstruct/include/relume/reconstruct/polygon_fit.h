@@ -24,6 +24,9 @@ Plane fitPlane(const std::vector<glm::dvec3>& pts, const std::string& what);
 
 struct PolygonConstraints {
   bool rectangle = false;  // edges parallel / orthogonal in pairs (4 corners)
+  // Keep the corners in the order given (starting at the first, reversed if the normal would
+  // face away) when they outline a convex polygon; else the convex hull's order.
+  bool keepOrder = false;
 };
 
 // The convex polygon of `pts` projected onto `plane`, counter-clockwise around the normal, the
