@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The main job on the bundled sample room, headless: preprocess it for relighting (textures,
+# The main job on the bundled sample room, headless: reconstruct it from its photos (COLMAP, and
+# the clicked corners triangulated into a project), preprocess it for relighting (textures,
 # estimates, real shadows removed), relight it several ways, and score it against its truth
 # renders. Everything lands in out/.
 set -euo pipefail
@@ -8,6 +9,14 @@ bash scripts/build.sh
 room=resources/sample_room
 relume=./build/app/cli/relume
 mkdir -p out
+# From photographs: COLMAP's cameras (with the camera's known intrinsics), their error against the
+# true cameras, and the polygons of resources/sample_room/clicks.json as a project, relit.
+cam=$(awk '!/^#/ && NF {print $2":"$5","$6","$7","$8; exit}' "$room/colmap/cameras.txt")
+$relume reconstruct "$room/photos" --out out/workspace --camera "$cam"
+$relume align out/workspace --to "$room" --json out/workspace/camera_errors.json
+$relume triangulate "$room/colmap" --clicks "$room/clicks.json" -o out/from_clicks.relume
+$relume preprocess out/from_clicks.relume -o out/from_clicks_lit.relume
+$relume relight out/from_clicks_lit.relume --lamp A=0 -o out/relit_from_clicks_A_off.png
 $relume preprocess "$room" -o out/sample.relume
 $relume relight out/sample.relume -o out/relit_original.png
 $relume relight out/sample.relume --lamp A=0 -o out/relit_A_off.png
@@ -19,5 +28,7 @@ $relume relight out/sample.relume --lamp A=0 --lamp B=0 --lamp C=0 --virtual-lam
 $relume relight out/sample.relume --lamp A=0 --method ratio-only -o out/relit_A_off_ratio_only.png
 $relume evaluate "$room" --out out/evaluation
 $relume render "$room" --camera main --show leaves -o out/main_leaves.png
-echo "Wrote the relit images out/relit_*.png, the project out/sample.relume and out/evaluation/report.json"
+echo "Wrote the COLMAP workspace out/workspace (camera errors in camera_errors.json), the project built from"
+echo "clicks out/from_clicks.relume, the relit images out/relit_*.png, the project out/sample.relume and"
+echo "out/evaluation/report.json"
 echo "(out/evaluation/*.png: photo | ratio-only | full | truth, side by side)."
