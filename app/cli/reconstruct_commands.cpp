@@ -144,24 +144,27 @@ int reconstructCommand(const QStringList& args, Progress& progress) {
     for (const auto& s : run.leftOut) l += " " + s;
     std::fprintf(stderr, "warning: COLMAP could not register%s\n", l.c_str());
   }
+  QJsonArray reg, left;
+  for (const auto& s : run.registered) reg.append(QString::fromStdString(s));
+  for (const auto& s : run.leftOut) left.append(QString::fromStdString(s));
+  QJsonObject info{{"photos", QString::fromStdString(photos)},
+                   {"registered", reg},
+                   {"left_out", left},
+                   {"points", qint64(run.model.points.size())},
+                   {"metric", false},
+                   {"seconds", QJsonObject{{"features", run.secondsFeatures},
+                                           {"matching", run.secondsMatching},
+                                           {"mapping", run.secondsMapping}}}};
+  const QString infoPath = QDir(QString::fromStdString(ws)).filePath("workspace.json");
+  writeJsonAtomically(infoPath, info);  // first: a bad --scale below leaves a usable workspace
   if (p.isSet("scale")) {
     const Similarity S = metricFromOptions(
         p, [&](const QString& id, const std::string& o) { return pointById(run.model, id, o).xyz; }, meanCentre(run.model));
     transformModel(run.model, S);
     writeColmapText(run.model, run.modelFolder);
+    info["metric"] = true;
+    writeJsonAtomically(infoPath, info);
   }
-  QJsonArray reg, left;
-  for (const auto& s : run.registered) reg.append(QString::fromStdString(s));
-  for (const auto& s : run.leftOut) left.append(QString::fromStdString(s));
-  writeJsonAtomically(QDir(QString::fromStdString(ws)).filePath("workspace.json"),
-                      QJsonObject{{"photos", QString::fromStdString(photos)},
-                                  {"registered", reg},
-                                  {"left_out", left},
-                                  {"points", qint64(run.model.points.size())},
-                                  {"metric", p.isSet("scale")},
-                                  {"seconds", QJsonObject{{"features", run.secondsFeatures},
-                                                          {"matching", run.secondsMatching},
-                                                          {"mapping", run.secondsMapping}}}});
   std::fprintf(stderr, "reconstructed: %zu of %zu photos registered, %zu points -> %s\n", run.registered.size(),
                run.registered.size() + run.leftOut.size(), run.model.points.size(), run.modelFolder.c_str());
   return 0;
@@ -196,8 +199,11 @@ int alignCommand(const QStringList& args, Progress& progress) {
   // Reference camera centres by photo name.
   std::map<std::string, glm::dvec3> ref;
   const QString to = p.value("to");
-  const Workspace rw = openWorkspace(to, "");
-  if (!rw.modelFolder.empty() && !QFileInfo(QDir(to).filePath("scene.json")).exists() && !QFileInfo(QDir(to).filePath("project.json")).exists()) {
+  const bool roomFolder = QFileInfo(to).isDir() && (QFileInfo(QDir(to).filePath("scene.json")).exists() ||
+                                                     QFileInfo(QDir(to).filePath("project.json")).exists());
+  if (QFileInfo(to).isDir() && !roomFolder) {
+    const Workspace rw = openWorkspace(to, "");
+    if (rw.modelFolder.empty()) throw Error(str(to), "", "holds neither a COLMAP model nor a room");
     const ColmapModel r = readColmapModel(rw.modelFolder);
     for (const auto& [id, im] : r.images) ref[fs::path(im.name).stem().string()] = im.center();
   } else {
@@ -252,7 +258,7 @@ int triangulateCommand(const QStringList& args, Progress& progress) {
   if (!p.isSet("clicks") || !p.isSet("output")) throw Error("", "command line", "--clicks CLICKS.json and -o PROJECT are required");
   const Workspace w = openWorkspace(p.positionalArguments()[0], p.value("photos"));
   if (w.photosDir.empty()) throw Error(str(p.positionalArguments()[0]), "", "the photos folder is unknown; pass --photos DIR");
-  const Clicks clicks = readClicks(str(p.value("clicks")));
+  Clicks clicks = readClicks(str(p.value("clicks")));
   ColmapModel model;
   if (!w.modelFolder.empty()) {
     model = readColmapModel(w.modelFolder);
@@ -262,8 +268,10 @@ int triangulateCommand(const QStringList& args, Progress& progress) {
     std::vector<std::string> photoNames;
     std::map<std::string, int> index;
     for (const auto& [n, pt] : clicks.points)
-      for (const auto& [photo, px] : pt.clicks)
-        if (!index.count(photo)) index[photo] = int(photoNames.size()), photoNames.push_back(photo);
+      if (!pt.typed)
+        for (const auto& [photo, px] : pt.clicks)
+          if (!index.count(photo)) index[photo] = int(photoNames.size()), photoNames.push_back(photo);
+    if (photoNames.empty()) throw Error(str(p.value("clicks")), "points", "no point is clicked in photos");
     ColmapCamera cam;
     cam.id = 1;
     if (p.isSet("intrinsics")) {
@@ -315,23 +323,42 @@ int triangulateCommand(const QStringList& args, Progress& progress) {
       im.camera = 1;
       std::string file = photoNames[i];
       for (const auto& f : listPhotos(w.photosDir))
-        if (fs::path(f).stem() == photoNames[i] && fs::path(f).extension() != ".exr") file = fs::path(f).filename().string();
+        if (fs::path(f).stem() == photoNames[i] && !isHdrFile(f)) file = fs::path(f).filename().string();
       im.name = file;
       im.setRotation(sol.cameras[i].R);
       im.t = sol.cameras[i].t;
       model.images[im.id] = im;
     }
     std::fprintf(stderr, "cameras solved from %zu clicked points: reprojection rms %.3f px\n", tracks.size(), sol.rmsError);
-    if (!p.isSet("scale")) throw Error("", "--scale", "without a model the metric frame is needed: --scale P1,P2,METRES [--floor P1,P2,P3]");
-    std::map<std::string, glm::dvec3> pts;
-    for (size_t k = 0; k < tracks.size(); ++k)
-      if (sol.triangulated[k]) pts[tracks[k].name] = sol.points[k].X;
+    // Clicks in photos that could not be posed are left out (a point then needs two other clicks).
+    for (auto& [n, pt] : clicks.points) {
+      std::vector<std::pair<std::string, glm::dvec2>> kept;
+      for (const auto& c : pt.clicks)
+        if (index.count(c.first) && sol.posed[index[c.first]]) kept.push_back(c);
+      if (!pt.typed && kept.size() < 2)
+        throw Error(str(p.value("clicks")), "point " + n, "is clicked in fewer than two of the photos that could be posed");
+      pt.clicks = kept;
+    }
+  }
+  // The metric frame: control points (clicked and measured) when there are 3 or more; else, for
+  // cameras solved from clicks, --scale and --floor.
+  if (controlPoints(clicks).size() >= 3) {
+    const ControlFit f = fitControlPoints(clicks, model);
+    transformModel(model, f.S);
+    double worstCp = 0;
+    for (const auto& [n, r] : f.residuals) worstCp = std::max(worstCp, r);
+    std::fprintf(stderr, "metric frame from %zu control points: scale %.6g, largest residual %.4f m\n", f.residuals.size(),
+                 f.S.s, worstCp);
+  } else if (w.modelFolder.empty()) {
+    if (!p.isSet("scale"))
+      throw Error("", "--scale", "without a model the metric frame is needed: 3+ control points (clicked and \"xyz\") or --scale P1,P2,METRES [--floor P1,P2,P3]");
     const Similarity S = metricFromOptions(
         p,
         [&](const QString& n, const std::string& o) {
-          const auto it = pts.find(str(n.trimmed()));
-          if (it == pts.end()) throw Error(str(p.value("clicks")), o, "'" + str(n) + "' is not a clicked point that could be triangulated");
-          return it->second;
+          const auto it = clicks.points.find(str(n.trimmed()));
+          if (it == clicks.points.end() || it->second.clicks.size() < 2)
+            throw Error(str(p.value("clicks")), o, "'" + str(n) + "' is not a point clicked in two or more photos");
+          return triangulateClickedPoint(clicks, it->first, model).X;
         },
         meanCentre(model));
     transformModel(model, S);
@@ -426,7 +453,7 @@ int calibrateCommand(const QStringList& args, Progress& progress) {
   const std::string dir = str(p.positionalArguments()[0]);
   std::vector<std::string> files;
   for (const auto& f : listPhotos(dir))
-    if (fs::path(f).extension() != ".exr") files.push_back(f);
+    if (!isHdrFile(f)) files.push_back(f);
   const Intrinsics in = calibrateCheckerboard(files, cols, rows, square, progress);
   const std::string out = p.isSet("output") ? str(p.value("output")) : (fs::path(dir) / "intrinsics.json").string();
   writeIntrinsics(in, out);

@@ -106,6 +106,9 @@ namespace {
 // Writes an undistorted copy (pinhole K of the same camera) of `src` to `dst`.
 void undistortPhoto(const std::string& src, const std::string& dst, const ColmapCamera& cam) {
   const ImageRGB in = readImageLinear(src);
+  if (in.width != cam.width || in.height != cam.height)
+    throw Error(src, "", "is " + std::to_string(in.width) + "x" + std::to_string(in.height) + " but its camera is " +
+                             std::to_string(cam.width) + "x" + std::to_string(cam.height) + " (a resized copy?)");
   cv::Mat mapx(in.height, in.width, CV_32F), mapy(in.height, in.width, CV_32F);
   for (int y = 0; y < in.height; ++y)
     for (int x = 0; x < in.width; ++x) {
@@ -122,46 +125,100 @@ void undistortPhoto(const std::string& src, const std::string& dst, const Colmap
 }
 }  // namespace
 
+namespace {
+const ColmapImage* clickedImage(const Clicks& clicks, const ColmapModel& model, const std::string& photo) {
+  const ColmapImage* im = model.findImage(photo);
+  if (!im) throw Error(clicks.file, "photo " + photo, "is clicked, but the model has no camera for it");
+  return im;
+}
+
+// Triangulates a clicked point with the model's cameras (`cams` by image id), the clicks'
+// distortion removed first.
+TriangulatedPoint triangulateClicked(const Clicks& clicks, const ClickPoint& p, const ColmapModel& model,
+                                     const std::map<int, Camera>& cams) {
+  std::vector<Observation> obs;
+  for (const auto& [photo, px] : p.clicks) {
+    const ColmapImage* im = clickedImage(clicks, model, photo);
+    const ColmapCamera& cc = model.cameras.at(im->camera);
+    if (px.x < 0 || px.y < 0 || px.x > cc.width || px.y > cc.height)
+      throw Error(clicks.file, "point " + p.name + " in photo " + photo, "lies outside the photo");
+    const glm::dvec2 n = cc.undistort(px);
+    obs.push_back({&cams.at(im->id), photo, {cc.fx() * n.x + cc.cx(), cc.fy() * n.y + cc.cy()}});
+  }
+  try {
+    return triangulatePoint(obs, "point " + p.name);
+  } catch (const Error& e) {
+    throw Error(clicks.file, e.element(), e.problem());
+  }
+}
+
+std::map<int, Camera> camerasById(const ColmapModel& model) {
+  std::map<int, Camera> cams;
+  for (const auto& [id, im] : model.images) cams[id] = model.camera(im);
+  return cams;
+}
+}  // namespace
+
+TriangulatedPoint triangulateClickedPoint(const Clicks& clicks, const std::string& name, const ColmapModel& model) {
+  return triangulateClicked(clicks, clicks.points.at(name), model, camerasById(model));
+}
+
+std::vector<std::string> controlPoints(const Clicks& clicks) {
+  std::vector<std::string> r;
+  for (const auto& [name, p] : clicks.points)
+    if (p.typed && p.clicks.size() >= 2) r.push_back(name);
+  return r;
+}
+
+ControlFit fitControlPoints(const Clicks& clicks, const ColmapModel& model) {
+  const auto names = controlPoints(clicks);
+  if (names.size() < 3)
+    throw Error(clicks.file, "control points",
+                "the metric frame needs 3 or more points both clicked and measured (\"xyz\"); there are " +
+                    std::to_string(names.size()));
+  const auto cams = camerasById(model);
+  std::vector<glm::dvec3> from, to;
+  for (const auto& n : names) {
+    from.push_back(triangulateClicked(clicks, clicks.points.at(n), model, cams).X);
+    to.push_back(*clicks.points.at(n).typed);
+  }
+  ControlFit f;
+  try {
+    f.S = fitSimilarity(from, to);
+  } catch (const Error& e) {
+    throw Error(clicks.file, "control points", e.problem());
+  }
+  for (size_t i = 0; i < names.size(); ++i) f.residuals[names[i]] = glm::length(f.S.apply(from[i]) - to[i]);
+  return f;
+}
+
 Scene sceneFromClicks(const Clicks& clicks, const ColmapModel& model, const std::string& photosDir,
                       const std::string& undistortDir, TriangulationReport& report) {
   const auto t0 = std::chrono::steady_clock::now();
   Scene scene;
   scene.sourceFile = clicks.file;
   scene.baseDir = fs::absolute(photosDir).string();
-  // Cameras of the model's images, by the names clicks use.
-  std::map<std::string, Camera> cams;
+  // Cameras of the model's images, by image id; photos are named by their file stem, which must
+  // then be unique.
+  std::map<int, Camera> cams;
   std::map<std::string, const ColmapImage*> images;
   for (const auto& [id, im] : model.images) {
     const std::string stem = fs::path(im.name).stem().string();
-    cams[stem] = model.camera(im);
+    cams[id] = model.camera(im);
+    if (images.count(stem))
+      throw Error(photosDir, "photo " + stem, "two model images share this name (" + images[stem]->name + ", " + im.name +
+                                                  "); rename one");
     images[stem] = &im;
   }
-  auto imageOf = [&](const std::string& photo) -> const ColmapImage* {
-    const ColmapImage* im = model.findImage(photo);
-    return im;
-  };
+  auto imageOf = [&](const std::string& photo) { return clickedImage(clicks, model, photo); };
   for (const auto& [name, p] : clicks.points) {
-    if (p.typed) {
+    if (p.typed && p.clicks.size() < 2) {
       TriangulatedPoint tp;
       tp.X = *p.typed;
       report.points[name] = tp;
       continue;
     }
-    std::vector<Observation> obs;
-    for (const auto& [photo, px] : p.clicks) {
-      const ColmapImage* im = imageOf(photo);
-      if (!im) throw Error(clicks.file, "point " + name, "is clicked in photo '" + photo + "', which the model has no camera for");
-      const ColmapCamera& cc = model.cameras.at(im->camera);
-      if (px.x < 0 || px.y < 0 || px.x > cc.width || px.y > cc.height)
-        throw Error(clicks.file, "point " + name + " in photo " + photo, "lies outside the photo");
-      const glm::dvec2 n = cc.undistort(px);
-      obs.push_back({&cams.at(fs::path(im->name).stem().string()), photo, {cc.fx() * n.x + cc.cx(), cc.fy() * n.y + cc.cy()}});
-    }
-    try {
-      report.points[name] = triangulatePoint(obs, "point " + name);
-    } catch (const Error& e) {
-      throw Error(clicks.file, e.element(), e.problem());
-    }
+    report.points[name] = triangulateClicked(clicks, p, model, cams);
   }
   // 1. A plane per polygon (or per shared "plane" key) through its corners.
   std::map<std::string, std::vector<glm::dvec3>> planePoints;
@@ -217,7 +274,7 @@ Scene sceneFromClicks(const Clicks& clicks, const ColmapModel& model, const std:
       pts.push_back(corner.at(c));
       shared = shared || polygonsOfPoint.at(c).size() > 1;
       for (const auto& [photo, px] : clicks.points.at(c).clicks) {
-        viewer += model.camera(*imageOf(photo)).center();
+        viewer += cams.at(imageOf(photo)->id).center();
         ++nv;
       }
     }
@@ -260,7 +317,7 @@ Scene sceneFromClicks(const Clicks& clicks, const ColmapModel& model, const std:
     if (!fs::exists(file)) continue;
     Photo ph;
     ph.name = stem;
-    ph.camera = cams.at(stem);
+    ph.camera = cams.at(im->id);
     const ColmapCamera& cc = model.cameras.at(im->camera);
     fs::path hdr = fs::path(photosDir) / (stem + ".exr");
     if (cc.hasDistortion()) {

@@ -91,10 +91,19 @@ std::string num(double v) {
 
 ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, const ColmapOptions& opt,
                     Progress& progress) {
+  // Options first: nothing expensive runs with a bad one.
+  if (opt.matcher != "exhaustive" && opt.matcher != "sequential")
+    throw Error("", "--matcher", "must be exhaustive or sequential, not '" + opt.matcher + "'");
+  if (!opt.cameraModel.empty()) {
+    const int need = ColmapCamera::parameterCount(opt.cameraModel);
+    if (need < 0) throw Error("", "--camera", "camera model " + opt.cameraModel + " is not supported (" + ColmapCamera::supportedModels() + ")");
+    if (int(opt.cameraParams.size()) != need)
+      throw Error("", "--camera", opt.cameraModel + " takes " + std::to_string(need) + " parameters, not " + std::to_string(opt.cameraParams.size()));
+  }
   // The photos COLMAP will see: 8-bit images, each checked to be readable first (named if not).
   std::vector<std::string> names;
   for (const auto& f : listPhotos(photosDir)) {
-    if (fs::path(f).extension() == ".exr" || fs::path(f).extension() == ".EXR") continue;
+    if (isHdrFile(f)) continue;
     const PhotoInfo info = readPhotoInfo(f);
     readImage8(f);  // decodes the whole file: a truncated image is named here, not deep in COLMAP
     (void)info;

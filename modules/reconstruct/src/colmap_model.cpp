@@ -87,6 +87,12 @@ T readBin(std::ifstream& in, const std::string& path, const std::string& what) {
 
 }  // namespace
 
+int ColmapCamera::parameterCount(const std::string& model) {
+  const ModelSpec* s = specByName(model);
+  return s ? s->params : -1;
+}
+std::string ColmapCamera::supportedModels() { return relume::recon::supportedModels(); }
+
 double ColmapCamera::fx() const { return params.at(0); }
 double ColmapCamera::fy() const {
   return (model == "PINHOLE" || model == "OPENCV") ? params.at(1) : params.at(0);
@@ -226,9 +232,12 @@ ColmapModel readColmapText(const std::string& folder) {
       throw Error(lineRef(imPath, ln), "image " + im.name, "refers to camera " + std::to_string(im.camera) + ", which cameras.txt lacks");
     if (i + 1 < lines.size()) {
       std::istringstream ps(lines[i + 1].second);
-      ColmapObservation o;
-      while (ps >> o.xy.x >> o.xy.y >> o.point3D) im.points.push_back(o);
-      if (!ps.eof()) throw Error(lineRef(imPath, lines[i + 1].first), "image " + im.name, "expected X Y POINT3D_ID triples");
+      std::vector<double> v;
+      double x;
+      while (ps >> x) v.push_back(x);
+      if (!ps.eof() || v.size() % 3 != 0)
+        throw Error(lineRef(imPath, lines[i + 1].first), "image " + im.name, "expected X Y POINT3D_ID triples");
+      for (size_t k = 0; k < v.size(); k += 3) im.points.push_back({{v[k], v[k + 1]}, int64_t(v[k + 2])});
       ++i;
     }
     m.images[im.id] = std::move(im);
@@ -241,10 +250,15 @@ ColmapModel readColmapText(const std::string& folder) {
       int r, g, b;
       if (!(ss >> p.id >> p.xyz.x >> p.xyz.y >> p.xyz.z >> r >> g >> b >> p.error))
         throw Error(lineRef(ptPath, ln), "point", "expected POINT3D_ID X Y Z R G B ERROR TRACK...");
+      if (r < 0 || r > 255 || g < 0 || g > 255 || b < 0 || b > 255)
+        throw Error(lineRef(ptPath, ln), "point " + std::to_string(p.id), "colour components must lie in 0..255");
       p.rgb = {uint8_t(r), uint8_t(g), uint8_t(b)};
-      ColmapTrackElement e;
-      while (ss >> e.image >> e.point2D) p.track.push_back(e);
-      if (!ss.eof()) throw Error(lineRef(ptPath, ln), "point " + std::to_string(p.id), "expected IMAGE_ID POINT2D_IDX pairs");
+      std::vector<long long> v;
+      long long x;
+      while (ss >> x) v.push_back(x);
+      if (!ss.eof() || v.size() % 2 != 0)
+        throw Error(lineRef(ptPath, ln), "point " + std::to_string(p.id), "expected IMAGE_ID POINT2D_IDX pairs");
+      for (size_t k = 0; k < v.size(); k += 2) p.track.push_back({int(v[k]), int(v[k + 1])});
       m.points[p.id] = std::move(p);
     }
   }
@@ -271,6 +285,7 @@ ColmapModel readColmapBinary(const std::string& folder) {
         throw Error(camPath, "camera " + std::to_string(c.id),
                     "camera model id " + std::to_string(modelId) + " is not supported (supported: " + supportedModels() + ")");
       c.model = spec->name;
+      if (c.width <= 0 || c.height <= 0) throw Error(camPath, "camera " + std::to_string(c.id), "has no positive image size");
       for (int k = 0; k < spec->params; ++k) c.params.push_back(readBin<double>(in, camPath, what));
       m.cameras[c.id] = c;
     }

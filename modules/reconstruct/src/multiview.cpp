@@ -174,7 +174,24 @@ TriangulatedPoint triangulatePoint(const std::vector<Observation>& obs, const st
       if (!residual(*o.camera, Xn, o.pixel, r)) ok = false;
       else costN += glm::dot(r, r);
     }
-    if (!ok || costN > cost) break;
+    if (!ok || costN > cost) {
+      // Halve the step a few times before giving up (a damped Gauss-Newton step).
+      glm::dvec3 s = step;
+      bool better = false;
+      for (int h = 0; h < 8 && !better; ++h) {
+        s *= 0.5;
+        double c2 = 0;
+        bool ok2 = true;
+        for (const auto& o : obs) {
+          glm::dvec2 r;
+          if (!residual(*o.camera, tp.X + s, o.pixel, r)) ok2 = false;
+          else c2 += glm::dot(r, r);
+        }
+        if (ok2 && c2 < cost) tp.X += s, better = true;
+      }
+      if (!better) break;
+      continue;
+    }
     tp.X = Xn;
     if (glm::length(step) < 1e-12 * (1 + glm::length(tp.X))) break;
   }
@@ -258,7 +275,7 @@ Similarity metricFrame(const glm::dvec3& a, const glm::dvec3& b, double metres, 
       R[k][2] = n[k];
     }
     S.R = R;
-    const glm::dvec3 o = floor[0];
+    const glm::dvec3 o = floor[0] - n * glm::dot(floor[0] - c, n);  // its foot on the fitted floor
     S.t = -S.s * (R * o);
   }
   return S;
@@ -301,6 +318,8 @@ RelativePose relativePose(const std::vector<glm::dvec2>& p1, const std::vector<g
   cv::Mat emask;
   const double thr = 3.0 / std::max(K1[0][0], K2[0][0]);
   cv::Mat E = cv::findEssentialMat(na, nb, cv::Mat::eye(3, 3, CV_64F), cv::RANSAC, 0.999, thr, emask);
+  if (E.empty() || E.rows < 3 || E.cols != 3)
+    throw Error("", "correspondences", "no essential matrix fits the clicks (degenerate configuration?)");
   if (E.rows != 3) E = E.rowRange(0, 3);
   cv::Mat Rm, tm;
   cv::recoverPose(E, na, nb, cv::Mat::eye(3, 3, CV_64F), Rm, tm, emask);
@@ -312,6 +331,8 @@ RelativePose relativePose(const std::vector<glm::dvec2>& p1, const std::vector<g
       rp.inliers[idx[k]] = true;
       in.push_back(idx[k]);
     }
+  if (in.size() < 8)
+    throw Error("", "correspondences", "only " + std::to_string(in.size()) + " clicks agree on one relative pose; 8 or more are needed");
   glm::dmat3 R = toGlm(cv::Matx33d(Rm));
   glm::dvec3 t(tm.at<double>(0), tm.at<double>(1), tm.at<double>(2));
   t = glm::normalize(t);
@@ -402,11 +423,12 @@ CameraSolution solveCameras(const std::vector<Camera>& intr, const std::vector<s
   };
   triangulateAll();
   // Resection of the remaining photos, most triangulated tracks first.
+  std::vector<bool> failed(nPhotos, false);
   for (;;) {
     int next = -1;
     size_t most = 0;
     for (int i = 0; i < nPhotos; ++i) {
-      if (sol.posed[i]) continue;
+      if (sol.posed[i] || failed[i]) continue;
       size_t n = 0;
       for (size_t k = 0; k < tracks.size(); ++k)
         for (const auto& c : tracks[k].clicks) n += c.first == i && sol.triangulated[k];
@@ -423,8 +445,15 @@ CameraSolution solveCameras(const std::vector<Camera>& intr, const std::vector<s
         }
     cv::Vec3d rv, tv;
     const cv::Mat K(toCv(intr[next].K));
-    if (!cv::solvePnPRansac(X, x, K, cv::noArray(), rv, tv, false, 200, 4.0, 0.999)) break;
-    cv::solvePnPRefineLM(X, x, K, cv::noArray(), rv, tv);
+    std::vector<int> inl;
+    if (!cv::solvePnPRansac(X, x, K, cv::noArray(), rv, tv, false, 200, 4.0, 0.999, inl) || inl.size() < 6) {
+      failed[next] = true;
+      continue;
+    }
+    std::vector<cv::Point3d> Xi;
+    std::vector<cv::Point2d> xi;
+    for (int k : inl) Xi.push_back(X[k]), xi.push_back(x[k]);
+    cv::solvePnPRefineLM(Xi, xi, K, cv::noArray(), rv, tv);
     sol.cameras[next].R = rodrigues({rv[0], rv[1], rv[2]});
     sol.cameras[next].t = {tv[0], tv[1], tv[2]};
     sol.posed[next] = true;

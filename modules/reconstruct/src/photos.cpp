@@ -86,6 +86,11 @@ std::vector<std::string> listPhotos(const std::string& folder) {
   return files;
 }
 
+bool isHdrFile(const std::string& path) {
+  const std::string e = lower(fs::path(path).extension().string());
+  return e == ".exr" || e == ".hdr";
+}
+
 double exposureFromEv(double ev, double referenceTime) { return referenceTime * std::pow(2.0, ev); }
 
 std::vector<std::vector<PhotoInfo>> groupBrackets(const std::vector<PhotoInfo>& photos) {
@@ -114,7 +119,7 @@ Image8 readImage8(const std::string& path) {
   if (!in) throw Error(path, "", "cannot read the image: " + OIIO::geterror());
   const OIIO::ImageSpec& s = in->spec();
   if (s.format.is_floating_point() || s.format.size() != 1)
-    throw Error(path, "", "is not an 8-bit image (an exposure bracket needs the camera's 8-bit JPEG/PNG/TIFF files)");
+    throw Error(path, "", "is not an 8-bit image (this step reads the camera's 8-bit JPEG, PNG or TIFF files)");
   Image8 img;
   img.width = s.width;
   img.height = s.height;
@@ -123,7 +128,7 @@ Image8 readImage8(const std::string& path) {
     throw Error(path, "", "cannot decode the image (truncated or corrupt?): " + in->geterror());
   img.pixels.resize(size_t(s.width) * s.height * 3);
   for (size_t i = 0; i < size_t(s.width) * s.height; ++i)
-    for (int c = 0; c < 3; ++c) img.pixels[i * 3 + c] = raw[i * s.nchannels + std::min(c, s.nchannels - 1)];
+    for (int c = 0; c < 3; ++c) img.pixels[i * 3 + c] = raw[i * s.nchannels + (s.nchannels < 3 ? 0 : c)];
   return img;
 }
 
@@ -191,10 +196,17 @@ HdrResult mergeBracket(const std::vector<Image8>& images, const std::vector<doub
     g[c].resize(256);
     wgt[c].resize(256);
     for (int z = 0; z < 256; ++z) g[c][z] = std::log(std::max(double(response.at<cv::Vec3f>(z, 0)[c]), 1e-30));
+    std::vector<double> slope(256);
+    for (int z = 0; z < 256; ++z)
+      slope[z] = std::abs(g[c][std::min(z + 1, 255)] - g[c][std::max(z - 1, 0)]) / (std::min(z + 1, 255) - std::max(z - 1, 0));
+    // A locally flat stretch of a noisy curve must not make one exposure dominate.
+    std::vector<double> sorted = slope;
+    std::nth_element(sorted.begin(), sorted.begin() + 128, sorted.end());
+    const double floorSlope = std::max(0.1 * sorted[128], 1e-6);
     for (int z = 0; z < 256; ++z) {
-      const double slope = (g[c][std::min(z + 1, 255)] - g[c][std::max(z - 1, 0)]) / (std::min(z + 1, 255) - std::max(z - 1, 0));
       const double hat = std::min(z, 255 - z);
-      wgt[c][z] = hat / std::max(slope * slope, 1e-12);
+      const double sl = std::max(slope[z], floorSlope);
+      wgt[c][z] = hat / (sl * sl);
     }
   }
   std::vector<double> lnT(times.size());

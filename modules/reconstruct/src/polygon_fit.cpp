@@ -62,6 +62,7 @@ std::vector<int> hull2D(const std::vector<glm::dvec2>& p) {
 
 std::vector<glm::dvec3> convexPolygon(const std::vector<glm::dvec3>& pts, const Plane& plane, const glm::dvec3& viewer,
                                       const std::string& what, const PolygonConstraints& constraints) {
+  if (pts.size() < 3) throw Error("", what, "needs three or more corners");
   glm::dvec3 n = plane.normal;
   if (glm::dot(viewer - plane.point, n) < 0) n = -n;
   glm::dvec3 u = glm::cross(std::abs(n.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0), n);
@@ -79,9 +80,15 @@ std::vector<glm::dvec3> convexPolygon(const std::vector<glm::dvec3>& pts, const 
     const size_t n = pts.size();
     auto idx = [&](long k) { return size_t(((k % long(n)) + long(n)) % long(n)); };
     auto isOrder = [&](long dir) {
-      for (size_t i = 0; i < n; ++i)
-        if (cross2(p2[idx(long(i) * dir)], p2[idx((long(i) + 1) * dir)], p2[idx((long(i) + 2) * dir)]) <= 0) return false;
-      return true;
+      // Every turn to the left and one turn in all (a star order turns left but twice around).
+      double turning = 0;
+      for (size_t i = 0; i < n; ++i) {
+        const glm::dvec2 a = p2[idx(long(i) * dir)], b = p2[idx((long(i) + 1) * dir)], c = p2[idx((long(i) + 2) * dir)];
+        if (cross2(a, b, c) <= 0) return false;
+        const glm::dvec2 e1 = b - a, e2 = c - b;
+        turning += std::atan2(e1.x * e2.y - e1.y * e2.x, glm::dot(e1, e2));
+      }
+      return std::abs(turning - 2 * M_PI) < 1e-6;
     };
     std::vector<int> given(n);
     if (isOrder(1)) {
@@ -104,8 +111,10 @@ std::vector<glm::dvec3> convexPolygon(const std::vector<glm::dvec3>& pts, const 
 
 std::vector<glm::dvec3> rectify(const std::vector<glm::dvec3>& q, const std::string& what) {
   if (q.size() != 4) throw Error("", what, "a rectangle needs exactly four corners");
+  for (int i = 0; i < 4; ++i)
+    if (glm::length(q[(i + 1) % 4] - q[i]) < 1e-9) throw Error("", what, "two corners of the rectangle coincide");
+  if (polygonArea(q) < 1e-12) throw Error("", what, "the corners enclose no area");
   const glm::dvec3 n = polygonNormal(q);
-  if (!(glm::length(n) > 0)) throw Error("", what, "the corners enclose no area");
   glm::dvec3 c(0.0);
   for (const auto& p : q) c += 0.25 * p;
   glm::dvec3 u = glm::normalize(q[1] - q[0]);

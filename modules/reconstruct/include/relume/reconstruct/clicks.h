@@ -5,7 +5,9 @@
 // CLICKS.json:
 //   { "main": "main",                                  (optional: the photo textures come from)
 //     "points": { "P": {"main": [x, y], "view1": [x, y]},   (named points, shared by polygons)
-//                 "Q": {"xyz": [x, y, z]} },                 (a typed measurement, metres)
+//                 "Q": {"xyz": [x, y, z]},                   (a typed measurement, metres)
+//                 "R": {"main": [x, y], "view1": [x, y], "xyz": [..]} },  (a control point: clicked
+//                                                             and measured; 3+ fix the metric frame)
 //     "polygons": [ { "name": "floor", "group": "floor",
 //                     "lamp": false | "A",                    (a lamp: its name)
 //                     "radiance_rgb": [r, g, b],              (optional, lamps)
@@ -51,6 +53,19 @@ struct Clicks {
 };
 
 Clicks readClicks(const std::string& path);
+
+// One clicked point triangulated with the model's cameras (distortion removed from the clicks).
+TriangulatedPoint triangulateClickedPoint(const Clicks& clicks, const std::string& name, const ColmapModel& model);
+
+// Points clicked in two or more photos and also measured ("xyz"): their names.
+std::vector<std::string> controlPoints(const Clicks& clicks);
+struct ControlFit {
+  Similarity S;                              // model frame -> measured frame
+  std::map<std::string, double> residuals;   // metres, per control point, after the fit
+};
+// The similarity that takes the control points, triangulated with the model's cameras, to their
+// measured positions. Throws relume::Error with fewer than 3 (or collinear) control points.
+ControlFit fitControlPoints(const Clicks& clicks, const ColmapModel& model);
 
 struct TriangulationReport {
   std::map<std::string, TriangulatedPoint> points;  // per clicked point

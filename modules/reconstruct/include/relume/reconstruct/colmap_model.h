@@ -36,6 +36,9 @@ struct ColmapCamera {
   glm::dvec2 undistort(glm::dvec2 pixel) const;
   // The same camera with the distortion removed (fx fy cx cy of the model).
   glm::dmat3 K() const;
+  // Parameters of a model name, or -1 when Relume does not support it; the supported names.
+  static int parameterCount(const std::string& model);
+  static std::string supportedModels();
 };
 
 struct ColmapObservation {

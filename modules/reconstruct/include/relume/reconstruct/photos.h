@@ -36,6 +36,9 @@ struct PhotoInfo {
 // unreadable or not an image.
 PhotoInfo readPhotoInfo(const std::string& path);
 
+// Is this a radiance file (.exr / .hdr, any case) rather than a camera's 8-bit photo?
+bool isHdrFile(const std::string& path);
+
 // The image files of a folder (JPEG, PNG, TIFF, EXR), sorted by name.
 std::vector<std::string> listPhotos(const std::string& folder);
 
