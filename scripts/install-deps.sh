@@ -3,7 +3,8 @@
 set -euo pipefail
 pkgs=(cmake ninja-build ccache g++ pkg-config python3
       qt6-base-dev libglm-dev libtbb-dev libembree-dev
-      libopenimageio-dev openimageio-tools libopencv-dev libgtest-dev colmap)
+      libopenimageio-dev openimageio-tools libopencv-dev libgtest-dev colmap
+      libqt6sql6-sqlite)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

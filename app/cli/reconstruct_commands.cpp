@@ -120,6 +120,10 @@ int reconstructCommand(const QStringList& args, Progress& progress) {
   p.addOption({"scale", "Metric scale: two 3-D point ids and their distance.", "P1,P2,METRES"});
   p.addOption({"floor", "Floor plane: three or more 3-D point ids (z = 0, +Z up).", "P1,P2,P3"});
   p.addOption({"colmap", "The COLMAP executable (default: $RELUME_COLMAP or colmap on PATH).", "PATH"});
+  p.addOption({"known-cameras",
+               "Cameras already known (COLMAP model folder, workspace or room): only points are triangulated "
+               "(COLMAP point_triangulator); the poses stay.",
+               "MODEL"});
   parseOrThrow(p, args, 1, "relume reconstruct PHOTOS_DIR --out WORKSPACE [--scale P1,P2,M --floor P1,P2,P3]");
   if (!p.isSet("out")) throw Error("", "command line", "--out WORKSPACE is required");
   if (p.isSet("floor") && !p.isSet("scale")) throw Error("", "--floor", "needs --scale too (the metric frame takes both)");
@@ -135,6 +139,13 @@ int reconstructCommand(const QStringList& args, Progress& progress) {
     if (mp.size() != 2) throw Error("", "--camera", "expected MODEL:p1,p2,... e.g. PINHOLE:800,800,640,480");
     opt.cameraModel = str(mp[0]);
     opt.cameraParams = numbers(mp[1], "--camera");
+  }
+  if (p.isSet("known-cameras")) {
+    const Workspace k = openWorkspace(p.value("known-cameras"), "");
+    QDir kd(p.value("known-cameras"));
+    if (!k.modelFolder.empty()) opt.knownCameras = k.modelFolder;
+    else if (kd.exists("colmap/cameras.txt")) opt.knownCameras = str(kd.filePath("colmap"));
+    else throw Error(str(p.value("known-cameras")), "", "holds no COLMAP model of the cameras");
   }
   const std::string photos = str(QFileInfo(p.positionalArguments()[0]).absoluteFilePath());
   const std::string ws = str(p.value("out"));
@@ -293,7 +304,22 @@ int triangulateCommand(const QStringList& args, Progress& progress) {
       if (!(f > 0)) throw Error("", "--focal", "must be a positive number of pixels");
       cam.params = {f, f, wdt / 2.0, hgt / 2.0};
     } else {
-      throw Error(str(p.positionalArguments()[0]), "", "holds no COLMAP model: give --intrinsics or --focal to solve the cameras from the clicks");
+      // The focal length from the photos' EXIF (35 mm equivalent), principal point at the centre.
+      for (const auto& f : listPhotos(w.photosDir)) {
+        if (fs::path(f).stem() != photoNames.front() || isHdrFile(f)) continue;
+        const PhotoInfo info = readPhotoInfo(f);
+        if (info.focalPixels() > 0) {
+          cam.model = "PINHOLE";
+          cam.width = info.width;
+          cam.height = info.height;
+          cam.params = {info.focalPixels(), info.focalPixels(), info.width / 2.0, info.height / 2.0};
+          std::fprintf(stderr, "focal length from EXIF (%s): %.1f px\n", f.c_str(), info.focalPixels());
+        }
+      }
+      if (cam.params.empty())
+        throw Error(str(p.positionalArguments()[0]), "",
+                    "holds no COLMAP model and the photos' EXIF gives no focal length: give --intrinsics or --focal to "
+                    "solve the cameras from the clicks");
     }
     std::vector<Track> tracks;
     for (const auto& [n, pt] : clicks.points) {
@@ -401,9 +427,12 @@ int triangulateCommand(const QStringList& args, Progress& progress) {
 
 int hdrMergeCommand(const QStringList& args, Progress& progress) {
   QCommandLineParser p;
-  p.setApplicationDescription("Merge a bracket of 8-bit exposures into a radiance image (Debevec-Malik).");
-  p.addPositionalArgument("IMAGES", "Two or more exposures of one viewpoint.", "IMAGES...");
-  p.addOption({QStringList{"o", "output"}, "The radiance image (.exr).", "OUT.exr"});
+  p.setApplicationDescription(
+      "Merge a bracket of 8-bit exposures into a radiance image (Debevec-Malik). Given one folder, its photos are "
+      "grouped into brackets by their EXIF exposure and each is merged: -o is then a folder of one photo per "
+      "viewpoint (NAME.exr beside its middle exposure), ready for `relume reconstruct` and `relume triangulate`.");
+  p.addPositionalArgument("IMAGES", "Two or more exposures of one viewpoint, or a folder of brackets.", "IMAGES...|DIR");
+  p.addOption({QStringList{"o", "output"}, "The radiance image (.exr), or a folder for a folder of brackets.", "OUT"});
   p.addOption({"times", "Exposure times in seconds (e.g. 1/60,1/15,1/4); default: EXIF.", "T1,T2,..."});
   p.addOption({"ev", "Exposure steps in EV (t = 2^EV, Loscos 2000 Appendix B); default: EXIF.", "EV1,EV2,..."});
   p.addOption({"response", "Also write the recovered response curve (CSV).", "FILE.csv"});
@@ -413,7 +442,17 @@ int hdrMergeCommand(const QStringList& args, Progress& progress) {
     std::fprintf(stdout, "%s", qPrintable(p.helpText()));
     return 0;
   }
-  if (!p.isSet("output")) throw Error("", "command line", "-o OUT.exr is required");
+  if (!p.isSet("output")) throw Error("", "command line", "-o OUT is required");
+  if (p.positionalArguments().size() == 1 && QFileInfo(p.positionalArguments()[0]).isDir()) {
+    const auto groups = mergeBracketFolder(str(p.positionalArguments()[0]), str(p.value("output")), progress);
+    for (const auto& g : groups) {
+      std::string names;
+      for (const auto& ph : g) names.append(" ").append(fs::path(ph.path).filename().string());
+      std::fprintf(stderr, "%s:%s\n", g.size() > 1 ? "merged" : "single", names.c_str());
+    }
+    std::fprintf(stderr, "%zu viewpoints -> %s\n", groups.size(), qPrintable(p.value("output")));
+    return 0;
+  }
   if (QFileInfo(p.value("output")).suffix().toLower() != "exr") throw Error(str(p.value("output")), "", "the output must be an .exr");
   std::vector<std::string> files;
   for (const auto& f : p.positionalArguments()) files.push_back(str(f));

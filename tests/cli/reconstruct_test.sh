@@ -37,6 +37,19 @@ pts = {l.split()[0]: list(map(float, l.split()[1:4])) for l in open('$tmp/metric
 a, b, c = (pts[i] for i in '$ids'.split(','))
 assert abs(math.dist(a, b) - 1.5) < 1e-6 and max(abs(a[2]), abs(b[2]), abs(c[2])) < 1e-6\""
 
+# Known cameras (here the room's true ones): COLMAP only triangulates points; poses stay put and
+# the points land inside the room (4 x 5.2 x 2.6 m).
+"$relume" reconstruct "$room/photos" --out "$tmp/wsk" --known-cameras "$room" 2>"$tmp/known.err"
+check "reconstruct --known-cameras triangulates points with the poses unchanged" \
+  "[ $? -eq 0 ] && grep -q 'triangulating points with the known cameras' '$tmp/known.err' && \
+   \"$relume\" align '$tmp/wsk' --to '$room' --json '$tmp/known_align.json' >/dev/null 2>&1 && \
+   python3 -c \"
+import json
+d = json.load(open('$tmp/known_align.json')); assert d['max_m'] < 1e-6, d
+pts = [list(map(float, l.split()[1:4])) for l in open('$tmp/wsk/sparse/points3D.txt') if l[0] != '#']
+inside = [p for p in pts if -0.05 < p[0] < 4.05 and -0.05 < p[1] < 5.25 and -0.05 < p[2] < 2.65]
+print('   %d points, %d inside the room' % (len(pts), len(inside))); assert len(pts) > 100 and len(inside) >= 0.95 * len(pts)\""
+
 # 2. Polygons from clicks (resources/sample_room/clicks.json) with the room's cameras.
 "$relume" triangulate "$room/colmap" --clicks "$room/clicks.json" -o "$tmp/tri.relume" 2>"$tmp/tri.err"
 check "triangulate writes a project" "[ $? -eq 0 ] && [ -s '$tmp/tri.relume/project.json' ] && [ -s '$tmp/tri.relume/triangulation.json' ]"

@@ -661,3 +661,57 @@ TEST(MatchProposals, EpipolarSearchFindsTheClickedPointInAnotherPhoto) {
   EXPECT_GE(foundTop3, found);
   EXPECT_GT(found, 2 * foundFree) << "knowing the cameras (plane sweep on the epipolar line) helps";
 }
+
+// ---------------------------------------------------------------- photo import
+
+TEST(PhotoImport, ExifBracketsAreGroupedAndMergedPerViewpoint) {
+  const fs::path in = tempDir("brackets"), out = in / "merged";
+  // Two viewpoints: a bracket with exposure times, a bracket with EV steps only (Appendix B), and
+  // one photo without EXIF. A scene of two patches 16x apart in radiance.
+  auto shot = [](double e) {
+    Image8 im;
+    im.width = 64, im.height = 48;
+    im.pixels.resize(64 * 48 * 3);
+    for (int y = 0; y < 48; ++y)
+      for (int x = 0; x < 64; ++x) {
+        const double radiance = (x < 32 ? 0.02 : 0.32) * (1 + 0.3 * y / 47.0);
+        const double v = 255 * std::pow(std::min(1.0, radiance * e), 1 / 2.2);
+        for (int c = 0; c < 3; ++c) im.pixels[(y * 64 + x) * 3 + c] = (unsigned char)std::lround(v);
+      }
+    return im;
+  };
+  const double times[] = {0.25, 1.0, 4.0};
+  for (int i = 0; i < 3; ++i) {
+    PhotoInfo exif;
+    exif.exposureTime = times[i];
+    exif.focal35mm = 28;
+    exif.make = "Relume", exif.model = "Test";
+    // (TIFF: OpenImageIO 2.4 writes a fractional ExposureTime into JPEG EXIF as infinity.)
+    writeImage8((in / ("a" + std::to_string(i) + ".tif")).string(), shot(times[i]), &exif);
+    PhotoInfo ev;
+    ev.hasExposureBias = true;
+    ev.exposureBias = 2.0 * (i - 1);
+    ev.make = "Relume", ev.model = "Test";
+    writeImage8((in / ("b" + std::to_string(i) + ".jpg")).string(), shot(exposureFromEv(ev.exposureBias)), &ev);
+  }
+  writeImage8((in / "c.png").string(), shot(1.0));
+  const PhotoInfo a1 = readPhotoInfo((in / "a0.tif").string());
+  EXPECT_NEAR(a1.exposureTime, 0.25, 1e-6);
+  EXPECT_NEAR(a1.focalPixels(), 28.0 / 36.0 * 64, 1e-6);
+  EXPECT_TRUE(readPhotoInfo((in / "b0.jpg").string()).hasExposureBias);
+  const auto groups = mergeBracketFolder(in.string(), out.string(), silentProgress());
+  ASSERT_EQ(groups.size(), 3u);
+  EXPECT_EQ(groups[0].size(), 3u);
+  EXPECT_EQ(groups[1].size(), 3u);
+  EXPECT_EQ(groups[2].size(), 1u);
+  // One photo per viewpoint: the middle exposures, and a radiance image per bracket whose patch
+  // ratio is the scene's (16), within JPEG's and the response fit's error.
+  EXPECT_TRUE(fs::exists(out / "a1.tif") && fs::exists(out / "b1.jpg") && fs::exists(out / "c.png"));
+  for (const char* exr : {"a1.exr", "b1.exr"}) {
+    ASSERT_TRUE(fs::exists(out / exr)) << exr;
+    const ImageRGB r = readImageLinear((out / exr).string());
+    const double dark = r.at(16, 24).y, bright = r.at(48, 24).y;
+    EXPECT_NEAR(bright / dark, 16.0, 16.0 * 0.1) << exr;
+  }
+  EXPECT_FALSE(fs::exists(out / "c.exr"));
+}

@@ -1,6 +1,10 @@
 #include "relume/reconstruct/colmap_driver.h"
 
 #include <QProcess>
+#include <QSqlDatabase>
+#include <QSqlError>
+#include <QSqlQuery>
+#include <QVariant>
 #include <QProcessEnvironment>
 #include <QStandardPaths>
 #include <QStringList>
@@ -82,6 +86,30 @@ void runColmapStep(const std::string& colmap, const std::vector<std::string>& ar
 }
 
 namespace {
+struct DbImage {
+  int id = 0, camera = 0;
+};
+// Image and camera ids COLMAP's database gave each image name (ids follow the order in which
+// the extraction threads finished, so they must be read back).
+std::map<std::string, DbImage> databaseImages(const std::string& dbPath) {
+  std::map<std::string, DbImage> out;
+  const QString conn = QString("relume-colmap-%1").arg(reinterpret_cast<quintptr>(&out));
+  {
+    QSqlDatabase db = QSqlDatabase::addDatabase("QSQLITE", conn);
+    db.setDatabaseName(QString::fromStdString(dbPath));
+    if (!db.open())
+      throw Error(dbPath, "", "cannot open COLMAP's database (Qt's SQLite driver, Debian libqt6sql6-sqlite): " +
+                                  db.lastError().text().toStdString());
+    QSqlQuery q(db);
+    if (!q.exec("SELECT image_id, name, camera_id FROM images"))
+      throw Error(dbPath, "images", "cannot be read: " + q.lastError().text().toStdString());
+    while (q.next()) out[q.value(1).toString().toStdString()] = {q.value(0).toInt(), q.value(2).toInt()};
+    db.close();
+  }
+  QSqlDatabase::removeDatabase(conn);
+  return out;
+}
+
 std::string num(double v) {
   char b[64];
   std::snprintf(b, sizeof b, "%.17g", v);
@@ -109,7 +137,27 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
     (void)info;
     names.push_back(fs::path(f).filename().string());
   }
-  if (names.size() < 2) throw Error(photosDir, "", "holds " + std::to_string(names.size()) + " photo(s); reconstruction needs two or more");
+  ColmapModel known;
+  ColmapOptions o = opt;
+  if (!opt.knownCameras.empty()) {
+    known = readColmapModel(opt.knownCameras);
+    std::vector<std::string> inModel;
+    for (const auto& nm : names)
+      if (known.findImage(nm)) inModel.push_back(nm);
+    names = inModel;
+    // The database's cameras get the known intrinsics.
+    if (known.cameras.size() == 1) {
+      const ColmapCamera& c = known.cameras.begin()->second;
+      o.singleCamera = true;
+      o.cameraModel = c.model;
+      o.cameraParams = c.params;
+    } else {
+      o.singleCamera = false;
+    }
+  }
+  if (names.size() < 2) throw Error(photosDir, "", "holds " + std::to_string(names.size()) + " photo(s)" +
+                                                  (known.images.empty() ? "" : " that the known cameras name") +
+                                                  "; reconstruction needs two or more");
   const std::string colmap = findColmap(opt.executable);
   const fs::path ws(workspace), scratch = ws / "colmap";
   std::error_code ec;
@@ -139,11 +187,11 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
     std::vector<std::string> a = {"feature_extractor", "--database_path", db.string(), "--image_path", photosDir,
                                   "--image_list_path", list.string(), "--SiftExtraction.use_gpu", "0",
                                   "--SiftExtraction.num_threads", threads, "--SiftExtraction.peak_threshold",
-                                  num(opt.siftPeakThreshold), "--ImageReader.single_camera", opt.singleCamera ? "1" : "0"};
-    if (!opt.cameraModel.empty()) {
+                                  num(opt.siftPeakThreshold), "--ImageReader.single_camera", o.singleCamera ? "1" : "0"};
+    if (!o.cameraModel.empty()) {
       std::string params;
-      for (double p : opt.cameraParams) params += (params.empty() ? "" : ",") + num(p);
-      a.insert(a.end(), {"--ImageReader.camera_model", opt.cameraModel, "--ImageReader.camera_params", params});
+      for (double p : o.cameraParams) params += (params.empty() ? "" : ",") + num(p);
+      a.insert(a.end(), {"--ImageReader.camera_model", o.cameraModel, "--ImageReader.camera_params", params});
     }
     const std::regex re(R"(Processed file \[(\d+)/(\d+)\])");
     sub.report(0, "COLMAP: extracting features of " + std::to_string(names.size()) + " photos");
@@ -158,8 +206,6 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
   {
     Progress sub(progress, 0.3, 0.5);
     const bool seq = opt.matcher == "sequential";
-    if (!seq && opt.matcher != "exhaustive")
-      throw Error("", "--matcher", "must be exhaustive or sequential, not '" + opt.matcher + "'");
     std::vector<std::string> a = {seq ? "sequential_matcher" : "exhaustive_matcher", "--database_path", db.string(),
                                   "--SiftMatching.use_gpu", "0", "--SiftMatching.num_threads", threads};
     const std::regex re(R"(Matching (?:block|image) \[(\d+)/(\d+))");
@@ -171,8 +217,35 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
     });
   }
   auto t2 = clock::now();
-  // 3. Incremental mapping.
-  {
+  // 3. Incremental mapping, or the points of known cameras.
+  if (!known.images.empty()) {
+    Progress sub(progress, 0.5, 0.95);
+    const auto dbImages = databaseImages(db.string());
+    ColmapModel input;
+    for (const auto& nm : names) {
+      const auto it = dbImages.find(nm);
+      if (it == dbImages.end()) throw Error(db.string(), "image " + nm, "is missing from COLMAP's database");
+      const ColmapImage& k = *known.findImage(nm);
+      ColmapCamera cam = known.cameras.at(k.camera);
+      cam.id = it->second.camera;
+      input.cameras[cam.id] = cam;
+      ColmapImage im = k;
+      im.id = it->second.id;
+      im.camera = cam.id;
+      im.name = nm;
+      im.points.clear();
+      input.images[im.id] = im;
+    }
+    writeColmapText(input, (scratch / "known").string());
+    fs::create_directories(scratch / "sparse" / "0");
+    sub.report(0, "COLMAP: triangulating points with the known cameras");
+    runColmapStep(colmap,
+                  {"point_triangulator", "--database_path", db.string(), "--image_path", photosDir, "--input_path",
+                   (scratch / "known").string(), "--output_path", (scratch / "sparse" / "0").string(),
+                   "--Mapper.num_threads", threads, "--Mapper.ba_refine_focal_length", "0",
+                   "--Mapper.ba_refine_principal_point", "0", "--Mapper.ba_refine_extra_params", "0"},
+                  "point_triangulator", sub, {});
+  } else {
     Progress sub(progress, 0.5, 0.95);
     const bool fixIntrinsics = !opt.cameraModel.empty();
     std::vector<std::string> a = {"mapper", "--database_path", db.string(), "--image_path", photosDir, "--output_path",
@@ -206,6 +279,7 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
     }
   }
   auto t3 = clock::now();
+
   // The largest model.
   int bestImages = -1;
   fs::path best;

@@ -31,7 +31,15 @@ bool isPhotoExtension(const std::string& ext) {
 double attr(const OIIO::ImageSpec& s, std::initializer_list<const char*> names) {
   for (const char* n : names) {
     const OIIO::ParamValue* p = s.find_attribute(n);
-    if (p) return p->get_float();
+    if (!p) continue;
+    // OpenImageIO keeps EXIF values as float, int or rational, and get_float() reads only floats.
+    const OIIO::TypeDesc t = p->type();
+    if (t.vecsemantics == OIIO::TypeDesc::RATIONAL && t.aggregate == OIIO::TypeDesc::VEC2) {
+      const int* v = static_cast<const int*>(p->data());
+      return v[1] ? double(v[0]) / v[1] : 0.0;
+    }
+    if (t.is_floating_point()) return p->get_float();
+    return double(p->get_int());
   }
   return 0;
 }
@@ -67,6 +75,7 @@ PhotoInfo readPhotoInfo(const std::string& path) {
   p.focalMm = attr(s, {"Exif:FocalLength", "FocalLength"});
   p.focal35mm = attr(s, {"Exif:FocalLengthIn35mmFilm", "FocalLengthIn35mmFilm"});
   p.exposureTime = attr(s, {"ExposureTime", "Exif:ExposureTime"});
+  if (!std::isfinite(p.exposureTime) || p.exposureTime < 0) p.exposureTime = 0;  // unreadable rational
   p.fNumber = attr(s, {"FNumber", "Exif:FNumber"});
   p.iso = attr(s, {"Exif:PhotographicSensitivity", "Exif:ISOSpeedRatings", "ISOSpeedRatings"});
   p.hasExposureBias = hasAttr(s, {"Exif:ExposureBiasValue", "ExposureBiasValue"});
@@ -245,18 +254,57 @@ HdrResult mergeBracket(const std::vector<Image8>& images, const std::vector<doub
   return r;
 }
 
-void writeImage8(const std::string& path, const Image8& image) {
+void writeImage8(const std::string& path, const Image8& image, const PhotoInfo* exif) {
   const std::string tmp = path + ".tmp" + fs::path(path).extension().string();
   {
     auto out = OIIO::ImageOutput::create(tmp);
     if (!out) throw Error(path, "", "cannot create an image writer: " + OIIO::geterror());
-    const OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+    if (exif) {
+      if (exif->exposureTime > 0) spec.attribute("ExposureTime", float(exif->exposureTime));
+      if (exif->fNumber > 0) spec.attribute("FNumber", float(exif->fNumber));
+      if (exif->focalMm > 0) spec.attribute("Exif:FocalLength", float(exif->focalMm));
+      if (exif->focal35mm > 0) spec.attribute("Exif:FocalLengthIn35mmFilm", int(exif->focal35mm));
+      if (exif->hasExposureBias) spec.attribute("Exif:ExposureBiasValue", float(exif->exposureBias));
+      if (!exif->make.empty()) spec.attribute("Make", exif->make);
+      if (!exif->model.empty()) spec.attribute("Model", exif->model);
+    }
     if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, image.pixels.data()) || !out->close())
       throw Error(path, "", "cannot write the image: " + out->geterror());
   }
   std::error_code ec;
   fs::rename(tmp, path, ec);
   if (ec) throw Error(path, "", "cannot replace the file: " + ec.message());
+}
+
+std::vector<std::vector<PhotoInfo>> mergeBracketFolder(const std::string& folder, const std::string& outFolder,
+                                                       Progress& progress) {
+  std::vector<PhotoInfo> infos;
+  for (const auto& f : listPhotos(folder))
+    if (!isHdrFile(f)) infos.push_back(readPhotoInfo(f));
+  if (infos.empty()) throw Error(folder, "", "holds no 8-bit photos");
+  const auto groups = groupBrackets(infos);
+  std::error_code ec;
+  fs::create_directories(outFolder, ec);
+  if (ec) throw Error(outFolder, "", "cannot create the folder: " + ec.message());
+  for (size_t g = 0; g < groups.size(); ++g) {
+    Progress sub(progress, double(g) / groups.size(), double(g + 1) / groups.size());
+    auto group = groups[g];
+    std::sort(group.begin(), group.end(), [](const PhotoInfo& a, const PhotoInfo& b) {
+      const auto t = [](const PhotoInfo& p) { return p.exposureTime > 0 ? p.exposureTime : exposureFromEv(p.exposureBias); };
+      return t(a) < t(b);
+    });
+    const PhotoInfo& middle = group[group.size() / 2];
+    const fs::path dst = fs::path(outFolder) / fs::path(middle.path).filename();
+    fs::copy_file(middle.path, dst, fs::copy_options::overwrite_existing, ec);
+    if (ec) throw Error(dst.string(), "", "cannot copy the photo: " + ec.message());
+    if (group.size() < 2) continue;
+    std::vector<std::string> files;
+    for (const auto& p : group) files.push_back(p.path);
+    const HdrResult r = mergeBracket(files, {}, sub);
+    writeImage((fs::path(outFolder) / (fs::path(middle.path).stem().string() + ".exr")).string(), r.radiance);
+  }
+  return groups;
 }
 
 Intrinsics calibrateCheckerboard(const std::vector<std::string>& files, int cols, int rows, double square,

@@ -25,6 +25,9 @@ struct ColmapOptions {
   int initMinInliers = 30;
   int absPoseMinInliers = 15;
   int threads = -1;
+  // Cameras already known (a COLMAP model folder, e.g. from TotalCalib-style clicks or a rig):
+  // features are matched and COLMAP's point_triangulator adds the points, the poses stay.
+  std::string knownCameras;
 };
 
 struct ColmapRun {
@@ -39,7 +42,7 @@ struct ColmapRun {
 std::string findColmap(const std::string& preferred = "");
 
 // Photos of `photosDir` (8-bit JPEG/PNG/TIFF; EXR files are left to the HDR path) to a sparse
-// model in `workspace`. Throws relume::Error when COLMAP is missing, when a step fails (quoting
+// model in `workspace` (mapper, or point_triangulator with options.knownCameras). Throws relume::Error when COLMAP is missing, when a step fails (quoting
 // its last lines), or when fewer than 2 photos register (naming the photos left out); Cancelled
 // when progress is cancelled (the child process is killed, the previous sparse/ stays).
 ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, const ColmapOptions& options,

@@ -81,7 +81,14 @@ void writeIntrinsics(const Intrinsics& in, const std::string& jsonPath);
 Intrinsics readIntrinsics(const std::string& jsonPath);
 
 Image8 readImage8(const std::string& path);
-// Writes an 8-bit image as it is (no curve applied); atomic like relume::writeImage.
-void writeImage8(const std::string& path, const Image8& image);
+// Writes an 8-bit image as it is (no curve applied); atomic like relume::writeImage. The
+// exposure and focal fields of `exif` that are set (> 0) go into the file's metadata.
+void writeImage8(const std::string& path, const Image8& image, const PhotoInfo* exif = nullptr);
+
+// A folder of bracketed photos to a folder of one photo per viewpoint: each bracket (see
+// groupBrackets) is merged into NAME.exr beside a copy of its middle exposure NAME.ext (what
+// COLMAP and the textures' 8-bit fallback use); single photos are copied. Returns the groups.
+std::vector<std::vector<PhotoInfo>> mergeBracketFolder(const std::string& folder, const std::string& outFolder,
+                                                       Progress& progress);
 
 }  // namespace relume::recon
