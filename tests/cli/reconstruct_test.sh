@@ -138,6 +138,18 @@ check "a truncated photo: error naming it" "[ $? -eq 1 ] && grep -q 'view1.png' 
 "$relume" calibrate "$room/photos" --pattern 9x6 --square 0.025 -o "$tmp/intr.json" 2>"$tmp/e5"
 check "no checkerboard: error naming the photos" "[ $? -eq 1 ] && grep -q 'checkerboard' '$tmp/e5' && grep -q 'main.png' '$tmp/e5' && [ ! -e '$tmp/intr.json' ]"
 
+# Ctrl-C while COLMAP runs: exit 130, COLMAP's process killed, no model written.
+"$relume" reconstruct "$room/photos" --out "$tmp/ws_cancel" 2>/dev/null &
+pid=$!
+sleep 1
+kill -INT $pid
+wait $pid
+code=$?
+sleep 0.5
+check "Ctrl-C cancels reconstruct with exit 130" "[ $code -eq 130 ]"
+check "and kills COLMAP, writing no model" \
+  "! pgrep -f 'colmap .*ws_cancel' >/dev/null && [ ! -e '$tmp/ws_cancel/sparse/cameras.txt' ]"
+
 # 4. HDR merge of a bracket made from the linear photo (three exposures two stops apart).
 for e in 0.25 1 4; do oiiotool "$room/photos/main.exr" --mulc $e --colorconvert linear sRGB -d uint8 -o "$tmp/b_$e.png"; done
 "$relume" hdr-merge "$tmp/b_0.25.png" "$tmp/b_1.png" "$tmp/b_4.png" --times 1/4,1,4 -o "$tmp/merged.exr" --response "$tmp/resp.csv" 2>/dev/null
