@@ -572,13 +572,21 @@ TEST(Calibration, NoCheckerboardIsAClearError) {
 
 // ---------------------------------------------------------------- COLMAP driver
 
-TEST(ColmapDriver, MissingColmapSaysHowToInstallIt) {
-  const fs::path d = tempDir("nocolmap");
+namespace {
+// A folder with two flat grey photos a.png and b.png.
+fs::path twoFlatPhotos(const std::string& name) {
+  const fs::path d = tempDir(name);
   Image8 a;
   a.width = 64, a.height = 48;
   a.pixels.assign(64 * 48 * 3, 90);
   writeImage8((d / "a.png").string(), a);
   writeImage8((d / "b.png").string(), a);
+  return d;
+}
+}  // namespace
+
+TEST(ColmapDriver, MissingColmapSaysHowToInstallIt) {
+  const fs::path d = twoFlatPhotos("nocolmap");
   ColmapOptions o;
   o.executable = "relume-no-such-colmap";
   const std::string e = errorText([&] { runColmap(d.string(), (d / "ws").string(), o, silentProgress()); });
@@ -587,12 +595,7 @@ TEST(ColmapDriver, MissingColmapSaysHowToInstallIt) {
 }
 
 TEST(ColmapDriver, TruncatedPhotoIsNamedBeforeColmapRuns) {
-  const fs::path d = tempDir("truncated");
-  Image8 a;
-  a.width = 64, a.height = 48;
-  a.pixels.assign(64 * 48 * 3, 90);
-  writeImage8((d / "a.png").string(), a);
-  writeImage8((d / "b.png").string(), a);
+  const fs::path d = twoFlatPhotos("truncated");
   fs::resize_file(d / "b.png", fs::file_size(d / "b.png") / 2);
   const std::string e = errorText([&] { runColmap(d.string(), (d / "ws").string(), {}, silentProgress()); });
   EXPECT_NE(e.find("b.png"), std::string::npos) << e;
