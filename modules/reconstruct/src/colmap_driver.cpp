@@ -207,7 +207,8 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
     Progress sub(progress, 0.3, 0.5);
     const bool seq = opt.matcher == "sequential";
     std::vector<std::string> a = {seq ? "sequential_matcher" : "exhaustive_matcher", "--database_path", db.string(),
-                                  "--SiftMatching.use_gpu", "0", "--SiftMatching.num_threads", threads};
+                                  "--SiftMatching.use_gpu", "0", "--SiftMatching.num_threads", threads,
+                                  "--SiftMatching.guided_matching", opt.guidedMatching ? "1" : "0"};
     const std::regex re(R"(Matching (?:block|image) \[(\d+)/(\d+))");
     sub.report(0, "COLMAP: matching (" + opt.matcher + ")");
     runColmapStep(colmap, a, opt.matcher + "_matcher", sub, [&](const std::string& line) {
@@ -218,6 +219,7 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
   }
   auto t2 = clock::now();
   // 3. Incremental mapping, or the points of known cameras.
+  std::string lastProblem;
   if (!known.images.empty()) {
     Progress sub(progress, 0.5, 0.95);
     const auto dbImages = databaseImages(db.string());
@@ -246,47 +248,66 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
                    "--Mapper.ba_refine_principal_point", "0", "--Mapper.ba_refine_extra_params", "0"},
                   "point_triangulator", sub, {});
   } else {
-    Progress sub(progress, 0.5, 0.95);
+    // Incremental mapping is randomised (RANSAC, thread order): a run can start from a poor pair
+    // and end with small or wrong models. Three runs with different seeds; the model that
+    // registers most photos and, among those, explains most observations is kept.
+    const int attempts = 3;
     const bool fixIntrinsics = !opt.cameraModel.empty();
-    std::vector<std::string> a = {"mapper", "--database_path", db.string(), "--image_path", photosDir, "--output_path",
-                                  (scratch / "sparse").string(), "--Mapper.num_threads", threads,
-                                  "--Mapper.min_model_size", "2", "--Mapper.init_min_num_inliers",
-                                  std::to_string(opt.initMinInliers), "--Mapper.abs_pose_min_num_inliers",
-                                  std::to_string(opt.absPoseMinInliers)};
-    if (fixIntrinsics)
-      a.insert(a.end(), {"--Mapper.ba_refine_focal_length", "0", "--Mapper.ba_refine_principal_point", "0",
-                         "--Mapper.ba_refine_extra_params", "0"});
-    const std::regex re(R"(Registering image #\d+ \((\d+)\))");
-    sub.report(0, "COLMAP: mapping");
-    try {
-      runColmapStep(colmap, a, "mapper", sub, [&](const std::string& line) {
-        std::smatch m;
-        if (std::regex_search(line, m, re))
-          sub.report(std::stod(m[1]) / n, "COLMAP: registered " + m[1].str() + " of " + std::to_string(names.size()) + " photos");
-      });
-    } catch (const Error& e) {
-      // COLMAP 3.8 exits with an error when no model could be made at all: say what that means.
-      if (!fs::exists(scratch / "sparse" / "0")) {
-        std::string all;
-        for (const auto& nm : names) all += (all.empty() ? "" : ", ") + nm;
-        throw Error(photosDir, "COLMAP mapper",
-                    "fewer than 2 photos registered (0 of " + std::to_string(names.size()) +
-                        "; left out: " + all + "). Too little overlap or texture: try more photos, known intrinsics "
-                        "(--camera/--intrinsics), or clicked correspondences (`relume triangulate` without a model). " +
-                        e.problem());
+    for (int k = 0; k < attempts; ++k) {
+      Progress sub(progress, 0.5 + 0.45 * k / attempts, 0.5 + 0.45 * (k + 1) / attempts);
+      const fs::path out = scratch / "sparse" / ("run" + std::to_string(k));
+      fs::create_directories(out);
+      std::vector<std::string> a = {"mapper", "--database_path", db.string(), "--image_path", photosDir, "--output_path",
+                                    out.string(), "--random_seed", std::to_string(k + 1), "--Mapper.num_threads",
+                                    threads, "--Mapper.min_model_size", "2", "--Mapper.init_min_num_inliers",
+                                    std::to_string(opt.initMinInliers), "--Mapper.abs_pose_min_num_inliers",
+                                    std::to_string(opt.absPoseMinInliers)};
+      if (fixIntrinsics)
+        a.insert(a.end(), {"--Mapper.ba_refine_focal_length", "0", "--Mapper.ba_refine_principal_point", "0",
+                           "--Mapper.ba_refine_extra_params", "0"});
+      const std::regex re(R"(Registering image #\d+ \((\d+)\))");
+      sub.report(0, "COLMAP: mapping, run " + std::to_string(k + 1) + " of " + std::to_string(attempts));
+      try {
+        runColmapStep(colmap, a, "mapper", sub, [&](const std::string& line) {
+          std::smatch m;
+          if (std::regex_search(line, m, re))
+            sub.report(std::stod(m[1]) / n, "COLMAP: run " + std::to_string(k + 1) + " registered " + m[1].str() + " of " +
+                                               std::to_string(names.size()) + " photos");
+        });
+      } catch (const Error& e) {
+        // COLMAP 3.8 exits with an error when a run makes no model at all.
+        lastProblem = e.problem();
       }
-      throw;
     }
   }
   auto t3 = clock::now();
 
-  // The largest model.
+  // The best model: most photos registered, then most observations.
   int bestImages = -1;
-  fs::path best;
-  for (const auto& e : fs::directory_iterator(scratch / "sparse")) {
-    if (!e.is_directory()) continue;
-    const ColmapModel m = readColmapModel(e.path().string());
-    if (int(m.images.size()) > bestImages) bestImages = int(m.images.size()), best = e.path(), run.model = m;
+  size_t bestObs = 0;
+  std::vector<fs::path> folders;
+  for (const auto& e : fs::recursive_directory_iterator(scratch / "sparse"))
+    if (e.is_directory() && (fs::exists(e.path() / "cameras.bin") || fs::exists(e.path() / "cameras.txt")))
+      folders.push_back(e.path());
+  std::sort(folders.begin(), folders.end());
+  for (const auto& f : folders) {
+    const ColmapModel m = readColmapModel(f.string());
+    size_t obs = 0;
+    for (const auto& [id, p] : m.points) obs += p.track.size();
+    if (int(m.images.size()) > bestImages || (int(m.images.size()) == bestImages && obs > bestObs)) {
+      bestImages = int(m.images.size());
+      bestObs = obs;
+      run.model = m;
+    }
+  }
+  if (bestImages < 0) {
+    std::string all;
+    for (const auto& nm : names) all += (all.empty() ? "" : ", ") + nm;
+    throw Error(photosDir, "COLMAP mapper",
+                "fewer than 2 photos registered (0 of " + std::to_string(names.size()) + "; left out: " + all +
+                    "). Too little overlap or texture: try more photos, known intrinsics (--camera/--intrinsics), or "
+                    "clicked correspondences (`relume triangulate` without a model)." +
+                    (lastProblem.empty() ? "" : " " + lastProblem));
   }
   std::set<std::string> reg;
   for (const auto& [id, im] : run.model.images) reg.insert(im.name);

@@ -24,6 +24,9 @@ struct ColmapOptions {
   double siftPeakThreshold = 0.001;
   int initMinInliers = 30;
   int absPoseMinInliers = 15;
+  // Matches re-searched along the epipolar geometry each image pair verified (more, surer matches
+  // where texture is weak).
+  bool guidedMatching = true;
   int threads = -1;
   // Cameras already known (a COLMAP model folder, e.g. from TotalCalib-style clicks or a rig):
   // features are matched and COLMAP's point_triangulator adds the points, the poses stay.
