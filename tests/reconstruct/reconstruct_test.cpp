@@ -237,6 +237,7 @@ TEST(Triangulation, NoiseFreeClicksGiveCornersWithin1mm) {
     worst = std::max(worst, glm::length(tp.X - X));
     EXPECT_LT(tp.rmsError, 1e-6);
   }
+  std::printf("noise-free clicks: largest corner error %.3g m\n", worst);
   EXPECT_LT(worst, 1e-3);
 }
 
@@ -249,6 +250,7 @@ TEST(Triangulation, OnePixelClickNoiseAt3mStaysWithin2cm) {
     worst = std::max(worst, glm::length(tp.X - X));
     rms += tp.rmsError * tp.rmsError;
   }
+  std::printf("1 px click noise: largest corner error %.4f m over %zu corners\n", worst, r.points.size());
   EXPECT_LT(worst, 0.02);
   // The reported reprojection error reflects the click noise (2 dof of 6 absorbed by the point).
   EXPECT_GT(std::sqrt(rms / r.points.size()), 0.5);
@@ -408,6 +410,7 @@ TEST(Correspondences, CamerasFromThirtyClicksMatchTheTruth) {
     tru.push_back(truth[i].center());
   }
   const CenterAlignment a = alignCenters(est, tru);
+  std::printf("cameras from 36 clicked points: largest centre error %.4f m, rms %.3f px\n", a.max, sol.rmsError);
   EXPECT_LT(a.max, 0.01) << "camera centres after the similarity fit";
   EXPECT_LT(sol.rmsError, 1.0);
   // Points land within a centimetre or two after the same similarity.
@@ -467,6 +470,7 @@ TEST(Hdr, MergedBracketRecoversRadianceRatiosWithin5Percent) {
     const double scale = sorted[sorted.size() / 2];
     double worst = 0;
     for (double q : ratio) worst = std::max(worst, std::abs(q / scale - 1));
+    std::printf("HDR merge, channel %d: largest radiance-ratio error %.2f %%\n", c, 100 * worst);
     EXPECT_LT(worst, 0.05) << "channel " << c;
   }
 }
@@ -546,6 +550,8 @@ TEST(Calibration, CheckerboardPhotosGiveTheIntrinsics) {
     files.push_back(f);
   }
   const Intrinsics in = calibrateCheckerboard(files, cols, rows, sq, silentProgress());
+  std::printf("calibration: fx %.2f fy %.2f cx %.2f cy %.2f k1 %.4f rms %.3f px (true 600, 600, 320, 240, %.2f)\n", in.fx,
+              in.fy, in.cx, in.cy, in.k1, in.rms, k1);
   EXPECT_EQ(in.used.size(), files.size());
   EXPECT_NEAR(in.fx, 600, 6);
   EXPECT_NEAR(in.fy, 600, 6);

@@ -17,6 +17,7 @@
 #include <set>
 
 #include "relume/geometry/error.h"
+#include "relume/reconstruct/multiview.h"
 #include "relume/reconstruct/photos.h"
 
 namespace fs = std::filesystem;
@@ -186,7 +187,9 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
     Progress sub(progress, 0.0, 0.3);
     std::vector<std::string> a = {"feature_extractor", "--database_path", db.string(), "--image_path", photosDir,
                                   "--image_list_path", list.string(), "--SiftExtraction.use_gpu", "0",
-                                  "--SiftExtraction.num_threads", threads, "--SiftExtraction.peak_threshold",
+                                  "--SiftExtraction.num_threads", threads, "--SiftExtraction.domain_size_pooling",
+                                  opt.dspSift ? "1" : "0", "--SiftExtraction.estimate_affine_shape", opt.dspSift ? "1" : "0",
+                                  "--SiftExtraction.peak_threshold",
                                   num(opt.siftPeakThreshold), "--ImageReader.single_camera", o.singleCamera ? "1" : "0"};
     if (!o.cameraModel.empty()) {
       std::string params;
@@ -208,7 +211,8 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
     const bool seq = opt.matcher == "sequential";
     std::vector<std::string> a = {seq ? "sequential_matcher" : "exhaustive_matcher", "--database_path", db.string(),
                                   "--SiftMatching.use_gpu", "0", "--SiftMatching.num_threads", threads,
-                                  "--SiftMatching.guided_matching", opt.guidedMatching ? "1" : "0"};
+                                  "--SiftMatching.guided_matching", opt.guidedMatching ? "1" : "0",
+                                  "--SiftMatching.max_error", num(opt.matchMaxError)};
     const std::regex re(R"(Matching (?:block|image) \[(\d+)/(\d+))");
     sub.report(0, "COLMAP: matching (" + opt.matcher + ")");
     runColmapStep(colmap, a, opt.matcher + "_matcher", sub, [&](const std::string& line) {
@@ -249,9 +253,8 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
                   "point_triangulator", sub, {});
   } else {
     // Incremental mapping is randomised (RANSAC, thread order): a run can start from a poor pair
-    // and end with small or wrong models. Three runs with different seeds; the model that
-    // registers most photos and, among those, explains most observations is kept.
-    const int attempts = 3;
+    // and end with small or wrong models. Several runs with different seeds (options.mapperRuns).
+    const int attempts = std::max(1, opt.mapperRuns);
     const bool fixIntrinsics = !opt.cameraModel.empty();
     for (int k = 0; k < attempts; ++k) {
       Progress sub(progress, 0.5 + 0.45 * k / attempts, 0.5 + 0.45 * (k + 1) / attempts);
@@ -282,23 +285,45 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
   }
   auto t3 = clock::now();
 
-  // The best model: most photos registered, then most observations.
+  // The best model: most photos registered; among several such runs, the one that agrees best
+  // with the others (the medoid: a wrong model disagrees with the right ones).
   int bestImages = -1;
-  size_t bestObs = 0;
   std::vector<fs::path> folders;
   for (const auto& e : fs::recursive_directory_iterator(scratch / "sparse"))
     if (e.is_directory() && (fs::exists(e.path() / "cameras.bin") || fs::exists(e.path() / "cameras.txt")))
       folders.push_back(e.path());
   std::sort(folders.begin(), folders.end());
+  std::vector<ColmapModel> models;
   for (const auto& f : folders) {
-    const ColmapModel m = readColmapModel(f.string());
-    size_t obs = 0;
-    for (const auto& [id, p] : m.points) obs += p.track.size();
-    if (int(m.images.size()) > bestImages || (int(m.images.size()) == bestImages && obs > bestObs)) {
-      bestImages = int(m.images.size());
-      bestObs = obs;
-      run.model = m;
+    models.push_back(readColmapModel(f.string()));
+    bestImages = std::max(bestImages, int(models.back().images.size()));
+  }
+  std::vector<const ColmapModel*> full;
+  for (const auto& m : models)
+    if (int(m.images.size()) == bestImages) full.push_back(&m);
+  auto disagreement = [&](const ColmapModel& a, const ColmapModel& b) {
+    std::vector<glm::dvec3> ca, cb;
+    for (const auto& [id, im] : a.images)
+      if (const ColmapImage* o = b.findImage(im.name)) ca.push_back(im.center()), cb.push_back(o->center());
+    if (ca.size() < 3) return 1e9;
+    try {
+      const CenterAlignment al = alignCenters(ca, cb);
+      // Relative to the spread of the reference cameras, so that the models' scales do not matter.
+      glm::dvec3 mean(0.0);
+      for (const auto& c : cb) mean += c / double(cb.size());
+      double spread = 0;
+      for (const auto& c : cb) spread += glm::length(c - mean) / double(cb.size());
+      return spread > 0 ? al.median / spread : 1e9;
+    } catch (const Error&) {
+      return 1e9;
     }
+  };
+  double bestScore = 1e300;
+  for (const ColmapModel* m : full) {
+    double score = 0;
+    for (const ColmapModel* o : full)
+      if (o != m) score += disagreement(*m, *o);
+    if (score < bestScore) bestScore = score, run.model = *m;
   }
   if (bestImages < 0) {
     std::string all;
