@@ -166,6 +166,7 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
   if (ec) throw Error(workspace, "", "cannot create the workspace: " + ec.message());
   const fs::path db = scratch / "database.db";
   fs::remove(db, ec);
+  fs::remove(scratch / "features.db", ec);
   fs::remove_all(scratch / "sparse", ec);
   fs::create_directories(scratch / "sparse");
   // Only the 8-bit photos: a list file, so COLMAP leaves the EXRs alone.
@@ -205,102 +206,106 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
     });
   }
   auto t1 = clock::now();
-  // 2. Matching.
-  {
-    Progress sub(progress, 0.3, 0.5);
-    const bool seq = opt.matcher == "sequential";
-    std::vector<std::string> a = {seq ? "sequential_matcher" : "exhaustive_matcher", "--database_path", db.string(),
-                                  "--SiftMatching.use_gpu", "0", "--SiftMatching.num_threads", threads,
-                                  "--SiftMatching.guided_matching", opt.guidedMatching ? "1" : "0",
-                                  "--SiftMatching.max_error", num(opt.matchMaxError)};
-    const std::regex re(R"(Matching (?:block|image) \[(\d+)/(\d+))");
-    sub.report(0, "COLMAP: matching (" + opt.matcher + ")");
-    runColmapStep(colmap, a, opt.matcher + "_matcher", sub, [&](const std::string& line) {
-      std::smatch m;
-      if (std::regex_search(line, m, re))
-        sub.report(std::stod(m[1]) / std::max(1.0, std::stod(m[2])), "COLMAP: matching " + m[1].str() + "/" + m[2].str());
-    });
-  }
-  auto t2 = clock::now();
-  // 3. Incremental mapping, or the points of known cameras.
+  double matchSeconds = 0, mapSeconds = 0;
   std::string lastProblem;
-  if (!known.images.empty()) {
-    Progress sub(progress, 0.5, 0.95);
-    const auto dbImages = databaseImages(db.string());
-    ColmapModel input;
-    for (const auto& nm : names) {
-      const auto it = dbImages.find(nm);
-      if (it == dbImages.end()) throw Error(db.string(), "image " + nm, "is missing from COLMAP's database");
-      const ColmapImage& k = *known.findImage(nm);
-      ColmapCamera cam = known.cameras.at(k.camera);
-      cam.id = it->second.camera;
-      input.cameras[cam.id] = cam;
-      ColmapImage im = k;
-      im.id = it->second.id;
-      im.camera = cam.id;
-      im.name = nm;
-      im.points.clear();
-      input.images[im.id] = im;
+  // 2 + 3. Matching, then incremental mapping (or the points of known cameras). The outcome
+  // depends on the RANSAC of the pairs' verification: now and then a room's matches lead the
+  // mapper to a wrong model. So each attempt matches afresh (own seed) on a copy of the
+  // features; when two attempts agree, the one explaining more observations is kept, else a
+  // third decides (the model that agrees best with the others).
+  const fs::path features = scratch / "features.db";
+  fs::rename(db, features, ec);
+  if (ec) throw Error(db.string(), "", "cannot keep COLMAP's features: " + ec.message());
+  const bool knownPoses = !known.images.empty();
+  const int maxAttempts = knownPoses ? 1 : std::max(1, opt.attempts);
+  auto attempt = [&](int k, Progress& prog) -> std::vector<ColmapModel> {
+    const fs::path dbk = scratch / ("database" + std::to_string(k) + ".db");
+    fs::copy_file(features, dbk, fs::copy_options::overwrite_existing);
+    const std::string seed = std::to_string(k + 1);
+    auto m0 = clock::now();
+    {
+      Progress sub(prog, 0.0, 0.8);
+      const bool seq = opt.matcher == "sequential";
+      std::vector<std::string> a = {seq ? "sequential_matcher" : "exhaustive_matcher", "--database_path", dbk.string(),
+                                    "--random_seed", seed, "--SiftMatching.use_gpu", "0", "--SiftMatching.num_threads",
+                                    threads, "--SiftMatching.guided_matching", opt.guidedMatching ? "1" : "0",
+                                    "--SiftMatching.max_error", num(opt.matchMaxError)};
+      const std::regex re(R"(Matching (?:block|image) \[(\d+)/(\d+))");
+      sub.report(0, "COLMAP: matching (" + opt.matcher + "), attempt " + seed);
+      runColmapStep(colmap, a, opt.matcher + "_matcher", sub, [&](const std::string& line) {
+        std::smatch m;
+        if (std::regex_search(line, m, re))
+          sub.report(std::stod(m[1]) / std::max(1.0, std::stod(m[2])), "COLMAP: matching " + m[1].str() + "/" + m[2].str());
+      });
     }
-    writeColmapText(input, (scratch / "known").string());
-    fs::create_directories(scratch / "sparse" / "0");
-    sub.report(0, "COLMAP: triangulating points with the known cameras");
-    runColmapStep(colmap,
-                  {"point_triangulator", "--database_path", db.string(), "--image_path", photosDir, "--input_path",
-                   (scratch / "known").string(), "--output_path", (scratch / "sparse" / "0").string(),
-                   "--Mapper.num_threads", threads, "--Mapper.ba_refine_focal_length", "0",
-                   "--Mapper.ba_refine_principal_point", "0", "--Mapper.ba_refine_extra_params", "0"},
-                  "point_triangulator", sub, {});
-  } else {
-    // Incremental mapping is randomised (RANSAC, thread order): a run can start from a poor pair
-    // and end with small or wrong models. Several runs with different seeds (options.mapperRuns).
-    const int attempts = std::max(1, opt.mapperRuns);
-    const bool fixIntrinsics = !opt.cameraModel.empty();
-    for (int k = 0; k < attempts; ++k) {
-      Progress sub(progress, 0.5 + 0.45 * k / attempts, 0.5 + 0.45 * (k + 1) / attempts);
-      const fs::path out = scratch / "sparse" / ("run" + std::to_string(k));
-      fs::create_directories(out);
-      std::vector<std::string> a = {"mapper", "--database_path", db.string(), "--image_path", photosDir, "--output_path",
-                                    out.string(), "--random_seed", std::to_string(k + 1), "--Mapper.num_threads",
-                                    threads, "--Mapper.min_model_size", "2", "--Mapper.init_min_num_inliers",
+    auto m1 = clock::now();
+    matchSeconds += std::chrono::duration<double>(m1 - m0).count();
+    const fs::path out = scratch / "sparse" / ("attempt" + seed);
+    fs::create_directories(out);
+    Progress sub(prog, 0.8, 1.0);
+    if (knownPoses) {
+      const auto dbImages = databaseImages(dbk.string());
+      ColmapModel input;
+      for (const auto& nm : names) {
+        const auto it = dbImages.find(nm);
+        if (it == dbImages.end()) throw Error(dbk.string(), "image " + nm, "is missing from COLMAP's database");
+        const ColmapImage& ki = *known.findImage(nm);
+        ColmapCamera cam = known.cameras.at(ki.camera);
+        cam.id = it->second.camera;
+        input.cameras[cam.id] = cam;
+        ColmapImage im = ki;
+        im.id = it->second.id;
+        im.camera = cam.id;
+        im.name = nm;
+        im.points.clear();
+        input.images[im.id] = im;
+      }
+      writeColmapText(input, (scratch / "known").string());
+      fs::create_directories(out / "0");
+      sub.report(0, "COLMAP: triangulating points with the known cameras");
+      runColmapStep(colmap,
+                    {"point_triangulator", "--database_path", dbk.string(), "--image_path", photosDir, "--input_path",
+                     (scratch / "known").string(), "--output_path", (out / "0").string(), "--Mapper.num_threads", threads,
+                     "--Mapper.ba_refine_focal_length", "0", "--Mapper.ba_refine_principal_point", "0",
+                     "--Mapper.ba_refine_extra_params", "0"},
+                    "point_triangulator", sub, {});
+    } else {
+      std::vector<std::string> a = {"mapper", "--database_path", dbk.string(), "--image_path", photosDir, "--output_path",
+                                    out.string(), "--random_seed", seed, "--Mapper.num_threads", threads,
+                                    "--Mapper.min_model_size", "2", "--Mapper.init_min_num_inliers",
                                     std::to_string(opt.initMinInliers), "--Mapper.abs_pose_min_num_inliers",
                                     std::to_string(opt.absPoseMinInliers)};
-      if (fixIntrinsics)
+      if (!opt.cameraModel.empty())
         a.insert(a.end(), {"--Mapper.ba_refine_focal_length", "0", "--Mapper.ba_refine_principal_point", "0",
                            "--Mapper.ba_refine_extra_params", "0"});
       const std::regex re(R"(Registering image #\d+ \((\d+)\))");
-      sub.report(0, "COLMAP: mapping, run " + std::to_string(k + 1) + " of " + std::to_string(attempts));
+      sub.report(0, "COLMAP: mapping, attempt " + seed);
       try {
         runColmapStep(colmap, a, "mapper", sub, [&](const std::string& line) {
           std::smatch m;
           if (std::regex_search(line, m, re))
-            sub.report(std::stod(m[1]) / n, "COLMAP: run " + std::to_string(k + 1) + " registered " + m[1].str() + " of " +
-                                               std::to_string(names.size()) + " photos");
+            sub.report(std::stod(m[1]) / n, "COLMAP: registered " + m[1].str() + " of " + std::to_string(names.size()) + " photos");
         });
       } catch (const Error& e) {
-        // COLMAP 3.8 exits with an error when a run makes no model at all.
-        lastProblem = e.problem();
+        lastProblem = e.problem();  // COLMAP 3.8 exits with an error when a run makes no model at all
       }
     }
-  }
-  auto t3 = clock::now();
-
-  // The best model: most photos registered; among several such runs, the one that agrees best
-  // with the others (the medoid: a wrong model disagrees with the right ones).
-  int bestImages = -1;
-  std::vector<fs::path> folders;
-  for (const auto& e : fs::recursive_directory_iterator(scratch / "sparse"))
-    if (e.is_directory() && (fs::exists(e.path() / "cameras.bin") || fs::exists(e.path() / "cameras.txt")))
-      folders.push_back(e.path());
-  std::sort(folders.begin(), folders.end());
-  std::vector<ColmapModel> models;
-  for (const auto& f : folders) {
-    models.push_back(readColmapModel(f.string()));
-    bestImages = std::max(bestImages, int(models.back().images.size()));
-  }
-  std::vector<const ColmapModel*> full;
-  for (const auto& m : models)
-    if (int(m.images.size()) == bestImages) full.push_back(&m);
+    mapSeconds += std::chrono::duration<double>(clock::now() - m1).count();
+    std::vector<ColmapModel> models;
+    for (const auto& e : fs::directory_iterator(out))
+      if (e.is_directory() && (fs::exists(e.path() / "cameras.bin") || fs::exists(e.path() / "cameras.txt")))
+        models.push_back(readColmapModel(e.path().string()));
+    return models;
+  };
+  // The most complete model of an attempt (then the one explaining most observations).
+  auto observations = [](const ColmapModel& m) {
+    size_t obs = 0;
+    for (const auto& [id, pt] : m.points) obs += pt.track.size();
+    return obs;
+  };
+  auto better = [&](const ColmapModel& a, const ColmapModel& b) {
+    return a.images.size() != b.images.size() ? a.images.size() > b.images.size() : observations(a) > observations(b);
+  };
   auto disagreement = [&](const ColmapModel& a, const ColmapModel& b) {
     std::vector<glm::dvec3> ca, cb;
     for (const auto& [id, im] : a.images)
@@ -318,12 +323,30 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
       return 1e9;
     }
   };
+  std::vector<ColmapModel> best;  // per attempt
+  for (int k = 0; k < maxAttempts; ++k) {
+    Progress sub(progress, 0.3 + 0.65 * k / maxAttempts, 0.3 + 0.65 * (k + 1) / maxAttempts);
+    const auto models = attempt(k, sub);
+    if (models.empty()) continue;
+    const ColmapModel* b = &models.front();
+    for (const auto& m : models)
+      if (better(m, *b)) b = &m;
+    best.push_back(*b);
+    // Two complete attempts that agree (within 2 % of the cameras' spread) settle it.
+    if (best.size() == 2 && best[0].images.size() == best[1].images.size() &&
+        disagreement(best[0], best[1]) < 0.02)
+      break;
+  }
+  int bestImages = -1;
+  for (const auto& m : best) bestImages = std::max(bestImages, int(m.images.size()));
   double bestScore = 1e300;
-  for (const ColmapModel* m : full) {
+  for (const auto& m : best) {
+    if (int(m.images.size()) != bestImages) continue;
     double score = 0;
-    for (const ColmapModel* o : full)
-      if (o != m) score += disagreement(*m, *o);
-    if (score < bestScore) bestScore = score, run.model = *m;
+    for (const auto& o : best)
+      if (&o != &m && int(o.images.size()) == bestImages) score += disagreement(m, o);
+    if (score < bestScore - 1e-12 || (score <= bestScore + 1e-12 && observations(m) > observations(run.model)))
+      bestScore = std::min(score, bestScore), run.model = m;
   }
   if (bestImages < 0) {
     std::string all;
@@ -348,8 +371,9 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
   progress.report(1, "COLMAP: " + std::to_string(run.registered.size()) + " of " + std::to_string(names.size()) +
                          " photos registered, " + std::to_string(run.model.points.size()) + " points");
   run.secondsFeatures = std::chrono::duration<double>(t1 - t0).count();
-  run.secondsMatching = std::chrono::duration<double>(t2 - t1).count();
-  run.secondsMapping = std::chrono::duration<double>(t3 - t2).count();
+  run.secondsMatching = matchSeconds;
+  run.secondsMapping = mapSeconds;
+
   return run;
 }
 

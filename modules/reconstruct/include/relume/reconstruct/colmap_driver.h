@@ -32,9 +32,8 @@ struct ColmapOptions {
   bool guidedMatching = false;
   // Epipolar distance (pixels) within which a match is an inlier of its pair (COLMAP's default).
   double matchMaxError = 4.0;
-  // Independent mapper runs (different seeds); the most complete model that agrees best with the
-  // others is kept.
-  int mapperRuns = 3;
+  // Matching + mapping attempts (own seeds): two that agree settle it, else a third decides.
+  int attempts = 3;
   int threads = -1;
   // Cameras already known (a COLMAP model folder, e.g. from TotalCalib-style clicks or a rig):
   // features are matched and COLMAP's point_triangulator adds the points, the poses stay.
@@ -46,7 +45,7 @@ struct ColmapRun {
   ColmapModel model;
   std::vector<std::string> registered;  // image names
   std::vector<std::string> leftOut;     // photos COLMAP could not register
-  double secondsFeatures = 0, secondsMatching = 0, secondsMapping = 0;
+  double secondsFeatures = 0, secondsMatching = 0, secondsMapping = 0;  // summed over attempts
 };
 
 // The COLMAP executable, or throws relume::Error explaining how to install it.
