@@ -283,6 +283,11 @@ int triangulateCommand(const QStringList& args, Progress& progress) {
         for (const auto& [photo, px] : pt.clicks)
           if (!index.count(photo)) index[photo] = int(photoNames.size()), photoNames.push_back(photo);
     if (photoNames.empty()) throw Error(str(p.value("clicks")), "points", "no point is clicked in photos");
+    std::map<std::string, std::string> photoFile;  // stem -> the 8-bit photo
+    for (const auto& f : listPhotos(w.photosDir))
+      if (!isRadianceFile(f)) photoFile[fs::path(f).stem().string()] = f;
+    for (const auto& name : photoNames)
+      if (!photoFile.count(name)) throw Error(w.photosDir, "", "has no photo named " + name + " (clicked in the clicks file)");
     ColmapCamera cam;
     cam.id = 1;
     if (p.isSet("intrinsics")) {
@@ -293,10 +298,7 @@ int triangulateCommand(const QStringList& args, Progress& progress) {
       cam.params = {in.fx, in.fy, in.cx, in.cy, in.k1, in.k2, in.p1, in.p2};
     } else if (p.isSet("focal")) {
       int wdt = 0, hgt = 0;
-      const auto files = listPhotos(w.photosDir);
-      for (const auto& f : files)
-        if (fs::path(f).stem() == photoNames.front()) imageSize(f, wdt, hgt);
-      if (wdt == 0) throw Error(w.photosDir, "", "has no photo named " + photoNames.front());
+      imageSize(photoFile.at(photoNames.front()), wdt, hgt);
       cam.model = "PINHOLE";
       cam.width = wdt;
       cam.height = hgt;
@@ -305,8 +307,8 @@ int triangulateCommand(const QStringList& args, Progress& progress) {
       cam.params = {f, f, wdt / 2.0, hgt / 2.0};
     } else {
       // The focal length from the photos' EXIF (35 mm equivalent), principal point at the centre.
-      for (const auto& f : listPhotos(w.photosDir)) {
-        if (fs::path(f).stem() != photoNames.front() || isHdrFile(f)) continue;
+      {
+        const std::string& f = photoFile.at(photoNames.front());
         const PhotoInfo info = readPhotoInfo(f);
         if (info.focalPixels() > 0) {
           cam.model = "PINHOLE";
@@ -347,10 +349,7 @@ int triangulateCommand(const QStringList& args, Progress& progress) {
       ColmapImage im;
       im.id = int(i + 1);
       im.camera = 1;
-      std::string file = photoNames[i];
-      for (const auto& f : listPhotos(w.photosDir))
-        if (fs::path(f).stem() == photoNames[i] && !isHdrFile(f)) file = fs::path(f).filename().string();
-      im.name = file;
+      im.name = fs::path(photoFile.at(photoNames[i])).filename().string();
       im.setRotation(sol.cameras[i].R);
       im.t = sol.cameras[i].t;
       model.images[im.id] = im;
@@ -492,7 +491,7 @@ int calibrateCommand(const QStringList& args, Progress& progress) {
   const std::string dir = str(p.positionalArguments()[0]);
   std::vector<std::string> files;
   for (const auto& f : listPhotos(dir))
-    if (!isHdrFile(f)) files.push_back(f);
+    if (!isRadianceFile(f)) files.push_back(f);
   const Intrinsics in = calibrateCheckerboard(files, cols, rows, square, progress);
   const std::string out = p.isSet("output") ? str(p.value("output")) : (fs::path(dir) / "intrinsics.json").string();
   writeIntrinsics(in, out);
@@ -511,18 +510,8 @@ QJsonObject reconstructBench(const Scene& scene, int runs, Progress& progress) {
   {
     std::mt19937 rng(11);
     std::normal_distribution<double> noise(0, 0.5);
-    std::vector<Camera> cams(3);
-    for (int i = 0; i < 3; ++i) {
-      Camera& c = cams[i];
-      c.width = 1600, c.height = 1200;
-      c.K[0][0] = c.K[1][1] = 1400;
-      c.K[2][0] = 800, c.K[2][1] = 600;
-      const glm::dvec3 eye(-0.8 + 0.8 * i, -3.0, 1.5), target(0, 0, 1.2);
-      const glm::dvec3 z = glm::normalize(target - eye), x = glm::normalize(glm::cross(glm::dvec3(0, 0, -1), z)),
-                       y = glm::cross(z, x);
-      for (int k = 0; k < 3; ++k) c.R[k][0] = x[k], c.R[k][1] = y[k], c.R[k][2] = z[k];
-      c.t = -(c.R * eye);
-    }
+    std::vector<Camera> cams;
+    for (int i = 0; i < 3; ++i) cams.push_back(Camera::lookAt({-0.8 + 0.8 * i, -3.0, 1.5}, {0, 0, 1.2}, 1600, 1200, 1400));
     std::vector<std::vector<std::vector<Observation>>> quads(25);
     for (int q = 0; q < 25; ++q) {
       const glm::dvec3 o(-1.0 + 0.4 * (q % 5), 0.1 * (q / 5), 0.4 + 0.35 * (q / 5));

@@ -30,21 +30,6 @@ fs::path tempDir(const std::string& name) {
   return d;
 }
 
-// A camera at `eye` looking at `target`, image y pointing down the world's -Z.
-Camera lookAt(glm::dvec3 eye, glm::dvec3 target, int w, int h, double f) {
-  Camera c;
-  c.width = w;
-  c.height = h;
-  c.K[0][0] = c.K[1][1] = f;
-  c.K[2][0] = w / 2.0;
-  c.K[2][1] = h / 2.0;
-  const glm::dvec3 z = glm::normalize(target - eye), x = glm::normalize(glm::cross(glm::dvec3(0, 0, -1), z)),
-                   y = glm::cross(z, x);
-  for (int k = 0; k < 3; ++k) c.R[k][0] = x[k], c.R[k][1] = y[k], c.R[k][2] = z[k];
-  c.t = -(c.R * eye);
-  return c;
-}
-
 std::string errorText(const std::function<void()>& f) {
   try {
     f();
@@ -206,7 +191,7 @@ struct Rig {
 // 25 quadrilaterals spread over a 2.4 x 1.6 m wall-like patch.
 Rig wallRig() {
   Rig r;
-  for (int i = 0; i < 3; ++i) r.cams.push_back(lookAt({-0.8 + 0.8 * i, -3.0, 1.4}, {0, 0, 1.2}, 1600, 1200, 1385));
+  for (int i = 0; i < 3; ++i) r.cams.push_back(Camera::lookAt({-0.8 + 0.8 * i, -3.0, 1.4}, {0, 0, 1.2}, 1600, 1200, 1385));
   for (int q = 0; q < 25; ++q) {
     const glm::dvec3 o(-1.2 + 0.5 * (q % 5), 0.08 * (q % 3), 0.3 + 0.35 * (q / 5));
     r.points.push_back(o);
@@ -258,7 +243,7 @@ TEST(Triangulation, OnePixelClickNoiseAt3mStaysWithin2cm) {
 }
 
 TEST(Triangulation, PointBehindACameraIsNamed) {
-  const Camera a = lookAt({0, 0, 1}, {0, 5, 1}, 640, 480, 500), b = lookAt({1, 0, 1}, {1, 5, 1}, 640, 480, 500);
+  const Camera a = Camera::lookAt({0, 0, 1}, {0, 5, 1}, 640, 480, 500), b = Camera::lookAt({1, 0, 1}, {1, 5, 1}, 640, 480, 500);
   // Rays that diverge: a clicked left of centre, b right of centre; their lines meet behind.
   const std::vector<Observation> obs = {{&a, "left.jpg", {220, 240}}, {&b, "right.jpg", {420, 240}}};
   const std::string e = errorText([&] { triangulatePoint(obs, "point P"); });
@@ -267,7 +252,7 @@ TEST(Triangulation, PointBehindACameraIsNamed) {
 }
 
 TEST(Triangulation, OneClickAndIdenticalRaysAreErrors) {
-  const Camera a = lookAt({0, 0, 1}, {0, 5, 1}, 640, 480, 500);
+  const Camera a = Camera::lookAt({0, 0, 1}, {0, 5, 1}, 640, 480, 500);
   EXPECT_NE(errorText([&] { triangulatePoint({{&a, "a", {300, 200}}}, "P"); }).find("two or more"), std::string::npos);
   EXPECT_NE(errorText([&] { triangulatePoint({{&a, "a", {300, 200}}, {&a, "a again", {300, 200}}}, "P"); }).find("same ray"),
             std::string::npos);
@@ -382,7 +367,7 @@ TEST(Correspondences, CamerasFromThirtyClicksMatchTheTruth) {
   // Five photos of a room corner region; 36 clicked points on floor, walls and a table.
   std::vector<Camera> truth;
   for (int i = 0; i < 5; ++i)
-    truth.push_back(lookAt({0.6 + 0.7 * i, 0.5 + 0.3 * (i % 3), 1.4 + 0.15 * (i % 2)}, {2.0 + 0.2 * (i - 2), 4.0, 0.9}, 1600,
+    truth.push_back(Camera::lookAt({0.6 + 0.7 * i, 0.5 + 0.3 * (i % 3), 1.4 + 0.15 * (i % 2)}, {2.0 + 0.2 * (i - 2), 4.0, 0.9}, 1600,
                            1200, 1385));
   std::vector<glm::dvec3> pts;
   for (int i = 0; i < 12; ++i) pts.push_back({0.3 + 0.3 * i, 5.0, 0.2 + 0.18 * i});          // back wall
@@ -544,7 +529,7 @@ TEST(Calibration, CheckerboardPhotosGiveTheIntrinsics) {
                              {-0.15, -0.2, -0.38}, {0.1, 0.3, -0.5}, {0.35, 0.2, -0.35}, {-0.2, 0.05, -0.45}};
   int i = 0;
   for (const auto& e : eyes) {
-    Camera cam = lookAt(centre + e, centre, 640, 480, 600);
+    Camera cam = Camera::lookAt(centre + e, centre, 640, 480, 600);
     const std::string f = (d / ("board" + std::to_string(i++) + ".png")).string();
     writeImage8(f, renderBoard(cam, k1, cols, rows, sq));
     files.push_back(f);
@@ -696,12 +681,12 @@ TEST(PhotoImport, ExifBracketsAreGroupedAndMergedPerViewpoint) {
     exif.focal35mm = 28;
     exif.make = "Relume", exif.model = "Test";
     // (TIFF: OpenImageIO 2.4 writes a fractional ExposureTime into JPEG EXIF as infinity.)
-    writeImage8((in / ("a" + std::to_string(i) + ".tif")).string(), shot(times[i]), &exif);
+    writeImage8((in / ("a" + std::to_string(i) + ".tif")).string(), shot(times[i]), exifMetadata(exif));
     PhotoInfo ev;
     ev.hasExposureBias = true;
     ev.exposureBias = 2.0 * (i - 1);
     ev.make = "Relume", ev.model = "Test";
-    writeImage8((in / ("b" + std::to_string(i) + ".jpg")).string(), shot(exposureFromEv(ev.exposureBias)), &ev);
+    writeImage8((in / ("b" + std::to_string(i) + ".jpg")).string(), shot(exposureFromEv(ev.exposureBias)), exifMetadata(ev));
   }
   writeImage8((in / "c.png").string(), shot(1.0));
   const PhotoInfo a1 = readPhotoInfo((in / "a0.tif").string());

@@ -60,28 +60,16 @@ ImageRGB readImageLinear(const std::string& path) {
   return img;
 }
 
-void writeImage(const std::string& path, const ImageRGB& img, float exposure) {
+namespace {
+// Writes through a temporary file renamed into place, so no half-written file is ever seen.
+void writeAtomically(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* data) {
   const std::string ext = lower(std::filesystem::path(path).extension().string());
-  const bool hdr = ext == ".exr" || ext == ".hdr";
-  if (!hdr && ext != ".png" && ext != ".jpg" && ext != ".jpeg" && ext != ".tif" && ext != ".tiff")
-    throw Error(path, "", "unknown image extension '" + ext + "' (use .exr or .png)");
   const std::string tmp = path + ".part" + ext;
   {
     auto out = OIIO::ImageOutput::create(tmp);
     if (!out) throw Error(path, "", "cannot create an image writer: " + OIIO::geterror());
-    OIIO::ImageSpec spec(img.width, img.height, 3, hdr ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
-    if (hdr) spec.attribute("compression", "zip");
     if (!out->open(tmp, spec)) throw Error(path, "", "cannot open for writing: " + out->geterror());
-    bool ok;
-    if (hdr) {
-      ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
-    } else {
-      std::vector<unsigned char> px(img.pixels.size());
-      for (size_t i = 0; i < px.size(); ++i)
-        px[i] = (unsigned char)std::lround(255.f * linearToSrgb(img.pixels[i] * exposure));
-      ok = out->write_image(OIIO::TypeDesc::UINT8, px.data());
-    }
-    if (!ok || !out->close()) {
+    if (!out->write_image(type, data) || !out->close()) {
       std::remove(tmp.c_str());
       throw Error(path, "", "cannot write the image: " + out->geterror());
     }
@@ -92,6 +80,55 @@ void writeImage(const std::string& path, const ImageRGB& img, float exposure) {
     std::remove(tmp.c_str());
     throw Error(path, "", "cannot move the written image into place: " + ec.message());
   }
+}
+}  // namespace
+
+bool isRadianceFile(const std::string& path) {
+  const std::string ext = lower(std::filesystem::path(path).extension().string());
+  return ext == ".exr" || ext == ".hdr";
+}
+
+void writeImage(const std::string& path, const ImageRGB& img, float exposure) {
+  const std::string ext = lower(std::filesystem::path(path).extension().string());
+  const bool hdr = isRadianceFile(path);
+  if (!hdr && ext != ".png" && ext != ".jpg" && ext != ".jpeg" && ext != ".tif" && ext != ".tiff")
+    throw Error(path, "", "unknown image extension '" + ext + "' (use .exr or .png)");
+  OIIO::ImageSpec spec(img.width, img.height, 3, hdr ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
+  if (hdr) {
+    spec.attribute("compression", "zip");
+    writeAtomically(path, spec, OIIO::TypeDesc::FLOAT, img.pixels.data());
+    return;
+  }
+  std::vector<unsigned char> px(img.pixels.size());
+  for (size_t i = 0; i < px.size(); ++i) px[i] = (unsigned char)std::lround(255.f * linearToSrgb(img.pixels[i] * exposure));
+  writeAtomically(path, spec, OIIO::TypeDesc::UINT8, px.data());
+}
+
+Image8 readImage8(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw Error(path, "", "the image file does not exist");
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw Error(path, "", "cannot read the image: " + OIIO::geterror());
+  const OIIO::ImageSpec& s = in->spec();
+  if (s.format.is_floating_point() || s.format.size() != 1)
+    throw Error(path, "", "is not an 8-bit image (this step reads the camera's 8-bit JPEG, PNG or TIFF files)");
+  Image8 img;
+  img.width = s.width;
+  img.height = s.height;
+  std::vector<unsigned char> raw(size_t(s.width) * s.height * s.nchannels);
+  if (!in->read_image(0, 0, 0, s.nchannels, OIIO::TypeDesc::UINT8, raw.data()))
+    throw Error(path, "", "cannot decode the image (truncated or corrupt?): " + in->geterror());
+  img.pixels.resize(size_t(s.width) * s.height * 3);
+  for (size_t i = 0; i < size_t(s.width) * s.height; ++i)
+    for (int c = 0; c < 3; ++c) img.pixels[i * 3 + c] = raw[i * s.nchannels + (s.nchannels < 3 ? 0 : c)];
+  return img;
+}
+
+void writeImage8(const std::string& path, const Image8& image, const ImageMetadata& metadata) {
+  OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+  for (const auto& [k, v] : metadata.floats) spec.attribute(k, v);
+  for (const auto& [k, v] : metadata.ints) spec.attribute(k, v);
+  for (const auto& [k, v] : metadata.strings) spec.attribute(k, v);
+  writeAtomically(path, spec, OIIO::TypeDesc::UINT8, image.pixels.data());
 }
 
 }  // namespace relume

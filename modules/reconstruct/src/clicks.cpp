@@ -200,11 +200,10 @@ Scene sceneFromClicks(const Clicks& clicks, const ColmapModel& model, const std:
   scene.baseDir = fs::absolute(photosDir).string();
   // Cameras of the model's images, by image id; photos are named by their file stem, which must
   // then be unique.
-  std::map<int, Camera> cams;
+  const std::map<int, Camera> cams = camerasById(model);
   std::map<std::string, const ColmapImage*> images;
   for (const auto& [id, im] : model.images) {
     const std::string stem = fs::path(im.name).stem().string();
-    cams[id] = model.camera(im);
     if (images.count(stem))
       throw Error(photosDir, "photo " + stem, "two model images share this name (" + images[stem]->name + ", " + im.name +
                                                   "); rename one");

@@ -132,10 +132,8 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
   // The photos COLMAP will see: 8-bit images, each checked to be readable first (named if not).
   std::vector<std::string> names;
   for (const auto& f : listPhotos(photosDir)) {
-    if (isHdrFile(f)) continue;
-    const PhotoInfo info = readPhotoInfo(f);
+    if (isRadianceFile(f)) continue;
     readImage8(f);  // decodes the whole file: a truncated image is named here, not deep in COLMAP
-    (void)info;
     names.push_back(fs::path(f).filename().string());
   }
   ColmapModel known;

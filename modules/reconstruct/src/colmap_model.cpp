@@ -410,11 +410,6 @@ void writeColmapText(const ColmapModel& m, const std::string& folder) {
   writeAtomically(fs::path(folder) / "points3D.txt", ps.str());
 }
 
-Similarity Similarity::then(const Similarity& n) const {
-  // n(this(X)) = n.s n.R (s R X + t) + n.t
-  return {n.s * s, n.R * R, n.s * (n.R * t) + n.t};
-}
-
 void transformModel(ColmapModel& m, const Similarity& S) {
   for (auto& [id, p] : m.points) p.xyz = S.apply(p.xyz);
   const glm::dmat3 Rt = glm::transpose(S.R);

@@ -95,11 +95,6 @@ std::vector<std::string> listPhotos(const std::string& folder) {
   return files;
 }
 
-bool isHdrFile(const std::string& path) {
-  const std::string e = lower(fs::path(path).extension().string());
-  return e == ".exr" || e == ".hdr";
-}
-
 double exposureFromEv(double ev, double referenceTime) { return referenceTime * std::pow(2.0, ev); }
 
 std::vector<std::vector<PhotoInfo>> groupBrackets(const std::vector<PhotoInfo>& photos) {
@@ -120,25 +115,6 @@ std::vector<std::vector<PhotoInfo>> groupBrackets(const std::vector<PhotoInfo>& 
     else groups.push_back({p});
   }
   return groups;
-}
-
-Image8 readImage8(const std::string& path) {
-  if (!fs::exists(path)) throw Error(path, "", "the file does not exist");
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw Error(path, "", "cannot read the image: " + OIIO::geterror());
-  const OIIO::ImageSpec& s = in->spec();
-  if (s.format.is_floating_point() || s.format.size() != 1)
-    throw Error(path, "", "is not an 8-bit image (this step reads the camera's 8-bit JPEG, PNG or TIFF files)");
-  Image8 img;
-  img.width = s.width;
-  img.height = s.height;
-  std::vector<unsigned char> raw(size_t(s.width) * s.height * s.nchannels);
-  if (!in->read_image(0, 0, 0, s.nchannels, OIIO::TypeDesc::UINT8, raw.data()))
-    throw Error(path, "", "cannot decode the image (truncated or corrupt?): " + in->geterror());
-  img.pixels.resize(size_t(s.width) * s.height * 3);
-  for (size_t i = 0; i < size_t(s.width) * s.height; ++i)
-    for (int c = 0; c < 3; ++c) img.pixels[i * 3 + c] = raw[i * s.nchannels + (s.nchannels < 3 ? 0 : c)];
-  return img;
 }
 
 HdrResult mergeBracket(const std::vector<std::string>& files, std::vector<double> times, Progress& progress) {
@@ -254,34 +230,23 @@ HdrResult mergeBracket(const std::vector<Image8>& images, const std::vector<doub
   return r;
 }
 
-void writeImage8(const std::string& path, const Image8& image, const PhotoInfo* exif) {
-  const std::string tmp = path + ".tmp" + fs::path(path).extension().string();
-  {
-    auto out = OIIO::ImageOutput::create(tmp);
-    if (!out) throw Error(path, "", "cannot create an image writer: " + OIIO::geterror());
-    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-    if (exif) {
-      if (exif->exposureTime > 0) spec.attribute("ExposureTime", float(exif->exposureTime));
-      if (exif->fNumber > 0) spec.attribute("FNumber", float(exif->fNumber));
-      if (exif->focalMm > 0) spec.attribute("Exif:FocalLength", float(exif->focalMm));
-      if (exif->focal35mm > 0) spec.attribute("Exif:FocalLengthIn35mmFilm", int(exif->focal35mm));
-      if (exif->hasExposureBias) spec.attribute("Exif:ExposureBiasValue", float(exif->exposureBias));
-      if (!exif->make.empty()) spec.attribute("Make", exif->make);
-      if (!exif->model.empty()) spec.attribute("Model", exif->model);
-    }
-    if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, image.pixels.data()) || !out->close())
-      throw Error(path, "", "cannot write the image: " + out->geterror());
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) throw Error(path, "", "cannot replace the file: " + ec.message());
+ImageMetadata exifMetadata(const PhotoInfo& exif) {
+  ImageMetadata m;
+  if (exif.exposureTime > 0) m.floats.emplace_back("ExposureTime", float(exif.exposureTime));
+  if (exif.fNumber > 0) m.floats.emplace_back("FNumber", float(exif.fNumber));
+  if (exif.focalMm > 0) m.floats.emplace_back("Exif:FocalLength", float(exif.focalMm));
+  if (exif.focal35mm > 0) m.ints.emplace_back("Exif:FocalLengthIn35mmFilm", int(exif.focal35mm));
+  if (exif.hasExposureBias) m.floats.emplace_back("Exif:ExposureBiasValue", float(exif.exposureBias));
+  if (!exif.make.empty()) m.strings.emplace_back("Make", exif.make);
+  if (!exif.model.empty()) m.strings.emplace_back("Model", exif.model);
+  return m;
 }
 
 std::vector<std::vector<PhotoInfo>> mergeBracketFolder(const std::string& folder, const std::string& outFolder,
                                                        Progress& progress) {
   std::vector<PhotoInfo> infos;
   for (const auto& f : listPhotos(folder))
-    if (!isHdrFile(f)) infos.push_back(readPhotoInfo(f));
+    if (!isRadianceFile(f)) infos.push_back(readPhotoInfo(f));
   if (infos.empty()) throw Error(folder, "", "holds no 8-bit photos");
   const auto groups = groupBrackets(infos);
   std::error_code ec;

@@ -21,6 +21,9 @@ struct Camera {
   glm::dvec3 rayDirection(double x, double y) const;
   // Projects a world point; returns false when it lies behind the camera.
   bool project(const glm::dvec3& X, glm::dvec2& pixel) const;
+  // A w x h camera of focal length f pixels (principal point at the centre) at `eye` looking at
+  // `target`, the image's y axis towards the world's -Z (upright for +Z up).
+  static Camera lookAt(const glm::dvec3& eye, const glm::dvec3& target, int w, int h, double f);
 };
 
 }  // namespace relume

@@ -2,6 +2,7 @@
 // Float RGB images and the one place where files are read and written (OpenImageIO).
 #include <glm/vec3.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace relume {
@@ -35,5 +36,25 @@ void imageSize(const std::string& path, int& width, int& height);
 // Writes by extension: .exr as linear half floats, .png/.jpg as sRGB 8-bit (scaled by
 // `exposure` first). Atomic: a temporary file renamed into place, so no half-written file.
 void writeImage(const std::string& path, const ImageRGB& img, float exposure = 1.f);
+
+// Is this a radiance file (.exr / .hdr, any case) rather than an 8-bit photo?
+bool isRadianceFile(const std::string& path);
+
+// An 8-bit image exactly as stored (no curve applied), RGB interleaved: what exposure merging,
+// calibration and matching read.
+struct Image8 {
+  int width = 0, height = 0;
+  std::vector<unsigned char> pixels;
+};
+// Throws relume::Error naming the file when it is missing, unreadable, truncated or not 8-bit.
+Image8 readImage8(const std::string& path);
+// Metadata to store with an image, by OpenImageIO's names ("ExposureTime", "Exif:...").
+struct ImageMetadata {
+  std::vector<std::pair<std::string, float>> floats;
+  std::vector<std::pair<std::string, int>> ints;
+  std::vector<std::pair<std::string, std::string>> strings;
+};
+// Writes an 8-bit image as it is; atomic like writeImage.
+void writeImage8(const std::string& path, const Image8& image, const ImageMetadata& metadata = {});
 
 }  // namespace relume

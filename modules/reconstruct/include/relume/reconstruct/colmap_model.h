@@ -98,7 +98,6 @@ struct Similarity {
   glm::dmat3 R{1.0};
   glm::dvec3 t{0.0};
   glm::dvec3 apply(const glm::dvec3& X) const { return s * (R * X) + t; }
-  Similarity then(const Similarity& next) const;  // next ∘ this
 };
 // Moves points and cameras by a similarity (projections are unchanged).
 void transformModel(ColmapModel& model, const Similarity& S);

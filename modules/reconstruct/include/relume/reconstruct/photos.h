@@ -9,12 +9,6 @@
 
 namespace relume::recon {
 
-// An 8-bit image as it is stored (no linearisation), RGB interleaved.
-struct Image8 {
-  int width = 0, height = 0;
-  std::vector<unsigned char> pixels;
-};
-
 struct PhotoInfo {
   std::string path;
   int width = 0, height = 0, channels = 0;
@@ -35,9 +29,6 @@ struct PhotoInfo {
 // Reads the header and metadata; throws relume::Error naming the file when it is missing,
 // unreadable or not an image.
 PhotoInfo readPhotoInfo(const std::string& path);
-
-// Is this a radiance file (.exr / .hdr, any case) rather than a camera's 8-bit photo?
-bool isHdrFile(const std::string& path);
 
 // The image files of a folder (JPEG, PNG, TIFF, EXR), sorted by name.
 std::vector<std::string> listPhotos(const std::string& folder);
@@ -80,10 +71,8 @@ Intrinsics calibrateCheckerboard(const std::vector<std::string>& files, int cols
 void writeIntrinsics(const Intrinsics& in, const std::string& jsonPath);
 Intrinsics readIntrinsics(const std::string& jsonPath);
 
-Image8 readImage8(const std::string& path);
-// Writes an 8-bit image as it is (no curve applied); atomic like relume::writeImage. The
-// exposure and focal fields of `exif` that are set (> 0) go into the file's metadata.
-void writeImage8(const std::string& path, const Image8& image, const PhotoInfo* exif = nullptr);
+// The exposure, focal and camera fields of `exif` that are set, as metadata to write with a photo.
+ImageMetadata exifMetadata(const PhotoInfo& exif);
 
 // A folder of bracketed photos to a folder of one photo per viewpoint: each bracket (see
 // groupBrackets) is merged into NAME.exr beside a copy of its middle exposure NAME.ext (what
