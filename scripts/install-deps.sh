@@ -4,7 +4,9 @@ set -euo pipefail
 pkgs=(cmake ninja-build ccache g++ pkg-config python3
       qt6-base-dev libglm-dev libtbb-dev libembree-dev
       libopenimageio-dev openimageio-tools libopencv-dev libgtest-dev colmap
-      libqt6sql6-sqlite)
+      libqt6sql6-sqlite
+      libqt6opengl6-dev libgl-dev libxkbcommon-dev qt6-tools-dev qt6-tools-dev-tools
+      qt6-l10n-tools libgl1-mesa-dri xvfb xauth)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

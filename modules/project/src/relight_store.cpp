@@ -60,7 +60,8 @@ bool hasRelightData(const std::string& folder) {
   return QFileInfo::exists(QDir(QString::fromStdString(folder)).filePath("relight/relight.json"));
 }
 
-void saveRelightProject(const Scene& sceneIn, const RelightData& data, const std::string& folder, Progress& progress) {
+void saveRelightProject(const Scene& sceneIn, const RelightData& data, const std::string& folder, Progress& progress,
+                        const std::function<void(const std::string&)>& extra) {
   Scene scene = sceneIn;
   // The project carries what was estimated, never what the room came with.
   for (size_t i = 0; i < scene.polygons.size(); ++i) {
@@ -133,6 +134,7 @@ void saveRelightProject(const Scene& sceneIn, const RelightData& data, const std
     QSaveFile f(dir.filePath("relight/relight.json"));
     if (!f.open(QIODevice::WriteOnly) || f.write(QJsonDocument(root).toJson()) < 0 || !f.commit())
       throw Error(folder, "relight/relight.json", "cannot write: " + f.errorString().toStdString());
+    if (extra) extra(staging);
   });
 }
 

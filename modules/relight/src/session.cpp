@@ -275,6 +275,69 @@ size_t RelightSession::moveObject(int object, const glm::dvec3& offset, Progress
   return n;
 }
 
+glm::dvec3 RelightSession::lampScale(int lamp) const { return impl_->lampScale.at(lamp); }
+size_t RelightSession::lampCount() const { return impl_->lampScale.size(); }
+const Camera& RelightSession::photoCamera() const { return impl_->photoCamera; }
+
+DisplayMesh RelightSession::displayMesh() const {
+  const auto& im = *impl_;
+  const auto& h = *im.h;
+  const auto& nodes = h.nodes();
+  const size_t ns = h.surfaces().size();
+  std::vector<std::vector<int>> leaves(ns);
+  for (size_t n = 0; n < nodes.size(); ++n)
+    if (!nodes[n].isCluster() && nodes[n].isLeaf()) leaves[nodes[n].surface].push_back(int(n));
+  DisplayMesh mesh;
+  mesh.realPolygons = im.np;
+  for (size_t s = 0; s < ns; ++s) {
+    const auto& surf = h.surfaces()[s];
+    std::vector<glm::dvec2> outline;
+    for (const auto& v : surf.vertices) outline.push_back(h.toUV(int(s), v));
+    if (polygonArea2D(outline) < 0) std::reverse(outline.begin(), outline.end());
+    DisplayMesh::Range range;
+    range.surface = int(s);
+    range.kind = s >= im.np                               ? DisplaySurfaceKind::Virtual
+                 : im.kinds[s] == PolygonKind::Window ? DisplaySurfaceKind::Window
+                                                       : DisplaySurfaceKind::Textured;
+    range.normal = glm::vec3(polygonNormal(surf.vertices));
+    range.first = mesh.vertices.size();
+    for (int leaf : leaves[s]) {
+      const auto& L = nodes[leaf];
+      const auto piece = clipToRect(outline, {L.u0, L.v0}, {L.u1, L.v1});
+      if (piece.size() < 3 || polygonArea2D(piece) <= 0) continue;
+      const int32_t index = int32_t(mesh.leafNode.size());
+      mesh.leafNode.push_back(leaf);
+      mesh.leafRect.emplace_back(L.u0, L.v0, L.u1, L.v1);
+      auto vertex = [&](const glm::dvec2& uv) {
+        return DisplayMesh::Vertex{glm::vec3(h.toWorld(int(s), uv)), glm::vec2(uv), index};
+      };
+      for (size_t k = 1; k + 1 < piece.size(); ++k) {
+        mesh.vertices.push_back(vertex(piece[0]));
+        mesh.vertices.push_back(vertex(piece[k]));
+        mesh.vertices.push_back(vertex(piece[k + 1]));
+      }
+    }
+    range.count = mesh.vertices.size() - range.first;
+    if (range.count > 0) mesh.ranges.push_back(range);
+  }
+  return mesh;
+}
+
+std::vector<glm::vec4> RelightSession::displayCorners(const DisplayMesh& mesh) const {
+  const auto& im = *impl_;
+  std::vector<glm::vec4> out(mesh.leafNode.size() * kDisplayCornerTexels);
+  for (size_t i = 0; i < mesh.leafNode.size(); ++i) {
+    const int leaf = mesh.leafNode[i];
+    glm::vec4* o = &out[i * kDisplayCornerTexels];
+    for (int c = 0; c < 4; ++c) {
+      o[c] = glm::vec4(im.cB.at(leaf)[c], 1.f);
+      o[4 + c] = glm::vec4(im.cD.at(leaf)[c], 1.f);
+      o[8 + c] = glm::vec4(im.cBorig.at(leaf)[c], 1.f);
+    }
+  }
+  return out;
+}
+
 radiosity::SolveStats RelightSession::update(Progress& progress) {
   const auto st = impl_->h->iterate(progress);
   impl_->refreshCorners();

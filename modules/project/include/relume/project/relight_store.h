@@ -3,6 +3,7 @@
 // radiances in place of any it came with) plus relight/: relight.json (estimates, options,
 // reference patches, texture grids) and per polygon its original, unoccluded and reflectance
 // textures and the texel-source map as EXR files.
+#include <functional>
 #include <string>
 
 #include "relume/geometry/progress.h"
@@ -12,8 +13,10 @@
 namespace relume {
 
 // Atomic like saveProject: a failure leaves any existing project as it was.
+// `extra` may write further files (a front end's own state) into the staging folder.
 void saveRelightProject(const Scene& scene, const RelightData& data, const std::string& folder,
-                        Progress& progress = silentProgress());
+                        Progress& progress = silentProgress(),
+                        const std::function<void(const std::string&)>& extra = {});
 // The relighting data of a project read with readProject; throws relume::Error naming the file
 // when the project was not preprocessed or a file is missing or damaged.
 RelightData readRelightData(const Scene& project);

@@ -14,6 +14,7 @@
 #include "relume/geometry/scene.h"
 #include "relume/image/image.h"
 #include "relume/radiosity/hierarchy.h"
+#include "relume/relight/display_mesh.h"
 #include "relume/relight/texture.h"
 
 namespace relume {
@@ -125,6 +126,15 @@ class RelightSession {
   ImageRGB render(const Camera& camera, RelightMethod method, Progress& progress = silentProgress()) const;
   // The unoccluded illumination texture seen through `camera` (original lamps, shadows removed).
   ImageRGB renderUnoccluded(const Camera& camera) const;
+  // The session's mesh for a GPU display (rebuild it after anything that changes the mesh or
+  // moves surfaces: a virtual lamp added, an object moved) and the corner values to interpolate
+  // on it (refresh after every lighting change); see display_mesh.h.
+  DisplayMesh displayMesh() const;
+  std::vector<glm::vec4> displayCorners(const DisplayMesh& mesh) const;
+  // Lamp scales as set, and the photo camera whose view shows the lamps' glow layer.
+  glm::dvec3 lampScale(int lamp) const;
+  size_t lampCount() const;
+  const Camera& photoCamera() const;
   const radiosity::HierarchicalRadiosity& engine() const;
   radiosity::HierarchicalRadiosity& engine();
   double insertSeconds() const;  // virtual lamp forced refinement + update

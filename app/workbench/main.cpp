@@ -1,0 +1,31 @@
+// relume-workbench [ROOM|PROJECT]: the Relume workbench.
+#include <QApplication>
+#include <QCommandLineParser>
+#include <QSurfaceFormat>
+#include <QTimer>
+
+#include "main_window.h"
+
+int main(int argc, char** argv) {
+  // The viewport needs OpenGL 3.3 core; ask for it before any window exists.
+  QSurfaceFormat format;
+  format.setVersion(3, 3);
+  format.setProfile(QSurfaceFormat::CoreProfile);
+  format.setDepthBufferSize(24);
+  QSurfaceFormat::setDefaultFormat(format);
+  QApplication app(argc, argv);
+  QApplication::setOrganizationName("Relume");
+  QApplication::setApplicationName("relume-workbench");
+  QCommandLineParser parser;
+  parser.setApplicationDescription("Relume workbench: relight photographed rooms.");
+  parser.addHelpOption();
+  parser.addPositionalArgument("ROOM", "A room bundle folder, a Relume project, or an OBJ with its JSON.", "[ROOM]");
+  parser.process(app);
+  relume::MainWindow window;
+  window.show();
+  if (!parser.positionalArguments().isEmpty()) {
+    const QString path = parser.positionalArguments().first();
+    QTimer::singleShot(0, &window, [&window, path] { window.openPath(path); });
+  }
+  return app.exec();
+}

@@ -1,0 +1,393 @@
+#include "main_window.h"
+
+#include <QAction>
+#include <QActionGroup>
+#include <QApplication>
+#include <QCloseEvent>
+#include <QDockWidget>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QJsonArray>
+#include <QJsonObject>
+#include <QLabel>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QProgressBar>
+#include <QPushButton>
+#include <QSettings>
+#include <QStatusBar>
+#include <QUndoStack>
+
+#include "document.h"
+#include "job_runner.h"
+#include "lights_panel.h"
+#include "relume/viewport/viewport_widget.h"
+
+namespace relume {
+
+namespace {
+constexpr int kRecentMax = 10;
+
+struct ModeName {
+  ViewMode mode;
+  const char* key;
+};
+constexpr ModeName kModes[] = {{ViewMode::Relit, "relit"},           {ViewMode::RatioOnly, "ratio-only"},
+                               {ViewMode::Photo, "photo"},           {ViewMode::Unoccluded, "unoccluded"},
+                               {ViewMode::Radiosity, "radiosity"},   {ViewMode::DisplayFactor, "display-factor"},
+                               {ViewMode::Leaves, "leaves"}};
+}  // namespace
+
+MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
+  setObjectName("MainWindow");
+  doc_ = new Document(this);
+  jobs_ = new JobRunner(this);
+  viewport_ = new ViewportWidget(this);
+  setCentralWidget(viewport_);
+
+  lights_ = new LightsPanel(doc_, this);
+  auto* lightsDock = new QDockWidget(tr("Lights"), this);
+  lightsDock->setObjectName("LightsDock");
+  lightsDock->setWidget(lights_);
+  addDockWidget(Qt::RightDockWidgetArea, lightsDock);
+
+  // Status bar: what the viewport shows; the running job with its progress and Cancel.
+  statusView_ = new QLabel(this);
+  jobLabel_ = new QLabel(this);
+  jobProgress_ = new QProgressBar(this);
+  jobProgress_->setRange(0, 1000);
+  jobProgress_->setMaximumWidth(220);
+  jobCancel_ = new QPushButton(tr("Cancel"), this);
+  statusBar()->addWidget(statusView_, 1);
+  statusBar()->addPermanentWidget(jobLabel_);
+  statusBar()->addPermanentWidget(jobProgress_);
+  statusBar()->addPermanentWidget(jobCancel_);
+  jobLabel_->hide();
+  jobProgress_->hide();
+  jobCancel_->hide();
+  connect(jobCancel_, &QPushButton::clicked, jobs_, &JobRunner::cancel);
+  connect(jobs_, &JobRunner::started, this, [this](const QString& title) {
+    jobLabel_->setText(title);
+    jobProgress_->setValue(0);
+    jobLabel_->show();
+    jobProgress_->show();
+    jobCancel_->show();
+    lights_->setEnabled(false);
+  });
+  connect(jobs_, &JobRunner::progressed, this, [this](double f, const QString& text) {
+    jobProgress_->setValue(int(1000 * f));
+    jobProgress_->setToolTip(text);
+    jobLabel_->setText(text.left(60));
+  });
+  connect(jobs_, &JobRunner::finished, this, [this](bool ok, bool cancelled, const QString& message) {
+    jobLabel_->hide();
+    jobProgress_->hide();
+    jobCancel_->hide();
+    lights_->setEnabled(true);
+    if (ok) return;
+    if (cancelled) statusBar()->showMessage(message, 5000);
+    else showError(tr("Relume"), message);
+  });
+
+  connect(doc_, &Document::opened, this, [this] {
+    viewport_->setRoom(&doc_->scene(), &doc_->data(), doc_->session());
+    restoreView();
+    updateTitle();
+    updateStatus();
+  });
+  connect(doc_, &Document::closed, this, [this] {
+    viewport_->setRoom(nullptr, nullptr, nullptr);
+    updateTitle();
+  });
+  connect(doc_, &Document::lightingChanged, viewport_, &ViewportWidget::lightingChanged);
+  connect(doc_, &Document::meshChanged, viewport_, &ViewportWidget::meshChanged);
+  connect(doc_, &Document::dirtyChanged, this, [this](bool) { updateTitle(); });
+  connect(viewport_, &ViewportWidget::frameDrawn, this, [this](double) { updateStatus(); });
+
+  buildMenus();
+  QSettings settings;
+  restoreGeometry(settings.value("window/geometry").toByteArray());
+  restoreState(settings.value("window/state").toByteArray());
+  if (!settings.contains("window/geometry")) resize(1280, 800);
+  updateTitle();
+}
+
+MainWindow::~MainWindow() { jobs_->cancel(); }
+
+void MainWindow::buildMenus() {
+  QMenu* file = menuBar()->addMenu(tr("&File"));
+  QAction* open = file->addAction(tr("&Open..."), this, [this] {
+    const QString dir = QFileDialog::getExistingDirectory(this, tr("Open a room or a Relume project"));
+    if (!dir.isEmpty()) openPath(dir);
+  });
+  open->setShortcut(QKeySequence::Open);
+  file->addAction(tr("Open &OBJ + JSON..."), this, [this] {
+    const QString f = QFileDialog::getOpenFileName(this, tr("Open a room"), {}, tr("Room geometry (*.obj)"));
+    if (!f.isEmpty()) openPath(f);
+  });
+  recentMenu_ = file->addMenu(tr("Open &Recent"));
+  file->addSeparator();
+  QAction* save = file->addAction(tr("&Save"), this, [this] {
+    if (!doc_->isOpen()) return;
+    if (doc_->projectPath().isEmpty()) {
+      const QString f = QFileDialog::getSaveFileName(this, tr("Save the project as"), doc_->displayName() + ".relume");
+      if (!f.isEmpty()) saveTo(f);
+    } else {
+      saveTo(doc_->projectPath());
+    }
+  });
+  save->setShortcut(QKeySequence::Save);
+  QAction* saveAs = file->addAction(tr("Save &As..."), this, [this] {
+    if (!doc_->isOpen()) return;
+    const QString f = QFileDialog::getSaveFileName(this, tr("Save the project as"), doc_->displayName() + ".relume");
+    if (!f.isEmpty()) saveTo(f);
+  });
+  saveAs->setShortcut(QKeySequence::SaveAs);
+  file->addSeparator();
+  QAction* quit = file->addAction(tr("&Quit"), this, &QWidget::close);
+  quit->setShortcut(QKeySequence::Quit);
+
+  QMenu* edit = menuBar()->addMenu(tr("&Edit"));
+  QAction* undo = doc_->undoStack()->createUndoAction(this, tr("&Undo"));
+  undo->setShortcut(QKeySequence::Undo);
+  QAction* redo = doc_->undoStack()->createRedoAction(this, tr("&Redo"));
+  redo->setShortcuts({QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z), QKeySequence::Redo});
+  edit->addAction(undo);
+  edit->addAction(redo);
+
+  QMenu* view = menuBar()->addMenu(tr("&View"));
+  modes_ = new QActionGroup(this);
+  const QString labels[] = {tr("&Relit (texture × B / D)"), tr("Relit, r&atio only (texture × B / B_orig)"),
+                            tr("Original &photo"),           tr("&Unoccluded textures (shadows removed)"),
+                            tr("Radiosity &B"),              tr("Display factor &D"),
+                            tr("&Leaf outlines")};
+  int k = 0;
+  for (const auto& m : kModes) {
+    QAction* a = view->addAction(labels[k]);
+    a->setCheckable(true);
+    a->setData(QString(m.key));
+    a->setShortcut(QKeySequence(QString("Ctrl+%1").arg(k + 1)));
+    a->setChecked(m.mode == ViewMode::Relit);
+    modes_->addAction(a);
+    const ViewMode mode = m.mode;
+    connect(a, &QAction::triggered, this, [this, mode] {
+      viewport_->setViewMode(mode);
+      storeView();
+      updateStatus();
+    });
+    ++k;
+  }
+  view->addSeparator();
+  QAction* falseColour = view->addAction(tr("&False colour luminance"));
+  falseColour->setCheckable(true);
+  falseColour->setShortcut(QKeySequence(Qt::Key_F));
+  connect(falseColour, &QAction::toggled, this, [this](bool on) {
+    viewport_->setFalseColour(on);
+    storeView();
+  });
+  QAction* brighter = view->addAction(tr("Exposure +½ EV"), this, [this] {
+    viewport_->setExposureEV(viewport_->exposureEV() + 0.5);
+    storeView();
+    updateStatus();
+  });
+  brighter->setShortcut(QKeySequence(Qt::Key_Plus));
+  QAction* darker = view->addAction(tr("Exposure −½ EV"), this, [this] {
+    viewport_->setExposureEV(viewport_->exposureEV() - 0.5);
+    storeView();
+    updateStatus();
+  });
+  darker->setShortcut(QKeySequence(Qt::Key_Minus));
+  view->addAction(tr("Exposure of the &photo"), this, [this] {
+    viewport_->setExposureEV(0);
+    storeView();
+    updateStatus();
+  });
+  view->addSeparator();
+  QAction* locked = view->addAction(tr("&Through the photo's camera"), this, [this] {
+    viewport_->lockToPhoto();
+    storeView();
+    updateStatus();
+  });
+  locked->setShortcut(QKeySequence(Qt::Key_Home));
+  view->addAction(tr("Free &orbit"), this, [this] {
+    viewport_->setOrbit(true);
+    storeView();
+    updateStatus();
+  });
+  view->addSeparator();
+  for (QDockWidget* d : findChildren<QDockWidget*>()) view->addAction(d->toggleViewAction());
+
+  QMenu* lighting = menuBar()->addMenu(tr("&Lighting"));
+  lighting->addAction(tr("&All lamps as photographed"), this, [this] {
+    if (!doc_->isOpen()) return;
+    doc_->undoStack()->beginMacro(tr("all lamps as photographed"));
+    for (size_t l = 0; l < doc_->scene().lamps.size(); ++l) doc_->editLampScale(int(l), glm::dvec3(1.0));
+    doc_->undoStack()->endMacro();
+  });
+  lighting->addAction(tr("All lamps &off"), this, [this] {
+    if (!doc_->isOpen()) return;
+    doc_->undoStack()->beginMacro(tr("all lamps off"));
+    for (size_t l = 0; l < doc_->scene().lamps.size(); ++l) doc_->editLampScale(int(l), glm::dvec3(0.0));
+    doc_->undoStack()->endMacro();
+  });
+
+  QMenu* help = menuBar()->addMenu(tr("&Help"));
+  help->addAction(tr("&About Relume"), this, [this] {
+    QMessageBox::about(this, tr("About Relume"),
+                       tr("<b>Relume</b> relights photographed rooms: switch real lamps off, dim or tint them, "
+                          "add virtual lamps and objects, and see the photograph respond.<br><br>"
+                          "Method: Loscos, Drettakis, Robert 2000, <i>Interactive virtual relighting of real "
+                          "scenes</i> — hierarchical radiosity with clustering, real shadows removed from the "
+                          "photo textures, display of texture × B / D."));
+  });
+  updateRecent();
+}
+
+bool MainWindow::openPath(const QString& path) {
+  if (jobs_->busy()) {
+    showError(tr("Relume"), tr("Another job is running; wait for it or cancel it first."));
+    return false;
+  }
+  if (!maybeSave()) return false;
+  const QString abs = QFileInfo(path).absoluteFilePath();
+  return jobs_->start(tr("Opening %1").arg(QFileInfo(abs).fileName()), [this, abs](Progress& progress) {
+    std::shared_ptr<LoadedRoom> room = loadRoomForWorkbench(abs, progress);
+    return JobRunner::Continuation([this, room, abs]() mutable {
+      doc_->adopt(std::make_unique<LoadedRoom>(std::move(*room)));
+      addRecent(abs);
+      statusBar()->showMessage(tr("Opened %1").arg(abs), 5000);
+    });
+  });
+}
+
+bool MainWindow::saveTo(const QString& folder) {
+  if (!doc_->isOpen() || jobs_->busy()) return false;
+  storeView();
+  auto work = doc_->saveWork(folder);
+  const QString abs = QFileInfo(folder).absoluteFilePath();
+  return jobs_->start(tr("Saving %1").arg(QFileInfo(abs).fileName()), [this, work, abs](Progress& progress) {
+    work(progress);
+    return JobRunner::Continuation([this, abs] {
+      doc_->markSaved(abs);
+      addRecent(abs);
+      statusBar()->showMessage(tr("Saved %1").arg(abs), 5000);
+    });
+  });
+}
+
+bool MainWindow::maybeSave() {
+  if (!doc_->isOpen() || !doc_->isDirty() || !interactive_) return true;
+  const auto answer = QMessageBox::question(
+      this, tr("Unsaved edits"), tr("%1 has unsaved edits. Save them first?").arg(doc_->displayName()),
+      QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
+  if (answer == QMessageBox::Cancel) return false;
+  if (answer == QMessageBox::Discard) return true;
+  QString folder = doc_->projectPath();
+  if (folder.isEmpty()) folder = QFileDialog::getSaveFileName(this, tr("Save the project as"), doc_->displayName() + ".relume");
+  if (folder.isEmpty() || !saveTo(folder)) return false;
+  jobs_->waitForIdle();
+  return !doc_->isDirty();
+}
+
+void MainWindow::closeEvent(QCloseEvent* e) {
+  if (jobs_->busy() || !maybeSave()) {
+    if (jobs_->busy()) statusBar()->showMessage(tr("A job is running: cancel it before quitting."), 5000);
+    e->ignore();
+    return;
+  }
+  QSettings settings;
+  settings.setValue("window/geometry", saveGeometry());
+  settings.setValue("window/state", saveState());
+  e->accept();
+}
+
+void MainWindow::showError(const QString& title, const QString& message) {
+  lastError_ = message;
+  statusBar()->showMessage(message, 15000);
+  if (interactive_) QMessageBox::warning(this, title, message);
+}
+
+void MainWindow::updateTitle() {
+  setWindowTitle(doc_->isOpen() ? tr("%1[*] — Relume").arg(doc_->displayName()) : tr("Relume"));
+  setWindowModified(doc_->isDirty());
+}
+
+void MainWindow::updateStatus() {
+  if (!doc_->isOpen()) {
+    statusView_->setText(tr("No room open"));
+    return;
+  }
+  QString mode;
+  for (QAction* a : modes_->actions())
+    if (a->isChecked()) mode = a->text().remove('&');
+  const auto totals = doc_->session()->engine().totals();
+  statusView_->setText(tr("%1 · %2 · refined mesh, %3 leaves · %4 links · frame %5 ms · EV %6%7")
+                           .arg(mode)
+                           .arg(viewport_->orbiting() ? tr("free orbit") : tr("photo camera"))
+                           .arg(totals.leaves)
+                           .arg(totals.links)
+                           .arg(viewport_->lastFrameMilliseconds(), 0, 'f', 1)
+                           .arg(viewport_->exposureEV() >= 0 ? "+" : "")
+                           .arg(viewport_->exposureEV(), 0, 'f', 1));
+}
+
+void MainWindow::storeView() {
+  if (!doc_->isOpen()) return;
+  QString mode = "relit";
+  for (const auto& m : kModes)
+    if (m.mode == viewport_->viewMode()) mode = m.key;
+  const auto o = viewport_->orbitState();
+  doc_->setViewState(QJsonObject{{"mode", mode},
+                                 {"ev", viewport_->exposureEV()},
+                                 {"false_colour", viewport_->falseColour()},
+                                 {"orbit", viewport_->orbiting()},
+                                 {"yaw", o.yaw},
+                                 {"pitch", o.pitch},
+                                 {"distance", o.distance},
+                                 {"target", QJsonArray{o.target[0], o.target[1], o.target[2]}}});
+}
+
+void MainWindow::restoreView() {
+  const QJsonObject v = doc_->viewState();
+  ViewMode mode = ViewMode::Relit;
+  for (const auto& m : kModes)
+    if (v["mode"].toString() == m.key) mode = m.mode;
+  viewport_->setViewMode(mode);
+  for (QAction* a : modes_->actions()) a->setChecked(a->data().toString() == (v["mode"].toString().isEmpty() ? "relit" : v["mode"].toString()));
+  viewport_->setExposureEV(v["ev"].toDouble(0));
+  viewport_->setFalseColour(v["false_colour"].toBool(false));
+  if (v.contains("distance") && v["distance"].toDouble() > 0) {
+    ViewportWidget::Orbit o;
+    o.yaw = v["yaw"].toDouble();
+    o.pitch = v["pitch"].toDouble();
+    o.distance = v["distance"].toDouble();
+    const QJsonArray t = v["target"].toArray();
+    for (int k = 0; k < 3 && k < t.size(); ++k) o.target[k] = t[k].toDouble();
+    viewport_->setOrbitState(o);
+  }
+  if (v["orbit"].toBool(false)) viewport_->setOrbit(true);
+  else viewport_->lockToPhoto();
+}
+
+void MainWindow::addRecent(const QString& path) {
+  QSettings settings;
+  QStringList recent = settings.value("recent").toStringList();
+  recent.removeAll(path);
+  recent.prepend(path);
+  while (recent.size() > kRecentMax) recent.removeLast();
+  settings.setValue("recent", recent);
+  updateRecent();
+}
+
+void MainWindow::updateRecent() {
+  recentMenu_->clear();
+  const QStringList recent = QSettings().value("recent").toStringList();
+  for (int i = 0; i < recent.size(); ++i) {
+    const QString p = recent[i];
+    QAction* a = recentMenu_->addAction(QString("&%1 %2").arg((i + 1) % 10).arg(p), this, [this, p] { openPath(p); });
+    a->setData(p);
+  }
+  recentMenu_->setEnabled(!recent.isEmpty());
+}
+
+}  // namespace relume

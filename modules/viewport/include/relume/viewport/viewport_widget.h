@@ -1,0 +1,88 @@
+#pragma once
+// The relighting viewport of the workbench: a QOpenGLWidget that shows a RelightSession through
+// a photo's camera (the default: the image lies exactly on the photo) or from a free orbit
+// around the model, in one of the view modes, exposed like the photo.
+#include <QOpenGLWidget>
+#include <memory>
+
+#include "relume/geometry/camera.h"
+#include "relume/image/image.h"
+#include "relume/viewport/gl_renderer.h"
+
+namespace relume {
+
+struct Scene;
+struct RelightData;
+class RelightSession;
+
+class ViewportWidget : public QOpenGLWidget {
+  Q_OBJECT
+ public:
+  explicit ViewportWidget(QWidget* parent = nullptr);
+  ~ViewportWidget() override;
+
+  // The room shown (all three must outlive the widget's use of them, or be cleared by nullptrs).
+  void setRoom(const Scene* scene, const RelightData* data, const RelightSession* session);
+  // Call after the session's mesh changed (objects moved, lamps added) / after any lighting edit.
+  void meshChanged();
+  void lightingChanged();
+
+  void setViewMode(ViewMode mode);
+  ViewMode viewMode() const { return mode_; }
+  void setExposureEV(double ev);  // relative to the photo's exposure
+  double exposureEV() const { return ev_; }
+  void setFalseColour(bool on);
+  bool falseColour() const { return falseColour_; }
+  // Locks the view to a photo's camera (by name; empty = the textures' photo) or frees it.
+  void lockToPhoto(const std::string& photo = {});
+  void setOrbit(bool free);
+  bool orbiting() const { return orbit_; }
+  void resetOrbit();
+  // The camera the viewport shows now, at the widget's size (orbit) or the photo's own camera.
+  Camera currentCamera() const;
+
+  // Renders `camera`'s view at its own resolution into a float buffer: linear radiance.
+  ImageRGB renderLinear(const Camera& camera, ViewMode mode);
+  double lastFrameMilliseconds() const { return frameMs_; }
+  size_t leafCount() const;
+
+  // Orbit state, for projects that keep the view.
+  struct Orbit {
+    double yaw = 0, pitch = 0, distance = 0;
+    double target[3] = {0, 0, 0};
+  };
+  Orbit orbitState() const { return orbitState_; }
+  void setOrbitState(const Orbit& o);
+
+ signals:
+  void frameDrawn(double milliseconds);
+  void viewChanged();
+
+ protected:
+  void initializeGL() override;
+  void paintGL() override;
+  void mousePressEvent(QMouseEvent* e) override;
+  void mouseMoveEvent(QMouseEvent* e) override;
+  void wheelEvent(QWheelEvent* e) override;
+
+ private:
+  ViewRect photoRect() const;
+  void upload();
+
+  std::unique_ptr<GlRelightRenderer> renderer_;
+  const Scene* scene_ = nullptr;
+  const RelightData* data_ = nullptr;
+  const RelightSession* session_ = nullptr;
+  bool roomDirty_ = false, meshDirty_ = false, lightingDirty_ = false, glReady_ = false;
+  QString glError_;
+  ViewMode mode_ = ViewMode::Relit;
+  double ev_ = 0;
+  bool falseColour_ = false;
+  std::string photo_;
+  bool orbit_ = false;
+  Orbit orbitState_;
+  QPoint lastMouse_;
+  double frameMs_ = 0;
+};
+
+}  // namespace relume

@@ -1,0 +1,250 @@
+#include "relume/viewport/viewport_widget.h"
+
+#include <QMouseEvent>
+#include <QOpenGLContext>
+#include <QOpenGLFunctions>
+#include <QPainter>
+#include <QWheelEvent>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "relume/geometry/error.h"
+#include "relume/geometry/scene.h"
+#include "relume/relight/relighter.h"
+
+namespace relume {
+
+ViewportWidget::ViewportWidget(QWidget* parent) : QOpenGLWidget(parent), renderer_(std::make_unique<GlRelightRenderer>()) {
+  QSurfaceFormat f = format();
+  f.setVersion(3, 3);
+  f.setProfile(QSurfaceFormat::CoreProfile);
+  f.setDepthBufferSize(24);
+  setFormat(f);
+  setMinimumSize(320, 240);
+  setFocusPolicy(Qt::StrongFocus);
+}
+
+ViewportWidget::~ViewportWidget() {
+  makeCurrent();
+  renderer_.reset();
+  doneCurrent();
+}
+
+void ViewportWidget::setRoom(const Scene* scene, const RelightData* data, const RelightSession* session) {
+  scene_ = scene;
+  data_ = data;
+  session_ = session;
+  photo_.clear();
+  roomDirty_ = meshDirty_ = lightingDirty_ = true;
+  resetOrbit();
+  update();
+}
+
+void ViewportWidget::meshChanged() {
+  meshDirty_ = true;
+  update();
+}
+
+void ViewportWidget::lightingChanged() {
+  lightingDirty_ = true;
+  update();
+}
+
+void ViewportWidget::setViewMode(ViewMode mode) {
+  mode_ = mode;
+  update();
+}
+
+void ViewportWidget::setExposureEV(double ev) {
+  ev_ = ev;
+  update();
+}
+
+void ViewportWidget::setFalseColour(bool on) {
+  falseColour_ = on;
+  update();
+}
+
+void ViewportWidget::lockToPhoto(const std::string& photo) {
+  photo_ = photo;
+  orbit_ = false;
+  emit viewChanged();
+  update();
+}
+
+void ViewportWidget::setOrbit(bool free) {
+  orbit_ = free;
+  emit viewChanged();
+  update();
+}
+
+void ViewportWidget::resetOrbit() {
+  orbitState_ = Orbit{};
+  if (!scene_ || scene_->polygons.empty()) return;
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const auto& p : scene_->polygons)
+    for (const auto& v : p.vertices) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+  const glm::dvec3 c = 0.5 * (lo + hi);
+  for (int k = 0; k < 3; ++k) orbitState_.target[k] = c[k];
+  // Start from the photo's camera position when there is one, else from a corner of the room.
+  glm::dvec3 eye = c + glm::dvec3(0.4, -0.45, 0.1) * glm::length(hi - lo);
+  if (data_)
+    if (const Photo* ph = scene_->findPhoto(data_->photo)) eye = ph->camera.center();
+  const glm::dvec3 d = eye - c;
+  orbitState_.distance = std::max(0.5, glm::length(d));
+  orbitState_.yaw = std::atan2(d.y, d.x);
+  orbitState_.pitch = std::asin(std::clamp(d.z / orbitState_.distance, -1.0, 1.0));
+}
+
+void ViewportWidget::setOrbitState(const Orbit& o) {
+  orbitState_ = o;
+  update();
+}
+
+Camera ViewportWidget::currentCamera() const {
+  if (!scene_ || !data_) return Camera{};
+  if (!orbit_) {
+    const Photo* ph = scene_->findPhoto(photo_.empty() ? data_->photo : photo_);
+    if (!ph) ph = scene_->findPhoto(data_->photo);
+    return ph ? ph->camera : Camera{};
+  }
+  const auto& o = orbitState_;
+  const glm::dvec3 target(o.target[0], o.target[1], o.target[2]);
+  const glm::dvec3 dir(std::cos(o.pitch) * std::cos(o.yaw), std::cos(o.pitch) * std::sin(o.yaw), std::sin(o.pitch));
+  const int w = std::max(1, int(width() * devicePixelRatio())), h = std::max(1, int(height() * devicePixelRatio()));
+  const double f = 0.5 * h / std::tan(0.5 * 55.0 * 3.14159265358979 / 180.0);  // 55 degrees vertical
+  return Camera::lookAt(target + o.distance * dir, target, w, h, f);
+}
+
+ViewRect ViewportWidget::photoRect() const {
+  const int W = std::max(1, int(width() * devicePixelRatio())), H = std::max(1, int(height() * devicePixelRatio()));
+  const Camera cam = currentCamera();
+  if (orbit_ || cam.width <= 0) return {0, 0, W, H};
+  // The photo fitted into the widget, aspect kept, centred.
+  const double s = std::min(double(W) / cam.width, double(H) / cam.height);
+  const int w = std::max(1, int(std::lround(cam.width * s))), h = std::max(1, int(std::lround(cam.height * s)));
+  return {(W - w) / 2, (H - h) / 2, w, h};
+}
+
+void ViewportWidget::initializeGL() {
+  try {
+    renderer_->initialize();
+    glReady_ = true;
+  } catch (const std::exception& e) {
+    glError_ = QString::fromStdString(e.what());
+  }
+}
+
+void ViewportWidget::upload() {
+  if (!glReady_) return;
+  if (!scene_ || !data_ || !session_) return;
+  try {
+    if (roomDirty_) renderer_->setRoom(*scene_, *data_);
+    if (roomDirty_ || meshDirty_) renderer_->setMesh(*session_);
+    else if (lightingDirty_) renderer_->setLighting(*session_);
+    roomDirty_ = meshDirty_ = lightingDirty_ = false;
+  } catch (const std::exception& e) {
+    glError_ = QString::fromStdString(e.what());
+  }
+}
+
+size_t ViewportWidget::leafCount() const { return renderer_->leafCount(); }
+
+void ViewportWidget::paintGL() {
+  upload();
+  auto* f = context()->functions();
+  f->glClearColor(0.16f, 0.16f, 0.17f, 1.f);
+  f->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  QString message = glError_;
+  if (glError_.isEmpty() && session_ && renderer_->ready()) {
+    DisplaySettings d;
+    d.output = falseColour_ ? DisplayOutput::FalseColour : DisplayOutput::Exposed;
+    d.exposure = (data_ ? data_->photoExposure : 1.0) * std::pow(2.0, ev_);
+    // False colour spans three decades up from the luminance that maps to 1 % of display white.
+    d.falseMin = std::log10(0.01 / d.exposure);
+    d.falseMax = d.falseMin + 3.0;
+    try {
+      renderer_->draw(currentCamera(), mode_, d, defaultFramebufferObject(), photoRect());
+      frameMs_ = renderer_->lastDrawMilliseconds();
+    } catch (const std::exception& e) {
+      message = QString::fromStdString(e.what());
+    }
+    if (falseColour_) {
+      // The colour bar: luminance (cd/m^2 = W/sr/m^2 in the room's radiance units) per colour.
+      QPainter p(this);
+      const QRect bar(width() - 70, 20, 16, height() - 40);
+      QLinearGradient g(bar.bottomLeft(), bar.topLeft());
+      const QColor stops[5] = {QColor::fromRgbF(0.05, 0.1, 0.6), QColor::fromRgbF(0.1, 0.7, 0.9),
+                               QColor::fromRgbF(0.15, 0.8, 0.2), QColor::fromRgbF(0.95, 0.9, 0.1),
+                               QColor::fromRgbF(0.9, 0.1, 0.1)};
+      for (int k = 0; k < 5; ++k) g.setColorAt(k / 4.0, stops[k]);
+      p.fillRect(bar, g);
+      p.setPen(Qt::white);
+      for (int k = 0; k <= 3; ++k) {
+        const int y = bar.bottom() - k * bar.height() / 3;
+        p.drawText(bar.right() + 4, y + 4, QString::number(std::pow(10.0, d.falseMin + k), 'g', 2));
+      }
+      p.drawText(bar.left() - 6, bar.top() - 6, tr("radiance"));
+    }
+    emit frameDrawn(frameMs_);
+  } else if (message.isEmpty()) {
+    message = tr("Open a room or a project (File ▸ Open) to relight it.");
+  }
+  if (!message.isEmpty() && !(session_ && renderer_->ready() && glError_.isEmpty())) {
+    QPainter p(this);
+    p.setPen(QColor(220, 220, 220));
+    p.drawText(rect(), Qt::AlignCenter | Qt::TextWordWrap, message);
+  }
+}
+
+ImageRGB ViewportWidget::renderLinear(const Camera& camera, ViewMode mode) {
+  makeCurrent();
+  upload();
+  if (!glReady_ || !renderer_->ready()) {
+    doneCurrent();
+    throw Error("", "viewport", glError_.isEmpty() ? "nothing to render" : glError_.toStdString());
+  }
+  ImageRGB img = renderer_->renderLinear(camera, mode);
+  doneCurrent();
+  return img;
+}
+
+void ViewportWidget::mousePressEvent(QMouseEvent* e) {
+  lastMouse_ = e->position().toPoint();
+  QOpenGLWidget::mousePressEvent(e);
+}
+
+void ViewportWidget::mouseMoveEvent(QMouseEvent* e) {
+  const QPoint p = e->position().toPoint();
+  const QPoint d = p - lastMouse_;
+  lastMouse_ = p;
+  if (!orbit_) return;
+  if (e->buttons() & Qt::LeftButton) {  // orbit about the target
+    orbitState_.yaw -= 0.008 * d.x();
+    orbitState_.pitch = std::clamp(orbitState_.pitch + 0.008 * d.y(), -1.5, 1.5);
+  } else if (e->buttons() & (Qt::MiddleButton | Qt::RightButton)) {  // pan in the view plane
+    const Camera c = currentCamera();
+    const double s = orbitState_.distance / c.fy();
+    const glm::dvec3 right = glm::transpose(c.R) * glm::dvec3(1, 0, 0), down = glm::transpose(c.R) * glm::dvec3(0, 1, 0);
+    const glm::dvec3 m = -s * (double(d.x()) * right + double(d.y()) * down);
+    for (int k = 0; k < 3; ++k) orbitState_.target[k] += m[k];
+  } else {
+    return;
+  }
+  emit viewChanged();
+  update();
+}
+
+void ViewportWidget::wheelEvent(QWheelEvent* e) {
+  if (!orbit_) return;
+  orbitState_.distance = std::clamp(orbitState_.distance * std::pow(0.9, e->angleDelta().y() / 120.0), 0.2, 100.0);
+  emit viewChanged();
+  update();
+}
+
+}  // namespace relume
