@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The main job on the bundled sample room, headless: reconstruct it from its photos (COLMAP, and
+# The main job on the bundled sample room. With a display: the workbench, opened on it. Headless
+# (or RELUME_HEADLESS=1): reconstruct it from its photos (COLMAP, and
 # the clicked corners triangulated into a project), preprocess it for relighting (textures,
 # estimates, real shadows removed), relight it several ways, and score it against its truth
 # renders. Everything lands in out/.
@@ -7,6 +8,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
 room=resources/sample_room
+# With a display, the main job is the workbench: it opens the sample room, preprocesses it (a job
+# with a progress bar and Cancel) and shows it relit, ready for the Lights panel.
+if [ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" ] && [ -z "${RELUME_HEADLESS:-}" ]; then
+  exec ./build/app/workbench/relume-workbench "$room"
+fi
 relume=./build/app/cli/relume
 mkdir -p out
 # From photographs: COLMAP's cameras (with the camera's known intrinsics), their error against the

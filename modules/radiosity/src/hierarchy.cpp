@@ -590,6 +590,7 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
   auto computeVisibility = [&](std::vector<HierarchicalRadiosity::Link>& ls) {
     Kernel k{h, im, h.nodes_, opt.quadratureOrder};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, ls.size(), 16), [&](const tbb::blocked_range<size_t>& rg) {
+      progress.poll();  // many links take seconds: answer Cancel between chunks
       for (size_t i = rg.begin(); i < rg.end(); ++i) {
         auto& l = ls[i];
         if (l.visibility != kUnknownVisibility || l.receiver == l.source) continue;

@@ -111,6 +111,11 @@ struct RelightSession::Impl {
     const int s = h->nodes()[node].surface;
     return s >= 0 && size_t(s) < np && kinds[s] == PolygonKind::Real;
   }
+  // Virtual surfaces, and lamps no photo shows (seen from elsewhere), are drawn with their own
+  // radiance B / pi rather than a texture.
+  bool shownBySolution(int s) const {
+    return size_t(s) >= np || (kinds[s] == PolygonKind::Light && !textures[s].photographed());
+  }
   glm::vec3 shading(int node) const { return byIrradiance(node) ? h->irradiance(node) : h->radiosity(node); }
   // Seen from the photo's own camera, each lamp's glow follows its lamp (or stays as photographed).
   void addGlow(const Camera& camera, ImageRGB& img, bool original) const {
@@ -296,7 +301,7 @@ DisplayMesh RelightSession::displayMesh() const {
     if (polygonArea2D(outline) < 0) std::reverse(outline.begin(), outline.end());
     DisplayMesh::Range range;
     range.surface = int(s);
-    range.kind = s >= im.np                               ? DisplaySurfaceKind::Virtual
+    range.kind = im.shownBySolution(int(s))               ? DisplaySurfaceKind::Virtual
                  : im.kinds[s] == PolygonKind::Window ? DisplaySurfaceKind::Window
                                                        : DisplaySurfaceKind::Textured;
     range.normal = glm::vec3(polygonNormal(surf.vertices));
@@ -353,7 +358,7 @@ ImageRGB RelightSession::render(const Camera& camera, RelightMethod method, Prog
   ImageRGB img = castView(h, camera, progress, [&](int s, int leaf, glm::dvec2 uv) {
     const auto& L = h.nodes()[leaf];
     const glm::vec3 b = interpolateCorners(L, im.cB[leaf], uv);
-    if (size_t(s) >= im.np) return b * invPi;  // virtual: radiosity (shaded by the solution)
+    if (im.shownBySolution(s)) return b * invPi;  // virtual, or a lamp no photo shows: its radiance
     const auto& t = im.textures[s];
     const bool useFinal = method == RelightMethod::Full && !t.unoccluded.empty();
     const glm::vec3 tex = t.sample(useFinal ? t.unoccluded : t.original, uv);

@@ -290,9 +290,12 @@ std::vector<PolygonTexture> dewarpPhotos(const Scene& scene, const RayScene& ray
       if (int(q) == photoIndex || projectedArea(scene.photos[q].camera, poly) < 1) continue;
       for (size_t i = 0; i < n; ++i) need[i] = t.source[i] == TexelSource::Smooth;
       if (images[q].width == 0) {
+        progress.poll();  // reading and ray-casting a photo takes a while: answer Cancel first
         images[q] = readPhoto(scene, scene.photos[q]);
+        progress.poll();
         ids[q] = idsOf(scene.photos[q].camera);
       }
+      progress.poll();
       const size_t got = sampleFromPhoto(t, scene.photos[q].camera, images[q], ids[q], rays, TexelSource::OtherPhoto, need);
       st.fromOther += got;
       missing -= got;

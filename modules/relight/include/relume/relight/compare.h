@@ -1,5 +1,5 @@
 #pragma once
-// The benchmark's comparison protocol (../shared/benchmark/README.md "How to compare"): 4x4 box
+// The comparison protocol (docs/comparison-protocol.md): 4x4 box
 // downsampling, lamp pixels left out, one least-squares gain per channel, PSNR with the peak at
 // the truth's 99.9th percentile, over the "all" and "shadow" masks.
 #include <glm/vec3.hpp>

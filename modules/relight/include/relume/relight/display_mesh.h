@@ -13,7 +13,8 @@
 namespace relume {
 
 // How a surface is shown: photo texture x ratio (real polygons and lamps), texture alone
-// (windows), or the solution's own radiance B / pi (virtual lamps and objects).
+// (windows), or the solution's own radiance B / pi (virtual lamps and objects, and lamps that no
+// photo shows).
 enum class DisplaySurfaceKind : uint8_t { Textured = 0, Window = 1, Virtual = 2 };
 
 struct DisplayMesh {
