@@ -4,6 +4,7 @@
 #include <QSurfaceFormat>
 #include <QTimer>
 
+#include "i18n.h"
 #include "main_window.h"
 
 int main(int argc, char** argv) {
@@ -16,6 +17,7 @@ int main(int argc, char** argv) {
   QApplication app(argc, argv);
   QApplication::setOrganizationName("Relume");
   QApplication::setApplicationName("relume-workbench");
+  relume::installTranslations();
   QCommandLineParser parser;
   parser.setApplicationDescription("Relume workbench: relight photographed rooms.");
   parser.addHelpOption();

@@ -19,6 +19,7 @@
 #include <QUndoStack>
 
 #include "document.h"
+#include "i18n.h"
 #include "job_runner.h"
 #include "lights_panel.h"
 #include "relume/viewport/viewport_widget.h"
@@ -154,6 +155,23 @@ void MainWindow::buildMenus() {
   redo->setShortcuts({QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z), QKeySequence::Redo});
   edit->addAction(undo);
   edit->addAction(redo);
+
+  edit->addSeparator();
+  QMenu* language = edit->addMenu(tr("&Language"));
+  auto* languages = new QActionGroup(this);
+  const QString current = chosenLanguage();
+  for (const auto& [code, name] : {std::pair<QString, QString>{"", tr("System language")}, {"en", "English"},
+                                   {"fr", "Français"}, {"de", "Deutsch"}}) {
+    QAction* a = language->addAction(name);
+    a->setCheckable(true);
+    a->setChecked(code == current);
+    languages->addAction(a);
+    const QString c = code;
+    connect(a, &QAction::triggered, this, [this, c] {
+      chooseLanguage(c);
+      statusBar()->showMessage(tr("The language changes when Relume starts again."), 8000);
+    });
+  }
 
   QMenu* view = menuBar()->addMenu(tr("&View"));
   modes_ = new QActionGroup(this);

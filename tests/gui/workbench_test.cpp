@@ -9,6 +9,9 @@
 #include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QTimer>
+#include <QTranslator>
+#include <QMenuBar>
+#include <QDockWidget>
 #include <QtTest>
 #include <algorithm>
 #include <cmath>
@@ -299,6 +302,24 @@ class WorkbenchTest : public QObject {
     QCOMPARE(doc()->session(), session);
     QCOMPARE(doc()->scene().polygons.size(), before.polygons.size());
     QVERIFY(!window_->jobs()->busy());
+  }
+
+  // The French UI shows French menus and panel titles.
+  void frenchInterface() {
+    QTranslator fr;
+    QVERIFY(fr.load(":/i18n/relume_fr.qm"));
+    QCoreApplication::installTranslator(&fr);
+    {
+      MainWindow w;
+      QStringList menus;
+      for (QAction* a : w.menuBar()->actions()) menus << a->text();
+      qInfo("French menus: %s", qPrintable(menus.join(", ")));
+      QCOMPARE(menus, QStringList({"&Fichier", "É&dition", "&Affichage", "É&clairage", "&Aide"}));
+      const auto docks = w.findChildren<QDockWidget*>();
+      QVERIFY(!docks.isEmpty());
+      QCOMPARE(docks.front()->windowTitle(), QString("Éclairage"));
+    }
+    QCoreApplication::removeTranslator(&fr);
   }
 
   void screenshots() {

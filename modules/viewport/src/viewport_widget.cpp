@@ -1,5 +1,6 @@
 #include "relume/viewport/viewport_widget.h"
 
+#include <QLabel>
 #include <QMouseEvent>
 #include <QOpenGLContext>
 #include <QOpenGLFunctions>
@@ -16,6 +17,44 @@
 
 namespace relume {
 
+// The false-colour scale: luminance per colour, three labelled decades (the shader's ramp).
+class ColourBar : public QWidget {
+ public:
+  explicit ColourBar(QWidget* parent) : QWidget(parent) { setAttribute(Qt::WA_TransparentForMouseEvents); }
+  void setRange(double lo, double hi) {
+    if (lo == lo_ && hi == hi_) return;
+    lo_ = lo;
+    hi_ = hi;
+    update();
+  }
+
+ protected:
+  void paintEvent(QPaintEvent*) override {
+    QPainter p(this);
+    p.setRenderHint(QPainter::Antialiasing);
+    p.fillRect(rect(), QColor(20, 20, 22, 170));
+    const QRect bar(8, 24, 16, height() - 36);
+    QLinearGradient g(bar.bottomLeft(), bar.topLeft());
+    const QColor stops[5] = {QColor::fromRgbF(0.05f, 0.1f, 0.6f), QColor::fromRgbF(0.1f, 0.7f, 0.9f),
+                             QColor::fromRgbF(0.15f, 0.8f, 0.2f), QColor::fromRgbF(0.95f, 0.9f, 0.1f),
+                             QColor::fromRgbF(0.9f, 0.1f, 0.1f)};
+    for (int k = 0; k < 5; ++k) g.setColorAt(k / 4.0, stops[k]);
+    p.fillRect(bar, g);
+    p.setPen(Qt::white);
+    p.drawText(QRect(4, 2, width() - 8, 20), Qt::AlignLeft | Qt::AlignVCenter, ViewportWidget::tr("luminance"));
+    const int steps = 4;
+    for (int k = 0; k <= steps; ++k) {
+      const double v = std::pow(10.0, lo_ + (hi_ - lo_) * k / steps);
+      const int y = bar.bottom() - k * bar.height() / steps;
+      p.drawLine(bar.right() + 1, y, bar.right() + 5, y);
+      p.drawText(bar.right() + 8, y + 4, QString::number(v, 'g', 2));
+    }
+  }
+
+ private:
+  double lo_ = 0, hi_ = 1;
+};
+
 ViewportWidget::ViewportWidget(QWidget* parent) : QOpenGLWidget(parent), renderer_(std::make_unique<GlRelightRenderer>()) {
   QSurfaceFormat f = format();
   f.setVersion(3, 3);
@@ -23,6 +62,12 @@ ViewportWidget::ViewportWidget(QWidget* parent) : QOpenGLWidget(parent), rendere
   f.setDepthBufferSize(24);
   setFormat(f);
   setMinimumSize(320, 240);
+  message_ = new QLabel(this);
+  message_->setAlignment(Qt::AlignCenter);
+  message_->setWordWrap(true);
+  message_->setStyleSheet("color: #ddd; background: transparent;");
+  colourBar_ = new ColourBar(this);
+  colourBar_->hide();
   setFocusPolicy(Qt::StrongFocus);
 }
 
@@ -165,41 +210,26 @@ void ViewportWidget::paintGL() {
     DisplaySettings d;
     d.output = falseColour_ ? DisplayOutput::FalseColour : DisplayOutput::Exposed;
     d.exposure = (data_ ? data_->photoExposure : 1.0) * std::pow(2.0, ev_);
-    // False colour spans three decades up from the luminance that maps to 1 % of display white.
+    // False colour: from 1 % to 200 % of the luminance that the display shows as white.
     d.falseMin = std::log10(0.01 / d.exposure);
-    d.falseMax = d.falseMin + 3.0;
+    d.falseMax = std::log10(2.0 / d.exposure);
     try {
       renderer_->draw(currentCamera(), mode_, d, defaultFramebufferObject(), photoRect());
       frameMs_ = renderer_->lastDrawMilliseconds();
     } catch (const std::exception& e) {
       message = QString::fromStdString(e.what());
     }
-    if (falseColour_) {
-      // The colour bar: luminance (cd/m^2 = W/sr/m^2 in the room's radiance units) per colour.
-      QPainter p(this);
-      const QRect bar(width() - 70, 20, 16, height() - 40);
-      QLinearGradient g(bar.bottomLeft(), bar.topLeft());
-      const QColor stops[5] = {QColor::fromRgbF(0.05, 0.1, 0.6), QColor::fromRgbF(0.1, 0.7, 0.9),
-                               QColor::fromRgbF(0.15, 0.8, 0.2), QColor::fromRgbF(0.95, 0.9, 0.1),
-                               QColor::fromRgbF(0.9, 0.1, 0.1)};
-      for (int k = 0; k < 5; ++k) g.setColorAt(k / 4.0, stops[k]);
-      p.fillRect(bar, g);
-      p.setPen(Qt::white);
-      for (int k = 0; k <= 3; ++k) {
-        const int y = bar.bottom() - k * bar.height() / 3;
-        p.drawText(bar.right() + 4, y + 4, QString::number(std::pow(10.0, d.falseMin + k), 'g', 2));
-      }
-      p.drawText(bar.left() - 6, bar.top() - 6, tr("radiance"));
-    }
+    colourBar_->setRange(d.falseMin, d.falseMax);
     emit frameDrawn(frameMs_);
   } else if (message.isEmpty()) {
-    message = tr("Open a room or a project (File ▸ Open) to relight it.");
+    message = tr("Open a room or a project (File > Open) to relight it.");
   }
-  if (!message.isEmpty() && !(session_ && renderer_->ready() && glError_.isEmpty())) {
-    QPainter p(this);
-    p.setPen(QColor(220, 220, 220));
-    p.drawText(rect(), Qt::AlignCenter | Qt::TextWordWrap, message);
-  }
+  const bool showing = session_ && renderer_->ready() && glError_.isEmpty();
+  message_->setText(showing ? QString() : message);
+  message_->setVisible(!showing);
+  message_->setGeometry(rect());
+  colourBar_->setVisible(showing && falseColour_);
+  colourBar_->setGeometry(width() - 110, 16, 100, std::max(120, height() - 32));
 }
 
 ImageRGB ViewportWidget::renderLinear(const Camera& camera, ViewMode mode) {

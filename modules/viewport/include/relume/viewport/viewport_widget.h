@@ -9,11 +9,14 @@
 #include "relume/image/image.h"
 #include "relume/viewport/gl_renderer.h"
 
+class QLabel;
+
 namespace relume {
 
 struct Scene;
 struct RelightData;
 class RelightSession;
+class ColourBar;
 
 class ViewportWidget : public QOpenGLWidget {
   Q_OBJECT
@@ -83,6 +86,8 @@ class ViewportWidget : public QOpenGLWidget {
   Orbit orbitState_;
   QPoint lastMouse_;
   double frameMs_ = 0;
+  QLabel* message_ = nullptr;
+  ColourBar* colourBar_ = nullptr;
 };
 
 }  // namespace relume

@@ -1,0 +1,299 @@
+<?xml version="1.0" encoding="utf-8"?>
+<!DOCTYPE TS>
+<TS version="2.1" language="de_DE">
+<context>
+    <name>relume::Document</name>
+    <message>
+        <source>lamp %1</source>
+        <translation>Lampe %1</translation>
+    </message>
+</context>
+<context>
+    <name>relume::JobRunner</name>
+    <message>
+        <source>Cancelled; nothing was changed.</source>
+        <translation>Abgebrochen; nichts wurde geändert.</translation>
+    </message>
+</context>
+<context>
+    <name>relume::LightsPanel</name>
+    <message>
+        <source>No room open.</source>
+        <translation>Kein Raum geöffnet.</translation>
+    </message>
+    <message>
+        <source>Lamp strengths estimated by the preprocess (%1). Drag a slider to dim or boost a lamp; untick to switch it off.</source>
+        <translation>Lampenstärken aus der Vorverarbeitung geschätzt (%1). Ziehen Sie einen Regler, um eine Lampe zu dimmen oder zu verstärken; Häkchen entfernen schaltet sie aus.</translation>
+    </message>
+    <message>
+        <source>Lamp %1</source>
+        <translation>Lampe %1</translation>
+    </message>
+    <message>
+        <source>On</source>
+        <translation>An</translation>
+    </message>
+    <message>
+        <source>Intensity, 0-400 % of the photographed lamp</source>
+        <translation>Intensität, 0–400 % der fotografierten Lampe</translation>
+    </message>
+    <message>
+        <source>Colour of the lamp</source>
+        <translation>Farbe der Lampe</translation>
+    </message>
+    <message>
+        <source>measured in the HDR photo</source>
+        <translation>im HDR-Foto gemessen</translation>
+    </message>
+    <message>
+        <source>least-squares fit</source>
+        <translation>Ausgleichsrechnung (kleinste Quadrate)</translation>
+    </message>
+    <message>
+        <source>Eq. 2, all lamps equal</source>
+        <translation>Gl. 2, alle Lampen gleich</translation>
+    </message>
+    <message>
+        <source>Estimate: %1, %2, %3 W/m² (%4)</source>
+        <translation>Schätzung: %1, %2, %3 W/m² (%4)</translation>
+    </message>
+</context>
+<context>
+    <name>relume::MainWindow</name>
+    <message>
+        <source>Lights</source>
+        <translation>Beleuchtung</translation>
+    </message>
+    <message>
+        <source>Cancel</source>
+        <translation>Abbrechen</translation>
+    </message>
+    <message>
+        <source>Relume</source>
+        <translation>Relume</translation>
+    </message>
+    <message>
+        <source>&amp;File</source>
+        <translation>&amp;Datei</translation>
+    </message>
+    <message>
+        <source>&amp;Open...</source>
+        <translation>Ö&amp;ffnen...</translation>
+    </message>
+    <message>
+        <source>Open a room or a Relume project</source>
+        <translation>Einen Raum oder ein Relume-Projekt öffnen</translation>
+    </message>
+    <message>
+        <source>Open &amp;OBJ + JSON...</source>
+        <translation>&amp;OBJ + JSON öffnen...</translation>
+    </message>
+    <message>
+        <source>Open a room</source>
+        <translation>Einen Raum öffnen</translation>
+    </message>
+    <message>
+        <source>Room geometry (*.obj)</source>
+        <translation>Raumgeometrie (*.obj)</translation>
+    </message>
+    <message>
+        <source>Open &amp;Recent</source>
+        <translation>&amp;Zuletzt geöffnet</translation>
+    </message>
+    <message>
+        <source>&amp;Save</source>
+        <translation>&amp;Speichern</translation>
+    </message>
+    <message>
+        <source>Save the project as</source>
+        <translation>Projekt speichern unter</translation>
+    </message>
+    <message>
+        <source>Save &amp;As...</source>
+        <translation>Speichern &amp;unter...</translation>
+    </message>
+    <message>
+        <source>&amp;Quit</source>
+        <translation>&amp;Beenden</translation>
+    </message>
+    <message>
+        <source>&amp;Edit</source>
+        <translation>&amp;Bearbeiten</translation>
+    </message>
+    <message>
+        <source>&amp;Undo</source>
+        <translation>&amp;Rückgängig</translation>
+    </message>
+    <message>
+        <source>&amp;Redo</source>
+        <translation>&amp;Wiederholen</translation>
+    </message>
+    <message>
+        <source>&amp;View</source>
+        <translation>&amp;Ansicht</translation>
+    </message>
+    <message>
+        <source>&amp;Relit (texture × B / D)</source>
+        <translation>&amp;Neu beleuchtet (Textur × B / D)</translation>
+    </message>
+    <message>
+        <source>Relit, r&amp;atio only (texture × B / B_orig)</source>
+        <translation>Neu beleuchtet, nur &amp;Verhältnis (Textur × B / B_orig)</translation>
+    </message>
+    <message>
+        <source>Original &amp;photo</source>
+        <translation>&amp;Originalfoto</translation>
+    </message>
+    <message>
+        <source>&amp;Unoccluded textures (shadows removed)</source>
+        <translation>Texturen &amp;ohne Schatten (Schatten entfernt)</translation>
+    </message>
+    <message>
+        <source>Radiosity &amp;B</source>
+        <translation>Radiosität &amp;B</translation>
+    </message>
+    <message>
+        <source>Display factor &amp;D</source>
+        <translation>Anzeigefaktor &amp;D</translation>
+    </message>
+    <message>
+        <source>&amp;Leaf outlines</source>
+        <translation>&amp;Elementgrenzen</translation>
+    </message>
+    <message>
+        <source>&amp;False colour luminance</source>
+        <translation>Leuchtdichte in &amp;Falschfarben</translation>
+    </message>
+    <message>
+        <source>Exposure +½ EV</source>
+        <translation>Belichtung +½ LW</translation>
+    </message>
+    <message>
+        <source>Exposure −½ EV</source>
+        <translation>Belichtung −½ LW</translation>
+    </message>
+    <message>
+        <source>Exposure of the &amp;photo</source>
+        <translation>Belichtung des &amp;Fotos</translation>
+    </message>
+    <message>
+        <source>&amp;Through the photo&apos;s camera</source>
+        <translation>&amp;Durch die Kamera des Fotos</translation>
+    </message>
+    <message>
+        <source>Free &amp;orbit</source>
+        <translation>Freie &amp;Umlaufansicht</translation>
+    </message>
+    <message>
+        <source>&amp;Lighting</source>
+        <translation>&amp;Licht</translation>
+    </message>
+    <message>
+        <source>&amp;All lamps as photographed</source>
+        <translation>&amp;Alle Lampen wie fotografiert</translation>
+    </message>
+    <message>
+        <source>all lamps as photographed</source>
+        <translation>alle Lampen wie fotografiert</translation>
+    </message>
+    <message>
+        <source>All lamps &amp;off</source>
+        <translation>Alle Lampen a&amp;us</translation>
+    </message>
+    <message>
+        <source>all lamps off</source>
+        <translation>alle Lampen aus</translation>
+    </message>
+    <message>
+        <source>&amp;Help</source>
+        <translation>&amp;Hilfe</translation>
+    </message>
+    <message>
+        <source>&amp;About Relume</source>
+        <translation>&amp;Über Relume</translation>
+    </message>
+    <message>
+        <source>About Relume</source>
+        <translation>Über Relume</translation>
+    </message>
+    <message>
+        <source>&lt;b&gt;Relume&lt;/b&gt; relights photographed rooms: switch real lamps off, dim or tint them, add virtual lamps and objects, and see the photograph respond.&lt;br&gt;&lt;br&gt;Method: Loscos, Drettakis, Robert 2000, &lt;i&gt;Interactive virtual relighting of real scenes&lt;/i&gt; — hierarchical radiosity with clustering, real shadows removed from the photo textures, display of texture × B / D.</source>
+        <translation>&lt;b&gt;Relume&lt;/b&gt; beleuchtet fotografierte Räume neu: echte Lampen ausschalten, dimmen oder einfärben, virtuelle Lampen und Objekte hinzufügen und sehen, wie das Foto reagiert.&lt;br&gt;&lt;br&gt;Verfahren: Loscos, Drettakis, Robert 2000, &lt;i&gt;Interactive virtual relighting of real scenes&lt;/i&gt; — hierarchische Radiosität mit Clustering, echte Schatten aus den Fototexturen entfernt, Anzeige von Textur × B / D.</translation>
+    </message>
+    <message>
+        <source>Another job is running; wait for it or cancel it first.</source>
+        <translation>Eine andere Aufgabe läuft; warten Sie oder brechen Sie sie zuerst ab.</translation>
+    </message>
+    <message>
+        <source>Opening %1</source>
+        <translation>Öffne %1</translation>
+    </message>
+    <message>
+        <source>Opened %1</source>
+        <translation>%1 geöffnet</translation>
+    </message>
+    <message>
+        <source>Saving %1</source>
+        <translation>Speichere %1</translation>
+    </message>
+    <message>
+        <source>Saved %1</source>
+        <translation>%1 gespeichert</translation>
+    </message>
+    <message>
+        <source>Unsaved edits</source>
+        <translation>Ungespeicherte Änderungen</translation>
+    </message>
+    <message>
+        <source>%1 has unsaved edits. Save them first?</source>
+        <translation>%1 hat ungespeicherte Änderungen. Zuerst speichern?</translation>
+    </message>
+    <message>
+        <source>A job is running: cancel it before quitting.</source>
+        <translation>Eine Aufgabe läuft: brechen Sie sie vor dem Beenden ab.</translation>
+    </message>
+    <message>
+        <source>%1[*] — Relume</source>
+        <translation>%1[*] — Relume</translation>
+    </message>
+    <message>
+        <source>No room open</source>
+        <translation>Kein Raum geöffnet</translation>
+    </message>
+    <message>
+        <source>%1 · %2 · refined mesh, %3 leaves · %4 links · frame %5 ms · EV %6%7</source>
+        <translation>%1 · %2 · verfeinertes Netz, %3 Blätter · %4 Verbindungen · Bild %5 ms · LW %6%7</translation>
+    </message>
+    <message>
+        <source>free orbit</source>
+        <translation>freie Umlaufansicht</translation>
+    </message>
+    <message>
+        <source>photo camera</source>
+        <translation>Kamera des Fotos</translation>
+    </message>
+    <message>
+        <source>&amp;Language</source>
+        <translation>&amp;Sprache</translation>
+    </message>
+    <message>
+        <source>System language</source>
+        <translation>Systemsprache</translation>
+    </message>
+    <message>
+        <source>The language changes when Relume starts again.</source>
+        <translation>Die Sprache wechselt beim nächsten Start von Relume.</translation>
+    </message>
+</context>
+<context>
+    <name>relume::ViewportWidget</name>
+    <message>
+        <source>Open a room or a project (File &gt; Open) to relight it.</source>
+        <translation>Öffnen Sie einen Raum oder ein Projekt (Datei &gt; Öffnen), um ihn neu zu beleuchten.</translation>
+    </message>
+    <message>
+        <source>luminance</source>
+        <translation>Leuchtdichte</translation>
+    </message>
+</context>
+</TS>

@@ -1,0 +1,299 @@
+<?xml version="1.0" encoding="utf-8"?>
+<!DOCTYPE TS>
+<TS version="2.1" language="fr_FR">
+<context>
+    <name>relume::Document</name>
+    <message>
+        <source>lamp %1</source>
+        <translation>lampe %1</translation>
+    </message>
+</context>
+<context>
+    <name>relume::JobRunner</name>
+    <message>
+        <source>Cancelled; nothing was changed.</source>
+        <translation>Annulé ; rien n&apos;a été modifié.</translation>
+    </message>
+</context>
+<context>
+    <name>relume::LightsPanel</name>
+    <message>
+        <source>No room open.</source>
+        <translation>Aucune pièce ouverte.</translation>
+    </message>
+    <message>
+        <source>Lamp strengths estimated by the preprocess (%1). Drag a slider to dim or boost a lamp; untick to switch it off.</source>
+        <translation>Intensités des lampes estimées par le prétraitement (%1). Faites glisser un curseur pour atténuer ou renforcer une lampe ; décochez pour l&apos;éteindre.</translation>
+    </message>
+    <message>
+        <source>Lamp %1</source>
+        <translation>Lampe %1</translation>
+    </message>
+    <message>
+        <source>On</source>
+        <translation>Allumée</translation>
+    </message>
+    <message>
+        <source>Intensity, 0-400 % of the photographed lamp</source>
+        <translation>Intensité, 0 à 400 % de la lampe photographiée</translation>
+    </message>
+    <message>
+        <source>Colour of the lamp</source>
+        <translation>Couleur de la lampe</translation>
+    </message>
+    <message>
+        <source>measured in the HDR photo</source>
+        <translation>mesurée dans la photo HDR</translation>
+    </message>
+    <message>
+        <source>least-squares fit</source>
+        <translation>ajustement aux moindres carrés</translation>
+    </message>
+    <message>
+        <source>Eq. 2, all lamps equal</source>
+        <translation>éq. 2, toutes les lampes égales</translation>
+    </message>
+    <message>
+        <source>Estimate: %1, %2, %3 W/m² (%4)</source>
+        <translation>Estimation : %1, %2, %3 W/m² (%4)</translation>
+    </message>
+</context>
+<context>
+    <name>relume::MainWindow</name>
+    <message>
+        <source>Lights</source>
+        <translation>Éclairage</translation>
+    </message>
+    <message>
+        <source>Cancel</source>
+        <translation>Annuler</translation>
+    </message>
+    <message>
+        <source>Relume</source>
+        <translation>Relume</translation>
+    </message>
+    <message>
+        <source>&amp;File</source>
+        <translation>&amp;Fichier</translation>
+    </message>
+    <message>
+        <source>&amp;Open...</source>
+        <translation>&amp;Ouvrir...</translation>
+    </message>
+    <message>
+        <source>Open a room or a Relume project</source>
+        <translation>Ouvrir une pièce ou un projet Relume</translation>
+    </message>
+    <message>
+        <source>Open &amp;OBJ + JSON...</source>
+        <translation>Ouvrir &amp;OBJ + JSON...</translation>
+    </message>
+    <message>
+        <source>Open a room</source>
+        <translation>Ouvrir une pièce</translation>
+    </message>
+    <message>
+        <source>Room geometry (*.obj)</source>
+        <translation>Géométrie de la pièce (*.obj)</translation>
+    </message>
+    <message>
+        <source>Open &amp;Recent</source>
+        <translation>Ouvrir un fichier &amp;récent</translation>
+    </message>
+    <message>
+        <source>&amp;Save</source>
+        <translation>&amp;Enregistrer</translation>
+    </message>
+    <message>
+        <source>Save the project as</source>
+        <translation>Enregistrer le projet sous</translation>
+    </message>
+    <message>
+        <source>Save &amp;As...</source>
+        <translation>Enregistrer &amp;sous...</translation>
+    </message>
+    <message>
+        <source>&amp;Quit</source>
+        <translation>&amp;Quitter</translation>
+    </message>
+    <message>
+        <source>&amp;Edit</source>
+        <translation>É&amp;dition</translation>
+    </message>
+    <message>
+        <source>&amp;Undo</source>
+        <translation>&amp;Annuler</translation>
+    </message>
+    <message>
+        <source>&amp;Redo</source>
+        <translation>&amp;Rétablir</translation>
+    </message>
+    <message>
+        <source>&amp;View</source>
+        <translation>&amp;Affichage</translation>
+    </message>
+    <message>
+        <source>&amp;Relit (texture × B / D)</source>
+        <translation>&amp;Rééclairée (texture × B / D)</translation>
+    </message>
+    <message>
+        <source>Relit, r&amp;atio only (texture × B / B_orig)</source>
+        <translation>Rééclairée, r&amp;apport seul (texture × B / B_orig)</translation>
+    </message>
+    <message>
+        <source>Original &amp;photo</source>
+        <translation>&amp;Photo d&apos;origine</translation>
+    </message>
+    <message>
+        <source>&amp;Unoccluded textures (shadows removed)</source>
+        <translation>Textures &amp;sans ombres (ombres retirées)</translation>
+    </message>
+    <message>
+        <source>Radiosity &amp;B</source>
+        <translation>Radiosité &amp;B</translation>
+    </message>
+    <message>
+        <source>Display factor &amp;D</source>
+        <translation>Facteur d&apos;affichage &amp;D</translation>
+    </message>
+    <message>
+        <source>&amp;Leaf outlines</source>
+        <translation>&amp;Contours des éléments</translation>
+    </message>
+    <message>
+        <source>&amp;False colour luminance</source>
+        <translation>Luminance en &amp;fausses couleurs</translation>
+    </message>
+    <message>
+        <source>Exposure +½ EV</source>
+        <translation>Exposition +½ IL</translation>
+    </message>
+    <message>
+        <source>Exposure −½ EV</source>
+        <translation>Exposition −½ IL</translation>
+    </message>
+    <message>
+        <source>Exposure of the &amp;photo</source>
+        <translation>Exposition de la &amp;photo</translation>
+    </message>
+    <message>
+        <source>&amp;Through the photo&apos;s camera</source>
+        <translation>&amp;Par la caméra de la photo</translation>
+    </message>
+    <message>
+        <source>Free &amp;orbit</source>
+        <translation>&amp;Orbite libre</translation>
+    </message>
+    <message>
+        <source>&amp;Lighting</source>
+        <translation>É&amp;clairage</translation>
+    </message>
+    <message>
+        <source>&amp;All lamps as photographed</source>
+        <translation>&amp;Toutes les lampes comme photographiées</translation>
+    </message>
+    <message>
+        <source>all lamps as photographed</source>
+        <translation>toutes les lampes comme photographiées</translation>
+    </message>
+    <message>
+        <source>All lamps &amp;off</source>
+        <translation>Toutes les lampes é&amp;teintes</translation>
+    </message>
+    <message>
+        <source>all lamps off</source>
+        <translation>toutes les lampes éteintes</translation>
+    </message>
+    <message>
+        <source>&amp;Help</source>
+        <translation>&amp;Aide</translation>
+    </message>
+    <message>
+        <source>&amp;About Relume</source>
+        <translation>À &amp;propos de Relume</translation>
+    </message>
+    <message>
+        <source>About Relume</source>
+        <translation>À propos de Relume</translation>
+    </message>
+    <message>
+        <source>&lt;b&gt;Relume&lt;/b&gt; relights photographed rooms: switch real lamps off, dim or tint them, add virtual lamps and objects, and see the photograph respond.&lt;br&gt;&lt;br&gt;Method: Loscos, Drettakis, Robert 2000, &lt;i&gt;Interactive virtual relighting of real scenes&lt;/i&gt; — hierarchical radiosity with clustering, real shadows removed from the photo textures, display of texture × B / D.</source>
+        <translation>&lt;b&gt;Relume&lt;/b&gt; rééclaire des pièces photographiées : éteignez, atténuez ou teintez les vraies lampes, ajoutez des lampes et des objets virtuels, et voyez la photo réagir.&lt;br&gt;&lt;br&gt;Méthode : Loscos, Drettakis, Robert 2000, &lt;i&gt;Interactive virtual relighting of real scenes&lt;/i&gt; — radiosité hiérarchique avec regroupement, ombres réelles retirées des textures photo, affichage de texture × B / D.</translation>
+    </message>
+    <message>
+        <source>Another job is running; wait for it or cancel it first.</source>
+        <translation>Une autre tâche est en cours ; attendez-la ou annulez-la d&apos;abord.</translation>
+    </message>
+    <message>
+        <source>Opening %1</source>
+        <translation>Ouverture de %1</translation>
+    </message>
+    <message>
+        <source>Opened %1</source>
+        <translation>%1 ouvert</translation>
+    </message>
+    <message>
+        <source>Saving %1</source>
+        <translation>Enregistrement de %1</translation>
+    </message>
+    <message>
+        <source>Saved %1</source>
+        <translation>%1 enregistré</translation>
+    </message>
+    <message>
+        <source>Unsaved edits</source>
+        <translation>Modifications non enregistrées</translation>
+    </message>
+    <message>
+        <source>%1 has unsaved edits. Save them first?</source>
+        <translation>%1 a des modifications non enregistrées. Les enregistrer d&apos;abord ?</translation>
+    </message>
+    <message>
+        <source>A job is running: cancel it before quitting.</source>
+        <translation>Une tâche est en cours : annulez-la avant de quitter.</translation>
+    </message>
+    <message>
+        <source>%1[*] — Relume</source>
+        <translation>%1[*] — Relume</translation>
+    </message>
+    <message>
+        <source>No room open</source>
+        <translation>Aucune pièce ouverte</translation>
+    </message>
+    <message>
+        <source>%1 · %2 · refined mesh, %3 leaves · %4 links · frame %5 ms · EV %6%7</source>
+        <translation>%1 · %2 · maillage raffiné, %3 feuilles · %4 liens · image %5 ms · IL %6%7</translation>
+    </message>
+    <message>
+        <source>free orbit</source>
+        <translation>orbite libre</translation>
+    </message>
+    <message>
+        <source>photo camera</source>
+        <translation>caméra de la photo</translation>
+    </message>
+    <message>
+        <source>&amp;Language</source>
+        <translation>&amp;Langue</translation>
+    </message>
+    <message>
+        <source>System language</source>
+        <translation>Langue du système</translation>
+    </message>
+    <message>
+        <source>The language changes when Relume starts again.</source>
+        <translation>La langue changera au prochain démarrage de Relume.</translation>
+    </message>
+</context>
+<context>
+    <name>relume::ViewportWidget</name>
+    <message>
+        <source>Open a room or a project (File &gt; Open) to relight it.</source>
+        <translation>Ouvrez une pièce ou un projet (Fichier &gt; Ouvrir) pour la rééclairer.</translation>
+    </message>
+    <message>
+        <source>luminance</source>
+        <translation>luminance</translation>
+    </message>
+</context>
+</TS>
