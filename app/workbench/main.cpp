@@ -4,6 +4,7 @@
 #include <QSurfaceFormat>
 #include <QTimer>
 
+#include "bench.h"
 #include "i18n.h"
 #include "main_window.h"
 
@@ -21,8 +22,12 @@ int main(int argc, char** argv) {
   QCommandLineParser parser;
   parser.setApplicationDescription("Relume workbench: relight photographed rooms.");
   parser.addHelpOption();
-  parser.addPositionalArgument("ROOM", "A room bundle folder, a Relume project, or an OBJ with its JSON.", "[ROOM]");
+  parser.addPositionalArgument("ROOM", "A room bundle folder, a Relume project, or an OBJ with its JSON.", "[ROOM...]");
+  parser.addOption({"bench", "Measure the workbench on the rooms given and write JSON to FILE.", "FILE"});
+  parser.addOption({"runs", "Repetitions for --bench (default 9).", "N", "9"});
   parser.process(app);
+  if (parser.isSet("bench"))
+    return relume::runWorkbenchBench(parser.value("bench"), parser.positionalArguments(), parser.value("runs").toInt());
   relume::MainWindow window;
   window.show();
   if (!parser.positionalArguments().isEmpty()) {

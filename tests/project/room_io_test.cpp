@@ -6,6 +6,10 @@
 
 #include "relume/geometry/error.h"
 #include "relume/project/room_io.h"
+#include "relume/project/save_hooks.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 using namespace relume;
 namespace fs = std::filesystem;
@@ -157,4 +161,47 @@ TEST(Project, SaveAndReloadKeepTheRoomAndAFailedSaveKeepsTheOldProject) {
   const Scene again = loadRoom(proj);
   EXPECT_EQ(again.photos.back().file, p.photos.back().file);
   EXPECT_FALSE(fs::exists(tmp.path / ".sample.relume.saving"));
+}
+
+// A crash at any file-system step of a save (the process ends there) leaves the old or the new
+// project openable at the user's path: with the atomic directory exchange, and without it (the
+// fallback of two renames, where the next open puts the old project back).
+TEST(Project, ACrashAtAnyStepOfASaveLeavesTheOldOrTheNewProject) {
+  const Scene s = loadRoom(kSample);
+  Scene changed = s;
+  changed.polygons[0].albedo = glm::dvec3(0.123, 0.234, 0.345);
+  for (bool exchange : {true, false}) {
+    const std::vector<std::string> steps = exchange ? std::vector<std::string>{"staged", "exchanged", "done"}
+                                                    : std::vector<std::string>{"staged", "moved aside", "moved in", "done"};
+    int sawNew = 0;
+    for (const auto& crashAt : steps) {
+      TempDir tmp;
+      const std::string proj = (tmp.path / "room.relume").string();
+      saveProject(s, proj);
+      const pid_t child = fork();
+      ASSERT_GE(child, 0);
+      if (child == 0) {
+        detail::setSaveTestHooks({[&](const char* step) {
+                                    if (crashAt == step) std::_Exit(0);  // no clean-up, no destructors
+                                  },
+                                  exchange});
+        try {
+          saveProject(changed, proj);
+        } catch (...) {
+          std::_Exit(2);
+        }
+        std::_Exit(3);  // the step was never reached
+      }
+      int status = 0;
+      waitpid(child, &status, 0);
+      ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "crash at '" << crashAt << "' was not reached";
+      Scene reopened;
+      ASSERT_NO_THROW(reopened = loadRoom(proj)) << "crash at '" << crashAt << "' (exchange " << exchange << ")";
+      const glm::dvec3 a = reopened.polygons[0].albedo;
+      const bool isNew = a == changed.polygons[0].albedo, isOld = a == s.polygons[0].albedo;
+      EXPECT_TRUE(isNew || isOld) << "crash at '" << crashAt << "'";
+      sawNew += isNew;
+    }
+    EXPECT_GE(sawNew, 2) << "exchange " << exchange;  // after the swap, the new project is there
+  }
 }

@@ -1,4 +1,8 @@
 #include "relume/project/room_io.h"
+#include "relume/project/save_hooks.h"
+
+#include <fcntl.h>
+#include <stdio.h>
 
 #include <QDir>
 #include <QFile>
@@ -402,9 +406,27 @@ Variant readVariantFile(const std::string& path) {
   return v;
 }
 
+namespace {
+detail::SaveTestHooks& saveHooks() {
+  static detail::SaveTestHooks hooks;
+  return hooks;
+}
+}  // namespace
+
+detail::SaveTestHooks detail::setSaveTestHooks(SaveTestHooks hooks) {
+  std::swap(hooks, saveHooks());
+  return hooks;
+}
+
 Scene loadRoom(const std::string& path) {
   const QFileInfo fi(QString::fromStdString(path));
-  if (!fi.exists()) throw Error(path, "", "no such file or folder");
+  if (!fi.exists()) {
+    // A save that stopped between its two renames (no atomic exchange) left the old project
+    // beside the path: put it back.
+    const QString backup = fi.absolutePath() + "/." + fi.fileName() + ".previous";
+    if (QFileInfo::exists(backup + "/project.json") && QDir().rename(backup, fi.absoluteFilePath())) return loadRoom(path);
+    throw Error(path, "", "no such file or folder");
+  }
   if (fi.isDir()) {
     const QDir d(fi.filePath());
     if (d.exists("project.json")) return readProject(path);
@@ -515,17 +537,38 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
     }
   }
   progress.poll();
-  // Swap into place: old -> backup, staging -> target, drop backup.
+  // Into place, crash-consistent: at every instant the user's path holds the old or the new
+  // project, or (fallback only) the old one waits beside it where loadRoom finds it.
   const QString path = target.absoluteFilePath();
   const QString backup = parent + "/." + target.fileName() + ".previous";
   QDir(backup).removeRecursively();
+  auto& hooks = saveHooks();
+  auto step = [&](const char* what) {
+    if (hooks.step) hooks.step(what);
+  };
+  step("staged");
   const bool hadOld = QFileInfo::exists(path);
+  if (hadOld && hooks.exchange &&
+      renameat2(AT_FDCWD, QFile::encodeName(staging).constData(), AT_FDCWD, QFile::encodeName(path).constData(),
+                RENAME_EXCHANGE) == 0) {
+    // One atomic step: the new project at the path, the old one in the staging folder.
+    step("exchanged");
+    QDir(staging).removeRecursively();
+    step("done");
+    return;
+  }
+  // No atomic exchange here (another file system, or a new path): old -> backup, staging ->
+  // path, drop backup. A crash between the two renames leaves the old project as the backup,
+  // which loadRoom moves back.
   if (hadOld && !QDir().rename(path, backup)) abandon("cannot move the existing project aside");
+  step("moved aside");
   if (!QDir().rename(staging, path)) {
     if (hadOld) QDir().rename(backup, path);
     abandon("cannot move the new project into place");
   }
+  step("moved in");
   if (hadOld) QDir(backup).removeRecursively();
+  step("done");
 }
 
 }  // namespace relume

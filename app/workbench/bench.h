@@ -1,0 +1,10 @@
+#pragma once
+#include <QString>
+
+namespace relume {
+// relume-workbench --bench OUT.json ROOM...: opens each room in the workbench and measures the
+// lamp-slider update, the viewport's frame time at several sizes (GPU time, drawing only) and the
+// frames per second on screen (presentation included), slider event -> new frame, and peak
+// memory. Medians; writes JSON. Returns the process exit code.
+int runWorkbenchBench(const QString& out, const QStringList& rooms, int runs);
+}  // namespace relume
