@@ -1,4 +1,12 @@
+// TBB before Qt: Qt's `emit` macro would rename a TBB function.
+#include <tbb/task_arena.h>
+#include <tbb/task_scheduler_observer.h>
+
 #include "job_runner.h"
+
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
 #include <QCoreApplication>
 #include <QElapsedTimer>
@@ -12,6 +20,27 @@
 #include "relume/geometry/progress.h"
 
 namespace relume {
+
+namespace {
+
+// Background work yields to the UI: every thread that works for a job (the job's own and the TBB
+// workers that join its arena) runs at a lower scheduling priority (nice 10), so that the event
+// loop keeps answering even when the job keeps every core busy.
+void lowerThisThreadsPriority() {
+  thread_local bool lowered = false;
+  if (lowered) return;
+  lowered = true;
+  setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), 10);
+}
+
+class BackgroundObserver : public tbb::task_scheduler_observer {
+ public:
+  explicit BackgroundObserver(tbb::task_arena& arena) : tbb::task_scheduler_observer(arena) { observe(true); }
+  ~BackgroundObserver() override { observe(false); }
+  void on_scheduler_entry(bool) override { lowerThisThreadsPriority(); }
+};
+
+}  // namespace
 
 struct JobRunner::State {
   QThread* thread = nullptr;
@@ -63,7 +92,11 @@ bool JobRunner::start(const QString& title, Work work) {
     bool cancelled = false;
     QString message;
     try {
-      done = work(progress);
+      lowerThisThreadsPriority();
+      tbb::task_arena arena;
+      arena.initialize();
+      BackgroundObserver observer(arena);
+      arena.execute([&] { done = work(progress); });
     } catch (const Cancelled&) {
       cancelled = true;
       message = tr("Cancelled; nothing was changed.");
