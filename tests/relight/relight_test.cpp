@@ -4,6 +4,7 @@
 #include <QDir>
 #include <QTemporaryDir>
 #include <cmath>
+#include <numbers>
 #include <glm/geometric.hpp>
 #include <memory>
 
@@ -257,4 +258,90 @@ TEST(Relight, TheUserPicksAPolygonsReferencePatchAndTheProjectKeepsIt) {
   EXPECT_THROW(preprocessRoom(room().scene, o), Error);
   o.referenceOverride = {{"floor", glm::dvec2(1e3, 1e3)}};
   EXPECT_THROW(preprocessRoom(room().scene, o), Error);
+}
+
+// Lamp edits are weighted sums of per-lamp solutions (radiosity is linear in the emittances);
+// they must show what radiosity steps on the same links show.
+TEST(Relight, LampEditsFromPerLampSolutionsMatchRadiositySteps) {
+  RelightSession s(room().scene, room().data, {}, {boxObject("box", {0.7, 1.5, 0.0}, {1.1, 1.9, 0.35}, glm::dvec3(0.5))});
+  s.setLampScale(0, glm::dvec3(0.0));
+  s.setLampScale(1, glm::dvec3(2.0, 1.0, 0.5));
+  EXPECT_EQ(s.update().iterations, 0) << "a lamp edit alone takes no radiosity steps";
+  const ImageRGB combined = s.render(mainCamera(), RelightMethod::Full);
+  s.moveObject(0, glm::dvec3(0.0));  // a geometry change: the next update iterates
+  EXPECT_EQ(s.update().iterations, 0) << "moveObject already iterated";
+  const ImageRGB stepped = s.render(mainCamera(), RelightMethod::Full);
+  const std::vector<uint8_t> all(room().masks.all.size(), 1);
+  EXPECT_GE(compareImages(combined, stepped, all).psnr, 50.0);
+}
+
+namespace {
+VirtualLamp lampOverTable() {
+  // Facing down (clockwise seen from above), 0.3 m wide, 0.86 m above the table top.
+  return VirtualLamp{"spot", {{1.8, 2.8, 1.6}, {2.1, 2.8, 1.6}, {2.1, 2.5, 1.6}, {1.8, 2.5, 1.6}}, glm::dvec3(20.0)};
+}
+}  // namespace
+
+TEST(Relight, AVirtualLampAddedToALiveSessionShowsWhatASessionBuiltWithItShows) {
+  const std::vector<uint8_t> all(room().masks.all.size(), 1);
+  RelightSession live(room().scene, room().data);
+  const ImageRGB original = live.render(mainCamera(), RelightMethod::Full);
+  EXPECT_EQ(live.addVirtualLamp(lampOverTable()), 0);
+  EXPECT_EQ(live.virtualLampCount(), 1u);
+  const ImageRGB added = live.render(mainCamera(), RelightMethod::Full);
+  const ImageRGB built = RelightSession(room().scene, room().data, {lampOverTable()}).render(mainCamera(), RelightMethod::Full);
+  EXPECT_GE(compareImages(added, built, all).psnr, 30.0);
+  glm::dvec2 px;
+  ASSERT_TRUE(mainCamera().project(glm::dvec3(1.95, 2.65, 0.74), px));  // the table top below it
+  EXPECT_GT(added.at(int(px.x), int(px.y)).y, 1.3f * original.at(int(px.x), int(px.y)).y);
+  // Dimmed through the per-lamp solutions, then moved by 1 m: the table loses its light.
+  live.setVirtualLampRadiance(0, glm::dvec3(10.0));
+  live.update();
+  const float half = live.render(mainCamera(), RelightMethod::Full).at(int(px.x), int(px.y)).y;
+  EXPECT_NEAR(half - original.at(int(px.x), int(px.y)).y, 0.5f * (added.at(int(px.x), int(px.y)).y - original.at(int(px.x), int(px.y)).y),
+              0.05f * added.at(int(px.x), int(px.y)).y);
+  EXPECT_GT(live.moveVirtualLamp(0, glm::dvec3(-1.2, 1.2, 0.0)), 0u);
+  EXPECT_NEAR(live.virtualLamp(0).polygon[0].x, 0.6, 1e-9);
+  const float moved = live.render(mainCamera(), RelightMethod::Full).at(int(px.x), int(px.y)).y;
+  EXPECT_LT(moved, half);
+  // Removed: the room shows as it did before.
+  live.removeVirtualLamp(0);
+  EXPECT_EQ(live.virtualLampCount(), 0u);
+  EXPECT_GE(compareImages(live.render(mainCamera(), RelightMethod::Full), original, all).psnr, 45.0);
+  // Degenerate input is refused with the lamp's name.
+  VirtualLamp flat = lampOverTable();
+  flat.polygon[2] = flat.polygon[1];
+  flat.polygon[3] = flat.polygon[0];
+  EXPECT_THROW(live.addVirtualLamp(flat), Error);
+  EXPECT_EQ(live.virtualLampCount(), 0u);
+}
+
+TEST(Relight, AVirtualObjectAddedTurnedAndRemovedOnALiveSession) {
+  const std::vector<uint8_t> all(room().masks.all.size(), 1);
+  const glm::dvec3 albedo(0.6, 0.2, 0.2);
+  // 0.4 x 0.2 m: turned by 90 degrees about its centre it is the 0.2 x 0.4 box.
+  const glm::dvec3 c(0.9, 1.7, 0.175);
+  const VirtualObject wide = boxObject("box", c - glm::dvec3(0.2, 0.1, 0.175), c + glm::dvec3(0.2, 0.1, 0.175), albedo);
+  const VirtualObject deep = boxObject("box", c - glm::dvec3(0.1, 0.2, 0.175), c + glm::dvec3(0.1, 0.2, 0.175), albedo);
+  RelightSession live(room().scene, room().data);
+  const ImageRGB original = live.render(mainCamera(), RelightMethod::Full);
+  EXPECT_EQ(live.addObject(wide), 0);
+  const ImageRGB added = live.render(mainCamera(), RelightMethod::Full);
+  const ImageRGB builtWide = RelightSession(room().scene, room().data, {}, {wide}).render(mainCamera(), RelightMethod::Full);
+  EXPECT_GE(compareImages(added, builtWide, all).psnr, 30.0);
+  EXPECT_LE(compareImages(added, original, all).psnr, compareImages(added, builtWide, all).psnr - 5.0);
+  const size_t updated = live.moveObject(0, glm::dvec3(0.0), std::numbers::pi / 2);
+  EXPECT_GT(updated, 0u);
+  EXPECT_LT(updated, live.engine().links().size() / 2);
+  EXPECT_NEAR(objectCentre(live.object(0)).x, c.x, 1e-9);
+  const ImageRGB turned = live.render(mainCamera(), RelightMethod::Full);
+  const ImageRGB builtDeep = RelightSession(room().scene, room().data, {}, {deep}).render(mainCamera(), RelightMethod::Full);
+  EXPECT_GE(compareImages(turned, builtDeep, all).psnr, 30.0);
+  EXPECT_GE(compareImages(turned, builtDeep, all).psnr, compareImages(added, builtDeep, all).psnr + 3.0);
+  // Into the wall: refused, nothing moves.
+  EXPECT_THROW(live.moveObject(0, glm::dvec3(-2.0, 0, 0), 0.3), Error);
+  EXPECT_NEAR(objectCentre(live.object(0)).x, c.x, 1e-9);
+  live.removeObject(0);
+  EXPECT_EQ(live.objectCount(), 0u);
+  EXPECT_GE(compareImages(live.render(mainCamera(), RelightMethod::Full), original, all).psnr, 40.0);
 }

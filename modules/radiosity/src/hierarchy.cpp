@@ -12,6 +12,7 @@
 #include <numbers>
 #include <numeric>
 #include <random>
+#include <stdexcept>
 
 #include "relume/geometry/polygon.h"
 #include "relume/geometry/scene.h"
@@ -562,6 +563,7 @@ struct RefineContext {
   HierarchicalRadiosity::Impl& im;
   bool useOracle = true;
   std::function<Open(const HierarchicalRadiosity::Link&)> force;
+  size_t keep = 0;  // links_[0, keep) are kept as they are, unexamined
 };
 
 namespace {
@@ -585,8 +587,12 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
   Builder builder{h, im};
   const double threshold = opt.epsilon * im.eRef;
   bool changed = false;
-  std::vector<HierarchicalRadiosity::Link> frontier = std::move(h.links_), next, finals;
+  std::vector<HierarchicalRadiosity::Link> frontier, next, finals;
+  const size_t keep = std::min(ctx.keep, h.links_.size());
+  finals.assign(h.links_.begin(), h.links_.begin() + std::ptrdiff_t(keep));
+  frontier.assign(h.links_.begin() + std::ptrdiff_t(keep), h.links_.end());
   h.links_.clear();
+  h.links_.shrink_to_fit();
   auto computeVisibility = [&](std::vector<HierarchicalRadiosity::Link>& ls) {
     Kernel k{h, im, h.nodes_, opt.quadratureOrder};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, ls.size(), 16), [&](const tbb::blocked_range<size_t>& rg) {
@@ -882,45 +888,45 @@ void HierarchicalRadiosity::forceRefine(const std::vector<int>& receiverSurfaces
 }
 
 size_t HierarchicalRadiosity::translateSurfaces(const std::vector<int>& moved, const glm::dvec3& offset) {
+  return moveSurfaces(moved, glm::dmat3(1.0), glm::dvec3(0.0), offset);
+}
+
+void HierarchicalRadiosity::rebuildRays() {
   auto& im = *impl_;
-  std::vector<uint8_t> isMoved(surfaces_.size(), 0);
-  glm::vec3 oldMin(1e30f), oldMax(-1e30f);
-  for (int s : moved) {
-    isMoved[s] = 1;
-    oldMin = glm::min(oldMin, nodes_[surfaceRoot_[s]].bmin);
-    oldMax = glm::max(oldMax, nodes_[surfaceRoot_[s]].bmax);
-  }
-  const glm::vec3 d(offset);
-  // Geometry: vertices, frames, every element below the moved surfaces.
-  std::vector<uint8_t> touched(nodes_.size(), 0);  // nodes whose geometry changed
-  for (int s : moved) {
-    for (auto& v : surfaces_[s].vertices) v += offset;
-    im.frames[s].origin += offset;
-    forSubtree(nodes_, children_, surfaceRoot_[s], [&](int n) {
-      nodes_[n].center += d;
-      nodes_[n].bmin += d;
-      nodes_[n].bmax += d;
-      touched[n] = 1;
-    });
-  }
-  // Clusters containing them: bounds and centres again, children before parents.
+  std::vector<std::vector<glm::dvec3>> polys;
+  polys.reserve(surfaces_.size());
+  for (const auto& sf : surfaces_) polys.push_back(sf.vertices);
+  const uint64_t counted = im.rays->raysCast();
+  im.rays = std::make_unique<RayScene>(polys);
+  im.raysAtStart -= std::min(im.raysAtStart, counted);
+}
+
+// Bounds and centres of the clusters above touched nodes again, children before parents (a
+// cluster's index is below its children's except for surfaces added later, which hang directly
+// below the root, index 0, visited last).
+void HierarchicalRadiosity::refitClusters(std::vector<uint8_t>& touched) {
   for (size_t i = nodes_.size(); i-- > 0;) {
     Node& me = nodes_[i];
     if (!me.isCluster()) continue;
     bool any = false;
     glm::vec3 lo(1e30f), hi(-1e30f), c(0.f);
+    float area = 0.f;
     for (int k = 0; k < me.childCount; ++k) {
       const int ch = children_[me.childBegin + k];
       any = any || touched[ch];
+      if (nodes_[ch].area <= 0.f) continue;  // removed surfaces
       lo = glm::min(lo, nodes_[ch].bmin);
       hi = glm::max(hi, nodes_[ch].bmax);
       c += nodes_[ch].center * nodes_[ch].area;
+      area += nodes_[ch].area;
     }
     if (!any) continue;
     touched[i] = 1;
+    if (area <= 0.f) lo = hi = me.center;
     me.bmin = lo;
     me.bmax = hi;
-    me.center = me.area > 0 ? c / me.area : 0.5f * (lo + hi);
+    me.area = area;
+    me.center = area > 0 ? c / area : 0.5f * (lo + hi);
     float r = 0.f;
     for (int k = 0; k < 8; ++k) {
       const glm::vec3 corner((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z);
@@ -928,17 +934,10 @@ size_t HierarchicalRadiosity::translateSurfaces(const std::vector<int>& moved, c
     }
     me.radius = r;
   }
-  std::vector<std::vector<glm::dvec3>> polys;
-  for (const auto& sf : surfaces_) polys.push_back(sf.vertices);
-  const uint64_t counted = im.rays->raysCast();
-  im.rays = std::make_unique<RayScene>(polys);
-  im.raysAtStart -= std::min(im.raysAtStart, counted);
-  // Links to update: an end moved (F and V), or the shaft crosses the old or new bounds (V).
-  std::vector<uint8_t> redo(links_.size(), 0);
-  for (int i : linksCrossingBox(oldMin, oldMax)) redo[i] = 1;
-  for (int i : linksCrossingBox(oldMin + d, oldMax + d)) redo[i] = 1;
-  for (size_t i = 0; i < links_.size(); ++i)
-    if (touched[links_[i].receiver] || touched[links_[i].source]) redo[i] = 2;
+}
+
+size_t HierarchicalRadiosity::redoLinks(const std::vector<uint8_t>& redo) {
+  auto& im = *impl_;
   std::vector<int> work;
   for (size_t i = 0; i < links_.size(); ++i)
     if (redo[i] && links_[i].receiver != links_[i].source) work.push_back(int(i));
@@ -953,6 +952,158 @@ size_t HierarchicalRadiosity::translateSurfaces(const std::vector<int>& moved, c
   });
   im.gatherDirty = true;
   return work.size();
+}
+
+size_t HierarchicalRadiosity::moveSurfaces(const std::vector<int>& moved, const glm::dmat3& rotation,
+                                           const glm::dvec3& pivot, const glm::dvec3& offset) {
+  auto& im = *impl_;
+  glm::vec3 oldMin(1e30f), oldMax(-1e30f), newMin(1e30f), newMax(-1e30f);
+  for (int s : moved) {
+    oldMin = glm::min(oldMin, nodes_[surfaceRoot_[s]].bmin);
+    oldMax = glm::max(oldMax, nodes_[surfaceRoot_[s]].bmax);
+  }
+  auto place = [&](const glm::dvec3& p) { return rotation * (p - pivot) + pivot + offset; };
+  // Geometry: vertices, frames (uv stays: elements keep their rectangles), every element below.
+  Builder b{*this, im};
+  std::vector<uint8_t> touched(nodes_.size(), 0);  // nodes whose geometry changed
+  for (int s : moved) {
+    for (auto& v : surfaces_[s].vertices) v = place(v);
+    auto& f = im.frames[s];
+    f.origin = place(f.origin);
+    f.u = rotation * f.u;
+    f.v = rotation * f.v;
+    f.normal = rotation * f.normal;
+    forSubtree(nodes_, children_, surfaceRoot_[s], [&](int n) {
+      Node& N = nodes_[n];
+      b.setElementGeometry(N, clipToRect(im.uvPolys[s], {N.u0, N.v0}, {N.u1, N.v1}), s);
+      touched[n] = 1;
+    });
+    newMin = glm::min(newMin, nodes_[surfaceRoot_[s]].bmin);
+    newMax = glm::max(newMax, nodes_[surfaceRoot_[s]].bmax);
+  }
+  refitClusters(touched);
+  rebuildRays();
+  // Links to update: an end moved (F and V), or the shaft crosses the old or new bounds (V).
+  std::vector<uint8_t> redo(links_.size(), 0);
+  for (int i : linksCrossingBox(oldMin, oldMax)) redo[i] = 1;
+  for (int i : linksCrossingBox(newMin, newMax)) redo[i] = 1;
+  for (size_t i = 0; i < links_.size(); ++i)
+    if (touched[links_[i].receiver] || touched[links_[i].source]) redo[i] = 2;
+  return redoLinks(redo);
+}
+
+std::vector<int> HierarchicalRadiosity::addSurfaces(const std::vector<Surface>& added, Progress& progress) {
+  auto& im = *impl_;
+  Builder b{*this, im};
+  std::vector<int> ids;
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  std::vector<int32_t> rootKids(children_.begin() + nodes_[0].childBegin,
+                                children_.begin() + nodes_[0].childBegin + nodes_[0].childCount);
+  for (const auto& sf : added) {
+    if (sf.vertices.size() < 3) throw std::invalid_argument("surface '" + sf.name + "' has fewer than 3 vertices");
+    const int s = int(surfaces_.size());
+    surfaces_.push_back(sf);
+    const auto& v = sf.vertices;
+    im.frames.push_back(PlaneFrame::of(v));
+    im.uvPolys.emplace_back();
+    for (const auto& q : v) im.uvPolys.back().push_back(im.frames.back().toUV(q));
+    im.fanCdf.emplace_back();
+    double acc = 0;
+    for (size_t i = 1; i + 1 < v.size(); ++i) {
+      acc += 0.5 * glm::length(glm::cross(v[i] - v[0], v[i + 1] - v[0]));
+      im.fanCdf.back().push_back(acc);
+    }
+    im.surfaceArea.push_back(acc);
+    surfaceRoot_.push_back(-1);
+    im.posInPerm.push_back(int(im.perm.size()));
+    im.perm.push_back(s);
+    const int node = b.surfaceRootNode(s, 0);
+    B_.push_back(im.emit[node]);
+    E_.emplace_back(0.f);
+    Edown_.emplace_back(0.f);
+    rootKids.push_back(node);
+    ids.push_back(s);
+    lo = glm::min(lo, nodes_[node].bmin);
+    hi = glm::max(hi, nodes_[node].bmax);
+  }
+  // The root cluster adopts them (its children move to the end of the child array).
+  nodes_[0].childBegin = int32_t(children_.size());
+  nodes_[0].childCount = int32_t(rootKids.size());
+  children_.insert(children_.end(), rootKids.begin(), rootKids.end());
+  im.rangeCount[0] += int32_t(added.size());
+  std::vector<uint8_t> touched(nodes_.size(), 0);
+  for (int s : ids) {
+    touched[surfaceRoot_[s]] = 1;
+    im.emitterOnly[0] = im.emitterOnly[0] && im.emitterOnly[surfaceRoot_[s]];
+    im.rhoMax[0] = std::max(im.rhoMax[0], im.rhoMax[surfaceRoot_[s]]);
+  }
+  refitClusters(touched);
+  rebuildRays();
+  std::vector<uint8_t> redo(links_.size(), 0);
+  for (int i : linksCrossingBox(lo, hi)) redo[i] = 1;
+  redoLinks(redo);
+  // New links, surface to surface, then refined by the oracle (the old ones are kept as they are).
+  const size_t keep = links_.size();
+  std::vector<uint8_t> isNew(surfaces_.size(), 0);
+  for (int s : ids) isNew[s] = 1;
+  for (int s : ids) {
+    const bool reflects = im.rhoMax[surfaceRoot_[s]] > 0.f;
+    for (size_t t = 0; t < surfaces_.size(); ++t) {
+      if (int(t) == s || isRemoved(int(t))) continue;
+      links_.push_back({surfaceRoot_[t], surfaceRoot_[s], 0.f, kUnknownVisibility, 0.f, VisibilityType::Visible});
+      if (reflects && !isNew[t])  // between two new surfaces the loop over t adds both directions
+        links_.push_back({surfaceRoot_[s], surfaceRoot_[int(t)], 0.f, kUnknownVisibility, 0.f, VisibilityType::Visible});
+    }
+  }
+  {
+    Kernel k{*this, im, nodes_, options_.quadratureOrder};
+    tbb::parallel_for(tbb::blocked_range<size_t>(keep, links_.size(), 64), [&](const tbb::blocked_range<size_t>& rg) {
+      for (size_t i = rg.begin(); i < rg.end(); ++i)
+        links_[i].formFactor = float(k.formFactor(links_[i].receiver, links_[i].source, links_[i].variation));
+    });
+    size_t w = keep;
+    for (size_t i = keep; i < links_.size(); ++i)
+      if (links_[i].formFactor > 0.f || links_[i].variation > 0.f) links_[w++] = links_[i];
+    links_.resize(w);
+  }
+  RefineContext ctx{*this, im, true, nullptr};
+  ctx.keep = keep;
+  refineLinks(ctx, progress);
+  pushLampLinksToLeaves(progress);
+  return ids;
+}
+
+size_t HierarchicalRadiosity::removeSurfaces(const std::vector<int>& removed) {
+  auto& im = *impl_;
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  std::vector<uint8_t> gone(nodes_.size(), 0), touched(nodes_.size(), 0);
+  for (int s : removed) {
+    if (isRemoved(s)) continue;
+    lo = glm::min(lo, nodes_[surfaceRoot_[s]].bmin);
+    hi = glm::max(hi, nodes_[surfaceRoot_[s]].bmax);
+    surfaces_[s].vertices.clear();
+    surfaces_[s].exitance = glm::dvec3(0.0);
+    surfaces_[s].reflectance = glm::dvec3(0.0);
+    forSubtree(nodes_, children_, surfaceRoot_[s], [&](int n) {
+      gone[n] = 1;
+      im.emit[n] = glm::vec3(0.f);
+      im.rho[n] = glm::vec3(0.f);
+      im.rhoMax[n] = 0.f;
+      nodes_[n].area = 0.f;
+    });
+    touched[surfaceRoot_[s]] = 1;
+  }
+  if (lo.x > hi.x) return 0;
+  const size_t before = links_.size();
+  links_.erase(std::remove_if(links_.begin(), links_.end(),
+                              [&](const Link& l) { return gone[l.receiver] || gone[l.source]; }),
+               links_.end());
+  refitClusters(touched);
+  rebuildRays();
+  std::vector<uint8_t> redo(links_.size(), 0);
+  for (int i : linksCrossingBox(lo, hi)) redo[i] = 1;
+  im.gatherDirty = true;
+  return before - links_.size() + redoLinks(redo);
 }
 
 std::vector<int> HierarchicalRadiosity::linksCrossingBox(const glm::vec3& cmin, const glm::vec3& cmax) const {

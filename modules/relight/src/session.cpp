@@ -104,6 +104,14 @@ struct RelightSession::Impl {
 
   std::vector<glm::vec3> cur;
   std::vector<float> seenWeight;  // per node: corner values lean on what the photos show
+  std::vector<VirtualLamp> vlamps;  // as they are now
+  CornerStencil stencil;            // leaf corners of the current mesh
+  // Radiosity is linear in the emittances on a fixed geometry: per emitter (real lamps at their
+  // estimate, then virtual lamps at unit radiance) the leaf corner values of its solution alone.
+  // A lamp edit is then a weighted sum of these, not radiosity steps. Geometry changes (objects
+  // moved, surfaces added) make them stale; they are rebuilt at the next lamp edit.
+  std::vector<std::vector<std::array<glm::vec3, 4>>> basis;  // [emitter][leaf of stencil]
+  bool basesValid = false, geometryPending = false;
   // What the display ratio is made of: irradiance on real surfaces (B / D = E / (E + E-bar) there,
   // whatever each element's reflectance, so T_inter's modulation and the display's cancel exactly
   // under the original lighting), radiosity on lamps and virtual surfaces.
@@ -129,10 +137,88 @@ struct RelightSession::Impl {
         if (l >= 0) img.set(x, y, img.at(x, y) + glow.at(x, y) * (original ? glm::vec3(1.f) : glm::vec3(lampScale[l])));
       }
   }
-  void refreshCorners() {
+  void shadeAll() {
     cur.resize(h->nodes().size());
     for (size_t n = 0; n < cur.size(); ++n) cur[n] = shading(int(n));
-    cB = leafCornerValues(*h, cur, &seenWeight);
+  }
+  void refreshCorners() {
+    shadeAll();
+    stencil.apply(cur, cB);
+  }
+  std::vector<int> emitters() const {
+    std::vector<int> e = lampSurfaces;
+    e.insert(e.end(), vlampSurfaces.begin(), vlampSurfaces.end());
+    return e;
+  }
+  glm::vec3 emitterScale(size_t e) const {
+    return e < lampScale.size() ? glm::vec3(lampScale[e]) : glm::vec3(vlampExitance[e - lampScale.size()] / std::numbers::pi);
+  }
+  void buildBases(Progress& progress) {
+    const auto em = emitters();
+    basis.assign(em.size(), {});
+    for (size_t e = 0; e < em.size(); ++e) {
+      for (size_t k = 0; k < em.size(); ++k) {
+        const glm::dvec3 unit = k < lampScale.size() ? baseExitance[k] : glm::dvec3(std::numbers::pi);
+        h->setExitance(em[k], k == e ? unit : glm::dvec3(0.0));
+      }
+      h->iterate(progress);
+      shadeAll();
+      stencil.applyCompact(cur, basis[e]);
+    }
+    for (size_t k = 0; k < em.size(); ++k)
+      h->setExitance(em[k], k < lampScale.size() ? baseExitance[k] * lampScale[k] : vlampExitance[k - lampScale.size()]);
+    h->iterate(progress);  // the engine holds the current solution too
+    basesValid = true;
+  }
+  void combineBases() {
+    const auto& leaves = stencil.leaves();
+    std::vector<glm::vec3> w(basis.size());
+    for (size_t e = 0; e < basis.size(); ++e) w[e] = emitterScale(e);
+    cB.resize(std::max(cB.size(), h->nodes().size()));
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 2048), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        std::array<glm::vec3, 4> v{glm::vec3(0.f), glm::vec3(0.f), glm::vec3(0.f), glm::vec3(0.f)};
+        for (size_t e = 0; e < basis.size(); ++e)
+          for (int c = 0; c < 4; ++c) v[c] += w[e] * basis[e][i][c];
+        cB[leaves[i]] = v;
+      }
+    });
+  }
+  // Per-element reflectance from the reflectance maps, and how much of the element a photo saw.
+  void setLeafReflectance(int leaf) {
+    const auto& N = h->nodes()[leaf];
+    const auto& t = textures[N.surface];
+    double seenFraction = 0;
+    if (!t.albedo.empty())
+      h->setElementReflectance(leaf, glm::dvec3(t.mean(t.albedo, {N.u0, N.v0}, {N.u1, N.v1}, &seenFraction)));
+    seenWeight[leaf] = float(seenFraction) + 1e-3f;
+  }
+  // After surfaces were added (the mesh grew): new elements of real polygons take their
+  // reflectance from the maps, and D and B_orig (the original lighting, which nothing virtual
+  // changes) from the corner values of the old leaf they were cut from; then new corners.
+  void meshGrew(size_t oldNodes) {
+    const auto& nodes = h->nodes();
+    const size_t nn = nodes.size();
+    seenWeight.resize(nn, 1.f);
+    D.resize(nn, glm::vec3(0.f));
+    Borig.resize(nn, glm::vec3(0.f));
+    std::vector<int> oldLeaf(nn, -1);
+    for (size_t n = oldNodes; n < nn; ++n) {
+      const auto& N = nodes[n];
+      if (N.isCluster() || size_t(N.surface) >= np) continue;
+      oldLeaf[n] = size_t(N.parent) < oldNodes ? N.parent : oldLeaf[N.parent];
+      if (oldLeaf[n] < 0) continue;
+      const auto& P = nodes[oldLeaf[n]];
+      const glm::dvec2 uv(0.5 * (double(N.u0) + N.u1), 0.5 * (double(N.v0) + N.v1));
+      D[n] = interpolateCorners(P, cD[oldLeaf[n]], uv);
+      Borig[n] = interpolateCorners(P, cBorig[oldLeaf[n]], uv);
+      if (kinds[N.surface] == PolygonKind::Real && N.isLeaf()) setLeafReflectance(int(n));
+    }
+    stencil = CornerStencil(*h, &seenWeight);
+    stencil.apply(D, cD);
+    stencil.apply(Borig, cBorig);
+    basesValid = false;
+    geometryPending = true;
   }
 };
 
@@ -160,6 +246,7 @@ RelightSession::RelightSession(const Scene& scene, const RelightData& data, std:
   im.glow = data.glow;
   im.glowLamp = data.glowLamp;
   if (const Photo* ph = scene.findPhoto(data.photo)) im.photoCamera = ph->camera;
+  im.vlamps = virtualLamps;
   for (const auto& v : virtualLamps) {
     if (v.polygon.size() < 3) throw Error(scene.sourceFile, "virtual lamp '" + v.name + "'", "needs a polygon of 3 or more vertices");
     for (double c : {v.radiance.x, v.radiance.y, v.radiance.z})
@@ -218,14 +305,8 @@ RelightSession::RelightSession(const Scene& scene, const RelightData& data, std:
   }
   // Per-element reflectance from the reflectance maps.
   im.seenWeight.assign(h.nodes().size(), 1.f);
-  for (int leaf : leavesOf(h, real)) {
-    const auto& N = h.nodes()[leaf];
-    const auto& t = im.textures[N.surface];
-    double seenFraction = 0;
-    if (!t.albedo.empty())
-      h.setElementReflectance(leaf, glm::dvec3(t.mean(t.albedo, {N.u0, N.v0}, {N.u1, N.v1}, &seenFraction)));
-    im.seenWeight[leaf] = float(seenFraction) + 1e-3f;
-  }
+  for (int leaf : leavesOf(h, real)) im.setLeafReflectance(leaf);
+  im.stencil = CornerStencil(h, &im.seenWeight);
   // D with the original lighting, before anything virtual adds light (§2.4: D is the display
   // factor of the real room; virtual objects then make B < D where they cast shadows).
   for (int s : im.vlampSurfaces) h.setExitance(s, glm::dvec3(0.0));
@@ -243,12 +324,13 @@ RelightSession::RelightSession(const Scene& scene, const RelightData& data, std:
     im.Borig[n] = im.shading(int(n));
     im.D[n] = im.byIrradiance(int(n)) ? im.Borig[n] + sums.blocked[n] : im.Borig[n];
   }
-  im.cD = leafCornerValues(h, im.D, &im.seenWeight);
-  im.cBorig = leafCornerValues(h, im.Borig, &im.seenWeight);
+  im.stencil.apply(im.D, im.cD);
+  im.stencil.apply(im.Borig, im.cBorig);
   for (const auto& ids : im.objectSurfaceIds) h.translateSurfaces(ids, -away);
   for (size_t k = 0; k < im.vlampSurfaces.size(); ++k) h.setExitance(im.vlampSurfaces[k], im.vlampExitance[k]);
   for (const auto& [s, a] : objectSurfaces) h.setReflectance(s, a);
-  update(progress);
+  im.buildBases(progress);
+  im.combineBases();
   progress.report(1.0, "relighting session ready");
 }
 
@@ -264,20 +346,131 @@ void RelightSession::setLampScale(int lamp, const glm::dvec3& scale) {
 }
 
 void RelightSession::setVirtualLampRadiance(int lamp, const glm::dvec3& radiance) {
-  impl_->vlampExitance.at(lamp) = std::numbers::pi * radiance;
-  impl_->h->setExitance(impl_->vlampSurfaces.at(lamp), impl_->vlampExitance[lamp]);
+  auto& im = *impl_;
+  for (double c : {radiance.x, radiance.y, radiance.z})
+    if (!(c >= 0) || !std::isfinite(c))
+      throw Error(im.scene.sourceFile, "virtual lamp '" + im.vlamps.at(lamp).name + "'", "radiance must be finite and >= 0");
+  im.vlampExitance.at(lamp) = std::numbers::pi * radiance;
+  im.vlamps.at(lamp).radiance = radiance;
+  im.h->setExitance(im.vlampSurfaces.at(lamp), im.vlampExitance[lamp]);
+}
+
+int RelightSession::addVirtualLamp(const VirtualLamp& lamp, Progress& progress) {
+  auto& im = *impl_;
+  const std::string what = "virtual lamp '" + lamp.name + "'";
+  if (lamp.polygon.size() < 3) throw Error(im.scene.sourceFile, what, "needs a polygon of 3 or more vertices");
+  for (const auto& v : lamp.polygon)
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+      throw Error(im.scene.sourceFile, what, "has a vertex that is not a finite number");
+  if (polygonArea(lamp.polygon) <= 1e-8) throw Error(im.scene.sourceFile, what, "has no area");
+  for (double c : {lamp.radiance.x, lamp.radiance.y, lamp.radiance.z})
+    if (!(c >= 0) || !std::isfinite(c)) throw Error(im.scene.sourceFile, what, "radiance must be finite and >= 0");
+  const auto t0 = std::chrono::steady_clock::now();
+  const size_t oldNodes = im.h->nodes().size();
+  radiosity::Surface s;
+  s.name = lamp.name;
+  s.vertices = lamp.polygon;
+  s.exitance = std::numbers::pi * lamp.radiance;
+  const int id = im.h->addSurfaces({s}, progress).at(0);
+  im.vlampSurfaces.push_back(id);
+  im.vlampExitance.push_back(s.exitance);
+  im.vlamps.push_back(lamp);
+  im.meshGrew(oldNodes);
+  update(progress);
+  im.insertSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return int(im.vlamps.size()) - 1;
+}
+
+size_t RelightSession::moveVirtualLamp(int lamp, const glm::dvec3& offset, Progress& progress) {
+  auto& im = *impl_;
+  VirtualLamp& v = im.vlamps.at(size_t(lamp));
+  const size_t n = im.h->translateSurfaces({im.vlampSurfaces[size_t(lamp)]}, offset);
+  for (auto& p : v.polygon) p += offset;
+  im.basesValid = false;
+  im.geometryPending = true;
+  update(progress);
+  return n;
+}
+
+void RelightSession::removeVirtualLamp(int lamp, Progress& progress) {
+  auto& im = *impl_;
+  const size_t i = size_t(lamp);
+  im.h->removeSurfaces({im.vlampSurfaces.at(i)});
+  im.vlampSurfaces.erase(im.vlampSurfaces.begin() + std::ptrdiff_t(i));
+  im.vlampExitance.erase(im.vlampExitance.begin() + std::ptrdiff_t(i));
+  im.vlamps.erase(im.vlamps.begin() + std::ptrdiff_t(i));
+  im.basesValid = false;
+  im.geometryPending = true;
+  update(progress);
+}
+
+size_t RelightSession::virtualLampCount() const { return impl_->vlamps.size(); }
+const VirtualLamp& RelightSession::virtualLamp(int lamp) const { return impl_->vlamps.at(size_t(lamp)); }
+int RelightSession::virtualLampSurface(int lamp) const { return impl_->vlampSurfaces.at(size_t(lamp)); }
+
+int RelightSession::addObject(const VirtualObject& object, Progress& progress) {
+  auto& im = *impl_;
+  checkVirtualObject(im.scene, object);
+  const size_t oldNodes = im.h->nodes().size();
+  std::vector<radiosity::Surface> faces;
+  for (size_t k = 0; k < object.polygons.size(); ++k) {
+    radiosity::Surface s;
+    s.name = object.name + "_" + std::to_string(k);
+    s.vertices = object.polygons[k];
+    s.reflectance = object.albedo;
+    faces.push_back(s);
+  }
+  im.objectSurfaceIds.push_back(im.h->addSurfaces(faces, progress));
+  im.objects.push_back(object);
+  im.meshGrew(oldNodes);
+  update(progress);
+  return int(im.objects.size()) - 1;
 }
 
 size_t RelightSession::moveObject(int object, const glm::dvec3& offset, Progress& progress) {
+  return moveObject(object, offset, 0.0, progress);
+}
+
+size_t RelightSession::moveObject(int object, const glm::dvec3& offset, double turnRadians, Progress& progress) {
   auto& im = *impl_;
-  VirtualObject moved = im.objects.at(object);
+  VirtualObject moved = im.objects.at(size_t(object));
+  const glm::dvec3 pivot = objectCentre(moved);
+  const double c = std::cos(turnRadians), sn = std::sin(turnRadians);
+  const glm::dmat3 rot(glm::dvec3(c, sn, 0), glm::dvec3(-sn, c, 0), glm::dvec3(0, 0, 1));  // about +z
   for (auto& p : moved.polygons)
-    for (auto& v : p) v += offset;
+    for (auto& v : p) v = rot * (v - pivot) + pivot + offset;
   checkVirtualObject(im.scene, moved);
-  const size_t n = im.h->translateSurfaces(im.objectSurfaceIds[object], offset);
-  im.objects[object] = moved;
+  const size_t n = im.h->moveSurfaces(im.objectSurfaceIds[size_t(object)], rot, pivot, offset);
+  im.objects[size_t(object)] = moved;
+  im.basesValid = false;
+  im.geometryPending = true;
   update(progress);
   return n;
+}
+
+void RelightSession::removeObject(int object, Progress& progress) {
+  auto& im = *impl_;
+  const size_t i = size_t(object);
+  im.h->removeSurfaces(im.objectSurfaceIds.at(i));
+  im.objectSurfaceIds.erase(im.objectSurfaceIds.begin() + std::ptrdiff_t(i));
+  im.objects.erase(im.objects.begin() + std::ptrdiff_t(i));
+  im.basesValid = false;
+  im.geometryPending = true;
+  update(progress);
+}
+
+size_t RelightSession::objectCount() const { return impl_->objects.size(); }
+const VirtualObject& RelightSession::object(int object) const { return impl_->objects.at(size_t(object)); }
+const std::vector<int>& RelightSession::objectSurfaces(int object) const { return impl_->objectSurfaceIds.at(size_t(object)); }
+
+glm::dvec3 objectCentre(const VirtualObject& object) {
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const auto& p : object.polygons)
+    for (const auto& v : p) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+  return 0.5 * (lo + hi);
 }
 
 glm::dvec3 RelightSession::lampScale(int lamp) const { return impl_->lampScale.at(lamp); }
@@ -344,9 +537,16 @@ std::vector<glm::vec4> RelightSession::displayCorners(const DisplayMesh& mesh) c
 }
 
 radiosity::SolveStats RelightSession::update(Progress& progress) {
-  const auto st = impl_->h->iterate(progress);
-  impl_->refreshCorners();
-  return st;
+  auto& im = *impl_;
+  if (im.geometryPending) {  // radiosity steps on the changed geometry; the bases wait
+    const auto st = im.h->iterate(progress);
+    im.refreshCorners();
+    im.geometryPending = false;
+    return st;
+  }
+  if (!im.basesValid) im.buildBases(progress);
+  im.combineBases();
+  return {};
 }
 
 

@@ -17,21 +17,26 @@ namespace relume {
 using radiosity::HierarchicalRadiosity;
 using radiosity::VisibilityType;
 
-std::vector<std::array<glm::vec3, 4>> leafCornerValues(const HierarchicalRadiosity& h,
-                                                       const std::vector<glm::vec3>& perNode,
-                                                       const std::vector<float>* weights) {
+CornerStencil::CornerStencil(const HierarchicalRadiosity& h, const std::vector<float>* weights)
+    : nodes_(h.nodes().size()) {
   const auto& nodes = h.nodes();
-  std::vector<std::array<glm::vec3, 4>> out(nodes.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t n = r.begin(); n < r.end(); ++n) {
+  for (size_t n = 0; n < nodes.size(); ++n)
+    if (!nodes[n].isCluster() && nodes[n].isLeaf()) leaves_.push_back(int32_t(n));
+  // Up to 4 contributions per corner, found in parallel, then packed.
+  const size_t nc = leaves_.size() * 4;
+  std::vector<std::array<int32_t, 4>> who(nc);
+  std::vector<std::array<float, 4>> wts(nc);
+  std::vector<uint8_t> count(nc, 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves_.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i) {
+      const int n = leaves_[i];
       const auto& N = nodes[n];
-      if (N.isCluster() || !N.isLeaf()) continue;
       const double eps = 1e-5 * std::max(1e-3, double(N.u1 - N.u0) + double(N.v1 - N.v0));
       const glm::dvec2 corners[4] = {{N.u0, N.v0}, {N.u1, N.v0}, {N.u1, N.v1}, {N.u0, N.v1}};
       const auto& root = nodes[h.surfaceRoot(N.surface)];
       for (int c = 0; c < 4; ++c) {
-        glm::vec3 sum(0.f);
-        float count = 0;
+        const size_t k = 4 * i + size_t(c);
+        float sum = 0;
         for (int q = 0; q < 4; ++q) {
           const glm::dvec2 p = corners[c] + glm::dvec2((q & 1) ? eps : -eps, (q & 2) ? eps : -eps);
           if (p.x < root.u0 || p.x > root.u1 || p.y < root.v0 || p.y > root.v1) continue;
@@ -39,13 +44,58 @@ std::vector<std::array<glm::vec3, 4>> leafCornerValues(const HierarchicalRadiosi
           const auto& L = nodes[leaf];
           if (p.x < L.u0 || p.x > L.u1 || p.y < L.v0 || p.y > L.v1) continue;
           const float w = weights ? (*weights)[leaf] : 1.f;
-          sum += w * perNode[leaf];
-          count += w;
+          who[k][count[k]] = leaf;
+          wts[k][count[k]] = w;
+          ++count[k];
+          sum += w;
         }
-        out[n][c] = count > 0 ? sum / count : perNode[n];
+        if (count[k] == 0 || !(sum > 0)) {
+          who[k][0] = n;
+          wts[k][0] = 1.f;
+          count[k] = 1;
+          sum = 1.f;
+        }
+        for (int q = 0; q < count[k]; ++q) wts[k][q] /= sum;
       }
     }
   });
+  begin_.resize(nc + 1);
+  begin_[0] = 0;
+  for (size_t k = 0; k < nc; ++k) begin_[k + 1] = begin_[k] + count[k];
+  node_.resize(begin_[nc]);
+  weight_.resize(begin_[nc]);
+  for (size_t k = 0; k < nc; ++k)
+    for (int q = 0; q < count[k]; ++q) {
+      node_[begin_[k] + q] = who[k][q];
+      weight_[begin_[k] + q] = wts[k][q];
+    }
+}
+
+void CornerStencil::applyCompact(const std::vector<glm::vec3>& perNode, std::vector<std::array<glm::vec3, 4>>& out) const {
+  out.resize(leaves_.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves_.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i)
+      for (int c = 0; c < 4; ++c) {
+        const size_t k = 4 * i + size_t(c);
+        glm::vec3 v(0.f);
+        for (uint32_t j = begin_[k]; j < begin_[k + 1]; ++j) v += weight_[j] * perNode[node_[j]];
+        out[i][c] = v;
+      }
+  });
+}
+
+void CornerStencil::apply(const std::vector<glm::vec3>& perNode, std::vector<std::array<glm::vec3, 4>>& out) const {
+  std::vector<std::array<glm::vec3, 4>> compact;
+  applyCompact(perNode, compact);
+  out.resize(std::max(out.size(), nodes_));
+  for (size_t i = 0; i < leaves_.size(); ++i) out[leaves_[i]] = compact[i];
+}
+
+std::vector<std::array<glm::vec3, 4>> leafCornerValues(const HierarchicalRadiosity& h,
+                                                       const std::vector<glm::vec3>& perNode,
+                                                       const std::vector<float>* weights) {
+  std::vector<std::array<glm::vec3, 4>> out(h.nodes().size());
+  CornerStencil(h, weights).apply(perNode, out);
   return out;
 }
 

@@ -5,6 +5,7 @@
 // factor, the attenuation (visibility) factor and its type, BF / BFV refinement, gather and
 // push-pull iterated to a tolerance, RGB throughout.
 #include <cstdint>
+#include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -127,6 +128,20 @@ class HierarchicalRadiosity {
   // and V for the links whose shaft the old or the new bounds cross; every other link is kept as
   // it is (passive). No refinement. Returns the number of links updated; call iterate() after.
   size_t translateSurfaces(const std::vector<int>& surfaces, const glm::dvec3& offset);
+  // The same for a rigid motion: every vertex v goes to rotation (v - pivot) + pivot + offset.
+  size_t moveSurfaces(const std::vector<int>& surfaces, const glm::dmat3& rotation, const glm::dvec3& pivot,
+                      const glm::dvec3& offset);
+  // Adds polygons to a live hierarchy (a virtual lamp, the faces of a virtual object), without
+  // rebuilding it: each becomes a child of the root cluster and an occluder (V redone on the links
+  // whose shaft its bounds cross); it is linked to every other surface (as a source, and as a
+  // receiver when it reflects), and only these new links are refined by the oracle; lamp links
+  // are then pushed to leaves. Returns the new surfaces' indices; call iterate() after.
+  std::vector<int> addSurfaces(const std::vector<Surface>& surfaces, Progress& progress = silentProgress());
+  // Removes surfaces from the solution: their links are dropped, they no longer occlude, emit or
+  // reflect (V redone on the links their bounds crossed). Their indices stay valid (no vertices,
+  // no leaves drawn), so other surfaces keep theirs. Returns the links updated or dropped.
+  size_t removeSurfaces(const std::vector<int>& surfaces);
+  bool isRemoved(int surface) const { return surfaces_[surface].vertices.empty(); }
   // Links whose shaft (the convex hull of receiver and source bounds) the box crosses.
   std::vector<int> linksCrossingBox(const glm::vec3& boxMin, const glm::vec3& boxMax) const;
 
@@ -168,6 +183,10 @@ class HierarchicalRadiosity {
   std::vector<glm::vec3> B_, E_, Edown_;
 
   double pushPull();
+  void rebuildRays();
+  // Recomputes V (and F where flagged 2) of the links flagged in `redo`; returns how many.
+  size_t redoLinks(const std::vector<uint8_t>& redo);
+  void refitClusters(std::vector<uint8_t>& touched);
 
   friend struct Builder;
   friend bool refineLinks(struct RefineContext& ctx, Progress& progress);

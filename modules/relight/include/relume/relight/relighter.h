@@ -56,6 +56,8 @@ struct VirtualObject {
   std::vector<std::vector<glm::dvec3>> polygons;
   glm::dvec3 albedo{0.5};
 };
+// The centre of its bounding box (the pivot it turns about).
+glm::dvec3 objectCentre(const VirtualObject& object);
 VirtualObject boxObject(const std::string& name, const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& albedo);
 
 struct LampEstimate {
@@ -115,12 +117,38 @@ class RelightSession {
   ~RelightSession();
   // RGB multiplier of a real lamp's estimated emittance (0 = off, 2 = doubled, tints).
   void setLampScale(int lamp, const glm::dvec3& scale);
+  // --- virtual lamps, on the live session (indices: the constructor's, then in order added;
+  // removing one shifts the later ones down) ---
   void setVirtualLampRadiance(int lamp, const glm::dvec3& radiance);
-  // Moves a virtual object (index in the constructor's list): links whose shafts its old or new
-  // bounds cross are updated, the others kept; then radiosity steps. Throws relume::Error (and
-  // leaves it where it was) when the new place intersects the room. Returns the links updated.
+  // Adds a lamp to the live session (§4.5): its links to every surface are refined by the oracle,
+  // lamp links pushed to leaves; new elements of real polygons keep the original lighting's D and
+  // B_orig. Then update(). Throws relume::Error on a degenerate polygon or a bad radiance.
+  int addVirtualLamp(const VirtualLamp& lamp, Progress& progress = silentProgress());
+  // Moves it (the dynamic-link update: F and V of its links, V of the links its bounds cross).
+  size_t moveVirtualLamp(int lamp, const glm::dvec3& offset, Progress& progress = silentProgress());
+  void removeVirtualLamp(int lamp, Progress& progress = silentProgress());
+  size_t virtualLampCount() const;
+  const VirtualLamp& virtualLamp(int lamp) const;
+  int virtualLampSurface(int lamp) const;  // the engine's surface
+
+  // --- virtual objects ---
+  // Adds an object to the live session (checked against the room first: relume::Error if it cuts
+  // a real polygon or leaves the room).
+  int addObject(const VirtualObject& object, Progress& progress = silentProgress());
+  // Moves a virtual object rigidly: by `offset`, turned by `turnRadians` about the vertical (+z)
+  // through its bounding-box centre. Links whose shafts its old or new bounds cross are updated,
+  // the others kept; then radiosity steps. Throws relume::Error (and leaves it where it was) when
+  // the new place intersects the room. Returns the links updated.
   size_t moveObject(int object, const glm::dvec3& offset, Progress& progress = silentProgress());
-  // Radiosity steps (gather + push-pull, no refinement) until stable.
+  size_t moveObject(int object, const glm::dvec3& offset, double turnRadians, Progress& progress = silentProgress());
+  void removeObject(int object, Progress& progress = silentProgress());
+  size_t objectCount() const;
+  const VirtualObject& object(int object) const;  // where it is now
+  const std::vector<int>& objectSurfaces(int object) const;
+
+  // Brings the display up to date after edits. After a lamp edit alone: the per-lamp solutions
+  // weighted by the lamps' scales (no radiosity steps; they are rebuilt first if the geometry
+  // changed since). After a geometry change: radiosity steps (gather + push-pull) until stable.
   radiosity::SolveStats update(Progress& progress = silentProgress());
   // The room seen through `camera`: texture x B / D (Full) or original texture x B / B_orig.
   ImageRGB render(const Camera& camera, RelightMethod method, Progress& progress = silentProgress()) const;
