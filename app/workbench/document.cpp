@@ -8,8 +8,12 @@
 #include <QSaveFile>
 #include <QUndoCommand>
 #include <chrono>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <numbers>
 
 #include "relume/geometry/error.h"
+#include "relume/geometry/polygon.h"
 #include "relume/geometry/progress.h"
 #include "relume/project/relight_store.h"
 #include "relume/project/room_io.h"
@@ -83,6 +87,154 @@ class LampCommand : public QUndoCommand {
   int gesture_;
 };
 
+// Virtual lamps and objects: commands by name. Edits that the library may refuse are applied
+// before the command is pushed; such a command skips its first redo().
+class VirtualCommand : public QUndoCommand {
+ public:
+  VirtualCommand(Document* doc, std::string name, int gesture, bool applied)
+      : doc_(doc), name_(std::move(name)), gesture_(gesture), skip_(applied) {}
+  void redo() final {
+    if (skip_) {
+      skip_ = false;
+      return;
+    }
+    doRedo();
+  }
+  void undo() final { doUndo(); }
+
+ protected:
+  virtual void doRedo() = 0;
+  virtual void doUndo() = 0;
+  bool sameGesture(const VirtualCommand* o) const { return gesture_ != 0 && o->gesture_ == gesture_ && o->name_ == name_; }
+  Document* doc_;
+  std::string name_;
+  int gesture_;
+  bool skip_;
+};
+
+class AddLampCommand : public VirtualCommand {
+ public:
+  AddLampCommand(Document* doc, VirtualLamp lamp, bool adding)
+      : VirtualCommand(doc, lamp.name, 0, adding), lamp_(std::move(lamp)), adding_(adding) {
+    setText((adding ? Document::tr("add %1") : Document::tr("remove %1")).arg(QString::fromStdString(name_)));
+  }
+
+ protected:
+  void doRedo() override { adding_ ? doc_->applyAddVirtualLamp(lamp_) : doc_->applyRemoveVirtualLamp(name_); }
+  void doUndo() override { adding_ ? doc_->applyRemoveVirtualLamp(name_) : doc_->applyAddVirtualLamp(lamp_); }
+
+ private:
+  VirtualLamp lamp_;
+  bool adding_;
+};
+
+class MoveLampCommand : public VirtualCommand {
+ public:
+  MoveLampCommand(Document* doc, const std::string& name, glm::dvec3 offset, int gesture)
+      : VirtualCommand(doc, name, gesture, true), offset_(offset) {
+    setText(Document::tr("move %1").arg(QString::fromStdString(name)));
+  }
+  int id() const override { return 2; }
+  bool mergeWith(const QUndoCommand* other) override {
+    const auto* o = static_cast<const MoveLampCommand*>(other);
+    if (!sameGesture(o)) return false;
+    offset_ += o->offset_;
+    return true;
+  }
+
+ protected:
+  void doRedo() override { doc_->applyMoveVirtualLamp(name_, offset_); }
+  void doUndo() override { doc_->applyMoveVirtualLamp(name_, -offset_); }
+
+ private:
+  glm::dvec3 offset_;
+};
+
+class EditLampCommand : public VirtualCommand {
+ public:
+  EditLampCommand(Document* doc, VirtualLamp before, VirtualLamp after, int gesture, bool applied = false)
+      : VirtualCommand(doc, before.name, gesture, applied), before_(std::move(before)), after_(std::move(after)) {
+    setText(Document::tr("change %1").arg(QString::fromStdString(name_)));
+  }
+  int id() const override { return 3; }
+  bool mergeWith(const QUndoCommand* other) override {
+    const auto* o = static_cast<const EditLampCommand*>(other);
+    if (!sameGesture(o)) return false;
+    after_ = o->after_;
+    return true;
+  }
+
+ protected:
+  void doRedo() override { doc_->applyVirtualLamp(name_, after_); }
+  void doUndo() override { doc_->applyVirtualLamp(name_, before_); }
+
+ private:
+  VirtualLamp before_, after_;
+};
+
+class AddObjectCommand : public VirtualCommand {
+ public:
+  AddObjectCommand(Document* doc, VirtualObject object, double turn, bool adding)
+      : VirtualCommand(doc, object.name, 0, true), object_(std::move(object)), turn_(turn), adding_(adding) {
+    setText((adding ? Document::tr("add %1") : Document::tr("remove %1")).arg(QString::fromStdString(name_)));
+  }
+
+ protected:
+  void doRedo() override { adding_ ? doc_->applyAddObject(object_, turn_) : doc_->applyRemoveObject(name_); }
+  void doUndo() override { adding_ ? doc_->applyRemoveObject(name_) : doc_->applyAddObject(object_, turn_); }
+
+ private:
+  VirtualObject object_;
+  double turn_;
+  bool adding_;
+};
+
+class MoveObjectCommand : public VirtualCommand {
+ public:
+  MoveObjectCommand(Document* doc, const std::string& name, glm::dvec3 offset, double turn, int gesture)
+      : VirtualCommand(doc, name, gesture, true), offset_(offset), turn_(turn) {
+    setText(Document::tr("move %1").arg(QString::fromStdString(name)));
+  }
+  int id() const override { return 4; }
+  bool mergeWith(const QUndoCommand* other) override {
+    const auto* o = static_cast<const MoveObjectCommand*>(other);
+    if (!sameGesture(o)) return false;
+    offset_ += o->offset_;
+    turn_ += o->turn_;
+    return true;
+  }
+
+ protected:
+  // Turned about its centre, then moved: for the boxes the panel makes (symmetric about their
+  // centre) the inverse is moving back and turning back.
+  void doRedo() override { doc_->applyMoveObject(name_, offset_, turn_); }
+  void doUndo() override { doc_->applyMoveObject(name_, -offset_, -turn_); }
+
+ private:
+  glm::dvec3 offset_;
+  double turn_;
+};
+
+QJsonArray point(const glm::dvec3& v) { return QJsonArray{v.x, v.y, v.z}; }
+
+QJsonArray polygonJson(const std::vector<glm::dvec3>& poly) {
+  QJsonArray a;
+  for (const auto& v : poly) a.append(point(v));
+  return a;
+}
+
+std::vector<glm::dvec3> readPolygon(const QJsonValue& v, const std::string& file, const std::string& what) {
+  std::vector<glm::dvec3> out;
+  for (const auto& p : v.toArray()) {
+    const QJsonArray a = p.toArray();
+    if (a.size() != 3 || !a[0].isDouble() || !a[1].isDouble() || !a[2].isDouble())
+      throw Error(file, what, "expected a list of [x, y, z] points");
+    out.emplace_back(a[0].toDouble(), a[1].toDouble(), a[2].toDouble());
+  }
+  if (out.size() < 3) throw Error(file, what, "a polygon needs 3 or more points");
+  return out;
+}
+
 }  // namespace
 
 std::unique_ptr<LoadedRoom> loadRoomForWorkbench(const QString& path, Progress& progress) {
@@ -99,13 +251,34 @@ std::unique_ptr<LoadedRoom> loadRoomForWorkbench(const QString& path, Progress& 
     ProgressScope scope(progress, 0.0, 0.8);
     room->data = preprocessRoom(room->scene, RelightOptions{}, scope);
   }
+  // Saved virtual lamps and objects go into the session as it is built.
+  const std::string stateFile = (room->projectPath + "/workbench.json").toStdString();
+  std::vector<VirtualLamp> vlamps;
+  std::vector<VirtualObject> objects;
+  for (const auto& v : room->state["virtual_lights"].toArray()) {
+    const QJsonObject o = v.toObject();
+    VirtualLamp l;
+    l.name = o["name"].toString().toStdString();
+    if (l.name.empty()) throw Error(stateFile, "virtual_lights", "a virtual lamp has no name");
+    l.polygon = readPolygon(o["polygon"], stateFile, "virtual lamp '" + l.name + "' polygon");
+    l.radiance = readRgb(o["radiance_rgb"], stateFile, "virtual lamp '" + l.name + "' radiance_rgb");
+    vlamps.push_back(l);
+  }
+  for (const auto& v : room->state["virtual_objects"].toArray()) {
+    const QJsonObject o = v.toObject();
+    VirtualObject ob;
+    ob.name = o["name"].toString().toStdString();
+    if (ob.name.empty()) throw Error(stateFile, "virtual_objects", "a virtual object has no name");
+    for (const auto& p : o["polygons"].toArray())
+      ob.polygons.push_back(readPolygon(p, stateFile, "virtual object '" + ob.name + "' polygons"));
+    ob.albedo = readRgb(o["albedo"], stateFile, "virtual object '" + ob.name + "' albedo");
+    objects.push_back(ob);
+  }
   {
     ProgressScope scope(progress, preprocessed ? 0.0 : 0.8, 1.0);
-    room->session = std::make_unique<RelightSession>(room->scene, room->data, std::vector<VirtualLamp>{},
-                                                     std::vector<VirtualObject>{}, scope, SessionMesh::Refined);
+    room->session = std::make_unique<RelightSession>(room->scene, room->data, vlamps, objects, scope, SessionMesh::Refined);
   }
   // Saved lamp scales (by lamp name) go on the session before the UI sees it.
-  const std::string stateFile = (room->projectPath + "/workbench.json").toStdString();
   const QJsonObject lamps = room->state["lamps"].toObject();
   for (auto it = lamps.begin(); it != lamps.end(); ++it) {
     const int l = room->scene.findLamp(it.key().toStdString());
@@ -131,6 +304,16 @@ void Document::adopt(std::unique_ptr<LoadedRoom> room) {
   projectPath_ = room->projectPath;
   sourcePath_ = room->sourcePath;
   view_ = room->state["view"].toObject();
+  objectTurn_.clear();
+  lampMount_.clear();
+  for (const auto& v : room->state["virtual_lights"].toArray()) {
+    const QJsonArray m = v.toObject()["mount"].toArray();
+    if (m.size() == 6)
+      lampMount_[v.toObject()["name"].toString().toStdString()] =
+          Mount{glm::dvec3(m[0].toDouble(), m[1].toDouble(), m[2].toDouble()), glm::dvec3(m[3].toDouble(), m[4].toDouble(), m[5].toDouble())};
+  }
+  for (const auto& v : room->state["virtual_objects"].toArray())
+    objectTurn_[v.toObject()["name"].toString().toStdString()] = v.toObject()["turn_degrees"].toDouble(0);
   lampScale_.clear();
   for (size_t l = 0; l < scene_.lamps.size(); ++l) lampScale_.push_back(session_->lampScale(int(l)));
   unsavedNew_ = projectPath_.isEmpty();
@@ -147,6 +330,8 @@ void Document::close() {
   projectPath_.clear();
   sourcePath_.clear();
   lampScale_.clear();
+  objectTurn_.clear();
+  lampMount_.clear();
   view_ = {};
   unsavedNew_ = false;
   emit closed();
@@ -177,7 +362,269 @@ void Document::editLampScale(int lamp, const glm::dvec3& scale, int gesture) {
 QJsonObject Document::editsJson() const {
   QJsonObject lamps;
   for (size_t l = 0; l < scene_.lamps.size(); ++l) lamps[QString::fromStdString(scene_.lamps[l].name)] = rgb(lampScale_[l]);
-  return QJsonObject{{"format", "relume-workbench"}, {"version", kWorkbenchStateVersion}, {"lamps", lamps}, {"view", view_}};
+  QJsonArray vlamps, objects;
+  for (size_t i = 0; i < virtualLampCount(); ++i) {
+    const VirtualLamp& l = session_->virtualLamp(int(i));
+    const Mount m = mountOf(l);
+    vlamps.append(QJsonObject{{"name", QString::fromStdString(l.name)},
+                              {"polygon", polygonJson(l.polygon)},
+                              {"radiance_rgb", rgb(l.radiance)},
+                              {"mount", QJsonArray{m.point.x, m.point.y, m.point.z, m.normal.x, m.normal.y, m.normal.z}}});
+  }
+  for (size_t i = 0; i < objectCount(); ++i) {
+    const VirtualObject& o = session_->object(int(i));
+    QJsonArray polys;
+    for (const auto& p : o.polygons) polys.append(polygonJson(p));
+    objects.append(QJsonObject{{"name", QString::fromStdString(o.name)}, {"albedo", rgb(o.albedo)}, {"polygons", polys},
+                               {"turn_degrees", objectTurn(o.name)}});
+  }
+  return QJsonObject{{"format", "relume-workbench"}, {"version", kWorkbenchStateVersion}, {"lamps", lamps},
+                     {"virtual_lights", vlamps}, {"virtual_objects", objects}, {"view", view_}};
+}
+
+// --- virtual lamps and objects -------------------------------------------------------------------
+
+VirtualLamp Document::lampQuad(const std::string& name, const glm::dvec3& centre, const glm::dvec3& normal, double size,
+                               const glm::dvec3& radiance) {
+  const glm::dvec3 n = glm::normalize(normal);
+  const glm::dvec3 a = std::abs(n.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
+  const glm::dvec3 t1 = glm::normalize(glm::cross(a, n)), t2 = glm::cross(n, t1);  // t1 x t2 = n: CCW about n
+  const double h = 0.5 * size;
+  VirtualLamp l;
+  l.name = name;
+  l.radiance = radiance;
+  l.polygon = {centre - h * t1 - h * t2, centre + h * t1 - h * t2, centre + h * t1 + h * t2, centre - h * t1 + h * t2};
+  return l;
+}
+
+glm::dvec3 Document::defaultLampRadiance(double size) const {
+  // Power of the brightest real lamp (exitance x area), spread over the square: radiance = M / pi.
+  double best = 0;
+  glm::dvec3 power(0.0);
+  for (size_t l = 0; l < scene_.lamps.size() && l < data_.lampExitance.size(); ++l) {
+    const glm::dvec3 p = data_.lampExitance[l] * polygonArea(scene_.polygons[size_t(scene_.lamps[l].polygon)].vertices);
+    if (p.x + p.y + p.z > best) {
+      best = p.x + p.y + p.z;
+      power = p;
+    }
+  }
+  if (best <= 0) power = glm::dvec3(50.0);
+  return power / (std::numbers::pi * size * size);
+}
+
+std::string Document::newName(const QString& stem) const {
+  for (int k = 1;; ++k) {
+    const std::string n = QString("%1 %2").arg(stem).arg(k).toStdString();
+    if (virtualLampIndex(n) < 0 && objectIndex(n) < 0) return n;
+  }
+}
+
+int Document::virtualLampIndex(const std::string& name) const {
+  for (size_t i = 0; i < virtualLampCount(); ++i)
+    if (session_->virtualLamp(int(i)).name == name) return int(i);
+  return -1;
+}
+
+int Document::objectIndex(const std::string& name) const {
+  for (size_t i = 0; i < objectCount(); ++i)
+    if (session_->object(int(i)).name == name) return int(i);
+  return -1;
+}
+
+namespace {
+template <class F>
+bool attempt(F&& f, QString* error) {
+  try {
+    f();
+    return true;
+  } catch (const std::exception& e) {
+    if (error) *error = QString::fromStdString(e.what());
+    return false;
+  }
+}
+}  // namespace
+
+Document::Mount Document::mountOf(const VirtualLamp& lamp) const {
+  const auto it = lampMount_.find(lamp.name);
+  if (it != lampMount_.end()) return it->second;
+  glm::dvec3 c(0.0);
+  for (const auto& v : lamp.polygon) c += v;
+  c /= double(lamp.polygon.size());
+  const glm::dvec3 n = polygonNormal(lamp.polygon);
+  return Mount{c - 0.02 * n, n};  // as the lamp tool puts them
+}
+
+double Document::lampDrop(const std::string& name) const {
+  const int i = virtualLampIndex(name);
+  if (i < 0) return 0;
+  const VirtualLamp& l = session_->virtualLamp(i);
+  const Mount m = mountOf(l);
+  glm::dvec3 c(0.0);
+  for (const auto& v : l.polygon) c += v;
+  return glm::dot(c / double(l.polygon.size()) - m.point, m.normal);
+}
+
+bool Document::trySetLampDrop(const std::string& name, double metres, QString* error) {
+  const int i = virtualLampIndex(name);
+  if (i < 0) return false;
+  const VirtualLamp& before = session_->virtualLamp(i);
+  const Mount m = mountOf(before);
+  lampMount_[name] = m;
+  // A new place, not a drag: the lamp goes in afresh, so its links are refined where it now is.
+  VirtualLamp after = before;
+  for (auto& v : after.polygon) v += (metres - lampDrop(name)) * m.normal;
+  if (!attempt([&] { applyVirtualLamp(name, after); }, error)) return false;
+  undo_.push(new EditLampCommand(this, before, after, 0, true));
+  return true;
+}
+
+void Document::settleVirtualLamp(const std::string& name) {
+  const int i = virtualLampIndex(name);
+  if (i < 0) return;
+  const VirtualLamp lamp = session_->virtualLamp(i);
+  timed([&] {
+    session_->removeVirtualLamp(i);
+    session_->addVirtualLamp(lamp);
+  });
+  emit meshChanged();
+  emit virtualsChanged();
+}
+
+double Document::objectTurn(const std::string& name) const {
+  const auto it = objectTurn_.find(name);
+  return it == objectTurn_.end() ? 0.0 : it->second;
+}
+
+void Document::timed(const std::function<void()>& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  lastUpdateMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+bool Document::tryAddVirtualLamp(const VirtualLamp& lamp, QString* error) {
+  if (!session_) return false;
+  if (!attempt([&] { applyAddVirtualLamp(lamp); }, error)) return false;
+  undo_.push(new AddLampCommand(this, lamp, true));
+  return true;
+}
+
+void Document::removeVirtualLamp(const std::string& name) {
+  const int i = virtualLampIndex(name);
+  if (i < 0) return;
+  undo_.push(new AddLampCommand(this, session_->virtualLamp(i), false));
+}
+
+bool Document::tryMoveVirtualLamp(const std::string& name, const glm::dvec3& offset, int gesture, QString* error) {
+  if (virtualLampIndex(name) < 0) return false;
+  if (!attempt([&] { applyMoveVirtualLamp(name, offset); }, error)) return false;
+  undo_.push(new MoveLampCommand(this, name, offset, gesture));
+  return true;
+}
+
+void Document::editVirtualLamp(const std::string& name, const glm::dvec3& radiance, double size, int gesture) {
+  const int i = virtualLampIndex(name);
+  if (i < 0) return;
+  const VirtualLamp& before = session_->virtualLamp(i);
+  const double oldSize = glm::length(before.polygon[1] - before.polygon[0]);
+  VirtualLamp after = before;
+  after.radiance = radiance;
+  if (std::abs(size - oldSize) > 1e-6) {
+    glm::dvec3 c(0.0);
+    for (const auto& v : before.polygon) c += v;
+    c /= double(before.polygon.size());
+    after = lampQuad(name, c, polygonNormal(before.polygon), size, radiance);
+  }
+  undo_.push(new EditLampCommand(this, before, after, gesture));
+}
+
+bool Document::tryAddObject(const VirtualObject& object, QString* error) {
+  if (!session_) return false;
+  if (!attempt([&] { applyAddObject(object, 0.0); }, error)) return false;
+  undo_.push(new AddObjectCommand(this, object, 0.0, true));
+  return true;
+}
+
+void Document::removeObject(const std::string& name) {
+  const int i = objectIndex(name);
+  if (i < 0) return;
+  undo_.push(new AddObjectCommand(this, session_->object(i), objectTurn(name), false));
+  // AddObjectCommand skips its first redo: do the removal now.
+  applyRemoveObject(name);
+}
+
+bool Document::tryMoveObject(const std::string& name, const glm::dvec3& offset, double turnDegrees, int gesture,
+                             QString* error) {
+  if (objectIndex(name) < 0) return false;
+  if (!attempt([&] { applyMoveObject(name, offset, turnDegrees); }, error)) return false;
+  undo_.push(new MoveObjectCommand(this, name, offset, turnDegrees, gesture));
+  return true;
+}
+
+void Document::applyAddVirtualLamp(const VirtualLamp& lamp) {
+  timed([&] { session_->addVirtualLamp(lamp); });
+  emit meshChanged();
+  emit virtualsChanged();
+}
+
+void Document::applyRemoveVirtualLamp(const std::string& name) {
+  const int i = virtualLampIndex(name);
+  if (i < 0) return;
+  timed([&] { session_->removeVirtualLamp(i); });
+  emit meshChanged();
+  emit virtualsChanged();
+}
+
+void Document::applyMoveVirtualLamp(const std::string& name, const glm::dvec3& offset) {
+  const int i = virtualLampIndex(name);
+  if (i < 0) return;
+  timed([&] { lastLinks_ = session_->moveVirtualLamp(i, offset); });
+  emit meshChanged();
+  emit virtualsChanged();
+}
+
+void Document::applyVirtualLamp(const std::string& name, const VirtualLamp& lamp) {
+  const int i = virtualLampIndex(name);
+  if (i < 0) return;
+  const VirtualLamp& now = session_->virtualLamp(i);
+  if (now.polygon == lamp.polygon) {  // radiance only: per-lamp solutions, no radiosity steps
+    timed([&] {
+      session_->setVirtualLampRadiance(i, lamp.radiance);
+      session_->update();
+    });
+    emit lightingChanged();
+  } else {  // a new square: forced refinement again
+    timed([&] {
+      session_->removeVirtualLamp(i);
+      session_->addVirtualLamp(lamp);
+    });
+    emit meshChanged();
+  }
+  emit virtualsChanged();
+}
+
+void Document::applyAddObject(const VirtualObject& object, double turnDegrees) {
+  timed([&] { session_->addObject(object); });
+  objectTurn_[object.name] = turnDegrees;
+  emit meshChanged();
+  emit virtualsChanged();
+}
+
+void Document::applyRemoveObject(const std::string& name) {
+  const int i = objectIndex(name);
+  if (i < 0) return;
+  timed([&] { session_->removeObject(i); });
+  objectTurn_.erase(name);
+  emit meshChanged();
+  emit virtualsChanged();
+}
+
+void Document::applyMoveObject(const std::string& name, const glm::dvec3& offset, double turnDegrees) {
+  const int i = objectIndex(name);
+  if (i < 0) return;
+  timed([&] { lastLinks_ = session_->moveObject(i, offset, turnDegrees * std::numbers::pi / 180.0); });
+  objectTurn_[name] = objectTurn(name) + turnDegrees;
+  emit meshChanged();
+  emit virtualsChanged();
 }
 
 std::function<void(Progress&)> Document::saveWork(const QString& folder) const {

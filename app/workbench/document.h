@@ -7,6 +7,8 @@
 #include <QString>
 #include <QUndoStack>
 #include <glm/vec3.hpp>
+#include <functional>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -56,6 +58,44 @@ class Document : public QObject {
   // One undoable lamp edit; consecutive edits with the same nonzero `gesture` merge into one.
   void editLampScale(int lamp, const glm::dvec3& scale, int gesture = 0);
 
+  // --- virtual lamps and objects, named (names stay stable across undo / redo) ---
+  // An emissive square `size` wide centred at `centre`, facing along `normal`.
+  static VirtualLamp lampQuad(const std::string& name, const glm::dvec3& centre, const glm::dvec3& normal,
+                              double size, const glm::dvec3& radiance);
+  // A radiance that gives a `size`-wide square the power of the brightest real lamp as estimated.
+  glm::dvec3 defaultLampRadiance(double size) const;
+  std::string newName(const QString& stem) const;  // "Lamp 1", "Box 2", ... not used yet
+  int virtualLampIndex(const std::string& name) const;
+  int objectIndex(const std::string& name) const;
+  size_t virtualLampCount() const { return session_ ? session_->virtualLampCount() : 0; }
+  size_t objectCount() const { return session_ ? session_->objectCount() : 0; }
+  double objectTurn(const std::string& name) const;  // degrees, as the user turned it
+  // How far a virtual lamp hangs in front of the surface it was put on (metres), and the change.
+  double lampDrop(const std::string& name) const;
+  bool trySetLampDrop(const std::string& name, double metres, QString* error = nullptr);
+  // After a drag: the lamp goes in afresh where it now is (links refined there), not undoable (it
+  // changes nothing the user sees but shadow sharpness).
+  void settleVirtualLamp(const std::string& name);
+  // Undoable edits. The "try" ones apply at once and return false (with the library's message in
+  // `error`) when the library refuses, leaving everything as it was.
+  bool tryAddVirtualLamp(const VirtualLamp& lamp, QString* error = nullptr);
+  void removeVirtualLamp(const std::string& name);
+  bool tryMoveVirtualLamp(const std::string& name, const glm::dvec3& offset, int gesture, QString* error = nullptr);
+  // Radiance and size (the square is rebuilt about its centre when the size changes).
+  void editVirtualLamp(const std::string& name, const glm::dvec3& radiance, double size, int gesture = 0);
+  bool tryAddObject(const VirtualObject& object, QString* error = nullptr);
+  void removeObject(const std::string& name);
+  bool tryMoveObject(const std::string& name, const glm::dvec3& offset, double turnDegrees, int gesture,
+                     QString* error = nullptr);
+  // Direct application (what the commands call).
+  void applyAddVirtualLamp(const VirtualLamp& lamp);
+  void applyRemoveVirtualLamp(const std::string& name);
+  void applyMoveVirtualLamp(const std::string& name, const glm::dvec3& offset);
+  void applyVirtualLamp(const std::string& name, const VirtualLamp& lamp);
+  void applyAddObject(const VirtualObject& object, double turnDegrees);
+  void applyRemoveObject(const std::string& name);
+  void applyMoveObject(const std::string& name, const glm::dvec3& offset, double turnDegrees);
+
   // The view, kept in the project.
   QJsonObject viewState() const { return view_; }
   void setViewState(const QJsonObject& v) { view_ = v; }
@@ -68,12 +108,14 @@ class Document : public QObject {
   void markSaved(const QString& folder);
 
   double lastUpdateMilliseconds() const { return lastUpdateMs_; }
+  size_t lastLinksUpdated() const { return lastLinks_; }  // by the last object or lamp move
 
  signals:
   void opened();
   void closed();
   void lightingChanged();
   void meshChanged();
+  void virtualsChanged();  // virtual lamps or objects added, removed, edited
   void dirtyChanged(bool dirty);
 
  private:
@@ -83,11 +125,19 @@ class Document : public QObject {
   QString projectPath_, sourcePath_;
   std::vector<glm::dvec3> lampScale_;
   QJsonObject view_;
+  std::map<std::string, double> objectTurn_;
+  struct Mount {
+    glm::dvec3 point{0.0}, normal{0.0};
+  };
+  std::map<std::string, Mount> lampMount_;  // the plane of the surface each lamp was put on
+  Mount mountOf(const VirtualLamp& lamp) const;
   QUndoStack undo_;
   bool unsavedNew_ = false;
   double lastUpdateMs_ = 0;
+  size_t lastLinks_ = 0;
+  void timed(const std::function<void()>& f);
 };
 
-inline constexpr int kWorkbenchStateVersion = 1;
+inline constexpr int kWorkbenchStateVersion = 2;  // 2: virtual lamps and objects
 
 }  // namespace relume

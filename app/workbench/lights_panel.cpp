@@ -1,6 +1,8 @@
 #include "lights_panel.h"
 
 #include <QCheckBox>
+#include <QDoubleSpinBox>
+#include <QSignalBlocker>
 #include <QColorDialog>
 #include <QGridLayout>
 #include <QGroupBox>
@@ -12,6 +14,8 @@
 #include <cmath>
 
 #include "document.h"
+#include "edit_tool.h"
+#include <glm/geometric.hpp>
 
 namespace relume {
 
@@ -48,7 +52,18 @@ LightsPanel::LightsPanel(Document* doc, QWidget* parent) : QWidget(parent), doc_
   layout->addWidget(summary_);
   rows_ = new QVBoxLayout;
   layout->addLayout(rows_);
+  auto* vbox = new QGroupBox(tr("Virtual lamps"), this);
+  auto* vlayout = new QVBoxLayout(vbox);
+  addLamp_ = new QPushButton(tr("Add a lamp (click a surface)"), vbox);
+  addLamp_->setCheckable(true);
+  addLamp_->setToolTip(tr("Then click a surface in the viewport: a 30 cm lamp appears 2 cm in front of it, "
+                          "facing away from it. Drag it to move it along that surface."));
+  vlayout->addWidget(addLamp_);
+  virtualRows_ = new QVBoxLayout;
+  vlayout->addLayout(virtualRows_);
+  layout->addWidget(vbox);
   layout->addStretch(1);
+  connect(doc_, &Document::virtualsChanged, this, &LightsPanel::syncVirtuals);
   connect(doc_, &Document::opened, this, &LightsPanel::rebuild);
   connect(doc_, &Document::closed, this, &LightsPanel::rebuild);
   connect(doc_, &Document::lightingChanged, this, &LightsPanel::refresh);
@@ -64,6 +79,7 @@ void LightsPanel::rebuild() {
     delete item;
   }
   lamps_.clear();
+  rebuildVirtuals();
   if (!doc_->isOpen()) {
     summary_->setText(tr("No room open."));
     return;
@@ -147,9 +163,146 @@ void LightsPanel::commit(int lamp, double intensity, const QColor& colour, int g
   doc_->editLampScale(lamp, intensity * c, gesture);
 }
 
+void LightsPanel::setEditTool(EditTool* tool) {
+  tool_ = tool;
+  connect(addLamp_, &QPushButton::toggled, this, [this](bool on) {
+    if (on) tool_->setMode(EditTool::Mode::PlaceLamp);
+    else if (tool_->mode() == EditTool::Mode::PlaceLamp) tool_->setMode(EditTool::Mode::Select);
+  });
+  connect(tool_, &EditTool::modeChanged, this, [this](EditTool::Mode m) {
+    const QSignalBlocker block(addLamp_);
+    addLamp_->setChecked(m == EditTool::Mode::PlaceLamp);
+  });
+}
+
+void LightsPanel::syncVirtuals() {
+  bool same = virtuals_.size() == doc_->virtualLampCount();
+  for (size_t i = 0; same && i < virtuals_.size(); ++i) same = virtuals_[i].name == doc_->session()->virtualLamp(int(i)).name;
+  if (!same) rebuildVirtuals();
+  else refresh();
+}
+
+namespace {
+double lampSize(const VirtualLamp& l) { return glm::length(l.polygon[1] - l.polygon[0]); }
+}  // namespace
+
+void LightsPanel::rebuildVirtuals() {
+  while (QLayoutItem* item = virtualRows_->takeAt(0)) {
+    delete item->widget();
+    delete item;
+  }
+  virtuals_.clear();
+  for (size_t i = 0; i < doc_->virtualLampCount(); ++i) {
+    const VirtualLamp& l = doc_->session()->virtualLamp(int(i));
+    auto* row = new QWidget(this);
+    auto* grid = new QGridLayout(row);
+    grid->setContentsMargins(0, 4, 0, 4);
+    VirtualRow r;
+    r.name = l.name;
+    auto* name = new QLabel(QString::fromStdString(l.name), row);
+    name->setStyleSheet("font-weight: bold;");
+    r.slider = new QSlider(Qt::Horizontal, row);
+    r.slider->setRange(0, 1000);
+    r.slider->setPageStep(50);
+    r.slider->setToolTip(tr("Power, 0-400 % of the brightest real lamp"));
+    r.value = new QLabel(row);
+    r.value->setMinimumWidth(48);
+    r.value->setAlignment(Qt::AlignRight | Qt::AlignVCenter);
+    r.colour = new QPushButton(row);
+    r.colour->setFixedWidth(36);
+    r.colour->setToolTip(tr("Colour of the lamp"));
+    r.size = new QDoubleSpinBox(row);
+    r.size->setRange(0.05, 2.0);
+    r.size->setSingleStep(0.05);
+    r.size->setDecimals(2);
+    r.size->setSuffix(tr(" m"));
+    r.size->setToolTip(tr("Width of the square lamp"));
+    r.drop = new QDoubleSpinBox(row);
+    r.drop->setRange(0.0, 5.0);
+    r.drop->setSingleStep(0.05);
+    r.drop->setDecimals(2);
+    r.drop->setSuffix(tr(" m"));
+    r.drop->setPrefix(tr("drop "));
+    r.drop->setToolTip(tr("Distance from the surface it was put on (a pendant's suspension)"));
+    r.remove = new QPushButton(tr("Delete"), row);
+    grid->addWidget(r.drop, 2, 0, 1, 2);
+    grid->addWidget(name, 0, 0);
+    grid->addWidget(r.size, 0, 1);
+    grid->addWidget(r.remove, 0, 2, 1, 2);
+    grid->addWidget(r.slider, 1, 0, 1, 2);
+    grid->addWidget(r.value, 1, 2);
+    grid->addWidget(r.colour, 1, 3);
+    grid->setColumnStretch(0, 1);
+    virtualRows_->addWidget(row);
+    const std::string n = l.name;
+    auto current = [this, n](double& intensity, QColor& colour, double& size) {
+      const int k = doc_->virtualLampIndex(n);
+      if (k < 0) return false;
+      const VirtualLamp& v = doc_->session()->virtualLamp(k);
+      size = lampSize(v);
+      const glm::dvec3 ref = doc_->defaultLampRadiance(size);
+      split(v.radiance / std::max({ref.x, ref.y, ref.z, 1e-12}), intensity, colour);
+      return true;
+    };
+    connect(r.slider, &QSlider::sliderPressed, this, [this] { ++gesture_; });
+    connect(r.slider, &QSlider::valueChanged, this, [this, n, current, i](int pos) {
+      double in, size;
+      QColor c;
+      if (updating_ || !current(in, c, size)) return;
+      const int g = virtuals_[i].slider->isSliderDown() ? gesture_ : 0;
+      commitVirtual(n, intensityOf(pos), c, size, g);
+    });
+    connect(r.colour, &QPushButton::clicked, this, [this, n, current] {
+      double in, size;
+      QColor c;
+      if (!current(in, c, size)) return;
+      const QColor chosen = QColorDialog::getColor(c, this, tr("Colour of the lamp"));
+      if (chosen.isValid()) commitVirtual(n, in > 0 ? in : 1.0, chosen, size, 0);
+    });
+    connect(r.size, &QDoubleSpinBox::editingFinished, this, [this, n, current, i] {
+      double in, size;
+      QColor c;
+      if (updating_ || !current(in, c, size) || std::abs(virtuals_[i].size->value() - size) < 1e-6) return;
+      commitVirtual(n, in, c, virtuals_[i].size->value(), 0);
+    });
+    connect(r.drop, &QDoubleSpinBox::editingFinished, this, [this, n, i] {
+      if (updating_ || std::abs(virtuals_[i].drop->value() - doc_->lampDrop(n)) < 1e-6) return;
+      QString error;
+      if (!doc_->trySetLampDrop(n, virtuals_[i].drop->value(), &error)) {
+        emit message(tr("Not moved: %1").arg(error));
+        refresh();
+      }
+    });
+    connect(r.remove, &QPushButton::clicked, this, [this, n] { doc_->removeVirtualLamp(n); });
+    virtuals_.push_back(r);
+  }
+  refresh();
+}
+
+void LightsPanel::commitVirtual(const std::string& name, double intensity, const QColor& colour, double size, int gesture) {
+  // Power kept when the size changes: the reference radiance is that of the new size.
+  const glm::dvec3 ref = doc_->defaultLampRadiance(size);
+  const double m = std::max({ref.x, ref.y, ref.z});
+  doc_->editVirtualLamp(name, intensity * m * glm::dvec3(colour.redF(), colour.greenF(), colour.blueF()), size, gesture);
+}
+
 void LightsPanel::refresh() {
   if (!doc_->isOpen()) return;
   updating_ = true;
+  for (size_t i = 0; i < virtuals_.size() && i < doc_->virtualLampCount(); ++i) {
+    const VirtualLamp& v = doc_->session()->virtualLamp(int(i));
+    const double size = lampSize(v);
+    const glm::dvec3 ref = doc_->defaultLampRadiance(size);
+    double in;
+    QColor c;
+    split(v.radiance / std::max({ref.x, ref.y, ref.z, 1e-12}), in, c);
+    auto& r = virtuals_[i];
+    if (!r.slider->isSliderDown()) r.slider->setValue(positionOf(in));
+    r.value->setText(QString("%1 %").arg(std::lround(100 * in)));
+    r.colour->setStyleSheet(swatchStyle(c));
+    if (!r.size->hasFocus()) r.size->setValue(size);
+    if (!r.drop->hasFocus()) r.drop->setValue(doc_->lampDrop(v.name));
+  }
   for (size_t l = 0; l < lamps_.size(); ++l) {
     double i;
     QColor c;

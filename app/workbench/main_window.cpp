@@ -14,6 +14,7 @@
 #include <QMessageBox>
 #include <QProgressBar>
 #include <QPushButton>
+#include <QScrollArea>
 #include <QSettings>
 #include <QStatusBar>
 #include <QUndoStack>
@@ -21,7 +22,9 @@
 #include "document.h"
 #include "i18n.h"
 #include "job_runner.h"
+#include "edit_tool.h"
 #include "lights_panel.h"
+#include "objects_panel.h"
 #include "relume/viewport/viewport_widget.h"
 
 namespace relume {
@@ -46,11 +49,28 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   viewport_ = new ViewportWidget(this);
   setCentralWidget(viewport_);
 
+  tool_ = new EditTool(doc_, this);
+  viewport_->setGestures(tool_);
   lights_ = new LightsPanel(doc_, this);
+  lights_->setEditTool(tool_);
   auto* lightsDock = new QDockWidget(tr("Lights"), this);
   lightsDock->setObjectName("LightsDock");
-  lightsDock->setWidget(lights_);
+  auto* lightsScroll = new QScrollArea(lightsDock);
+  lightsScroll->setWidgetResizable(true);
+  lightsScroll->setWidget(lights_);
+  lightsDock->setWidget(lightsScroll);
   addDockWidget(Qt::RightDockWidgetArea, lightsDock);
+  objects_ = new ObjectsPanel(doc_, tool_, this);
+  auto* objectsDock = new QDockWidget(tr("Objects"), this);
+  objectsDock->setObjectName("ObjectsDock");
+  objectsDock->setWidget(objects_);
+  addDockWidget(Qt::RightDockWidgetArea, objectsDock);
+  tabifyDockWidget(lightsDock, objectsDock);
+  lightsDock->raise();
+  connect(tool_, &EditTool::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
+  connect(lights_, &LightsPanel::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
+  connect(objects_, &ObjectsPanel::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
+  connect(tool_, &EditTool::selected, this, [this](const QString& n) { selected_ = n; });
 
   // Status bar: what the viewport shows; the running job with its progress and Cancel.
   statusView_ = new QLabel(this);
@@ -74,6 +94,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     jobProgress_->show();
     jobCancel_->show();
     lights_->setEnabled(false);
+    objects_->setEnabled(false);
   });
   connect(jobs_, &JobRunner::progressed, this, [this](double f, const QString& text) {
     jobProgress_->setValue(int(1000 * f));
@@ -85,6 +106,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     jobProgress_->hide();
     jobCancel_->hide();
     lights_->setEnabled(true);
+    objects_->setEnabled(true);
     if (ok) return;
     if (cancelled) statusBar()->showMessage(message, 5000);
     else showError(tr("Relume"), message);
@@ -102,6 +124,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   });
   connect(doc_, &Document::lightingChanged, viewport_, &ViewportWidget::lightingChanged);
   connect(doc_, &Document::meshChanged, viewport_, &ViewportWidget::meshChanged);
+  connect(doc_, &Document::virtualsChanged, this, [this] { updateStatus(); });
   connect(doc_, &Document::dirtyChanged, this, [this](bool) { updateTitle(); });
   connect(viewport_, &ViewportWidget::frameDrawn, this, [this](double) { updateStatus(); });
 
@@ -249,6 +272,23 @@ void MainWindow::buildMenus() {
     doc_->undoStack()->endMacro();
   });
 
+  lighting->addSeparator();
+  QAction* addLamp = lighting->addAction(tr("Add a &virtual lamp (click a surface)"), this,
+                                         [this] { tool_->setMode(EditTool::Mode::PlaceLamp); });
+  addLamp->setShortcut(QKeySequence(Qt::Key_L));
+  QAction* addBox = lighting->addAction(tr("Add a &box (click a floor)"), this, [this] { tool_->setMode(EditTool::Mode::PlaceBox); });
+  addBox->setShortcut(QKeySequence(Qt::Key_B));
+  QAction* del = lighting->addAction(tr("&Delete the selected lamp or object"), this, [this] {
+    const std::string n = selected_.toStdString();
+    if (doc_->virtualLampIndex(n) >= 0) doc_->removeVirtualLamp(n);
+    else if (doc_->objectIndex(n) >= 0) doc_->removeObject(n);
+    selected_.clear();
+  });
+  del->setShortcut(QKeySequence::Delete);
+  QAction* esc = new QAction(this);
+  esc->setShortcut(QKeySequence(Qt::Key_Escape));
+  connect(esc, &QAction::triggered, this, [this] { tool_->setMode(EditTool::Mode::Select); });
+  addAction(esc);
   QMenu* help = menuBar()->addMenu(tr("&Help"));
   help->addAction(tr("&About Relume"), this, [this] {
     QMessageBox::about(this, tr("About Relume"),

@@ -14,6 +14,8 @@ namespace relume {
 class Document;
 class JobRunner;
 class LightsPanel;
+class ObjectsPanel;
+class EditTool;
 class ViewportWidget;
 
 class MainWindow : public QMainWindow {
@@ -32,6 +34,8 @@ class MainWindow : public QMainWindow {
   JobRunner* jobs() const { return jobs_; }
   ViewportWidget* viewport() const { return viewport_; }
   LightsPanel* lightsPanel() const { return lights_; }
+  ObjectsPanel* objectsPanel() const { return objects_; }
+  EditTool* editTool() const { return tool_; }
   QString lastError() const { return lastError_; }
   // When false (tests), questions and errors are not shown as dialogs (errors still go to the
   // status bar and lastError()).
@@ -55,6 +59,9 @@ class MainWindow : public QMainWindow {
   JobRunner* jobs_;
   ViewportWidget* viewport_;
   LightsPanel* lights_;
+  ObjectsPanel* objects_;
+  EditTool* tool_;
+  QString selected_;
   QLabel* statusView_;
   QLabel* jobLabel_;
   QProgressBar* jobProgress_;

@@ -13,6 +13,7 @@
 
 #include "relume/geometry/error.h"
 #include "relume/geometry/scene.h"
+#include "relume/raytrace/ray_scene.h"
 #include "relume/relight/relighter.h"
 
 namespace relume {
@@ -69,6 +70,7 @@ ViewportWidget::ViewportWidget(QWidget* parent) : QOpenGLWidget(parent), rendere
   colourBar_ = new ColourBar(this);
   colourBar_->hide();
   setFocusPolicy(Qt::StrongFocus);
+  setMouseTracking(true);
 }
 
 ViewportWidget::~ViewportWidget() {
@@ -244,15 +246,67 @@ ImageRGB ViewportWidget::renderLinear(const Camera& camera, ViewMode mode) {
   return img;
 }
 
+ViewportPick ViewportWidget::pickAt(const QPointF& pos) const {
+  ViewportPick pick;
+  if (!session_) return pick;
+  const Camera cam = currentCamera();
+  const ViewRect r = photoRect();
+  if (cam.width <= 0 || r.width <= 0 || r.height <= 0) return pick;
+  // Widget (logical, y down) -> framebuffer pixels -> the camera's pixels.
+  const double dpr = devicePixelRatio();
+  const double fbY = pos.y() * dpr, fbX = pos.x() * dpr;
+  const double H = std::max(1, int(height() * dpr));
+  // photoRect is in GL coordinates (y up from the bottom).
+  const double x = (fbX - r.x) * cam.width / r.width, y = (fbY - (H - r.y - r.height)) * cam.height / r.height;
+  pick.origin = cam.center();
+  pick.direction = glm::normalize(cam.rayDirection(x, y));
+  if (x < 0 || y < 0 || x > cam.width || y > cam.height) return pick;
+  const RayHit hit = session_->engine().rayScene().intersect(Ray{glm::vec3(pick.origin), glm::vec3(pick.direction), 1e-4f, 1e30f});
+  if (hit.polygon < 0) return pick;
+  pick.surface = hit.polygon;
+  pick.point = glm::dvec3(hit.point);
+  glm::dvec3 n = glm::normalize(glm::dvec3(hit.geometricNormal));
+  if (glm::dot(n, pick.direction) > 0) n = -n;
+  pick.normal = n;
+  return pick;
+}
+
+bool ViewportWidget::widgetPosition(const glm::dvec3& world, QPointF& pos) const {
+  const Camera cam = currentCamera();
+  const ViewRect r = photoRect();
+  glm::dvec2 px;
+  if (cam.width <= 0 || !cam.project(world, px)) return false;
+  const double dpr = devicePixelRatio();
+  const double H = std::max(1, int(height() * dpr));
+  pos = QPointF((r.x + px.x * r.width / cam.width) / dpr, ((H - r.y - r.height) + px.y * r.height / cam.height) / dpr);
+  return true;
+}
+
 void ViewportWidget::mousePressEvent(QMouseEvent* e) {
   lastMouse_ = e->position().toPoint();
+  gestureActive_ = false;
+  if (gestures_ && e->button() == Qt::LeftButton && session_)
+    gestureActive_ = gestures_->press(pickAt(e->position()), e->modifiers());
   QOpenGLWidget::mousePressEvent(e);
+}
+
+void ViewportWidget::mouseReleaseEvent(QMouseEvent* e) {
+  if (gestureActive_ && e->button() == Qt::LeftButton) {
+    gestureActive_ = false;
+    gestures_->release(pickAt(e->position()));
+  }
+  QOpenGLWidget::mouseReleaseEvent(e);
 }
 
 void ViewportWidget::mouseMoveEvent(QMouseEvent* e) {
   const QPoint p = e->position().toPoint();
   const QPoint d = p - lastMouse_;
   lastMouse_ = p;
+  if (gestureActive_) {
+    gestures_->drag(pickAt(e->position()));
+    return;
+  }
+  if (gestures_ && session_ && e->buttons() == Qt::NoButton) setCursor(gestures_->hoverCursor(pickAt(e->position())));
   if (!orbit_) return;
   if (e->buttons() & Qt::LeftButton) {  // orbit about the target
     orbitState_.yaw -= 0.008 * d.x();

@@ -3,6 +3,7 @@
 // a photo's camera (the default: the image lies exactly on the photo) or from a free orbit
 // around the model, in one of the view modes, exposed like the photo.
 #include <QOpenGLWidget>
+#include <glm/vec3.hpp>
 #include <memory>
 
 #include "relume/geometry/camera.h"
@@ -17,6 +18,26 @@ struct Scene;
 struct RelightData;
 class RelightSession;
 class ColourBar;
+
+// What lies under a point of the viewport: the engine surface hit (real polygon, virtual lamp or
+// object face), the point, and the surface normal turned towards the viewer.
+struct ViewportPick {
+  int surface = -1;
+  glm::dvec3 point{0.0}, normal{0.0};
+  glm::dvec3 origin{0.0}, direction{0.0};  // the ray through the cursor
+  bool hit() const { return surface >= 0; }
+};
+
+// Who edits the scene with the mouse: the viewport offers each left-button gesture to it first;
+// when press() returns false the gesture navigates the view as usual.
+class ViewportGestures {
+ public:
+  virtual ~ViewportGestures() = default;
+  virtual bool press(const ViewportPick& pick, Qt::KeyboardModifiers mods) = 0;
+  virtual void drag(const ViewportPick& pick) = 0;
+  virtual void release(const ViewportPick& pick) = 0;
+  virtual Qt::CursorShape hoverCursor(const ViewportPick& pick) const = 0;
+};
 
 class ViewportWidget : public QOpenGLWidget {
   Q_OBJECT
@@ -44,6 +65,12 @@ class ViewportWidget : public QOpenGLWidget {
   // The camera the viewport shows now, at the widget's size (orbit) or the photo's own camera.
   Camera currentCamera() const;
 
+  // The ray through a widget position (logical pixels) and what it meets in the session's scene.
+  ViewportPick pickAt(const QPointF& pos) const;
+  // The widget position (logical pixels) where a world point appears; false when behind the camera.
+  bool widgetPosition(const glm::dvec3& world, QPointF& pos) const;
+  void setGestures(ViewportGestures* g) { gestures_ = g; }
+
   // Renders `camera`'s view at its own resolution into a float buffer: linear radiance.
   ImageRGB renderLinear(const Camera& camera, ViewMode mode);
   double lastFrameMilliseconds() const { return frameMs_; }
@@ -66,6 +93,7 @@ class ViewportWidget : public QOpenGLWidget {
   void paintGL() override;
   void mousePressEvent(QMouseEvent* e) override;
   void mouseMoveEvent(QMouseEvent* e) override;
+  void mouseReleaseEvent(QMouseEvent* e) override;
   void wheelEvent(QWheelEvent* e) override;
 
  private:
@@ -85,6 +113,8 @@ class ViewportWidget : public QOpenGLWidget {
   bool orbit_ = false;
   Orbit orbitState_;
   QPoint lastMouse_;
+  ViewportGestures* gestures_ = nullptr;
+  bool gestureActive_ = false;
   double frameMs_ = 0;
   QLabel* message_ = nullptr;
   ColourBar* colourBar_ = nullptr;

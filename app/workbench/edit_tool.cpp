@@ -1,0 +1,157 @@
+#include "edit_tool.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "document.h"
+#include "relume/geometry/polygon.h"
+
+namespace relume {
+
+namespace {
+// Where the ray meets the plane; false when it runs parallel to it or away from it.
+bool rayPlane(const ViewportPick& pick, const glm::dvec3& p, const glm::dvec3& n, glm::dvec3& out) {
+  const double d = glm::dot(pick.direction, n);
+  if (std::abs(d) < 1e-9) return false;
+  const double t = glm::dot(p - pick.origin, n) / d;
+  if (t <= 0) return false;
+  out = pick.origin + t * pick.direction;
+  return true;
+}
+}  // namespace
+
+EditTool::EditTool(Document* doc, QObject* parent) : QObject(parent), doc_(doc) {}
+
+void EditTool::setMode(Mode m) {
+  if (m == mode_) return;
+  mode_ = m;
+  emit modeChanged(m);
+  if (m == Mode::PlaceLamp) emit message(tr("Click a surface to put a virtual lamp 2 cm in front of it."));
+  if (m == Mode::PlaceBox) emit message(tr("Click a floor or a table top to stand the box on it."));
+}
+
+void EditTool::setBoxTemplate(const glm::dvec3& size, const glm::dvec3& albedo) {
+  boxSize_ = size;
+  boxAlbedo_ = albedo;
+}
+
+std::string EditTool::virtualLampAt(const ViewportPick& pick) const {
+  if (!pick.hit() || !doc_->session()) return {};
+  for (size_t i = 0; i < doc_->virtualLampCount(); ++i)
+    if (doc_->session()->virtualLampSurface(int(i)) == pick.surface) return doc_->session()->virtualLamp(int(i)).name;
+  return {};
+}
+
+std::string EditTool::objectAt(const ViewportPick& pick) const {
+  if (!pick.hit() || !doc_->session()) return {};
+  for (size_t i = 0; i < doc_->objectCount(); ++i) {
+    const auto& ids = doc_->session()->objectSurfaces(int(i));
+    if (std::find(ids.begin(), ids.end(), pick.surface) != ids.end()) return doc_->session()->object(int(i)).name;
+  }
+  return {};
+}
+
+Qt::CursorShape EditTool::hoverCursor(const ViewportPick& pick) const {
+  if (mode_ != Mode::Select) return pick.hit() ? Qt::CrossCursor : Qt::ForbiddenCursor;
+  if (!virtualLampAt(pick).empty() || !objectAt(pick).empty()) return Qt::OpenHandCursor;
+  return Qt::ArrowCursor;
+}
+
+bool EditTool::press(const ViewportPick& pick, Qt::KeyboardModifiers) {
+  dragLamp_.clear();
+  dragObject_.clear();
+  if (!doc_->isOpen()) return false;
+  if (mode_ == Mode::PlaceLamp) {
+    if (!pick.hit()) {
+      emit message(tr("No surface there: click on the room."));
+      return true;
+    }
+    const std::string name = doc_->newName(tr("Lamp"));
+    const VirtualLamp lamp = Document::lampQuad(name, pick.point + kLampOffset * pick.normal, pick.normal, kLampSize,
+                                                doc_->defaultLampRadiance(kLampSize));
+    QString error;
+    if (doc_->tryAddVirtualLamp(lamp, &error)) {
+      emit message(tr("Added %1 (%2 ms).").arg(QString::fromStdString(name)).arg(doc_->lastUpdateMilliseconds(), 0, 'f', 0));
+      emit selected(QString::fromStdString(name));
+    } else {
+      emit message(error);
+    }
+    setMode(Mode::Select);
+    return true;
+  }
+  if (mode_ == Mode::PlaceBox) {
+    if (!pick.hit() || pick.normal.z < 0.7) {
+      emit message(tr("Objects stand on floors and tables: click a horizontal surface."));
+      return true;
+    }
+    const std::string name = doc_->newName(tr("Box"));
+    const glm::dvec3 half(0.5 * boxSize_.x, 0.5 * boxSize_.y, 0.0);
+    const glm::dvec3 base = pick.point + glm::dvec3(0, 0, 0.002);  // 2 mm above what it stands on
+    const VirtualObject box = boxObject(name, base - half, base + half + glm::dvec3(0, 0, boxSize_.z), boxAlbedo_);
+    QString error;
+    if (doc_->tryAddObject(box, &error)) {
+      emit message(tr("Added %1 (%2 ms).").arg(QString::fromStdString(name)).arg(doc_->lastUpdateMilliseconds(), 0, 'f', 0));
+      emit selected(QString::fromStdString(name));
+    } else {
+      emit message(tr("The box cannot stand there: %1").arg(error));
+    }
+    setMode(Mode::Select);
+    return true;
+  }
+  // Select: grab a virtual lamp or object under the cursor.
+  dragLamp_ = virtualLampAt(pick);
+  dragObject_ = dragLamp_.empty() ? objectAt(pick) : std::string();
+  if (dragLamp_.empty() && dragObject_.empty()) return false;
+  if (!dragLamp_.empty()) {  // slides in its own plane, parallel to the surface it sits on
+    const VirtualLamp& l = doc_->session()->virtualLamp(doc_->virtualLampIndex(dragLamp_));
+    planePoint_ = glm::dvec3(0.0);
+    for (const auto& v : l.polygon) planePoint_ += v;
+    planePoint_ /= double(l.polygon.size());
+    planeNormal_ = polygonNormal(l.polygon);
+  } else {  // slides on the horizontal plane it stands on
+    const VirtualObject& o = doc_->session()->object(doc_->objectIndex(dragObject_));
+    double zmin = 1e300;
+    for (const auto& p : o.polygons)
+      for (const auto& v : p) zmin = std::min(zmin, v.z);
+    planePoint_ = glm::dvec3(0, 0, zmin);
+    planeNormal_ = glm::dvec3(0, 0, 1);
+  }
+  if (!rayPlane(pick, planePoint_, planeNormal_, anchor_)) {
+    dragLamp_.clear();
+    dragObject_.clear();
+    return false;
+  }
+  moved_ = glm::dvec3(0.0);
+  refused_ = false;
+  ++gesture_;
+  emit selected(QString::fromStdString(dragLamp_.empty() ? dragObject_ : dragLamp_));
+  return true;
+}
+
+void EditTool::drag(const ViewportPick& pick) {
+  if (dragLamp_.empty() && dragObject_.empty()) return;
+  glm::dvec3 q;
+  if (!rayPlane(pick, planePoint_, planeNormal_, q)) return;
+  const glm::dvec3 step = (q - anchor_) - moved_;
+  if (glm::length(step) < 1e-4) return;
+  QString error;
+  const bool ok = dragLamp_.empty() ? doc_->tryMoveObject(dragObject_, step, 0.0, gesture_, &error)
+                                    : doc_->tryMoveVirtualLamp(dragLamp_, step, gesture_, &error);
+  if (ok) {
+    moved_ += step;
+    refused_ = false;
+  } else if (!refused_) {  // stays at its last good place
+    refused_ = true;
+    emit message(tr("Not moved: %1").arg(error));
+  }
+}
+
+void EditTool::release(const ViewportPick& pick) {
+  drag(pick);
+  if (!dragLamp_.empty() && glm::length(moved_) > 0) doc_->settleVirtualLamp(dragLamp_);
+  dragLamp_.clear();
+  dragObject_.clear();
+}
+
+}  // namespace relume

@@ -1,0 +1,56 @@
+#pragma once
+// Editing the scene with the mouse in the viewport: placing a virtual lamp on the surface clicked
+// (an emissive square 2 cm off it, facing away from it), placing a box standing on the floor or
+// table clicked, and dragging lamps and objects (a lamp along the surface it sits on, an object
+// along the surface it stands on). Each drag is one undo step; a move the library refuses (the
+// object would cut a real polygon) leaves the object where it was and says why.
+#include <QObject>
+#include <QString>
+#include <glm/vec3.hpp>
+#include <string>
+
+#include "relume/viewport/viewport_widget.h"
+
+namespace relume {
+
+class Document;
+
+class EditTool : public QObject, public ViewportGestures {
+  Q_OBJECT
+ public:
+  enum class Mode { Select, PlaceLamp, PlaceBox };
+  explicit EditTool(Document* doc, QObject* parent = nullptr);
+
+  void setMode(Mode m);
+  Mode mode() const { return mode_; }
+  // The box the next "place" click makes (metres; albedo in (0, 1]).
+  void setBoxTemplate(const glm::dvec3& size, const glm::dvec3& albedo);
+  static constexpr double kLampSize = 0.3, kLampOffset = 0.02;
+
+  bool press(const ViewportPick& pick, Qt::KeyboardModifiers mods) override;
+  void drag(const ViewportPick& pick) override;
+  void release(const ViewportPick& pick) override;
+  Qt::CursorShape hoverCursor(const ViewportPick& pick) const override;
+
+  // What a pick hit among the virtual things (empty when nothing virtual).
+  std::string virtualLampAt(const ViewportPick& pick) const;
+  std::string objectAt(const ViewportPick& pick) const;
+
+ signals:
+  void modeChanged(Mode m);
+  void message(const QString& text);
+  void selected(const QString& name);
+
+ private:
+  Document* doc_;
+  Mode mode_ = Mode::Select;
+  glm::dvec3 boxSize_{0.4, 0.4, 0.4}, boxAlbedo_{0.6, 0.6, 0.6};
+  // The drag under way: what, the plane it slides on, where the cursor's ray met it at the press,
+  // and how far the thing has moved since.
+  std::string dragLamp_, dragObject_;
+  glm::dvec3 planePoint_{0.0}, planeNormal_{0.0}, anchor_{0.0}, moved_{0.0};
+  int gesture_ = 1000000;
+  bool refused_ = false;
+};
+
+}  // namespace relume

@@ -1,0 +1,150 @@
+#include "objects_panel.h"
+
+#include <QColorDialog>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QGridLayout>
+#include <QGroupBox>
+#include <QLabel>
+#include <QPushButton>
+#include <QSignalBlocker>
+#include <QSpinBox>
+#include <QVBoxLayout>
+#include <algorithm>
+#include <cmath>
+
+#include "document.h"
+#include "edit_tool.h"
+
+namespace relume {
+
+namespace {
+QString swatch(const QColor& c) { return QString("background-color: %1; border: 1px solid #555; min-width: 28px;").arg(c.name()); }
+}  // namespace
+
+ObjectsPanel::ObjectsPanel(Document* doc, EditTool* tool, QWidget* parent)
+    : QWidget(parent), doc_(doc), tool_(tool) {
+  auto* layout = new QVBoxLayout(this);
+  auto* box = new QGroupBox(tr("New box"), this);
+  auto* form = new QFormLayout(box);
+  auto spin = [&](double v) {
+    auto* s = new QDoubleSpinBox(box);
+    s->setRange(0.05, 3.0);
+    s->setSingleStep(0.05);
+    s->setDecimals(2);
+    s->setSuffix(tr(" m"));
+    s->setValue(v);
+    connect(s, &QDoubleSpinBox::valueChanged, this, &ObjectsPanel::pushTemplate);
+    return s;
+  };
+  width_ = spin(0.4);
+  depth_ = spin(0.4);
+  height_ = spin(0.4);
+  albedo_ = new QPushButton(box);
+  albedo_->setToolTip(tr("Albedo (diffuse reflectance) of the box"));
+  albedo_->setStyleSheet(swatch(colour_));
+  form->addRow(tr("Width"), width_);
+  form->addRow(tr("Depth"), depth_);
+  form->addRow(tr("Height"), height_);
+  form->addRow(tr("Albedo"), albedo_);
+  place_ = new QPushButton(tr("Place a box (click a floor)"), box);
+  place_->setCheckable(true);
+  place_->setToolTip(tr("Then click a floor or a table top in the viewport. Drag a box to move it along what it "
+                        "stands on."));
+  form->addRow(place_);
+  layout->addWidget(box);
+  auto* placed = new QGroupBox(tr("Objects in the room"), this);
+  list_ = new QVBoxLayout(placed);
+  empty_ = new QLabel(tr("None yet."), placed);
+  list_->addWidget(empty_);
+  layout->addWidget(placed);
+  layout->addStretch(1);
+
+  connect(albedo_, &QPushButton::clicked, this, [this] {
+    const QColor c = QColorDialog::getColor(colour_, this, tr("Albedo of the box"));
+    if (!c.isValid()) return;
+    colour_ = c;
+    albedo_->setStyleSheet(swatch(c));
+    pushTemplate();
+  });
+  connect(place_, &QPushButton::toggled, this, [this](bool on) {
+    if (on) tool_->setMode(EditTool::Mode::PlaceBox);
+    else if (tool_->mode() == EditTool::Mode::PlaceBox) tool_->setMode(EditTool::Mode::Select);
+  });
+  connect(tool_, &EditTool::modeChanged, this, [this](EditTool::Mode m) {
+    const QSignalBlocker block(place_);
+    place_->setChecked(m == EditTool::Mode::PlaceBox);
+  });
+  connect(doc_, &Document::virtualsChanged, this, &ObjectsPanel::sync);
+  connect(doc_, &Document::opened, this, &ObjectsPanel::rebuild);
+  connect(doc_, &Document::closed, this, &ObjectsPanel::rebuild);
+  pushTemplate();
+  rebuild();
+}
+
+void ObjectsPanel::pushTemplate() {
+  // Albedo in (0, 1): a physical surface never reflects everything.
+  auto a = [](double v) { return std::clamp(v, 0.02, 0.95); };
+  tool_->setBoxTemplate(glm::dvec3(width_->value(), depth_->value(), height_->value()),
+                        glm::dvec3(a(colour_.redF()), a(colour_.greenF()), a(colour_.blueF())));
+}
+
+void ObjectsPanel::sync() {
+  bool same = rows_.size() == doc_->objectCount();
+  for (size_t i = 0; same && i < rows_.size(); ++i) same = rows_[i].name == doc_->session()->object(int(i)).name;
+  if (same) refresh();
+  else rebuild();
+}
+
+void ObjectsPanel::rebuild() {
+  for (auto& r : rows_) delete r.turn->parentWidget();
+  rows_.clear();
+  for (size_t i = 0; i < doc_->objectCount(); ++i) {
+    const VirtualObject& o = doc_->session()->object(int(i));
+    auto* row = new QWidget(this);
+    auto* grid = new QGridLayout(row);
+    grid->setContentsMargins(0, 2, 0, 2);
+    auto* name = new QLabel(QString::fromStdString(o.name), row);
+    auto* colour = new QLabel(row);
+    colour->setFixedSize(18, 18);
+    colour->setStyleSheet(swatch(QColor::fromRgbF(float(o.albedo.x), float(o.albedo.y), float(o.albedo.z))));
+    Row r;
+    r.name = o.name;
+    r.turn = new QSpinBox(row);
+    r.turn->setRange(-180, 180);
+    r.turn->setSingleStep(15);
+    r.turn->setWrapping(true);
+    r.turn->setSuffix(tr("°"));
+    r.turn->setToolTip(tr("Turn about the vertical"));
+    r.remove = new QPushButton(tr("Delete"), row);
+    grid->addWidget(colour, 0, 0);
+    grid->addWidget(name, 0, 1);
+    grid->addWidget(r.turn, 0, 2);
+    grid->addWidget(r.remove, 0, 3);
+    grid->setColumnStretch(1, 1);
+    list_->addWidget(row);
+    const std::string n = o.name;
+    connect(r.turn, &QSpinBox::valueChanged, this, [this, n](int deg) {
+      if (updating_) return;
+      const double now = doc_->objectTurn(n);
+      double delta = std::remainder(double(deg) - now, 360.0);
+      QString error;
+      if (std::abs(delta) > 1e-9 && !doc_->tryMoveObject(n, glm::dvec3(0.0), delta, 0, &error)) {
+        emit message(tr("Not turned: %1").arg(error));
+        refresh();  // back to where it is
+      }
+    });
+    connect(r.remove, &QPushButton::clicked, this, [this, n] { doc_->removeObject(n); });
+    rows_.push_back(r);
+  }
+  empty_->setVisible(rows_.empty());
+  refresh();
+}
+
+void ObjectsPanel::refresh() {
+  updating_ = true;
+  for (auto& r : rows_) r.turn->setValue(int(std::lround(std::remainder(doc_->objectTurn(r.name), 360.0))));
+  updating_ = false;
+}
+
+}  // namespace relume
