@@ -7,6 +7,61 @@
         <source>lamp %1</source>
         <translation>Lampe %1</translation>
     </message>
+    <message>
+        <source>add %1</source>
+        <translation>%1 hinzufügen</translation>
+    </message>
+    <message>
+        <source>remove %1</source>
+        <translation>%1 entfernen</translation>
+    </message>
+    <message>
+        <source>move %1</source>
+        <translation>%1 verschieben</translation>
+    </message>
+    <message>
+        <source>change %1</source>
+        <translation>%1 ändern</translation>
+    </message>
+</context>
+<context>
+    <name>relume::EditTool</name>
+    <message>
+        <source>Click a surface to put a virtual lamp 2 cm in front of it.</source>
+        <translation>Klicken Sie auf eine Fläche, um eine virtuelle Leuchte 2 cm davor anzubringen.</translation>
+    </message>
+    <message>
+        <source>Click a floor or a table top to stand the box on it.</source>
+        <translation>Klicken Sie auf einen Boden oder eine Tischplatte, um die Kiste daraufzustellen.</translation>
+    </message>
+    <message>
+        <source>No surface there: click on the room.</source>
+        <translation>Dort ist keine Fläche: Klicken Sie in den Raum.</translation>
+    </message>
+    <message>
+        <source>Lamp</source>
+        <translation>Leuchte</translation>
+    </message>
+    <message>
+        <source>Added %1 (%2 ms).</source>
+        <translation>%1 hinzugefügt (%2 ms).</translation>
+    </message>
+    <message>
+        <source>Objects stand on floors and tables: click a horizontal surface.</source>
+        <translation>Objekte stehen auf Böden und Tischen: Klicken Sie auf eine waagerechte Fläche.</translation>
+    </message>
+    <message>
+        <source>Box</source>
+        <translation>Kiste</translation>
+    </message>
+    <message>
+        <source>The box cannot stand there: %1</source>
+        <translation>Die Kiste kann dort nicht stehen: %1</translation>
+    </message>
+    <message>
+        <source>Not moved: %1</source>
+        <translation>Nicht verschoben: %1</translation>
+    </message>
 </context>
 <context>
     <name>relume::JobRunner</name>
@@ -56,6 +111,46 @@
     <message>
         <source>Estimate: %1, %2, %3 W/m² (%4)</source>
         <translation>Schätzung: %1, %2, %3 W/m² (%4)</translation>
+    </message>
+    <message>
+        <source>Virtual lamps</source>
+        <translation>Virtuelle Leuchten</translation>
+    </message>
+    <message>
+        <source>Add a lamp (click a surface)</source>
+        <translation>Leuchte hinzufügen (auf eine Fläche klicken)</translation>
+    </message>
+    <message>
+        <source>Then click a surface in the viewport: a 30 cm lamp appears 2 cm in front of it, facing away from it. Drag it to move it along that surface.</source>
+        <translation>Klicken Sie dann in der Ansicht auf eine Fläche: Eine 30-cm-Leuchte erscheint 2 cm davor, von ihr abgewandt. Ziehen Sie sie, um sie entlang dieser Fläche zu verschieben.</translation>
+    </message>
+    <message>
+        <source>Power, 0-400 % of the brightest real lamp</source>
+        <translation>Leistung, 0–400 % der hellsten realen Leuchte</translation>
+    </message>
+    <message>
+        <source> m</source>
+        <translation> m</translation>
+    </message>
+    <message>
+        <source>Width of the square lamp</source>
+        <translation>Breite der quadratischen Leuchte</translation>
+    </message>
+    <message>
+        <source>drop </source>
+        <translation>Abhängung </translation>
+    </message>
+    <message>
+        <source>Distance from the surface it was put on (a pendant&apos;s suspension)</source>
+        <translation>Abstand von der Fläche, an der sie angebracht wurde (Abhängung einer Pendelleuchte)</translation>
+    </message>
+    <message>
+        <source>Delete</source>
+        <translation>Löschen</translation>
+    </message>
+    <message>
+        <source>Not moved: %1</source>
+        <translation>Nicht verschoben: %1</translation>
     </message>
 </context>
 <context>
@@ -283,6 +378,89 @@
     <message>
         <source>The language changes when Relume starts again.</source>
         <translation>Die Sprache wechselt beim nächsten Start von Relume.</translation>
+    </message>
+    <message>
+        <source>Objects</source>
+        <translation>Objekte</translation>
+    </message>
+    <message>
+        <source>Add a &amp;virtual lamp (click a surface)</source>
+        <translation>&amp;Virtuelle Leuchte hinzufügen (auf eine Fläche klicken)</translation>
+    </message>
+    <message>
+        <source>Add a &amp;box (click a floor)</source>
+        <translation>&amp;Kiste hinzufügen (auf einen Boden klicken)</translation>
+    </message>
+    <message>
+        <source>&amp;Delete the selected lamp or object</source>
+        <translation>Ausgewählte Leuchte oder Objekt &amp;löschen</translation>
+    </message>
+</context>
+<context>
+    <name>relume::ObjectsPanel</name>
+    <message>
+        <source>New box</source>
+        <translation>Neue Kiste</translation>
+    </message>
+    <message>
+        <source> m</source>
+        <translation> m</translation>
+    </message>
+    <message>
+        <source>Albedo (diffuse reflectance) of the box</source>
+        <translation>Albedo (diffuser Reflexionsgrad) der Kiste</translation>
+    </message>
+    <message>
+        <source>Width</source>
+        <translation>Breite</translation>
+    </message>
+    <message>
+        <source>Depth</source>
+        <translation>Tiefe</translation>
+    </message>
+    <message>
+        <source>Height</source>
+        <translation>Höhe</translation>
+    </message>
+    <message>
+        <source>Albedo</source>
+        <translation>Albedo</translation>
+    </message>
+    <message>
+        <source>Place a box (click a floor)</source>
+        <translation>Kiste aufstellen (auf einen Boden klicken)</translation>
+    </message>
+    <message>
+        <source>Then click a floor or a table top in the viewport. Drag a box to move it along what it stands on.</source>
+        <translation>Klicken Sie dann in der Ansicht auf einen Boden oder eine Tischplatte. Ziehen Sie eine Kiste, um sie auf ihrer Standfläche zu verschieben.</translation>
+    </message>
+    <message>
+        <source>Objects in the room</source>
+        <translation>Objekte im Raum</translation>
+    </message>
+    <message>
+        <source>None yet.</source>
+        <translation>Noch keine.</translation>
+    </message>
+    <message>
+        <source>Albedo of the box</source>
+        <translation>Albedo der Kiste</translation>
+    </message>
+    <message>
+        <source>°</source>
+        <translation>°</translation>
+    </message>
+    <message>
+        <source>Turn about the vertical</source>
+        <translation>Drehung um die Senkrechte</translation>
+    </message>
+    <message>
+        <source>Delete</source>
+        <translation>Löschen</translation>
+    </message>
+    <message>
+        <source>Not turned: %1</source>
+        <translation>Nicht gedreht: %1</translation>
     </message>
 </context>
 <context>

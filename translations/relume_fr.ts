@@ -7,6 +7,61 @@
         <source>lamp %1</source>
         <translation>lampe %1</translation>
     </message>
+    <message>
+        <source>add %1</source>
+        <translation>ajout de %1</translation>
+    </message>
+    <message>
+        <source>remove %1</source>
+        <translation>suppression de %1</translation>
+    </message>
+    <message>
+        <source>move %1</source>
+        <translation>déplacement de %1</translation>
+    </message>
+    <message>
+        <source>change %1</source>
+        <translation>modification de %1</translation>
+    </message>
+</context>
+<context>
+    <name>relume::EditTool</name>
+    <message>
+        <source>Click a surface to put a virtual lamp 2 cm in front of it.</source>
+        <translation>Cliquez sur une surface pour y placer une lampe virtuelle à 2 cm devant elle.</translation>
+    </message>
+    <message>
+        <source>Click a floor or a table top to stand the box on it.</source>
+        <translation>Cliquez sur un sol ou un plateau de table pour y poser la boîte.</translation>
+    </message>
+    <message>
+        <source>No surface there: click on the room.</source>
+        <translation>Aucune surface ici : cliquez sur la pièce.</translation>
+    </message>
+    <message>
+        <source>Lamp</source>
+        <translation>Lampe</translation>
+    </message>
+    <message>
+        <source>Added %1 (%2 ms).</source>
+        <translation>%1 ajouté (%2 ms).</translation>
+    </message>
+    <message>
+        <source>Objects stand on floors and tables: click a horizontal surface.</source>
+        <translation>Les objets se posent sur les sols et les tables : cliquez sur une surface horizontale.</translation>
+    </message>
+    <message>
+        <source>Box</source>
+        <translation>Boîte</translation>
+    </message>
+    <message>
+        <source>The box cannot stand there: %1</source>
+        <translation>La boîte ne peut pas être posée ici : %1</translation>
+    </message>
+    <message>
+        <source>Not moved: %1</source>
+        <translation>Non déplacé : %1</translation>
+    </message>
 </context>
 <context>
     <name>relume::JobRunner</name>
@@ -56,6 +111,46 @@
     <message>
         <source>Estimate: %1, %2, %3 W/m² (%4)</source>
         <translation>Estimation : %1, %2, %3 W/m² (%4)</translation>
+    </message>
+    <message>
+        <source>Virtual lamps</source>
+        <translation>Lampes virtuelles</translation>
+    </message>
+    <message>
+        <source>Add a lamp (click a surface)</source>
+        <translation>Ajouter une lampe (cliquez sur une surface)</translation>
+    </message>
+    <message>
+        <source>Then click a surface in the viewport: a 30 cm lamp appears 2 cm in front of it, facing away from it. Drag it to move it along that surface.</source>
+        <translation>Cliquez ensuite sur une surface dans la vue : une lampe de 30 cm apparaît à 2 cm devant elle, tournée vers l&apos;extérieur. Faites-la glisser pour la déplacer le long de cette surface.</translation>
+    </message>
+    <message>
+        <source>Power, 0-400 % of the brightest real lamp</source>
+        <translation>Puissance, 0 à 400 % de la lampe réelle la plus puissante</translation>
+    </message>
+    <message>
+        <source> m</source>
+        <translation> m</translation>
+    </message>
+    <message>
+        <source>Width of the square lamp</source>
+        <translation>Largeur de la lampe carrée</translation>
+    </message>
+    <message>
+        <source>drop </source>
+        <translation>suspension </translation>
+    </message>
+    <message>
+        <source>Distance from the surface it was put on (a pendant&apos;s suspension)</source>
+        <translation>Distance à la surface où elle a été posée (suspension d&apos;un luminaire)</translation>
+    </message>
+    <message>
+        <source>Delete</source>
+        <translation>Supprimer</translation>
+    </message>
+    <message>
+        <source>Not moved: %1</source>
+        <translation>Non déplacé : %1</translation>
     </message>
 </context>
 <context>
@@ -283,6 +378,89 @@
     <message>
         <source>The language changes when Relume starts again.</source>
         <translation>La langue changera au prochain démarrage de Relume.</translation>
+    </message>
+    <message>
+        <source>Objects</source>
+        <translation>Objets</translation>
+    </message>
+    <message>
+        <source>Add a &amp;virtual lamp (click a surface)</source>
+        <translation>Ajouter une lampe &amp;virtuelle (cliquez sur une surface)</translation>
+    </message>
+    <message>
+        <source>Add a &amp;box (click a floor)</source>
+        <translation>Ajouter une &amp;boîte (cliquez sur un sol)</translation>
+    </message>
+    <message>
+        <source>&amp;Delete the selected lamp or object</source>
+        <translation>&amp;Supprimer la lampe ou l&apos;objet sélectionné</translation>
+    </message>
+</context>
+<context>
+    <name>relume::ObjectsPanel</name>
+    <message>
+        <source>New box</source>
+        <translation>Nouvelle boîte</translation>
+    </message>
+    <message>
+        <source> m</source>
+        <translation> m</translation>
+    </message>
+    <message>
+        <source>Albedo (diffuse reflectance) of the box</source>
+        <translation>Albédo (réflectance diffuse) de la boîte</translation>
+    </message>
+    <message>
+        <source>Width</source>
+        <translation>Largeur</translation>
+    </message>
+    <message>
+        <source>Depth</source>
+        <translation>Profondeur</translation>
+    </message>
+    <message>
+        <source>Height</source>
+        <translation>Hauteur</translation>
+    </message>
+    <message>
+        <source>Albedo</source>
+        <translation>Albédo</translation>
+    </message>
+    <message>
+        <source>Place a box (click a floor)</source>
+        <translation>Poser une boîte (cliquez sur un sol)</translation>
+    </message>
+    <message>
+        <source>Then click a floor or a table top in the viewport. Drag a box to move it along what it stands on.</source>
+        <translation>Cliquez ensuite sur un sol ou un plateau de table dans la vue. Faites glisser une boîte pour la déplacer sur ce qui la porte.</translation>
+    </message>
+    <message>
+        <source>Objects in the room</source>
+        <translation>Objets dans la pièce</translation>
+    </message>
+    <message>
+        <source>None yet.</source>
+        <translation>Aucun pour l&apos;instant.</translation>
+    </message>
+    <message>
+        <source>Albedo of the box</source>
+        <translation>Albédo de la boîte</translation>
+    </message>
+    <message>
+        <source>°</source>
+        <translation>°</translation>
+    </message>
+    <message>
+        <source>Turn about the vertical</source>
+        <translation>Rotation autour de la verticale</translation>
+    </message>
+    <message>
+        <source>Delete</source>
+        <translation>Supprimer</translation>
+    </message>
+    <message>
+        <source>Not turned: %1</source>
+        <translation>Non tourné : %1</translation>
     </message>
 </context>
 <context>

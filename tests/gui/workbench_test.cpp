@@ -7,6 +7,8 @@
 #include <QDir>
 #include <QElapsedTimer>
 #include <QFile>
+#include <QPainter>
+#include <QPixmap>
 #include <QSlider>
 #include <QStandardPaths>
 #include <QTemporaryDir>
@@ -87,7 +89,15 @@ void saveShot(QWidget* w, const QString& name) {
   const QString dir = qEnvironmentVariable("RELUME_SCREENSHOT_DIR");
   if (dir.isEmpty()) return;
   QDir().mkpath(dir);
-  w->grab().save(dir + "/" + name + ".png");
+  // QWidget::grab() may show a GL viewport's previous frame: its current frame is painted over it.
+  QPixmap shot = w->grab();
+  QPainter painter(&shot);
+  QList<ViewportWidget*> viewports = w->findChildren<ViewportWidget*>();
+  if (auto* self = qobject_cast<ViewportWidget*>(w)) viewports.append(self);
+  for (ViewportWidget* v : viewports)
+    if (v->isVisible()) painter.drawImage(QRect(v->mapTo(w, QPoint(0, 0)), v->size()), v->grabFramebuffer());
+  painter.end();
+  shot.save(dir + "/" + name + ".png");
 }
 
 }  // namespace
@@ -251,6 +261,22 @@ class WorkbenchTest : public QObject {
     auto* vp = window_->viewport();
     const Camera cam = photoCamera();
     const ImageRGB before = vp->renderLinear(cam, ViewMode::Relit);
+    // What the user sees of the table top, 8-bit on screen.
+    auto screenTable = [&] {
+      const QImage f = vp->grabFramebuffer();
+      double sum = 0;
+      int n = 0;
+      for (double x = 1.4; x <= 2.2; x += 0.1)
+        for (double y = 2.5; y <= 2.9; y += 0.1) {
+          QPointF q;
+          if (!vp->widgetPosition(glm::dvec3(x, y, 0.74), q)) continue;
+          const QColor c = f.pixelColor((q * vp->devicePixelRatio()).toPoint());
+          sum += c.red() + c.green() + c.blue();
+          ++n;
+        }
+      return n ? sum / n : 0.0;
+    };
+    const double screenBefore = screenTable();
     // The ceiling above the table is out of the photo: look up at it in the free orbit.
     const glm::dvec3 ceiling(1.8, 2.7, 2.6);
     ViewportWidget::Orbit o;
@@ -293,6 +319,12 @@ class WorkbenchTest : public QObject {
     power->setValue(LightsPanel::positionOf(2.0));
     vp->lockToPhoto();
     const ImageRGB after = vp->renderLinear(cam, ViewMode::Relit);
+    QTest::qWait(200);  // panels lay out their new rows, the viewport repaints
+    const double screenAfter = screenTable();
+    qInfo("on screen, the table top: %.0f -> %.0f (8-bit sum of RGB)", screenBefore, screenAfter);
+    QVERIFY(screenAfter >= 1.2 * screenBefore);
+    saveShot(window_.get(), "main_window_virtual_lamp");
+    saveShot(window_->lightsPanel(), "lights_panel_virtual_lamp");
     saveShot(window_.get(), "main_window_virtual_lamp");
     saveShot(window_->lightsPanel(), "lights_panel_virtual_lamp");
 
@@ -397,6 +429,9 @@ class WorkbenchTest : public QObject {
     QVERIFY(!entered.empty() && !left.empty());
     QVERIFY(darker < 0.9);
     QVERIFY(brighter > 1.1);
+    window_->findChild<QDockWidget*>("ObjectsDock")->raise();
+    QTest::qWait(200);
+    vp->grabFramebuffer();  // a fresh frame for the window shot
     saveShot(window_.get(), "main_window_box");
     // Into the wall: refused, it stays.
     QString error;
