@@ -345,3 +345,24 @@ TEST(Relight, AVirtualObjectAddedTurnedAndRemovedOnALiveSession) {
   EXPECT_EQ(live.objectCount(), 0u);
   EXPECT_GE(compareImages(live.render(mainCamera(), RelightMethod::Full), original, all).psnr, 40.0);
 }
+
+// A project reopened with its virtual lamp and object (built into the session's clusters): both
+// can be removed, and the room shows as it did without them.
+TEST(Relight, VirtualThingsBuiltIntoASessionCanBeRemoved) {
+  const std::vector<uint8_t> all(room().masks.all.size(), 1);
+  const ImageRGB original = RelightSession(room().scene, room().data).render(mainCamera(), RelightMethod::Full);
+  RelightSession s(room().scene, room().data, {lampOverTable()},
+                   {boxObject("box", {0.7, 1.5, 0.0}, {1.1, 1.9, 0.35}, glm::dvec3(0.6, 0.2, 0.2))});
+  s.removeVirtualLamp(0);
+  s.removeObject(0);
+  EXPECT_EQ(s.virtualLampCount(), 0u);
+  EXPECT_EQ(s.objectCount(), 0u);
+  const double p = compareImages(s.render(mainCamera(), RelightMethod::Full), original, all).psnr;
+  EXPECT_GE(p, 40.0);
+  // A degenerate face is refused before anything changes.
+  VirtualObject flat = boxObject("flat", {0.7, 1.5, 0.0}, {1.1, 1.9, 0.35}, glm::dvec3(0.5));
+  flat.polygons[0] = {flat.polygons[0][0], flat.polygons[0][0], flat.polygons[0][0]};
+  EXPECT_THROW(s.addObject(flat), Error);
+  EXPECT_EQ(s.objectCount(), 0u);
+  EXPECT_GE(compareImages(s.render(mainCamera(), RelightMethod::Full), original, all).psnr, p - 0.01);
+}

@@ -483,14 +483,19 @@ struct Kernel {
         double total = 0;
         for (int i = 0; i < cnt; ++i) total += im.surfaceArea[im.perm[begin + i]];
         double t = a * total;
-        int s = im.perm[begin + cnt - 1];
+        int s = -1;  // removed surfaces (no area) are never chosen
         for (int i = 0; i < cnt; ++i) {
-          const double sa = im.surfaceArea[im.perm[begin + i]];
-          if (t < sa) {
-            s = im.perm[begin + i];
-            break;
-          }
+          const int c = im.perm[begin + i];
+          const double sa = im.surfaceArea[c];
+          if (sa <= 0) continue;
+          s = c;
+          if (t < sa) break;
           t -= sa;
+        }
+        if (s < 0) {
+          out.push_back(n.center);
+          normals.emplace_back(0.f, 0.f, 1.f);
+          continue;
         }
         out.push_back(pointOnSurface(s, b, rng.uniform()));
         normals.push_back(glm::vec3(im.frames[s].normal));
@@ -997,10 +1002,17 @@ std::vector<int> HierarchicalRadiosity::addSurfaces(const std::vector<Surface>& 
   Builder b{*this, im};
   std::vector<int> ids;
   glm::vec3 lo(1e30f), hi(-1e30f);
+  // Everything is checked before anything changes: a refused add leaves the hierarchy as it was.
+  for (const auto& sf : added) {
+    if (sf.vertices.size() < 3) throw std::invalid_argument("surface '" + sf.name + "' has fewer than 3 vertices");
+    for (const auto& v : sf.vertices)
+      if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+        throw std::invalid_argument("surface '" + sf.name + "' has a vertex that is not a finite number");
+    if (!(polygonArea(sf.vertices) > 1e-10)) throw std::invalid_argument("surface '" + sf.name + "' has no area");
+  }
   std::vector<int32_t> rootKids(children_.begin() + nodes_[0].childBegin,
                                 children_.begin() + nodes_[0].childBegin + nodes_[0].childCount);
   for (const auto& sf : added) {
-    if (sf.vertices.size() < 3) throw std::invalid_argument("surface '" + sf.name + "' has fewer than 3 vertices");
     const int s = int(surfaces_.size());
     surfaces_.push_back(sf);
     const auto& v = sf.vertices;
@@ -1069,7 +1081,16 @@ std::vector<int> HierarchicalRadiosity::addSurfaces(const std::vector<Surface>& 
   RefineContext ctx{*this, im, true, nullptr};
   ctx.keep = keep;
   refineLinks(ctx, progress);
-  pushLampLinksToLeaves(progress);
+  // The new lamps' links down to leaves; the other links stay as they were (the light they carry
+  // reaches elements split here through push-pull, as before the split).
+  const int firstNew = ids.front();
+  RefineContext push{*this, im, false, nullptr};
+  push.keep = keep;
+  push.force = [&](const Link& l) {
+    if (nodes_[l.source].surface < firstNew || !sourceIsEmitter(l.source)) return Open::None;
+    return nodes_[l.receiver].isLeaf() ? Open::None : Open::Receiver;
+  };
+  refineLinks(push, progress);
   return ids;
 }
 
@@ -1084,6 +1105,8 @@ size_t HierarchicalRadiosity::removeSurfaces(const std::vector<int>& removed) {
     surfaces_[s].vertices.clear();
     surfaces_[s].exitance = glm::dvec3(0.0);
     surfaces_[s].reflectance = glm::dvec3(0.0);
+    im.surfaceArea[s] = 0;  // never sampled again
+    im.fanCdf[s].clear();
     forSubtree(nodes_, children_, surfaceRoot_[s], [&](int n) {
       gone[n] = 1;
       im.emit[n] = glm::vec3(0.f);
@@ -1094,14 +1117,19 @@ size_t HierarchicalRadiosity::removeSurfaces(const std::vector<int>& removed) {
     touched[surfaceRoot_[s]] = 1;
   }
   if (lo.x > hi.x) return 0;
+  refitClusters(touched);
+  // A cluster left with nothing in it goes too; the clusters that shrank get F and V again.
+  for (size_t n = 0; n < nodes_.size(); ++n)
+    if (touched[n] && nodes_[n].isCluster() && nodes_[n].area <= 0.f) gone[n] = 1;
   const size_t before = links_.size();
   links_.erase(std::remove_if(links_.begin(), links_.end(),
                               [&](const Link& l) { return gone[l.receiver] || gone[l.source]; }),
                links_.end());
-  refitClusters(touched);
   rebuildRays();
   std::vector<uint8_t> redo(links_.size(), 0);
   for (int i : linksCrossingBox(lo, hi)) redo[i] = 1;
+  for (size_t i = 0; i < links_.size(); ++i)
+    if (touched[links_[i].receiver] || touched[links_[i].source]) redo[i] = 2;
   im.gatherDirty = true;
   return before - links_.size() + redoLinks(redo);
 }

@@ -40,6 +40,9 @@ void checkVirtualObject(const Scene& scene, const VirtualObject& object) {
   for (double c : {object.albedo.x, object.albedo.y, object.albedo.z})
     if (!(c > 0 && c <= 1)) throw Error(scene.sourceFile, what, "albedo must lie in (0, 1]");
   if (object.polygons.empty()) throw Error(scene.sourceFile, what, "has no polygons");
+  for (size_t k = 0; k < object.polygons.size(); ++k)
+    if (object.polygons[k].size() < 3 || !(polygonArea(object.polygons[k]) > 1e-8))
+      throw Error(scene.sourceFile, what, "polygon " + std::to_string(k) + " has fewer than 3 vertices or no area");
   glm::dvec3 lo(1e300), hi(-1e300), olo(1e300), ohi(-1e300);
   for (const auto& p : scene.polygons)
     for (const auto& v : p.vertices) {
