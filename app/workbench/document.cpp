@@ -215,6 +215,22 @@ class MoveObjectCommand : public VirtualCommand {
   double turn_;
 };
 
+class ReferenceCommand : public QUndoCommand {
+ public:
+  ReferenceCommand(Document* doc, std::string polygon, std::optional<glm::dvec2> before, std::optional<glm::dvec2> after)
+      : doc_(doc), polygon_(std::move(polygon)), before_(before), after_(after) {
+    setText((after ? Document::tr("reference patch of %1") : Document::tr("automatic reference of %1"))
+                .arg(QString::fromStdString(polygon_)));
+  }
+  void redo() override { doc_->applyReferenceOverride(polygon_, after_); }
+  void undo() override { doc_->applyReferenceOverride(polygon_, before_); }
+
+ private:
+  Document* doc_;
+  std::string polygon_;
+  std::optional<glm::dvec2> before_, after_;
+};
+
 QJsonArray point(const glm::dvec3& v) { return QJsonArray{v.x, v.y, v.z}; }
 
 QJsonArray polygonJson(const std::vector<glm::dvec3>& poly) {
@@ -305,6 +321,15 @@ void Document::adopt(std::unique_ptr<LoadedRoom> room) {
   sourcePath_ = room->sourcePath;
   view_ = room->state["view"].toObject();
   objectTurn_.clear();
+  overrides_ = data_.referenceOverride;
+  if (room->state.contains("reference_overrides")) {
+    overrides_.clear();
+    const QJsonObject ro = room->state["reference_overrides"].toObject();
+    for (auto it = ro.begin(); it != ro.end(); ++it) {
+      const QJsonArray a = it.value().toArray();
+      if (a.size() == 2) overrides_[it.key().toStdString()] = glm::dvec2(a[0].toDouble(), a[1].toDouble());
+    }
+  }
   lampMount_.clear();
   for (const auto& v : room->state["virtual_lights"].toArray()) {
     const QJsonArray m = v.toObject()["mount"].toArray();
@@ -331,6 +356,7 @@ void Document::close() {
   sourcePath_.clear();
   lampScale_.clear();
   objectTurn_.clear();
+  overrides_.clear();
   lampMount_.clear();
   view_ = {};
   unsavedNew_ = false;
@@ -378,8 +404,11 @@ QJsonObject Document::editsJson() const {
     objects.append(QJsonObject{{"name", QString::fromStdString(o.name)}, {"albedo", rgb(o.albedo)}, {"polygons", polys},
                                {"turn_degrees", objectTurn(o.name)}});
   }
+  QJsonObject refs;
+  for (const auto& [name, uv] : overrides_) refs[QString::fromStdString(name)] = QJsonArray{uv.x, uv.y};
   return QJsonObject{{"format", "relume-workbench"}, {"version", kWorkbenchStateVersion}, {"lamps", lamps},
-                     {"virtual_lights", vlamps}, {"virtual_objects", objects}, {"view", view_}};
+                     {"virtual_lights", vlamps}, {"virtual_objects", objects}, {"reference_overrides", refs},
+                     {"view", view_}};
 }
 
 // --- virtual lamps and objects -------------------------------------------------------------------
@@ -482,10 +511,7 @@ void Document::settleVirtualLamp(const std::string& name) {
   const int i = virtualLampIndex(name);
   if (i < 0) return;
   const VirtualLamp lamp = session_->virtualLamp(i);
-  timed([&] {
-    session_->removeVirtualLamp(i);
-    session_->addVirtualLamp(lamp);
-  });
+  timed([&] { session_->replaceVirtualLamp(i, lamp); });
   emit meshChanged();
   emit virtualsChanged();
 }
@@ -592,11 +618,8 @@ void Document::applyVirtualLamp(const std::string& name, const VirtualLamp& lamp
       session_->update();
     });
     emit lightingChanged();
-  } else {  // a new square: forced refinement again
-    timed([&] {
-      session_->removeVirtualLamp(i);
-      session_->addVirtualLamp(lamp);
-    });
+  } else {  // a new square: put in afresh (its links refined where it now is)
+    timed([&] { session_->replaceVirtualLamp(i, lamp); });
     emit meshChanged();
   }
   emit virtualsChanged();
@@ -638,6 +661,59 @@ std::function<void(Progress&)> Document::saveWork(const QString& folder) const {
         throw Error(folder.toStdString(), "workbench.json", "cannot write: " + f.errorString().toStdString());
     });
   };
+}
+
+void Document::setReferenceOverride(const std::string& polygon, const std::optional<glm::dvec2>& uv) {
+  std::optional<glm::dvec2> before;
+  if (auto it = overrides_.find(polygon); it != overrides_.end()) before = it->second;
+  if (before == uv) return;
+  undo_.push(new ReferenceCommand(this, polygon, before, uv));
+}
+
+void Document::applyReferenceOverride(const std::string& polygon, const std::optional<glm::dvec2>& uv) {
+  if (uv) overrides_[polygon] = *uv;
+  else overrides_.erase(polygon);
+  emit referencesChanged();
+}
+
+std::function<std::function<void()>(Progress&)> Document::recomputeReferencesWork() {
+  auto scene = std::make_shared<Scene>(scene_);
+  RelightOptions options = data_.options;
+  options.referenceOverride = overrides_;
+  std::vector<VirtualLamp> vlamps;
+  std::vector<VirtualObject> objects;
+  for (size_t i = 0; i < virtualLampCount(); ++i) vlamps.push_back(session_->virtualLamp(int(i)));
+  for (size_t i = 0; i < objectCount(); ++i) objects.push_back(session_->object(int(i)));
+  const std::vector<glm::dvec3> scales = lampScale_;
+  return [this, scene, options, vlamps, objects, scales](Progress& progress) -> std::function<void()> {
+    auto data = std::make_shared<RelightData>();
+    {
+      ProgressScope scope(progress, 0.0, 0.8);
+      *data = preprocessRoom(*scene, options, scope);
+    }
+    auto session = std::make_shared<std::unique_ptr<RelightSession>>();
+    {
+      ProgressScope scope(progress, 0.8, 1.0);
+      *session = std::make_unique<RelightSession>(*scene, *data, vlamps, objects, scope, SessionMesh::Refined);
+    }
+    for (size_t l = 0; l < scales.size(); ++l) (*session)->setLampScale(int(l), scales[l]);
+    (*session)->update(progress);
+    return [this, data, session]() mutable {
+      // The same room and edits; new textures, references and session. The undo stack stays.
+      data_ = std::move(*data);
+      session_ = std::move(*session);
+      emit relightingReplaced();
+      emit referencesChanged();
+      emit dirtyChanged(isDirty());
+    };
+  };
+}
+
+void Document::markRecovered(const QString& project, const QString& source) {
+  projectPath_ = project;
+  sourcePath_ = source;
+  unsavedNew_ = true;
+  emit dirtyChanged(true);
 }
 
 void Document::markSaved(const QString& folder) {

@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 #include <functional>
 #include <map>
+#include <optional>
 #include <memory>
 #include <vector>
 
@@ -96,6 +97,17 @@ class Document : public QObject {
   void applyRemoveObject(const std::string& name);
   void applyMoveObject(const std::string& name, const glm::dvec3& offset, double turnDegrees);
 
+  // --- reference patches (Loscos 2000 §4.3): the user's choice per polygon, plane uv ---
+  const std::map<std::string, glm::dvec2>& referenceOverrides() const { return overrides_; }
+  // Undoable; `uv` empty clears the override (back to the automatic choice). Takes effect on
+  // the image after recomputeReferencesWork() has run.
+  void setReferenceOverride(const std::string& polygon, const std::optional<glm::dvec2>& uv);
+  void applyReferenceOverride(const std::string& polygon, const std::optional<glm::dvec2>& uv);
+  bool referencesPending() const { return overrides_ != data_.referenceOverride; }
+  // Work for a job: step 1 and 2 again with the overrides (the whole preprocess), then a session
+  // with the current lamps, virtual lamps and objects. Its continuation swaps them in.
+  std::function<std::function<void()>(Progress&)> recomputeReferencesWork();
+
   // The view, kept in the project.
   QJsonObject viewState() const { return view_; }
   void setViewState(const QJsonObject& v) { view_ = v; }
@@ -106,6 +118,9 @@ class Document : public QObject {
   // taken now (runs on a worker thread), and what to run on the UI thread once it succeeded.
   std::function<void(Progress&)> saveWork(const QString& folder) const;
   void markSaved(const QString& folder);
+  // After opening an autosave: the document belongs to `project` (empty: never saved) and came
+  // from `source`; it has unsaved edits.
+  void markRecovered(const QString& project, const QString& source);
 
   double lastUpdateMilliseconds() const { return lastUpdateMs_; }
   size_t lastLinksUpdated() const { return lastLinks_; }  // by the last object or lamp move
@@ -116,6 +131,8 @@ class Document : public QObject {
   void lightingChanged();
   void meshChanged();
   void virtualsChanged();  // virtual lamps or objects added, removed, edited
+  void referencesChanged();  // an override set or cleared, or recomputed
+  void relightingReplaced();  // new relighting data and session (textures changed)
   void dirtyChanged(bool dirty);
 
  private:
@@ -126,6 +143,7 @@ class Document : public QObject {
   std::vector<glm::dvec3> lampScale_;
   QJsonObject view_;
   std::map<std::string, double> objectTurn_;
+  std::map<std::string, glm::dvec2> overrides_;
   struct Mount {
     glm::dvec3 point{0.0}, normal{0.0};
   };

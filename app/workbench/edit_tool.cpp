@@ -31,6 +31,13 @@ void EditTool::setMode(Mode m) {
   if (m == Mode::PlaceBox) emit message(tr("Click a floor or a table top to stand the box on it."));
 }
 
+void EditTool::pickReferenceOn(const std::string& polygon) {
+  referencePolygon_ = polygon;
+  mode_ = Mode::Select;  // so that setMode announces the change
+  setMode(Mode::PickReference);
+  emit message(tr("Click a texel of %1 whose colour its shadowed parts should take.").arg(QString::fromStdString(polygon)));
+}
+
 void EditTool::setBoxTemplate(const glm::dvec3& size, const glm::dvec3& albedo) {
   boxSize_ = size;
   boxAlbedo_ = albedo;
@@ -77,6 +84,17 @@ bool EditTool::press(const ViewportPick& pick, Qt::KeyboardModifiers) {
     } else {
       emit message(error);
     }
+    setMode(Mode::Select);
+    return true;
+  }
+  if (mode_ == Mode::PickReference) {
+    const int s = doc_->scene().findPolygon(referencePolygon_);
+    if (!pick.hit() || pick.surface != s) {
+      emit message(tr("That is not %1: click on it, or press Esc.").arg(QString::fromStdString(referencePolygon_)));
+      return true;
+    }
+    doc_->setReferenceOverride(referencePolygon_, doc_->session()->engine().toUV(s, pick.point));
+    emit message(tr("Reference patch of %1 set: recompute to see it.").arg(QString::fromStdString(referencePolygon_)));
     setMode(Mode::Select);
     return true;
   }

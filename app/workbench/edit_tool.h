@@ -18,7 +18,7 @@ class Document;
 class EditTool : public QObject, public ViewportGestures {
   Q_OBJECT
  public:
-  enum class Mode { Select, PlaceLamp, PlaceBox };
+  enum class Mode { Select, PlaceLamp, PlaceBox, PickReference };
   explicit EditTool(Document* doc, QObject* parent = nullptr);
 
   void setMode(Mode m);
@@ -26,6 +26,8 @@ class EditTool : public QObject, public ViewportGestures {
   // The box the next "place" click makes (metres; albedo in (0, 1]).
   void setBoxTemplate(const glm::dvec3& size, const glm::dvec3& albedo);
   static constexpr double kLampSize = 0.3, kLampOffset = 0.02;
+  // The polygon whose reference patch the next click (Mode::PickReference) chooses.
+  void pickReferenceOn(const std::string& polygon);
 
   bool press(const ViewportPick& pick, Qt::KeyboardModifiers mods) override;
   void drag(const ViewportPick& pick) override;
@@ -45,6 +47,7 @@ class EditTool : public QObject, public ViewportGestures {
   Document* doc_;
   Mode mode_ = Mode::Select;
   glm::dvec3 boxSize_{0.4, 0.4, 0.4}, boxAlbedo_{0.6, 0.6, 0.6};
+  std::string referencePolygon_;
   // The drag under way: what, the plane it slides on, where the cursor's ray met it at the press,
   // and how far the thing has moved since.
   std::string dragLamp_, dragObject_;

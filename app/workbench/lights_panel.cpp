@@ -66,6 +66,7 @@ LightsPanel::LightsPanel(Document* doc, QWidget* parent) : QWidget(parent), doc_
   connect(doc_, &Document::virtualsChanged, this, &LightsPanel::syncVirtuals);
   connect(doc_, &Document::opened, this, &LightsPanel::rebuild);
   connect(doc_, &Document::closed, this, &LightsPanel::rebuild);
+  connect(doc_, &Document::relightingReplaced, this, &LightsPanel::rebuild);
   connect(doc_, &Document::lightingChanged, this, &LightsPanel::refresh);
   rebuild();
 }

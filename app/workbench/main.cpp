@@ -30,7 +30,8 @@ int main(int argc, char** argv) {
     return relume::runWorkbenchBench(parser.value("bench"), parser.positionalArguments(), parser.value("runs").toInt());
   relume::MainWindow window;
   window.show();
-  if (!parser.positionalArguments().isEmpty()) {
+  // Edits autosaved by a Relume that did not end cleanly come first.
+  if (!window.recoverAutosave() && !parser.positionalArguments().isEmpty()) {
     const QString path = parser.positionalArguments().first();
     QTimer::singleShot(0, &window, [&window, path] { window.openPath(path); });
   }

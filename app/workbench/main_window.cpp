@@ -16,15 +16,23 @@
 #include <QPushButton>
 #include <QScrollArea>
 #include <QSettings>
+#include <QDateTime>
+#include <QDir>
+#include <QLocale>
+#include <QStandardPaths>
+#include <QTime>
+#include <QTimer>
 #include <QStatusBar>
 #include <QUndoStack>
 
 #include "document.h"
 #include "i18n.h"
 #include "job_runner.h"
+#include "relume/geometry/progress.h"
 #include "edit_tool.h"
 #include "lights_panel.h"
 #include "objects_panel.h"
+#include "references_panel.h"
 #include "relume/viewport/viewport_widget.h"
 
 namespace relume {
@@ -66,6 +74,12 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   objectsDock->setWidget(objects_);
   addDockWidget(Qt::RightDockWidgetArea, objectsDock);
   tabifyDockWidget(lightsDock, objectsDock);
+  references_ = new ReferencesPanel(doc_, tool_, jobs_, this);
+  auto* referencesDock = new QDockWidget(tr("Reference patches"), this);
+  referencesDock->setObjectName("ReferencesDock");
+  referencesDock->setWidget(references_);
+  addDockWidget(Qt::RightDockWidgetArea, referencesDock);
+  tabifyDockWidget(objectsDock, referencesDock);
   lightsDock->raise();
   connect(tool_, &EditTool::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
   connect(lights_, &LightsPanel::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
@@ -95,6 +109,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     jobCancel_->show();
     lights_->setEnabled(false);
     objects_->setEnabled(false);
+    references_->setEnabled(false);
   });
   connect(jobs_, &JobRunner::progressed, this, [this](double f, const QString& text) {
     jobProgress_->setValue(int(1000 * f));
@@ -107,6 +122,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     jobCancel_->hide();
     lights_->setEnabled(true);
     objects_->setEnabled(true);
+    references_->setEnabled(true);
     if (ok) return;
     if (cancelled) statusBar()->showMessage(message, 5000);
     else showError(tr("Relume"), message);
@@ -125,8 +141,23 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   connect(doc_, &Document::lightingChanged, viewport_, &ViewportWidget::lightingChanged);
   connect(doc_, &Document::meshChanged, viewport_, &ViewportWidget::meshChanged);
   connect(doc_, &Document::virtualsChanged, this, [this] { updateStatus(); });
+  connect(doc_, &Document::relightingReplaced, this, [this] {
+    viewport_->setRoom(&doc_->scene(), &doc_->data(), doc_->session());
+    restoreView();
+    updateStatus();
+  });
   connect(doc_, &Document::dirtyChanged, this, [this](bool) { updateTitle(); });
   connect(viewport_, &ViewportWidget::frameDrawn, this, [this](double) { updateStatus(); });
+
+  // Autosave on its own runner: it never blocks the panels or the user's jobs.
+  autosaveJobs_ = new JobRunner(this);
+  autosaveTimer_ = new QTimer(this);
+  connect(autosaveTimer_, &QTimer::timeout, this, [this] { autosaveNow(); });
+  autosaveTimer_->start(120000);
+  connect(autosaveJobs_, &JobRunner::finished, this, [this](bool ok, bool, const QString& message) {
+    if (!ok) statusBar()->showMessage(tr("Autosave failed: %1").arg(message), 8000);
+  });
+  connect(doc_, &Document::closed, this, [this] { discardAutosave(); });
 
   buildMenus();
   QSettings settings;
@@ -136,7 +167,86 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   updateTitle();
 }
 
-MainWindow::~MainWindow() { jobs_->cancel(); }
+MainWindow::~MainWindow() {
+  jobs_->cancel();
+  autosaveJobs_->waitForIdle();
+}
+
+void MainWindow::setAutosaveInterval(int ms) { autosaveTimer_->start(ms); }
+
+QString MainWindow::autosaveFolder() {
+  return QStandardPaths::writableLocation(QStandardPaths::AppLocalDataLocation) + "/autosave/" +
+         QString::number(QCoreApplication::applicationPid()) + ".relume";
+}
+
+bool MainWindow::autosaveRunning() const { return autosaveJobs_->busy(); }
+
+bool MainWindow::autosaveNow() {
+  if (!doc_->isOpen() || !doc_->isDirty() || jobs_->busy() || autosaveJobs_->busy()) return false;
+  if (doc_->undoStack()->index() == autosavedIndex_) return false;
+  storeView();
+  const QString folder = autosaveFolder();
+  QDir().mkpath(QFileInfo(folder).absolutePath());
+  auto work = doc_->saveWork(folder);
+  const int index = doc_->undoStack()->index();
+  const QString source = doc_->projectPath().isEmpty() ? doc_->sourcePath() : doc_->projectPath();
+  return autosaveJobs_->start(tr("Autosaving"), [this, work, folder, index, source](Progress& progress) {
+    work(progress);
+    return JobRunner::Continuation([this, folder, index, source] {
+      autosavedIndex_ = index;
+      QSettings settings;
+      settings.setValue("autosave/folder", folder);
+      settings.setValue("autosave/source", source);
+      settings.setValue("autosave/time", QDateTime::currentDateTime());
+      statusBar()->showMessage(tr("Autosaved at %1").arg(QTime::currentTime().toString("HH:mm")), 4000);
+    });
+  });
+}
+
+void MainWindow::discardAutosave() {
+  autosaveJobs_->waitForIdle();
+  autosavedIndex_ = -1;
+  QSettings settings;
+  const QString folder = settings.value("autosave/folder").toString();
+  if (!folder.isEmpty() && folder == autosaveFolder()) {
+    QDir(folder).removeRecursively();
+    settings.remove("autosave");
+  }
+}
+
+bool MainWindow::recoverAutosave(bool acceptWhenQuiet) {
+  QSettings settings;
+  const QString folder = settings.value("autosave/folder").toString();
+  if (folder.isEmpty() || folder == autosaveFolder()) return false;  // none, or this process's own
+  const QString source = settings.value("autosave/source").toString();
+  const QDateTime when = settings.value("autosave/time").toDateTime();
+  if (!QFileInfo::exists(folder + "/project.json")) {
+    settings.remove("autosave");
+    return false;
+  }
+  bool accept = acceptWhenQuiet;
+  if (interactive_)
+    accept = QMessageBox::question(this, tr("Recover unsaved edits"),
+                                   tr("Relume did not close properly. Recover the edits to %1 autosaved at %2?")
+                                       .arg(source, QLocale().toString(when, QLocale::ShortFormat)),
+                                   QMessageBox::Yes | QMessageBox::No, QMessageBox::Yes) == QMessageBox::Yes;
+  settings.remove("autosave");
+  if (!accept) {
+    QDir(folder).removeRecursively();
+    return false;
+  }
+  const QString abs = QFileInfo(folder).absoluteFilePath();
+  return jobs_->start(tr("Recovering %1").arg(QFileInfo(source).fileName()), [this, abs, source](Progress& progress) {
+    std::shared_ptr<LoadedRoom> room = loadRoomForWorkbench(abs, progress);
+    return JobRunner::Continuation([this, room, abs, source]() mutable {
+      doc_->adopt(std::make_unique<LoadedRoom>(std::move(*room)));
+      // Unsaved again, pointing back at the user's project (never at the side folder).
+      doc_->markRecovered(QFileInfo(source + "/project.json").exists() ? source : QString(), source);
+      QDir(abs).removeRecursively();
+      statusBar()->showMessage(tr("Recovered the autosaved edits of %1: save them to keep them.").arg(source), 10000);
+    });
+  });
+}
 
 void MainWindow::buildMenus() {
   QMenu* file = menuBar()->addMenu(tr("&File"));
@@ -327,6 +437,7 @@ bool MainWindow::saveTo(const QString& folder) {
     work(progress);
     return JobRunner::Continuation([this, abs] {
       doc_->markSaved(abs);
+      discardAutosave();
       addRecent(abs);
       statusBar()->showMessage(tr("Saved %1").arg(abs), 5000);
     });
@@ -356,6 +467,7 @@ void MainWindow::closeEvent(QCloseEvent* e) {
   QSettings settings;
   settings.setValue("window/geometry", saveGeometry());
   settings.setValue("window/state", saveState());
+  discardAutosave();  // a clean exit leaves nothing to recover
   e->accept();
 }
 

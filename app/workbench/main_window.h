@@ -15,6 +15,7 @@ class Document;
 class JobRunner;
 class LightsPanel;
 class ObjectsPanel;
+class ReferencesPanel;
 class EditTool;
 class ViewportWidget;
 
@@ -35,11 +36,24 @@ class MainWindow : public QMainWindow {
   ViewportWidget* viewport() const { return viewport_; }
   LightsPanel* lightsPanel() const { return lights_; }
   ObjectsPanel* objectsPanel() const { return objects_; }
+  ReferencesPanel* referencesPanel() const { return references_; }
   EditTool* editTool() const { return tool_; }
   QString lastError() const { return lastError_; }
   // When false (tests), questions and errors are not shown as dialogs (errors still go to the
   // status bar and lastError()).
   void setInteractive(bool on) { interactive_ = on; }
+
+  // Autosave: every `ms` (2 minutes by default) a document with edits not yet autosaved is written
+  // to a side folder (never over the user's project), off the UI thread. A clean exit, a save or
+  // closing the document removes it; one still there at the next start means Relume did not end
+  // cleanly, and recoverAutosave() offers it.
+  void setAutosaveInterval(int ms);
+  static QString autosaveFolder();
+  bool autosaveNow();  // returns false when there was nothing to save or a save runs already
+  bool autosaveRunning() const;
+  // At start: when an autosave is left over, asks (or, not interactive, does `acceptWhenQuiet`)
+  // and opens it as an unsaved document. Returns true when a recovery started.
+  bool recoverAutosave(bool acceptWhenQuiet = true);
 
  protected:
   void closeEvent(QCloseEvent* e) override;
@@ -54,12 +68,14 @@ class MainWindow : public QMainWindow {
   void showError(const QString& title, const QString& message);
   void storeView();
   void restoreView();
+  void discardAutosave();
 
   Document* doc_;
   JobRunner* jobs_;
   ViewportWidget* viewport_;
   LightsPanel* lights_;
   ObjectsPanel* objects_;
+  ReferencesPanel* references_;
   EditTool* tool_;
   QString selected_;
   QLabel* statusView_;
@@ -70,6 +86,9 @@ class MainWindow : public QMainWindow {
   QActionGroup* modes_;
   QString lastError_;
   bool interactive_ = true;
+  class QTimer* autosaveTimer_;
+  JobRunner* autosaveJobs_;
+  int autosavedIndex_ = -1;  // undo index at the last autosave
 };
 
 }  // namespace relume

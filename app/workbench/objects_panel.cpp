@@ -78,6 +78,7 @@ ObjectsPanel::ObjectsPanel(Document* doc, EditTool* tool, QWidget* parent)
   connect(doc_, &Document::virtualsChanged, this, &ObjectsPanel::sync);
   connect(doc_, &Document::opened, this, &ObjectsPanel::rebuild);
   connect(doc_, &Document::closed, this, &ObjectsPanel::rebuild);
+  connect(doc_, &Document::relightingReplaced, this, &ObjectsPanel::rebuild);
   pushTemplate();
   rebuild();
 }

@@ -10,6 +10,10 @@
 #include <QPainter>
 #include <QPixmap>
 #include <QSlider>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QSettings>
 #include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QTimer>
@@ -25,6 +29,8 @@
 #include "edit_tool.h"
 #include "lights_panel.h"
 #include "objects_panel.h"
+#include "references_panel.h"
+#include <QTreeWidget>
 #include "relume/geometry/polygon.h"
 #include "relume/raytrace/ray_scene.h"
 #include "main_window.h"
@@ -123,6 +129,7 @@ class WorkbenchTest : public QObject {
   void initTestCase() {
     QStandardPaths::setTestModeEnabled(true);
     QCoreApplication::setOrganizationName("RelumeTest");
+    QSettings().remove("autosave");  // an earlier run's leftovers are not this test's business
     window_ = std::make_unique<MainWindow>();
     window_->setInteractive(false);
     window_->resize(1280, 800);
@@ -450,6 +457,68 @@ class WorkbenchTest : public QObject {
     window_->findChild<QDockWidget*>("LightsDock")->raise();
   }
 
+  // Reference patches (§4.3): the user picks the floor's reference texel in the viewport, then
+  // recomputes: the project's relighting data carries the choice and the floor's shadow-free
+  // texture follows it; lamps, virtual lamps and objects are kept.
+  void referencePatchPickedAndRecomputed() {
+    auto* vp = window_->viewport();
+    vp->lockToPhoto();
+    auto* panel = window_->referencesPanel();
+    window_->findChild<QDockWidget*>("ReferencesDock")->raise();
+    QTest::qWait(50);
+    const auto items = panel->list()->findItems("floor", Qt::MatchExactly, 0);
+    QCOMPARE(items.size(), 1);
+    panel->list()->setCurrentItem(items.front());
+    QVERIFY(panel->pickButton()->isEnabled());
+    QVERIFY(!panel->recomputeButton()->isEnabled());
+    QTest::mouseClick(panel->pickButton(), Qt::LeftButton);
+    QCOMPARE(window_->editTool()->mode(), EditTool::Mode::PickReference);
+    const glm::dvec3 spot(3.2, 2.3, 0.0);  // unshadowed floor the photo shows
+    QPointF pos;
+    QVERIFY(vp->widgetPosition(spot, pos));
+    QTest::mouseClick(vp, Qt::LeftButton, {}, pos.toPoint());
+    QCOMPARE(window_->editTool()->mode(), EditTool::Mode::Select);
+    const int floor = doc()->scene().findPolygon("floor");
+    const glm::dvec2 uv = doc()->session()->engine().toUV(floor, spot);
+    QVERIFY(doc()->referenceOverrides().count("floor"));
+    QVERIFY(glm::length(doc()->referenceOverrides().at("floor") - uv) < 0.01);
+    QVERIFY(doc()->referencesPending());
+    QVERIFY(panel->recomputeButton()->isEnabled());
+    saveShot(panel, "references_panel");
+
+    const auto before = doc()->data().textures[size_t(floor)].unoccluded;
+    const size_t vlamps = doc()->virtualLampCount(), objects = doc()->objectCount();
+    const glm::dvec3 scaleA = doc()->lampScale(lampIndex("A"));
+    QTest::mouseClick(panel->recomputeButton(), Qt::LeftButton);
+    QVERIFY(window_->jobs()->busy());
+    QVERIFY2(waitForJob(600000), "the recompute did not finish");
+    QVERIFY2(window_->lastError().isEmpty() || !window_->jobs()->busy(), qPrintable(window_->lastError()));
+    QVERIFY(!doc()->referencesPending());
+    QVERIFY(doc()->data().referenceOverride.count("floor"));
+    QVERIFY(glm::length(doc()->data().referenceOverride.at("floor") - uv) < 0.01);
+    QCOMPARE(doc()->virtualLampCount(), vlamps);
+    QCOMPARE(doc()->objectCount(), objects);
+    QCOMPARE(doc()->session()->lampScale(lampIndex("A")), scaleA);
+    const auto& after = doc()->data().textures[size_t(floor)].unoccluded;
+    QCOMPARE(after.size(), before.size());
+    double changed = 0, total = 0;
+    for (size_t i = 0; i < after.size(); ++i) {
+      changed += glm::length(after[i] - before[i]);
+      total += glm::length(before[i]);
+    }
+    const auto& est = doc()->data().estimates;
+    qInfo("reference patch of the floor at %.2f %.2f: %zu occluded elements took a polygon's reference; the floor's "
+          "shadow-free texture moved by %.2f %% (mean relative)",
+          uv.x, uv.y, est.referencedByDefault, 100 * changed / std::max(total, 1e-30));
+    QVERIFY(est.referencedByDefault > 0);
+    QVERIFY(changed > 0);
+    // The viewport shows the new session, and it still matches the CPU renderer.
+    const ImageRGB gl = vp->renderLinear(photoCamera(), ViewMode::Relit);
+    const ImageRGB cpu = doc()->session()->render(photoCamera(), RelightMethod::Full);
+    QVERIFY(psnrNoGain(gl, cpu) >= 35.0);
+    window_->findChild<QDockWidget*>("LightsDock")->raise();
+  }
+
   // Save, then open the saved project in a fresh window: the edits come back.
   void saveAndReopen() {
     const int a = lampIndex("A"), c = lampIndex("C");
@@ -485,6 +554,9 @@ class WorkbenchTest : public QObject {
     }
     for (size_t i = 0; i < doc()->objectCount(); ++i)
       QVERIFY(second.document()->session()->object(int(i)).polygons == doc()->session()->object(int(i)).polygons);
+    QVERIFY(second.document()->referenceOverrides() == doc()->referenceOverrides());
+    QVERIFY(second.document()->data().referenceOverride == doc()->data().referenceOverride);
+    QVERIFY(!second.document()->referenceOverrides().empty());
     QVERIFY(!second.document()->isDirty());
     // The reopened session shows what the first one showed.
     const Camera cam = photoCamera();
@@ -494,6 +566,60 @@ class WorkbenchTest : public QObject {
     // The reopened session refines the virtual lamp's links afresh (forced onto the photographed
     // polygons as it is built) where the live one refined them by the oracle and then moved it.
     QVERIFY(p >= 30.0);
+  }
+
+  // Autosave writes a side folder (never the user's project); after a crash the next start
+  // recovers it as an unsaved document that belongs to the user's project.
+  void autosaveAndRecovery() {
+    const QString project = tmp_.path() + "/sample.relume";
+    QVERIFY(QFile::exists(project + "/project.json"));
+    const int b = lampIndex("B");
+    doc()->editLampScale(b, glm::dvec3(0.5));
+    QVERIFY(doc()->isDirty());
+    window_->setAutosaveInterval(100);
+    QSettings settings;
+    QElapsedTimer t;
+    t.start();
+    while ((settings.value("autosave/folder").toString() != MainWindow::autosaveFolder() || window_->autosaveRunning()) &&
+           t.elapsed() < 120000) {
+      QTest::qWait(50);
+      settings.sync();
+    }
+    window_->setAutosaveInterval(120000);
+    const QString folder = settings.value("autosave/folder").toString();
+    qInfo("autosaved to %s after %lld ms", qPrintable(folder), t.elapsed());
+    QCOMPARE(folder, MainWindow::autosaveFolder());
+    QVERIFY(QFile::exists(folder + "/workbench.json"));
+    QVERIFY(!QFileInfo(folder).absoluteFilePath().startsWith(QFileInfo(project).absoluteFilePath()));
+    {  // the user's project still holds what was saved, not the autosaved edit
+      QFile f(project + "/workbench.json");
+      QVERIFY(f.open(QIODevice::ReadOnly));
+      const QJsonObject saved = QJsonDocument::fromJson(f.readAll()).object();
+      QCOMPARE(saved["lamps"].toObject()["B"].toArray().at(0).toDouble(), 1.0);
+    }
+    // A crash: the process ends without closing; its autosave stays. (Moved to the name another
+    // process would have used: this process never recovers its own autosave.)
+    const QString dead = QFileInfo(folder).absolutePath() + "/999999.relume";
+    QDir(dead).removeRecursively();
+    QVERIFY(QDir().rename(folder, dead));
+    settings.setValue("autosave/folder", dead);
+    settings.sync();
+    MainWindow next;
+    next.setInteractive(false);
+    next.show();
+    QVERIFY(next.recoverAutosave(true));
+    t.restart();
+    while (next.jobs()->busy() && t.elapsed() < 300000) QTest::qWait(20);
+    QVERIFY2(next.document()->isOpen(), qPrintable(next.lastError()));
+    QCOMPARE(next.document()->lampScale(b), glm::dvec3(0.5));
+    QVERIFY(next.document()->isDirty());
+    QCOMPARE(next.document()->projectPath(), project);
+    QVERIFY(!QFile::exists(dead));
+    settings.sync();
+    QVERIFY(settings.value("autosave/folder").toString().isEmpty());
+    QVERIFY(!next.recoverAutosave(true));  // nothing left to recover
+    doc()->undoStack()->undo();
+    QCOMPARE(doc()->lampScale(b), glm::dvec3(1.0));
   }
 
   // Unreadable, truncated and newer-schema projects open nothing and say why.

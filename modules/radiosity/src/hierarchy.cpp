@@ -596,8 +596,7 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
   const size_t keep = std::min(ctx.keep, h.links_.size());
   finals.assign(h.links_.begin(), h.links_.begin() + std::ptrdiff_t(keep));
   frontier.assign(h.links_.begin() + std::ptrdiff_t(keep), h.links_.end());
-  h.links_.clear();
-  h.links_.shrink_to_fit();
+  // links_ stays as it was until the end: a Cancel (or any error) midway leaves the old links.
   auto computeVisibility = [&](std::vector<HierarchicalRadiosity::Link>& ls) {
     Kernel k{h, im, h.nodes_, opt.quadratureOrder};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, ls.size(), 16), [&](const tbb::blocked_range<size_t>& rg) {
@@ -1010,8 +1009,11 @@ std::vector<int> HierarchicalRadiosity::addSurfaces(const std::vector<Surface>& 
         throw std::invalid_argument("surface '" + sf.name + "' has a vertex that is not a finite number");
     if (!(polygonArea(sf.vertices) > 1e-10)) throw std::invalid_argument("surface '" + sf.name + "' has no area");
   }
-  std::vector<int32_t> rootKids(children_.begin() + nodes_[0].childBegin,
-                                children_.begin() + nodes_[0].childBegin + nodes_[0].childCount);
+  std::vector<int32_t> rootKids;  // the root's children, less removed surfaces
+  for (int k = 0; k < nodes_[0].childCount; ++k) {
+    const int c = children_[nodes_[0].childBegin + k];
+    if (nodes_[c].isCluster() || !isRemoved(nodes_[c].surface)) rootKids.push_back(c);
+  }
   for (const auto& sf : added) {
     const int s = int(surfaces_.size());
     surfaces_.push_back(sf);
@@ -1039,6 +1041,8 @@ std::vector<int> HierarchicalRadiosity::addSurfaces(const std::vector<Surface>& 
     hi = glm::max(hi, nodes_[node].bmax);
   }
   // The root cluster adopts them (its children move to the end of the child array).
+  if (size_t(nodes_[0].childBegin) + size_t(nodes_[0].childCount) == children_.size())
+    children_.resize(size_t(nodes_[0].childBegin));  // the range ends the array: rewrite it in place
   nodes_[0].childBegin = int32_t(children_.size());
   nodes_[0].childCount = int32_t(rootKids.size());
   children_.insert(children_.end(), rootKids.begin(), rootKids.end());
@@ -1216,6 +1220,7 @@ Totals HierarchicalRadiosity::totals() const {
   Totals t;
   for (const auto& n : nodes_) {
     if (n.isCluster()) ++t.clusters;
+    else if (isRemoved(n.surface)) continue;
     else {
       ++t.elements;
       if (n.isLeaf()) ++t.leaves;

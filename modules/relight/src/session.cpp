@@ -115,6 +115,13 @@ struct RelightSession::Impl {
   // moved, surfaces added) make them stale; they are rebuilt at the next lamp edit.
   std::vector<std::vector<std::array<glm::vec3, 4>>> basis;  // [emitter][leaf of stencil]
   bool basesValid = false, geometryPending = false;
+  // After lamp edits by per-lamp sums the engine's own B is not current; refinement needs it.
+  bool engineStale = false;
+  void syncEngine(Progress& progress) {
+    if (!engineStale) return;
+    h->iterate(progress);
+    engineStale = false;
+  }
   // What the display ratio is made of: irradiance on real surfaces (B / D = E / (E + E-bar) there,
   // whatever each element's reflectance, so T_inter's modulation and the display's cancel exactly
   // under the original lighting), radiosity on lamps and virtual surfaces.
@@ -358,17 +365,39 @@ void RelightSession::setVirtualLampRadiance(int lamp, const glm::dvec3& radiance
   im.h->setExitance(im.vlampSurfaces.at(lamp), im.vlampExitance[lamp]);
 }
 
-int RelightSession::addVirtualLamp(const VirtualLamp& lamp, Progress& progress) {
-  auto& im = *impl_;
+namespace {
+void checkVirtualLamp(const Scene& scene, const VirtualLamp& lamp) {
   const std::string what = "virtual lamp '" + lamp.name + "'";
-  if (lamp.polygon.size() < 3) throw Error(im.scene.sourceFile, what, "needs a polygon of 3 or more vertices");
+  if (lamp.polygon.size() < 3) throw Error(scene.sourceFile, what, "needs a polygon of 3 or more vertices");
   for (const auto& v : lamp.polygon)
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
-      throw Error(im.scene.sourceFile, what, "has a vertex that is not a finite number");
-  if (polygonArea(lamp.polygon) <= 1e-8) throw Error(im.scene.sourceFile, what, "has no area");
+      throw Error(scene.sourceFile, what, "has a vertex that is not a finite number");
+  if (!(polygonArea(lamp.polygon) > 1e-8)) throw Error(scene.sourceFile, what, "has no area");
   for (double c : {lamp.radiance.x, lamp.radiance.y, lamp.radiance.z})
-    if (!(c >= 0) || !std::isfinite(c)) throw Error(im.scene.sourceFile, what, "radiance must be finite and >= 0");
+    if (!(c >= 0) || !std::isfinite(c)) throw Error(scene.sourceFile, what, "radiance must be finite and >= 0");
+}
+}  // namespace
+
+void RelightSession::replaceVirtualLamp(int lamp, const VirtualLamp& replacement, Progress& progress) {
+  auto& im = *impl_;
+  const size_t i = size_t(lamp);
+  if (i >= im.vlamps.size()) throw Error(im.scene.sourceFile, "virtual lamp " + std::to_string(lamp), "does not exist");
+  checkVirtualLamp(im.scene, replacement);  // before anything changes
+  removeVirtualLamp(lamp, progress);
+  addVirtualLamp(replacement, progress);
+  // Back to its place in the list.
+  const auto at = std::ptrdiff_t(i);
+  std::rotate(im.vlamps.begin() + at, im.vlamps.end() - 1, im.vlamps.end());
+  std::rotate(im.vlampSurfaces.begin() + at, im.vlampSurfaces.end() - 1, im.vlampSurfaces.end());
+  std::rotate(im.vlampExitance.begin() + at, im.vlampExitance.end() - 1, im.vlampExitance.end());
+  im.basesValid = false;
+}
+
+int RelightSession::addVirtualLamp(const VirtualLamp& lamp, Progress& progress) {
+  auto& im = *impl_;
+  checkVirtualLamp(im.scene, lamp);
   const auto t0 = std::chrono::steady_clock::now();
+  im.syncEngine(progress);
   const size_t oldNodes = im.h->nodes().size();
   radiosity::Surface s;
   s.name = lamp.name;
@@ -414,6 +443,7 @@ int RelightSession::virtualLampSurface(int lamp) const { return impl_->vlampSurf
 int RelightSession::addObject(const VirtualObject& object, Progress& progress) {
   auto& im = *impl_;
   checkVirtualObject(im.scene, object);
+  im.syncEngine(progress);
   const size_t oldNodes = im.h->nodes().size();
   std::vector<radiosity::Surface> faces;
   for (size_t k = 0; k < object.polygons.size(); ++k) {
@@ -549,6 +579,7 @@ radiosity::SolveStats RelightSession::update(Progress& progress) {
   }
   if (!im.basesValid) im.buildBases(progress);
   im.combineBases();
+  im.engineStale = true;
   return {};
 }
 

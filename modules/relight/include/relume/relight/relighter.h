@@ -127,6 +127,9 @@ class RelightSession {
   // Moves it (the dynamic-link update: F and V of its links, V of the links its bounds cross).
   size_t moveVirtualLamp(int lamp, const glm::dvec3& offset, Progress& progress = silentProgress());
   void removeVirtualLamp(int lamp, Progress& progress = silentProgress());
+  // A new polygon / radiance for lamp `lamp`, put in afresh (its links refined where it now is);
+  // checked first, so a refused replacement changes nothing. Keeps its index.
+  void replaceVirtualLamp(int lamp, const VirtualLamp& replacement, Progress& progress = silentProgress());
   size_t virtualLampCount() const;
   const VirtualLamp& virtualLamp(int lamp) const;
   int virtualLampSurface(int lamp) const;  // the engine's surface
@@ -163,6 +166,8 @@ class RelightSession {
   glm::dvec3 lampScale(int lamp) const;
   size_t lampCount() const;
   const Camera& photoCamera() const;
+  // The engine. Its radiosity is that of the last radiosity steps: lamp edits alone update the
+  // display (per-lamp sums), not the engine's B.
   const radiosity::HierarchicalRadiosity& engine() const;
   radiosity::HierarchicalRadiosity& engine();
   double insertSeconds() const;  // virtual lamp forced refinement + update

@@ -1,0 +1,107 @@
+#include "references_panel.h"
+
+#include <QHBoxLayout>
+#include <QHeaderView>
+#include <QLabel>
+#include <QPushButton>
+#include <QTreeWidget>
+#include <QVBoxLayout>
+
+#include "document.h"
+#include "edit_tool.h"
+#include "job_runner.h"
+
+namespace relume {
+
+namespace {
+QString uvText(const glm::dvec2& uv) { return QString("%1, %2 m").arg(uv.x, 0, 'f', 2).arg(uv.y, 0, 'f', 2); }
+}  // namespace
+
+ReferencesPanel::ReferencesPanel(Document* doc, EditTool* tool, JobRunner* jobs, QWidget* parent)
+    : QWidget(parent), doc_(doc), tool_(tool), jobs_(jobs) {
+  auto* layout = new QVBoxLayout(this);
+  summary_ = new QLabel(this);
+  summary_->setWordWrap(true);
+  layout->addWidget(summary_);
+  list_ = new QTreeWidget(this);
+  list_->setColumnCount(3);
+  list_->setHeaderLabels({tr("Polygon"), tr("Automatic"), tr("Yours")});
+  list_->setRootIsDecorated(false);
+  list_->header()->setSectionResizeMode(QHeaderView::ResizeToContents);
+  layout->addWidget(list_, 1);
+  auto* row = new QHBoxLayout;
+  pick_ = new QPushButton(tr("Pick in the view"), this);
+  pick_->setToolTip(tr("Then click a texel of the selected polygon: its shadowed elements that match no "
+                       "unshadowed neighbour take that texel's reflectance."));
+  clear_ = new QPushButton(tr("Automatic"), this);
+  clear_->setToolTip(tr("Back to the automatic choice for the selected polygon"));
+  row->addWidget(pick_);
+  row->addWidget(clear_);
+  layout->addLayout(row);
+  recompute_ = new QPushButton(tr("Recompute the shadow-free textures"), this);
+  layout->addWidget(recompute_);
+
+  connect(pick_, &QPushButton::clicked, this, [this] {
+    const std::string p = selectedPolygon();
+    if (!p.empty()) tool_->pickReferenceOn(p);
+  });
+  connect(clear_, &QPushButton::clicked, this, [this] {
+    const std::string p = selectedPolygon();
+    if (!p.empty()) doc_->setReferenceOverride(p, std::nullopt);
+  });
+  connect(recompute_, &QPushButton::clicked, this, [this] { recompute(); });
+  connect(list_, &QTreeWidget::itemSelectionChanged, this, &ReferencesPanel::refresh);
+  connect(doc_, &Document::opened, this, &ReferencesPanel::rebuild);
+  connect(doc_, &Document::closed, this, &ReferencesPanel::rebuild);
+  connect(doc_, &Document::referencesChanged, this, &ReferencesPanel::rebuild);
+  rebuild();
+}
+
+std::string ReferencesPanel::selectedPolygon() const {
+  const auto items = list_->selectedItems();
+  return items.isEmpty() ? std::string() : items.front()->text(0).toStdString();
+}
+
+void ReferencesPanel::rebuild() {
+  const std::string keep = selectedPolygon();
+  list_->clear();
+  if (doc_->isOpen()) {
+    const auto& est = doc_->data().estimates;
+    summary_->setText(tr("%1 occluded elements: %2 took a similar-coloured unshadowed neighbour as reference, %3 "
+                         "their polygon's reference patch. Choose a better patch where a shadow left a wrong colour.")
+                          .arg(est.occludedLeaves)
+                          .arg(est.referencedByFrontier)
+                          .arg(est.referencedByDefault));
+    for (const auto& p : doc_->scene().polygons) {
+      if (p.kind != PolygonKind::Real) continue;
+      auto* item = new QTreeWidgetItem(list_);
+      item->setText(0, QString::fromStdString(p.name));
+      const auto a = doc_->data().referencePatch.find(p.name);
+      item->setText(1, a == doc_->data().referencePatch.end() ? tr("none (not seen)") : uvText(a->second));
+      const auto o = doc_->referenceOverrides().find(p.name);
+      item->setText(2, o == doc_->referenceOverrides().end() ? QString("—") : uvText(o->second));
+      if (p.name == keep) item->setSelected(true);
+    }
+  } else {
+    summary_->setText(tr("No room open."));
+  }
+  refresh();
+}
+
+void ReferencesPanel::refresh() {
+  const bool open = doc_->isOpen();
+  const std::string p = selectedPolygon();
+  pick_->setEnabled(open && !p.empty());
+  clear_->setEnabled(open && !p.empty() && doc_->referenceOverrides().count(p) > 0);
+  recompute_->setEnabled(open && doc_->referencesPending());
+  recompute_->setText(open && doc_->referencesPending() ? tr("Recompute the shadow-free textures (changes pending)")
+                                                        : tr("Recompute the shadow-free textures"));
+}
+
+bool ReferencesPanel::recompute() {
+  if (!doc_->isOpen() || !doc_->referencesPending()) return false;
+  auto work = doc_->recomputeReferencesWork();
+  return jobs_->start(tr("Removing the real shadows again"), [work](Progress& progress) { return work(progress); });
+}
+
+}  // namespace relume
