@@ -36,7 +36,27 @@ void main() {
     colour = outputMode == 0 ? vec4(0.0, 0.0, 0.0, 1.0) : vec4(0.16, 0.16, 0.17, 1.0);
     return;
   }
-  vec3 L = texelFetch(linearImage, ivec2(p), 0).rgb;
+  ivec2 ip = ivec2(p);
+  vec4 S = texelFetch(linearImage, ip, 0);
+  vec3 L = S.rgb;
+  if (S.a == 0.0) {
+    // Nothing drawn here: a hairline crack where leaves of different sizes meet (a T-junction)
+    // takes the mean of its drawn neighbours; open background keeps its colour.
+    vec3 sum = vec3(0.0);
+    float n = 0.0;
+    ivec2 size = textureSize(linearImage, 0);
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        ivec2 q = ip + ivec2(dx, dy);
+        if (q.x < 0 || q.y < 0 || q.x >= size.x || q.y >= size.y) continue;
+        vec4 N = texelFetch(linearImage, q, 0);
+        if (N.a > 0.0) {
+          sum += N.rgb;
+          n += 1.0;
+        }
+      }
+    if (n >= 5.0) L = sum / n;
+  }
   if (glowOn != 0) {
     vec2 q = vec2(p.x, viewSize.y - p.y) / viewSize;  // the glow images are stored top row first
     int lamp = int(round(texture(glowLamp, q).r));

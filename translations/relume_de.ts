@@ -23,6 +23,14 @@
         <source>change %1</source>
         <translation>%1 ändern</translation>
     </message>
+    <message>
+        <source>reference patch of %1</source>
+        <translation>Referenzfeld von %1</translation>
+    </message>
+    <message>
+        <source>automatic reference of %1</source>
+        <translation>automatische Referenz von %1</translation>
+    </message>
 </context>
 <context>
     <name>relume::EditTool</name>
@@ -61,6 +69,18 @@
     <message>
         <source>Not moved: %1</source>
         <translation>Nicht verschoben: %1</translation>
+    </message>
+    <message>
+        <source>Click a texel of %1 whose colour its shadowed parts should take.</source>
+        <translation>Klicken Sie auf ein Texel von %1, dessen Farbe die verschatteten Teile annehmen sollen.</translation>
+    </message>
+    <message>
+        <source>That is not %1: click on it, or press Esc.</source>
+        <translation>Das ist nicht %1: Klicken Sie darauf oder drücken Sie Esc.</translation>
+    </message>
+    <message>
+        <source>Reference patch of %1 set: recompute to see it.</source>
+        <translation>Referenzfeld von %1 gesetzt: neu berechnen, um es zu sehen.</translation>
     </message>
 </context>
 <context>
@@ -395,6 +415,38 @@
         <source>&amp;Delete the selected lamp or object</source>
         <translation>Ausgewählte Leuchte oder Objekt &amp;löschen</translation>
     </message>
+    <message>
+        <source>Reference patches</source>
+        <translation>Referenzfelder</translation>
+    </message>
+    <message>
+        <source>Autosave failed: %1</source>
+        <translation>Automatisches Speichern fehlgeschlagen: %1</translation>
+    </message>
+    <message>
+        <source>Autosaving</source>
+        <translation>Automatisches Speichern</translation>
+    </message>
+    <message>
+        <source>Autosaved at %1</source>
+        <translation>Automatisch gespeichert um %1</translation>
+    </message>
+    <message>
+        <source>Recover unsaved edits</source>
+        <translation>Nicht gespeicherte Änderungen wiederherstellen</translation>
+    </message>
+    <message>
+        <source>Relume did not close properly. Recover the edits to %1 autosaved at %2?</source>
+        <translation>Relume wurde nicht ordnungsgemäß beendet. Die um %2 automatisch gespeicherten Änderungen an %1 wiederherstellen?</translation>
+    </message>
+    <message>
+        <source>Recovering %1</source>
+        <translation>%1 wird wiederhergestellt</translation>
+    </message>
+    <message>
+        <source>Recovered the autosaved edits of %1: save them to keep them.</source>
+        <translation>Automatisch gespeicherte Änderungen an %1 wiederhergestellt: Speichern Sie sie, um sie zu behalten.</translation>
+    </message>
 </context>
 <context>
     <name>relume::ObjectsPanel</name>
@@ -461,6 +513,61 @@
     <message>
         <source>Not turned: %1</source>
         <translation>Nicht gedreht: %1</translation>
+    </message>
+</context>
+<context>
+    <name>relume::ReferencesPanel</name>
+    <message>
+        <source>Polygon</source>
+        <translation>Polygon</translation>
+    </message>
+    <message>
+        <source>Automatic</source>
+        <translation>Automatisch</translation>
+    </message>
+    <message>
+        <source>Yours</source>
+        <translation>Ihres</translation>
+    </message>
+    <message>
+        <source>Pick in the view</source>
+        <translation>In der Ansicht wählen</translation>
+    </message>
+    <message>
+        <source>Then click a texel of the selected polygon: its shadowed elements that match no unshadowed neighbour take that texel&apos;s reflectance.</source>
+        <translation>Klicken Sie dann auf ein Texel des gewählten Polygons: Seine verschatteten Elemente ohne passenden unverschatteten Nachbarn übernehmen den Reflexionsgrad dieses Texels.</translation>
+    </message>
+    <message>
+        <source>Back to the automatic choice for the selected polygon</source>
+        <translation>Zurück zur automatischen Wahl für das gewählte Polygon</translation>
+    </message>
+    <message>
+        <source>%1 occluded elements: %2 took a similar-coloured unshadowed neighbour as reference, %3 their polygon&apos;s reference patch. Choose a better patch where a shadow left a wrong colour.</source>
+        <translation>%1 verdeckte Elemente: %2 nahmen einen ähnlich gefärbten unverschatteten Nachbarn als Referenz, %3 das Referenzfeld ihres Polygons. Wählen Sie ein besseres Feld, wo ein Schatten eine falsche Farbe hinterlassen hat.</translation>
+    </message>
+    <message>
+        <source>none (not seen)</source>
+        <translation>keines (nicht gesehen)</translation>
+    </message>
+    <message>
+        <source>No room open.</source>
+        <translation>Kein Raum geöffnet.</translation>
+    </message>
+    <message>
+        <source>Removing the real shadows again</source>
+        <translation>Reale Schatten werden erneut entfernt</translation>
+    </message>
+    <message>
+        <source>Recompute</source>
+        <translation>Neu berechnen</translation>
+    </message>
+    <message>
+        <source>Remove the real shadows again with these reference patches (the whole preprocess, as a job)</source>
+        <translation>Reale Schatten mit diesen Referenzfeldern erneut entfernen (die ganze Vorverarbeitung, als Hintergrundaufgabe)</translation>
+    </message>
+    <message>
+        <source>Recompute (changes pending)</source>
+        <translation>Neu berechnen (Änderungen ausstehend)</translation>
     </message>
 </context>
 <context>

@@ -23,6 +23,14 @@
         <source>change %1</source>
         <translation>modification de %1</translation>
     </message>
+    <message>
+        <source>reference patch of %1</source>
+        <translation>patch de référence de %1</translation>
+    </message>
+    <message>
+        <source>automatic reference of %1</source>
+        <translation>référence automatique de %1</translation>
+    </message>
 </context>
 <context>
     <name>relume::EditTool</name>
@@ -61,6 +69,18 @@
     <message>
         <source>Not moved: %1</source>
         <translation>Non déplacé : %1</translation>
+    </message>
+    <message>
+        <source>Click a texel of %1 whose colour its shadowed parts should take.</source>
+        <translation>Cliquez sur un texel de %1 dont ses parties ombrées doivent prendre la couleur.</translation>
+    </message>
+    <message>
+        <source>That is not %1: click on it, or press Esc.</source>
+        <translation>Ce n&apos;est pas %1 : cliquez dessus, ou appuyez sur Échap.</translation>
+    </message>
+    <message>
+        <source>Reference patch of %1 set: recompute to see it.</source>
+        <translation>Patch de référence de %1 choisi : recalculez pour le voir.</translation>
     </message>
 </context>
 <context>
@@ -395,6 +415,38 @@
         <source>&amp;Delete the selected lamp or object</source>
         <translation>&amp;Supprimer la lampe ou l&apos;objet sélectionné</translation>
     </message>
+    <message>
+        <source>Reference patches</source>
+        <translation>Patchs de référence</translation>
+    </message>
+    <message>
+        <source>Autosave failed: %1</source>
+        <translation>Échec de l&apos;enregistrement automatique : %1</translation>
+    </message>
+    <message>
+        <source>Autosaving</source>
+        <translation>Enregistrement automatique</translation>
+    </message>
+    <message>
+        <source>Autosaved at %1</source>
+        <translation>Enregistré automatiquement à %1</translation>
+    </message>
+    <message>
+        <source>Recover unsaved edits</source>
+        <translation>Récupérer les modifications non enregistrées</translation>
+    </message>
+    <message>
+        <source>Relume did not close properly. Recover the edits to %1 autosaved at %2?</source>
+        <translation>Relume ne s&apos;est pas fermé correctement. Récupérer les modifications de %1 enregistrées automatiquement le %2 ?</translation>
+    </message>
+    <message>
+        <source>Recovering %1</source>
+        <translation>Récupération de %1</translation>
+    </message>
+    <message>
+        <source>Recovered the autosaved edits of %1: save them to keep them.</source>
+        <translation>Modifications de %1 récupérées : enregistrez-les pour les conserver.</translation>
+    </message>
 </context>
 <context>
     <name>relume::ObjectsPanel</name>
@@ -461,6 +513,61 @@
     <message>
         <source>Not turned: %1</source>
         <translation>Non tourné : %1</translation>
+    </message>
+</context>
+<context>
+    <name>relume::ReferencesPanel</name>
+    <message>
+        <source>Polygon</source>
+        <translation>Polygone</translation>
+    </message>
+    <message>
+        <source>Automatic</source>
+        <translation>Automatique</translation>
+    </message>
+    <message>
+        <source>Yours</source>
+        <translation>Le vôtre</translation>
+    </message>
+    <message>
+        <source>Pick in the view</source>
+        <translation>Choisir dans la vue</translation>
+    </message>
+    <message>
+        <source>Then click a texel of the selected polygon: its shadowed elements that match no unshadowed neighbour take that texel&apos;s reflectance.</source>
+        <translation>Cliquez ensuite sur un texel du polygone sélectionné : ses éléments ombrés sans voisin non ombré semblable prennent la réflectance de ce texel.</translation>
+    </message>
+    <message>
+        <source>Back to the automatic choice for the selected polygon</source>
+        <translation>Revenir au choix automatique pour le polygone sélectionné</translation>
+    </message>
+    <message>
+        <source>%1 occluded elements: %2 took a similar-coloured unshadowed neighbour as reference, %3 their polygon&apos;s reference patch. Choose a better patch where a shadow left a wrong colour.</source>
+        <translation>%1 éléments occultés : %2 ont pris pour référence un voisin non ombré de couleur semblable, %3 le patch de référence de leur polygone. Choisissez un meilleur patch là où une ombre a laissé une couleur fausse.</translation>
+    </message>
+    <message>
+        <source>none (not seen)</source>
+        <translation>aucun (non vu)</translation>
+    </message>
+    <message>
+        <source>No room open.</source>
+        <translation>Aucune pièce ouverte.</translation>
+    </message>
+    <message>
+        <source>Removing the real shadows again</source>
+        <translation>Nouveau retrait des ombres réelles</translation>
+    </message>
+    <message>
+        <source>Recompute</source>
+        <translation>Recalculer</translation>
+    </message>
+    <message>
+        <source>Remove the real shadows again with these reference patches (the whole preprocess, as a job)</source>
+        <translation>Retirer à nouveau les ombres réelles avec ces patchs de référence (tout le prétraitement, en tâche de fond)</translation>
+    </message>
+    <message>
+        <source>Recompute (changes pending)</source>
+        <translation>Recalculer (modifications en attente)</translation>
     </message>
 </context>
 <context>

@@ -38,7 +38,8 @@ ReferencesPanel::ReferencesPanel(Document* doc, EditTool* tool, JobRunner* jobs,
   row->addWidget(pick_);
   row->addWidget(clear_);
   layout->addLayout(row);
-  recompute_ = new QPushButton(tr("Recompute the shadow-free textures"), this);
+  recompute_ = new QPushButton(tr("Recompute"), this);
+  recompute_->setToolTip(tr("Remove the real shadows again with these reference patches (the whole preprocess, as a job)"));
   layout->addWidget(recompute_);
 
   connect(pick_, &QPushButton::clicked, this, [this] {
@@ -94,8 +95,7 @@ void ReferencesPanel::refresh() {
   pick_->setEnabled(open && !p.empty());
   clear_->setEnabled(open && !p.empty() && doc_->referenceOverrides().count(p) > 0);
   recompute_->setEnabled(open && doc_->referencesPending());
-  recompute_->setText(open && doc_->referencesPending() ? tr("Recompute the shadow-free textures (changes pending)")
-                                                        : tr("Recompute the shadow-free textures"));
+  recompute_->setText(open && doc_->referencesPending() ? tr("Recompute (changes pending)") : tr("Recompute"));
 }
 
 bool ReferencesPanel::recompute() {

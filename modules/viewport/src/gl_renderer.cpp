@@ -141,7 +141,7 @@ struct GlRelightRenderer::Impl {
     gl->glBindFramebuffer(GL_FRAMEBUFFER, linear.fbo);
     gl->glViewport(0, 0, w, h);
     gl->glDisable(GL_BLEND);
-    gl->glClearColor(0.f, 0.f, 0.f, 1.f);
+    gl->glClearColor(0.f, 0.f, 0.f, 0.f);  // alpha 0: nothing drawn (the display fills cracks)
     gl->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     if (!meshReady || !lightingReady) return;
     gl->glEnable(GL_DEPTH_TEST);
