@@ -99,6 +99,7 @@ struct HierarchicalRadiosity::Impl {
   // Gather arrays, sorted by receiver (struct of arrays).
   std::vector<int32_t> gRecv, gSrc;
   std::vector<float> gK;
+  std::vector<size_t> gChunk;  // chunk starts at receiver boundaries, for a parallel gather
   bool gatherDirty = true;
   double eRef = 1.0;  // mean first-bounce irradiance
   std::vector<float> pullAccumulator;  // scratch of pushPull()
@@ -693,25 +694,34 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
 
 namespace {
 void buildGather(const std::vector<HierarchicalRadiosity::Link>& links, HierarchicalRadiosity::Impl& im) {
-  std::vector<int32_t> order(links.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return links[a].receiver != links[b].receiver ? links[a].receiver < links[b].receiver
-                                                  : links[a].source < links[b].source;
-  });
-  im.gRecv.clear();
-  im.gSrc.clear();
-  im.gK.clear();
-  for (int i : order) {
-    const float k = links[i].formFactor * links[i].visibility;
+  // Grouped by receiver with a counting sort (links in their own order within a receiver):
+  // linear in the links, so a geometry edit does not pay for a comparison sort of them all.
+  const size_t nn = im.rho.size();
+  std::vector<uint32_t> start(nn + 1, 0);
+  for (const auto& l : links)
+    if (l.formFactor * l.visibility > 0.f) ++start[size_t(l.receiver) + 1];
+  for (size_t i = 0; i < nn; ++i) start[i + 1] += start[i];
+  const size_t total = start[nn];
+  im.gRecv.assign(total, 0);
+  im.gSrc.assign(total, 0);
+  im.gK.assign(total, 0.f);
+  for (const auto& l : links) {
+    const float k = l.formFactor * l.visibility;
     if (k <= 0.f) continue;
-    im.gRecv.push_back(links[i].receiver);
-    im.gSrc.push_back(links[i].source);
-    im.gK.push_back(k);
+    const uint32_t p = start[size_t(l.receiver)]++;
+    im.gRecv[p] = l.receiver;
+    im.gSrc[p] = l.source;
+    im.gK[p] = k;
   }
-  im.gRecv.shrink_to_fit();
-  im.gSrc.shrink_to_fit();
-  im.gK.shrink_to_fit();
+  im.gChunk.clear();
+  const size_t n = im.gRecv.size(), step = std::max<size_t>(4096, n / 64);
+  for (size_t i = 0; i < n;) {
+    im.gChunk.push_back(i);
+    size_t j = std::min(n, i + step);
+    while (j < n && im.gRecv[j] == im.gRecv[j - 1]) ++j;  // a receiver's links stay in one chunk
+    i = j;
+  }
+  im.gChunk.push_back(n);
   im.gatherDirty = false;
 }
 }  // namespace
@@ -760,16 +770,18 @@ SolveStats HierarchicalRadiosity::iterate(Progress& progress) {
   E_.resize(nn);
   Edown_.resize(nn);
   SolveStats st;
-  const size_t nl = im.gRecv.size();
   for (int it = 0; it < options_.maxIterations; ++it) {
     // Gather: E_r = sum over links of F V B_s.
     std::fill(E_.begin(), E_.end(), glm::vec3(0.f));
-    for (size_t i = 0; i < nl;) {
-      const int r = im.gRecv[i];
-      glm::vec3 e(0.f);
-      for (; i < nl && im.gRecv[i] == r; ++i) e += im.gK[i] * B_[im.gSrc[i]];
-      E_[r] = e;
-    }
+    tbb::parallel_for(size_t(0), im.gChunk.size() - 1, [&](size_t c) {
+      const size_t end = im.gChunk[c + 1];
+      for (size_t i = im.gChunk[c]; i < end;) {
+        const int r = im.gRecv[i];
+        glm::vec3 e(0.f);
+        for (; i < end && im.gRecv[i] == r; ++i) e += im.gK[i] * B_[im.gSrc[i]];
+        E_[r] = e;
+      }
+    });
     st.residual = pushPull();
     st.iterations = it + 1;
     if (st.residual <= options_.tolerance) break;
@@ -1085,16 +1097,8 @@ std::vector<int> HierarchicalRadiosity::addSurfaces(const std::vector<Surface>& 
   RefineContext ctx{*this, im, true, nullptr};
   ctx.keep = keep;
   refineLinks(ctx, progress);
-  // The new lamps' links down to leaves; the other links stay as they were (the light they carry
-  // reaches elements split here through push-pull, as before the split).
-  const int firstNew = ids.front();
-  RefineContext push{*this, im, false, nullptr};
-  push.keep = keep;
-  push.force = [&](const Link& l) {
-    if (nodes_[l.source].surface < firstNew || !sourceIsEmitter(l.source)) return Open::None;
-    return nodes_[l.receiver].isLeaf() ? Open::None : Open::Receiver;
-  };
-  refineLinks(push, progress);
+  // The new links stay where the oracle left them (not pushed to leaves: push-pull carries their
+  // light down, and the leaves below were cut for the real lamps' shadows, not for these).
   return ids;
 }
 

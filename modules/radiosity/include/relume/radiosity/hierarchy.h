@@ -134,8 +134,8 @@ class HierarchicalRadiosity {
   // Adds polygons to a live hierarchy (a virtual lamp, the faces of a virtual object), without
   // rebuilding it: each becomes a child of the root cluster and an occluder (V redone on the links
   // whose shaft its bounds cross); it is linked to every other surface (as a source, and as a
-  // receiver when it reflects), and only these new links are refined by the oracle; lamp links
-  // are then pushed to leaves. Returns the new surfaces' indices; call iterate() after.
+  // receiver when it reflects), and only these new links are refined by the oracle (they are not
+  // pushed to leaves: push-pull carries their light down). Returns the new surfaces' indices; call iterate() after.
   std::vector<int> addSurfaces(const std::vector<Surface>& surfaces, Progress& progress = silentProgress());
   // Removes surfaces from the solution: their links are dropped, they no longer occlude, emit or
   // reflect (V redone on the links their bounds crossed). Their indices stay valid (no vertices,
