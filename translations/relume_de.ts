@@ -63,10 +63,6 @@
         <translation>Kiste</translation>
     </message>
     <message>
-        <source>The box cannot stand there: %1</source>
-        <translation>Die Kiste kann dort nicht stehen: %1</translation>
-    </message>
-    <message>
         <source>Not moved: %1</source>
         <translation>Nicht verschoben: %1</translation>
     </message>
@@ -81,6 +77,14 @@
     <message>
         <source>Reference patch of %1 set: recompute to see it.</source>
         <translation>Referenzfeld von %1 gesetzt: neu berechnen, um es zu sehen.</translation>
+    </message>
+    <message>
+        <source>Click a floor or a table top to stand %1 on it.</source>
+        <translation>Klicken Sie auf einen Boden oder eine Tischplatte, um %1 daraufzustellen.</translation>
+    </message>
+    <message>
+        <source>%1 cannot stand there: %2</source>
+        <translation>%1 kann dort nicht stehen: %2</translation>
     </message>
 </context>
 <context>
@@ -513,6 +517,26 @@
     <message>
         <source>Not turned: %1</source>
         <translation>Nicht gedreht: %1</translation>
+    </message>
+    <message>
+        <source>Place an OBJ mesh...</source>
+        <translation>OBJ-Netz aufstellen...</translation>
+    </message>
+    <message>
+        <source>A mesh in metres, +Z up, with the albedo above; it stands where you click.</source>
+        <translation>Ein Netz in Metern, +Z nach oben, mit der Albedo oben; es steht, wo Sie klicken.</translation>
+    </message>
+    <message>
+        <source>Place an OBJ mesh</source>
+        <translation>OBJ-Netz aufstellen</translation>
+    </message>
+    <message>
+        <source>Wavefront OBJ (*.obj)</source>
+        <translation>Wavefront OBJ (*.obj)</translation>
+    </message>
+    <message>
+        <source>%1: %2 triangles; the radiosity engine takes meshes of up to %3.</source>
+        <translation>%1: %2 Dreiecke; die Radiosity-Engine nimmt Netze mit bis zu %3.</translation>
     </message>
 </context>
 <context>

@@ -63,10 +63,6 @@
         <translation>Boîte</translation>
     </message>
     <message>
-        <source>The box cannot stand there: %1</source>
-        <translation>La boîte ne peut pas être posée ici : %1</translation>
-    </message>
-    <message>
         <source>Not moved: %1</source>
         <translation>Non déplacé : %1</translation>
     </message>
@@ -81,6 +77,14 @@
     <message>
         <source>Reference patch of %1 set: recompute to see it.</source>
         <translation>Patch de référence de %1 choisi : recalculez pour le voir.</translation>
+    </message>
+    <message>
+        <source>Click a floor or a table top to stand %1 on it.</source>
+        <translation>Cliquez sur un sol ou un plateau de table pour y poser %1.</translation>
+    </message>
+    <message>
+        <source>%1 cannot stand there: %2</source>
+        <translation>%1 ne peut pas être posé ici : %2</translation>
     </message>
 </context>
 <context>
@@ -513,6 +517,26 @@
     <message>
         <source>Not turned: %1</source>
         <translation>Non tourné : %1</translation>
+    </message>
+    <message>
+        <source>Place an OBJ mesh...</source>
+        <translation>Poser un maillage OBJ...</translation>
+    </message>
+    <message>
+        <source>A mesh in metres, +Z up, with the albedo above; it stands where you click.</source>
+        <translation>Un maillage en mètres, +Z vers le haut, avec l&apos;albédo ci-dessus ; il se pose là où vous cliquez.</translation>
+    </message>
+    <message>
+        <source>Place an OBJ mesh</source>
+        <translation>Poser un maillage OBJ</translation>
+    </message>
+    <message>
+        <source>Wavefront OBJ (*.obj)</source>
+        <translation>Wavefront OBJ (*.obj)</translation>
+    </message>
+    <message>
+        <source>%1: %2 triangles; the radiosity engine takes meshes of up to %3.</source>
+        <translation>%1 : %2 triangles ; le moteur de radiosité accepte des maillages d&apos;au plus %3.</translation>
     </message>
 </context>
 <context>

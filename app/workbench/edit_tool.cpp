@@ -29,6 +29,7 @@ void EditTool::setMode(Mode m) {
   emit modeChanged(m);
   if (m == Mode::PlaceLamp) emit message(tr("Click a surface to put a virtual lamp 2 cm in front of it."));
   if (m == Mode::PlaceBox) emit message(tr("Click a floor or a table top to stand the box on it."));
+  if (m == Mode::PlaceMesh) emit message(tr("Click a floor or a table top to stand %1 on it.").arg(meshStem_));
 }
 
 void EditTool::pickReferenceOn(const std::string& polygon) {
@@ -36,6 +37,13 @@ void EditTool::pickReferenceOn(const std::string& polygon) {
   mode_ = Mode::Select;  // so that setMode announces the change
   setMode(Mode::PickReference);
   emit message(tr("Click a texel of %1 whose colour its shadowed parts should take.").arg(QString::fromStdString(polygon)));
+}
+
+void EditTool::placeMesh(const QString& stem, const VirtualObject& mesh) {
+  meshStem_ = stem;
+  mesh_ = mesh;
+  mode_ = Mode::Select;
+  setMode(Mode::PlaceMesh);
 }
 
 void EditTool::setBoxTemplate(const glm::dvec3& size, const glm::dvec3& albedo) {
@@ -98,21 +106,38 @@ bool EditTool::press(const ViewportPick& pick, Qt::KeyboardModifiers) {
     setMode(Mode::Select);
     return true;
   }
-  if (mode_ == Mode::PlaceBox) {
+  if (mode_ == Mode::PlaceBox || mode_ == Mode::PlaceMesh) {
     if (!pick.hit() || pick.normal.z < 0.7) {
       emit message(tr("Objects stand on floors and tables: click a horizontal surface."));
       return true;
     }
-    const std::string name = doc_->newName(tr("Box"));
-    const glm::dvec3 half(0.5 * boxSize_.x, 0.5 * boxSize_.y, 0.0);
     const glm::dvec3 base = pick.point + glm::dvec3(0, 0, 0.002);  // 2 mm above what it stands on
-    const VirtualObject box = boxObject(name, base - half, base + half + glm::dvec3(0, 0, boxSize_.z), boxAlbedo_);
+    std::string name;
+    VirtualObject box;
+    if (mode_ == Mode::PlaceBox) {
+      name = doc_->newName(tr("Box"));
+      const glm::dvec3 half(0.5 * boxSize_.x, 0.5 * boxSize_.y, 0.0);
+      box = boxObject(name, base - half, base + half + glm::dvec3(0, 0, boxSize_.z), boxAlbedo_);
+    } else {  // the mesh's footprint centre on the point, its lowest point on the surface
+      name = doc_->newName(meshStem_);
+      box = mesh_;
+      box.name = name;
+      glm::dvec3 lo(1e300), hi(-1e300);
+      for (const auto& p : box.polygons)
+        for (const auto& v : p) {
+          lo = glm::min(lo, v);
+          hi = glm::max(hi, v);
+        }
+      const glm::dvec3 shift = base - glm::dvec3(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z);
+      for (auto& p : box.polygons)
+        for (auto& v : p) v += shift;
+    }
     QString error;
     if (doc_->tryAddObject(box, &error)) {
       emit message(tr("Added %1 (%2 ms).").arg(QString::fromStdString(name)).arg(doc_->lastUpdateMilliseconds(), 0, 'f', 0));
       emit selected(QString::fromStdString(name));
     } else {
-      emit message(tr("The box cannot stand there: %1").arg(error));
+      emit message(tr("%1 cannot stand there: %2").arg(QString::fromStdString(name), error));
     }
     setMode(Mode::Select);
     return true;

@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 #include <string>
 
+#include "relume/relight/relighter.h"
 #include "relume/viewport/viewport_widget.h"
 
 namespace relume {
@@ -18,13 +19,16 @@ class Document;
 class EditTool : public QObject, public ViewportGestures {
   Q_OBJECT
  public:
-  enum class Mode { Select, PlaceLamp, PlaceBox, PickReference };
+  enum class Mode { Select, PlaceLamp, PlaceBox, PlaceMesh, PickReference };
   explicit EditTool(Document* doc, QObject* parent = nullptr);
 
   void setMode(Mode m);
   Mode mode() const { return mode_; }
   // The box the next "place" click makes (metres; albedo in (0, 1]).
   void setBoxTemplate(const glm::dvec3& size, const glm::dvec3& albedo);
+  // A mesh the next click places (Mode::PlaceMesh): standing on the point clicked, its footprint
+  // centred there. `stem` names it ("chair" -> "chair 1").
+  void placeMesh(const QString& stem, const VirtualObject& mesh);
   static constexpr double kLampSize = 0.3, kLampOffset = 0.02;
   // The polygon whose reference patch the next click (Mode::PickReference) chooses.
   void pickReferenceOn(const std::string& polygon);
@@ -48,6 +52,8 @@ class EditTool : public QObject, public ViewportGestures {
   Mode mode_ = Mode::Select;
   glm::dvec3 boxSize_{0.4, 0.4, 0.4}, boxAlbedo_{0.6, 0.6, 0.6};
   std::string referencePolygon_;
+  QString meshStem_;
+  VirtualObject mesh_;
   // The drag under way: what, the plane it slides on, where the cursor's ray met it at the press,
   // and how far the thing has moved since.
   std::string dragLamp_, dragObject_;

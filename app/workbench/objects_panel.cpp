@@ -1,6 +1,8 @@
 #include "objects_panel.h"
 
 #include <QColorDialog>
+#include <QFileDialog>
+#include <QFileInfo>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QGridLayout>
@@ -15,6 +17,7 @@
 
 #include "document.h"
 #include "edit_tool.h"
+#include "relume/project/room_io.h"
 
 namespace relume {
 
@@ -53,6 +56,13 @@ ObjectsPanel::ObjectsPanel(Document* doc, EditTool* tool, QWidget* parent)
                         "stands on."));
   form->addRow(place_);
   layout->addWidget(box);
+  placeObj_ = new QPushButton(tr("Place an OBJ mesh..."), this);
+  placeObj_->setToolTip(tr("A mesh in metres, +Z up, with the albedo above; it stands where you click."));
+  layout->addWidget(placeObj_);
+  connect(placeObj_, &QPushButton::clicked, this, [this] {
+    const QString f = QFileDialog::getOpenFileName(this, tr("Place an OBJ mesh"), {}, tr("Wavefront OBJ (*.obj)"));
+    if (!f.isEmpty()) placeObj(f);
+  });
   auto* placed = new QGroupBox(tr("Objects in the room"), this);
   list_ = new QVBoxLayout(placed);
   empty_ = new QLabel(tr("None yet."), placed);
@@ -81,6 +91,26 @@ ObjectsPanel::ObjectsPanel(Document* doc, EditTool* tool, QWidget* parent)
   connect(doc_, &Document::relightingReplaced, this, &ObjectsPanel::rebuild);
   pushTemplate();
   rebuild();
+}
+
+bool ObjectsPanel::placeObj(const QString& path) {
+  // Each face becomes a radiosity surface linked to the whole room: past a few thousand faces the
+  // engine is the wrong tool (image-based objects are meant for those).
+  constexpr size_t kMaxFaces = 3000;
+  try {
+    auto a = [](double v) { return std::clamp(v, 0.02, 0.95); };
+    const VirtualObject mesh = meshObject(QFileInfo(path).completeBaseName().toStdString(), readObjFaces(path.toStdString()),
+                                          glm::dvec3(a(colour_.redF()), a(colour_.greenF()), a(colour_.blueF())));
+    if (mesh.polygons.size() > kMaxFaces) {
+      emit message(tr("%1: %2 triangles; the radiosity engine takes meshes of up to %3.").arg(path).arg(mesh.polygons.size()).arg(kMaxFaces));
+      return false;
+    }
+    tool_->placeMesh(QFileInfo(path).completeBaseName(), mesh);
+    return true;
+  } catch (const std::exception& e) {
+    emit message(QString::fromStdString(e.what()));
+    return false;
+  }
 }
 
 void ObjectsPanel::pushTemplate() {

@@ -23,6 +23,8 @@ class ObjectsPanel : public QWidget {
  public:
   ObjectsPanel(Document* doc, EditTool* tool, QWidget* parent = nullptr);
   QPushButton* placeButton() const { return place_; }
+  // Reads an OBJ mesh (metres) and arms the tool to place it; false (with a message) on error.
+  bool placeObj(const QString& path);
   QSpinBox* turn(int object) const { return rows_.at(size_t(object)).turn; }
   QPushButton* deleteButton(int object) const { return rows_.at(size_t(object)).remove; }
 
@@ -46,6 +48,7 @@ class ObjectsPanel : public QWidget {
   QPushButton* albedo_;
   QColor colour_{153, 153, 153};
   QPushButton* place_;
+  QPushButton* placeObj_;
   QVBoxLayout* list_;
   QLabel* empty_;
   std::vector<Row> rows_;

@@ -457,6 +457,46 @@ class WorkbenchTest : public QObject {
     window_->findChild<QDockWidget*>("LightsDock")->raise();
   }
 
+  // An OBJ mesh (a pyramid) placed on the floor by a click: it stands there, faces as triangles.
+  void objMeshPlaced() {
+    const QString obj = tmp_.path() + "/pyramid.obj";
+    {
+      QFile f(obj);
+      QVERIFY(f.open(QIODevice::WriteOnly | QIODevice::Text));
+      f.write("# a 0.4 m square pyramid, 0.5 m high, +Z up\n"
+              "v -0.2 -0.2 0\nv 0.2 -0.2 0\nv 0.2 0.2 0\nv -0.2 0.2 0\nv 0 0 0.5\n"
+              "f 4 3 2 1\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n");
+    }
+    auto* vp = window_->viewport();
+    vp->lockToPhoto();
+    const size_t before = doc()->objectCount();
+    QVERIFY(window_->objectsPanel()->placeObj(obj));
+    QCOMPARE(window_->editTool()->mode(), EditTool::Mode::PlaceMesh);
+    const glm::dvec3 spot(0.8, 2.5, 0.0);
+    QPointF pos;
+    QVERIFY(vp->widgetPosition(spot, pos));
+    QTest::mouseClick(vp, Qt::LeftButton, {}, pos.toPoint());
+    QCOMPARE(doc()->objectCount(), before + 1);
+    const VirtualObject& o = doc()->session()->object(int(before));
+    QCOMPARE(o.name, std::string("pyramid 1"));
+    QCOMPARE(o.polygons.size(), size_t(6));  // the square base in two triangles, four sides
+    glm::dvec3 lo(1e300), hi(-1e300);
+    for (const auto& p : o.polygons)
+      for (const auto& v : p) {
+        lo = glm::min(lo, v);
+        hi = glm::max(hi, v);
+      }
+    qInfo("pyramid placed: footprint centre %.3f %.3f, from z %.3f to %.3f, add took %.0f ms", 0.5 * (lo.x + hi.x),
+          0.5 * (lo.y + hi.y), lo.z, hi.z, doc()->lastUpdateMilliseconds());
+    QVERIFY(glm::length(glm::dvec2(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y)) - glm::dvec2(spot)) < 0.01);
+    QVERIFY(std::abs(lo.z - 0.002) < 1e-6 && std::abs(hi.z - 0.502) < 1e-6);
+    // A file that is not a mesh says so and arms nothing.
+    QVERIFY(!window_->objectsPanel()->placeObj(tmp_.path() + "/missing.obj"));
+    QCOMPARE(window_->editTool()->mode(), EditTool::Mode::Select);
+    doc()->undoStack()->undo();
+    QCOMPARE(doc()->objectCount(), before);
+  }
+
   // Reference patches (§4.3): the user picks the floor's reference texel in the viewport, then
   // recomputes: the project's relighting data carries the choice and the floor's shadow-free
   // texture follows it; lamps, virtual lamps and objects are kept.

@@ -397,6 +397,13 @@ Scene readProject(const std::string& projectPath) {
   return scene;
 }
 
+std::vector<std::vector<glm::dvec3>> readObjFaces(const std::string& path) {
+  std::vector<std::vector<glm::dvec3>> out;
+  for (auto& p : readObj(QString::fromStdString(path))) out.push_back(std::move(p.vertices));
+  if (out.empty()) throw Error(path, "", "has no faces");
+  return out;
+}
+
 Variant readVariantFile(const std::string& path) {
   const QJsonObject root = readJsonObject(QString::fromStdString(path));
   Scene scene;

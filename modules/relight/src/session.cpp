@@ -35,6 +35,20 @@ VirtualObject boxObject(const std::string& name, const glm::dvec3& a, const glm:
   return o;
 }
 
+VirtualObject meshObject(const std::string& name, const std::vector<std::vector<glm::dvec3>>& faces,
+                         const glm::dvec3& albedo) {
+  VirtualObject o;
+  o.name = name;
+  o.albedo = albedo;
+  for (const auto& f : faces)
+    for (size_t k = 1; k + 1 < f.size(); ++k) {
+      std::vector<glm::dvec3> t{f[0], f[k], f[k + 1]};
+      if (polygonArea(t) > 1e-10) o.polygons.push_back(std::move(t));
+    }
+  if (o.polygons.empty()) throw Error("", "virtual object '" + name + "'", "its mesh has no face with an area");
+  return o;
+}
+
 void checkVirtualObject(const Scene& scene, const VirtualObject& object) {
   const std::string what = "virtual object '" + object.name + "'";
   for (double c : {object.albedo.x, object.albedo.y, object.albedo.z})

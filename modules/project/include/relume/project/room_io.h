@@ -2,6 +2,8 @@
 // Reading rooms (bundle folders, OBJ + JSON, Relume projects) and writing Relume projects.
 #include <functional>
 #include <string>
+#include <vector>
+#include <glm/vec3.hpp>
 
 #include "relume/geometry/progress.h"
 #include "relume/geometry/scene.h"
@@ -30,6 +32,9 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
 // "virtual_lights", "virtual_objects"); a virtual object may give "obj" (a mesh file, relative to
 // the JSON file) instead of box_min / box_max.
 Variant readVariantFile(const std::string& path);
+
+// The faces of an OBJ mesh (one polygon per `f` line, metres), for a virtual object.
+std::vector<std::vector<glm::dvec3>> readObjFaces(const std::string& path);
 
 inline constexpr int kProjectVersion = 1;
 

@@ -56,6 +56,11 @@ struct VirtualObject {
   std::vector<std::vector<glm::dvec3>> polygons;
   glm::dvec3 albedo{0.5};
 };
+// A virtual object from a mesh's faces (e.g. an OBJ): faces of more than 3 vertices fanned into
+// triangles (the engine wants convex planar polygons), faces without area dropped. Throws
+// relume::Error when nothing is left.
+VirtualObject meshObject(const std::string& name, const std::vector<std::vector<glm::dvec3>>& faces,
+                         const glm::dvec3& albedo);
 // The centre of its bounding box (the pivot it turns about).
 glm::dvec3 objectCentre(const VirtualObject& object);
 VirtualObject boxObject(const std::string& name, const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& albedo);
