@@ -16,6 +16,7 @@ uniform int kind;               // 0 textured, 1 window, 2 virtual (radiance B /
 uniform int mode;               // 0 relit, 1 ratio-only, 2 photo, 3 unoccluded, 4 B, 5 D, 6 leaves
 uniform vec3 normal;
 uniform vec3 eye;
+uniform int checkerUnseen;
 out vec4 colour;
 
 const float INV_PI = 0.31830988618379067;
@@ -59,6 +60,15 @@ void main() {
     result = texture(original, tc).rgb * ratio(B, interpolate(2, st));
   } else {
     result = texture(unoccluded, tc).rgb * ratio(B, interpolate(1, st));
+  }
+  if (checkerUnseen != 0 && kind != 2 && mode != 4 && mode != 5) {
+    // Seen by no photo (filled smoothly by the preprocess): a 10 cm checker says so.
+    float unseen = 1.0 - texture(original, tc).a;
+    if (unseen > 0.0) {
+      float cell = mod(floor(vUV.x / 0.1) + floor(vUV.y / 0.1), 2.0);
+      vec3 mark = cell > 0.5 ? result * 0.35 + vec3(0.004, 0.004, 0.012) : result;
+      result = mix(result, mark, unseen);
+    }
   }
   if (mode == 6) {  // leaf outlines, about a pixel wide, over the relit image
     vec2 w = fwidth(vUV) * 1.5;

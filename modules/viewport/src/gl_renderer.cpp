@@ -64,17 +64,29 @@ struct FloatTarget {
   }
 };
 
-GLuint uploadTexture(QOpenGLFunctions_3_3_Core& gl, int w, int h, const float* rgb, bool linear) {
+// With `seen` (per texel), the texture is RGBA and its alpha says whether a photo saw the texel.
+GLuint uploadTexture(QOpenGLFunctions_3_3_Core& gl, int w, int h, const float* rgb, bool linear,
+                     const std::vector<TexelSource>* seen = nullptr) {
   static const float black[3] = {0.f, 0.f, 0.f};
   if (w <= 0 || h <= 0 || !rgb) {
     w = h = 1;
     rgb = black;
+    seen = nullptr;
   }
   GLuint id = 0;
   gl.glGenTextures(1, &id);
   gl.glBindTexture(GL_TEXTURE_2D, id);
   gl.glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  gl.glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, w, h, 0, GL_RGB, GL_FLOAT, rgb);
+  if (seen && seen->size() == size_t(w) * size_t(h)) {
+    std::vector<float> rgba(size_t(w) * h * 4);
+    for (size_t i = 0; i < size_t(w) * h; ++i) {
+      for (int c = 0; c < 3; ++c) rgba[4 * i + c] = rgb[3 * i + c];
+      rgba[4 * i + 3] = (*seen)[i] == TexelSource::Smooth ? 0.f : 1.f;
+    }
+    gl.glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, w, h, 0, GL_RGBA, GL_FLOAT, rgba.data());
+  } else {
+    gl.glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, w, h, 0, GL_RGB, GL_FLOAT, rgb);
+  }
   const GLint filter = linear ? GL_LINEAR : GL_NEAREST;
   gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
   gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
@@ -159,6 +171,8 @@ struct GlRelightRenderer::Impl {
     relight->setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(worldToClip(camera, nearZ, farZ))[0][0]));
     relight->setUniformValue("eye", QVector3D(float(eye.x), float(eye.y), float(eye.z)));
     relight->setUniformValue("mode", int(mode));
+    // Away from the photo's own view, texels no photo saw are drawn as a checker.
+    relight->setUniformValue("checkerUnseen", sameCamera(camera, photoCamera) ? 0 : 1);
     relight->setUniformValue("corners", 0);
     relight->setUniformValue("rects", 1);
     relight->setUniformValue("original", 2);
@@ -285,7 +299,7 @@ void GlRelightRenderer::setRoom(const Scene& scene, const RelightData& data) {
     SurfaceTextures s;
     const float* orig = t.original.empty() ? nullptr : &t.original[0].x;
     const float* fin = t.unoccluded.empty() ? orig : &t.unoccluded[0].x;
-    s.original = uploadTexture(gl, t.width, t.height, orig, true);
+    s.original = uploadTexture(gl, t.width, t.height, orig, true, &t.source);
     s.unoccluded = uploadTexture(gl, t.width, t.height, fin, true);
     s.origin = glm::vec2(t.origin);
     s.texel = float(t.texel);
