@@ -44,31 +44,26 @@ void main() {
   vec3 B = interpolate(0, st);
   vec2 tc = (vUV - texOrigin) / texelSize / texSize;
   vec3 result;
+  float seen = 1.0;  // the textures' alpha: 0 where no photo saw the texel
   if (mode == 4) {
     result = B * INV_PI;
   } else if (mode == 5) {
     result = (kind == 2 ? B : interpolate(1, st)) * INV_PI;
   } else if (kind == 2) {
     result = (mode == 2 || mode == 3) ? vec3(0.0) : B * INV_PI;
-  } else if (mode == 2) {
-    result = texture(original, tc).rgb;
-  } else if (mode == 3) {
-    result = texture(unoccluded, tc).rgb;
-  } else if (kind == 1) {
-    result = mode == 1 ? texture(original, tc).rgb : texture(unoccluded, tc).rgb;
-  } else if (mode == 1) {
-    result = texture(original, tc).rgb * ratio(B, interpolate(2, st));
   } else {
-    result = texture(unoccluded, tc).rgb * ratio(B, interpolate(1, st));
+    // One texture fetch: the photo's for photo and ratio-only, T_final otherwise.
+    vec4 t = (mode == 1 || mode == 2) ? texture(original, tc) : texture(unoccluded, tc);
+    seen = t.a;
+    if (mode == 2 || mode == 3 || kind == 1) result = t.rgb;
+    else if (mode == 1) result = t.rgb * ratio(B, interpolate(2, st));
+    else result = t.rgb * ratio(B, interpolate(1, st));
   }
-  if (checkerUnseen != 0 && kind != 2 && mode != 4 && mode != 5) {
+  if (checkerUnseen != 0 && seen < 1.0) {
     // Seen by no photo (filled smoothly by the preprocess): a 10 cm checker says so.
-    float unseen = 1.0 - texture(original, tc).a;
-    if (unseen > 0.0) {
-      float cell = mod(floor(vUV.x / 0.1) + floor(vUV.y / 0.1), 2.0);
-      vec3 mark = cell > 0.5 ? result * 0.35 + vec3(0.004, 0.004, 0.012) : result;
-      result = mix(result, mark, unseen);
-    }
+    float cell = mod(floor(vUV.x / 0.1) + floor(vUV.y / 0.1), 2.0);
+    vec3 mark = cell > 0.5 ? result * 0.35 + vec3(0.004, 0.004, 0.012) : result;
+    result = mix(result, mark, 1.0 - seen);
   }
   if (mode == 6) {  // leaf outlines, about a pixel wide, over the relit image
     vec2 w = fwidth(vUV) * 1.5;

@@ -300,7 +300,7 @@ void GlRelightRenderer::setRoom(const Scene& scene, const RelightData& data) {
     const float* orig = t.original.empty() ? nullptr : &t.original[0].x;
     const float* fin = t.unoccluded.empty() ? orig : &t.unoccluded[0].x;
     s.original = uploadTexture(gl, t.width, t.height, orig, true, &t.source);
-    s.unoccluded = uploadTexture(gl, t.width, t.height, fin, true);
+    s.unoccluded = uploadTexture(gl, t.width, t.height, fin, true, &t.source);
     s.origin = glm::vec2(t.origin);
     s.texel = float(t.texel);
     s.size = glm::vec2(std::max(1, t.width), std::max(1, t.height));
