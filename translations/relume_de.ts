@@ -451,6 +451,10 @@
         <source>Recovered the autosaved edits of %1: save them to keep them.</source>
         <translation>Automatisch gespeicherte Änderungen an %1 wiederhergestellt: Speichern Sie sie, um sie zu behalten.</translation>
     </message>
+    <message>
+        <source>Cannot move the autosave %1 to %2</source>
+        <translation>Die automatische Sicherung %1 kann nicht nach %2 verschoben werden</translation>
+    </message>
 </context>
 <context>
     <name>relume::ObjectsPanel</name>

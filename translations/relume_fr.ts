@@ -451,6 +451,10 @@
         <source>Recovered the autosaved edits of %1: save them to keep them.</source>
         <translation>Modifications de %1 récupérées : enregistrez-les pour les conserver.</translation>
     </message>
+    <message>
+        <source>Cannot move the autosave %1 to %2</source>
+        <translation>Impossible de déplacer l&apos;enregistrement automatique %1 vers %2</translation>
+    </message>
 </context>
 <context>
     <name>relume::ObjectsPanel</name>

@@ -98,13 +98,24 @@ class VirtualCommand : public QUndoCommand {
       skip_ = false;
       return;
     }
-    doRedo();
+    guarded([this] { doRedo(); });
   }
-  void undo() final { doUndo(); }
+  void undo() final { guarded([this] { doUndo(); }); }
 
  protected:
   virtual void doRedo() = 0;
   virtual void doUndo() = 0;
+  // The library may refuse (an object that would now cut the room): the step is dropped and the
+  // user told, never an exception through the event loop.
+  template <class F>
+  void guarded(F&& f) {
+    try {
+      f();
+    } catch (const std::exception& e) {
+      setObsolete(true);
+      emit doc_->editFailed(QString::fromStdString(e.what()));
+    }
+  }
   bool sameGesture(const VirtualCommand* o) const { return gesture_ != 0 && o->gesture_ == gesture_ && o->name_ == name_; }
   Document* doc_;
   std::string name_;
@@ -205,10 +216,9 @@ class MoveObjectCommand : public VirtualCommand {
   }
 
  protected:
-  // Turned about its centre, then moved: for the boxes the panel makes (symmetric about their
-  // centre) the inverse is moving back and turning back.
   void doRedo() override { doc_->applyMoveObject(name_, offset_, turn_); }
-  void doUndo() override { doc_->applyMoveObject(name_, -offset_, -turn_); }
+  // The pivot has moved by offset_: turning back about it, then moving back, is the exact inverse.
+  void doUndo() override { doc_->applyUnmoveObject(name_, offset_, turn_); }
 
  private:
   glm::dvec3 offset_;
@@ -308,6 +318,9 @@ std::unique_ptr<LoadedRoom> loadRoomForWorkbench(const QString& path, Progress& 
 
 Document::Document(QObject* parent) : QObject(parent) {
   connect(&undo_, &QUndoStack::cleanChanged, this, [this](bool) { emit dirtyChanged(isDirty()); });
+  for (auto signal : {&Document::lightingChanged, &Document::meshChanged, &Document::virtualsChanged,
+                      &Document::referencesChanged, &Document::relightingReplaced, &Document::opened})
+    connect(this, signal, this, [this] { ++changes_; });
 }
 
 Document::~Document() = default;
@@ -321,6 +334,7 @@ void Document::adopt(std::unique_ptr<LoadedRoom> room) {
   sourcePath_ = room->sourcePath;
   view_ = room->state["view"].toObject();
   objectTurn_.clear();
+  objectPivot_.clear();
   overrides_ = data_.referenceOverride;
   if (room->state.contains("reference_overrides")) {
     overrides_.clear();
@@ -356,6 +370,7 @@ void Document::close() {
   sourcePath_.clear();
   lampScale_.clear();
   objectTurn_.clear();
+  objectPivot_.clear();
   overrides_.clear();
   lampMount_.clear();
   view_ = {};
@@ -496,7 +511,7 @@ double Document::lampDrop(const std::string& name) const {
 bool Document::trySetLampDrop(const std::string& name, double metres, QString* error) {
   const int i = virtualLampIndex(name);
   if (i < 0) return false;
-  const VirtualLamp& before = session_->virtualLamp(i);
+  const VirtualLamp before = session_->virtualLamp(i);  // a copy: the replacement reuses its slot
   const Mount m = mountOf(before);
   lampMount_[name] = m;
   // A new place, not a drag: the lamp goes in afresh, so its links are refined where it now is.
@@ -530,6 +545,8 @@ void Document::timed(const std::function<void()>& f) {
 bool Document::tryAddVirtualLamp(const VirtualLamp& lamp, QString* error) {
   if (!session_) return false;
   if (!attempt([&] { applyAddVirtualLamp(lamp); }, error)) return false;
+  lampMount_.erase(lamp.name);  // a deleted lamp's name may come back: not its mount
+  lampMount_[lamp.name] = mountOf(lamp);
   undo_.push(new AddLampCommand(this, lamp, true));
   return true;
 }
@@ -550,7 +567,7 @@ bool Document::tryMoveVirtualLamp(const std::string& name, const glm::dvec3& off
 void Document::editVirtualLamp(const std::string& name, const glm::dvec3& radiance, double size, int gesture) {
   const int i = virtualLampIndex(name);
   if (i < 0) return;
-  const VirtualLamp& before = session_->virtualLamp(i);
+  const VirtualLamp before = session_->virtualLamp(i);
   const double oldSize = glm::length(before.polygon[1] - before.polygon[0]);
   VirtualLamp after = before;
   after.radiance = radiance;
@@ -628,6 +645,18 @@ void Document::applyVirtualLamp(const std::string& name, const VirtualLamp& lamp
 void Document::applyAddObject(const VirtualObject& object, double turnDegrees) {
   timed([&] { session_->addObject(object); });
   objectTurn_[object.name] = turnDegrees;
+  objectPivot_[object.name] = objectCentre(object);
+  emit meshChanged();
+  emit virtualsChanged();
+}
+
+void Document::applyUnmoveObject(const std::string& name, const glm::dvec3& offset, double turnDegrees) {
+  const int i = objectIndex(name);
+  if (i < 0) return;
+  const glm::dvec3 pivot = objectPivot(name);  // = the pivot before the move + offset
+  timed([&] { lastLinks_ = session_->moveObjectAbout(i, -offset, -turnDegrees * std::numbers::pi / 180.0, pivot); });
+  objectPivot_[name] = pivot - offset;
+  objectTurn_[name] = objectTurn(name) - turnDegrees;
   emit meshChanged();
   emit virtualsChanged();
 }
@@ -637,14 +666,26 @@ void Document::applyRemoveObject(const std::string& name) {
   if (i < 0) return;
   timed([&] { session_->removeObject(i); });
   objectTurn_.erase(name);
+  objectPivot_.erase(name);
   emit meshChanged();
   emit virtualsChanged();
+}
+
+glm::dvec3 Document::objectPivot(const std::string& name) const {
+  const auto it = objectPivot_.find(name);
+  if (it != objectPivot_.end()) return it->second;
+  const int i = objectIndex(name);
+  return i < 0 ? glm::dvec3(0.0) : objectCentre(session_->object(i));
 }
 
 void Document::applyMoveObject(const std::string& name, const glm::dvec3& offset, double turnDegrees) {
   const int i = objectIndex(name);
   if (i < 0) return;
-  timed([&] { lastLinks_ = session_->moveObject(i, offset, turnDegrees * std::numbers::pi / 180.0); });
+  // Turned about its pivot, then moved; the pivot follows. Undo (-offset, -turn) about the moved
+  // pivot gives back exactly the place before, whatever the shape.
+  const glm::dvec3 pivot = objectPivot(name);
+  timed([&] { lastLinks_ = session_->moveObjectAbout(i, offset, turnDegrees * std::numbers::pi / 180.0, pivot); });
+  objectPivot_[name] = pivot + offset;
   objectTurn_[name] = objectTurn(name) + turnDegrees;
   emit meshChanged();
   emit virtualsChanged();
@@ -702,6 +743,7 @@ std::function<std::function<void()>(Progress&)> Document::recomputeReferencesWor
       // The same room and edits; new textures, references and session. The undo stack stays.
       data_ = std::move(*data);
       session_ = std::move(*session);
+      unsavedNew_ = true;  // the recomputed textures are not on disk yet
       emit relightingReplaced();
       emit referencesChanged();
       emit dirtyChanged(isDirty());

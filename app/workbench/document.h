@@ -96,6 +96,7 @@ class Document : public QObject {
   void applyAddObject(const VirtualObject& object, double turnDegrees);
   void applyRemoveObject(const std::string& name);
   void applyMoveObject(const std::string& name, const glm::dvec3& offset, double turnDegrees);
+  void applyUnmoveObject(const std::string& name, const glm::dvec3& offset, double turnDegrees);
 
   // --- reference patches (Loscos 2000 §4.3): the user's choice per polygon, plane uv ---
   const std::map<std::string, glm::dvec2>& referenceOverrides() const { return overrides_; }
@@ -124,6 +125,8 @@ class Document : public QObject {
 
   double lastUpdateMilliseconds() const { return lastUpdateMs_; }
   size_t lastLinksUpdated() const { return lastLinks_; }  // by the last object or lamp move
+  // Counts every change to what the document holds (for autosave: "anything new since?").
+  quint64 changeCount() const { return changes_; }
 
  signals:
   void opened();
@@ -134,6 +137,7 @@ class Document : public QObject {
   void referencesChanged();  // an override set or cleared, or recomputed
   void relightingReplaced();  // new relighting data and session (textures changed)
   void dirtyChanged(bool dirty);
+  void editFailed(const QString& message);  // an undo / redo the library refused (the step is dropped)
 
  private:
   Scene scene_;
@@ -153,6 +157,11 @@ class Document : public QObject {
   bool unsavedNew_ = false;
   double lastUpdateMs_ = 0;
   size_t lastLinks_ = 0;
+  quint64 changes_ = 0;
+  std::map<std::string, glm::dvec3> objectPivot_;  // what each object turns about (follows its moves)
+ public:
+  glm::dvec3 objectPivot(const std::string& name) const;
+ private:
   void timed(const std::function<void()>& f);
 };
 

@@ -68,6 +68,7 @@ std::string EditTool::objectAt(const ViewportPick& pick) const {
 }
 
 Qt::CursorShape EditTool::hoverCursor(const ViewportPick& pick) const {
+  if (!enabled_) return Qt::BusyCursor;
   if (mode_ != Mode::Select) return pick.hit() ? Qt::CrossCursor : Qt::ForbiddenCursor;
   if (!virtualLampAt(pick).empty() || !objectAt(pick).empty()) return Qt::OpenHandCursor;
   return Qt::ArrowCursor;
@@ -76,7 +77,7 @@ Qt::CursorShape EditTool::hoverCursor(const ViewportPick& pick) const {
 bool EditTool::press(const ViewportPick& pick, Qt::KeyboardModifiers) {
   dragLamp_.clear();
   dragObject_.clear();
-  if (!doc_->isOpen()) return false;
+  if (!doc_->isOpen() || !enabled_) return false;
   if (mode_ == Mode::PlaceLamp) {
     if (!pick.hit()) {
       emit message(tr("No surface there: click on the room."));

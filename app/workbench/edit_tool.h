@@ -23,6 +23,7 @@ class EditTool : public QObject, public ViewportGestures {
   explicit EditTool(Document* doc, QObject* parent = nullptr);
 
   void setMode(Mode m);
+  void setEnabled(bool on) { enabled_ = on; }  // off while a job runs
   Mode mode() const { return mode_; }
   // The box the next "place" click makes (metres; albedo in (0, 1]).
   void setBoxTemplate(const glm::dvec3& size, const glm::dvec3& albedo);
@@ -50,6 +51,7 @@ class EditTool : public QObject, public ViewportGestures {
  private:
   Document* doc_;
   Mode mode_ = Mode::Select;
+  bool enabled_ = true;
   glm::dvec3 boxSize_{0.4, 0.4, 0.4}, boxAlbedo_{0.6, 0.6, 0.6};
   std::string referencePolygon_;
   QString meshStem_;

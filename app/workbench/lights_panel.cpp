@@ -76,10 +76,14 @@ QCheckBox* LightsPanel::toggle(int lamp) const { return lamps_.at(size_t(lamp)).
 
 void LightsPanel::rebuild() {
   while (QLayoutItem* item = rows_->takeAt(0)) {
-    delete item->widget();
+    if (QWidget* w = item->widget()) {  // a button of it may be emitting right now
+      w->hide();
+      w->deleteLater();
+    }
     delete item;
   }
   lamps_.clear();
+  lastOn_.assign(doc_->isOpen() ? doc_->scene().lamps.size() : 0, glm::dvec3(1.0));
   rebuildVirtuals();
   if (!doc_->isOpen()) {
     summary_->setText(tr("No room open."));
@@ -142,10 +146,11 @@ void LightsPanel::rebuild() {
     });
     connect(r.on, &QCheckBox::toggled, this, [this, lamp](bool on) {
       if (updating_) return;
+      // Back on as it was before it went off (intensity and colour), not white at 100 %.
       double i;
       QColor c;
-      split(doc_->lampScale(lamp), i, c);
-      commit(lamp, on ? 1.0 : 0.0, c, 0);
+      split(lastOn_.at(size_t(lamp)), i, c);
+      commit(lamp, on ? i : 0.0, c, 0);
     });
     connect(r.colour, &QPushButton::clicked, this, [this, lamp] {
       double i;
@@ -189,7 +194,10 @@ double lampSize(const VirtualLamp& l) { return glm::length(l.polygon[1] - l.poly
 
 void LightsPanel::rebuildVirtuals() {
   while (QLayoutItem* item = virtualRows_->takeAt(0)) {
-    delete item->widget();
+    if (QWidget* w = item->widget()) {  // its Delete button may be emitting right now
+      w->hide();
+      w->deleteLater();
+    }
     delete item;
   }
   virtuals_.clear();
@@ -310,6 +318,7 @@ void LightsPanel::refresh() {
     split(doc_->lampScale(int(l)), i, c);
     auto& r = lamps_[l];
     r.on->setChecked(i > 0);
+    if (i > 0) lastOn_[l] = doc_->lampScale(int(l));
     if (!r.slider->isSliderDown()) r.slider->setValue(positionOf(i));
     r.value->setText(QString("%1 %").arg(std::lround(100 * i)));
     r.colour->setStyleSheet(swatchStyle(c));

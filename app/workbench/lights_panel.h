@@ -4,6 +4,7 @@
 #include <QWidget>
 #include <string>
 #include <vector>
+#include <glm/vec3.hpp>
 
 class QCheckBox;
 class QSlider;
@@ -68,6 +69,7 @@ class LightsPanel : public QWidget {
   QVBoxLayout* rows_;
   QLabel* summary_;
   std::vector<Row> lamps_;
+  std::vector<glm::dvec3> lastOn_;  // per lamp its last scale while on
   int gesture_ = 1;
   bool updating_ = false;
 };

@@ -85,6 +85,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   connect(lights_, &LightsPanel::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
   connect(objects_, &ObjectsPanel::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
   connect(tool_, &EditTool::selected, this, [this](const QString& n) { selected_ = n; });
+  connect(doc_, &Document::editFailed, this, [this](const QString& m) { showError(tr("Relume"), m); });
 
   // Status bar: what the viewport shows; the running job with its progress and Cancel.
   statusView_ = new QLabel(this);
@@ -107,9 +108,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     jobLabel_->show();
     jobProgress_->show();
     jobCancel_->show();
-    lights_->setEnabled(false);
-    objects_->setEnabled(false);
-    references_->setEnabled(false);
+    setEditing(false);
   });
   connect(jobs_, &JobRunner::progressed, this, [this](double f, const QString& text) {
     jobProgress_->setValue(int(1000 * f));
@@ -120,15 +119,14 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     jobLabel_->hide();
     jobProgress_->hide();
     jobCancel_->hide();
-    lights_->setEnabled(true);
-    objects_->setEnabled(true);
-    references_->setEnabled(true);
+    setEditing(true);
     if (ok) return;
     if (cancelled) statusBar()->showMessage(message, 5000);
     else showError(tr("Relume"), message);
   });
 
   connect(doc_, &Document::opened, this, [this] {
+    if (!lingering_.isEmpty() || QSettings().value("autosave/folder").toString() == autosaveFolder()) discardAutosave();
     viewport_->setRoom(&doc_->scene(), &doc_->data(), doc_->session());
     restoreView();
     updateTitle();
@@ -167,6 +165,17 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   updateTitle();
 }
 
+// While a job runs, nothing edits the document (its result replaces or saves what it was given).
+void MainWindow::setEditing(bool on) {
+  for (QWidget* w : {static_cast<QWidget*>(lights_), static_cast<QWidget*>(objects_), static_cast<QWidget*>(references_)})
+    w->setEnabled(on);
+  tool_->setEnabled(on);
+  if (!on) tool_->setMode(EditTool::Mode::Select);
+  undoAction_->setEnabled(on && doc_->undoStack()->canUndo());
+  redoAction_->setEnabled(on && doc_->undoStack()->canRedo());
+  for (QAction* a : lightingMenu_->actions()) a->setEnabled(on);
+}
+
 MainWindow::~MainWindow() {
   jobs_->cancel();
   autosaveJobs_->waitForIdle();
@@ -183,17 +192,17 @@ bool MainWindow::autosaveRunning() const { return autosaveJobs_->busy(); }
 
 bool MainWindow::autosaveNow() {
   if (!doc_->isOpen() || !doc_->isDirty() || jobs_->busy() || autosaveJobs_->busy()) return false;
-  if (doc_->undoStack()->index() == autosavedIndex_) return false;
+  if (doc_->changeCount() == autosavedChanges_) return false;
   storeView();
   const QString folder = autosaveFolder();
   QDir().mkpath(QFileInfo(folder).absolutePath());
   auto work = doc_->saveWork(folder);
-  const int index = doc_->undoStack()->index();
+  const quint64 index = doc_->changeCount();
   const QString source = doc_->projectPath().isEmpty() ? doc_->sourcePath() : doc_->projectPath();
   return autosaveJobs_->start(tr("Autosaving"), [this, work, folder, index, source](Progress& progress) {
     work(progress);
     return JobRunner::Continuation([this, folder, index, source] {
-      autosavedIndex_ = index;
+      autosavedChanges_ = index;
       QSettings settings;
       settings.setValue("autosave/folder", folder);
       settings.setValue("autosave/source", source);
@@ -205,13 +214,24 @@ bool MainWindow::autosaveNow() {
 
 void MainWindow::discardAutosave() {
   autosaveJobs_->waitForIdle();
-  autosavedIndex_ = -1;
+  autosavedChanges_ = ~quint64(0);
   QSettings settings;
-  const QString folder = settings.value("autosave/folder").toString();
-  if (!folder.isEmpty() && folder == autosaveFolder()) {
-    QDir(folder).removeRecursively();
-    settings.remove("autosave");
-  }
+  const QString own = autosaveFolder();
+  if (settings.value("autosave/folder").toString() == own) settings.remove("autosave");
+  // A recovered document reads its photos from its autosave folder: that stays until the
+  // document is replaced or Relume exits.
+  const bool inUse = doc_->isOpen() && QDir::cleanPath(QString::fromStdString(doc_->scene().baseDir)).startsWith(QDir::cleanPath(own));
+  if (!lingering_.isEmpty() && lingering_ != own) QDir(lingering_).removeRecursively();
+  lingering_.clear();
+  if (inUse) lingering_ = own;
+  else QDir(own).removeRecursively();
+}
+
+void MainWindow::closeEvent_discard() {
+  autosaveJobs_->waitForIdle();
+  QSettings settings;
+  if (settings.value("autosave/folder").toString() == autosaveFolder()) settings.remove("autosave");
+  QDir(autosaveFolder()).removeRecursively();
 }
 
 bool MainWindow::recoverAutosave(bool acceptWhenQuiet) {
@@ -230,19 +250,32 @@ bool MainWindow::recoverAutosave(bool acceptWhenQuiet) {
                                    tr("Relume did not close properly. Recover the edits to %1 autosaved at %2?")
                                        .arg(source, QLocale().toString(when, QLocale::ShortFormat)),
                                    QMessageBox::Yes | QMessageBox::No, QMessageBox::Yes) == QMessageBox::Yes;
-  settings.remove("autosave");
   if (!accept) {
+    settings.remove("autosave");
     QDir(folder).removeRecursively();
     return false;
   }
-  const QString abs = QFileInfo(folder).absoluteFilePath();
-  return jobs_->start(tr("Recovering %1").arg(QFileInfo(source).fileName()), [this, abs, source](Progress& progress) {
-    std::shared_ptr<LoadedRoom> room = loadRoomForWorkbench(abs, progress);
-    return JobRunner::Continuation([this, room, abs, source]() mutable {
+  // It becomes this process's autosave (the document will read its photos from there), so that a
+  // second crash before a save still finds it; the entry is kept until the recovery succeeded.
+  const QString own = autosaveFolder();
+  QDir(own).removeRecursively();
+  QDir().mkpath(QFileInfo(own).absolutePath());
+  if (!QDir().rename(folder, own)) {
+    showError(tr("Relume"), tr("Cannot move the autosave %1 to %2").arg(folder, own));
+    return false;
+  }
+  settings.setValue("autosave/folder", own);
+  return jobs_->start(tr("Recovering %1").arg(QFileInfo(source).fileName()), [this, own, source](Progress& progress) {
+    std::shared_ptr<LoadedRoom> room = loadRoomForWorkbench(own, progress);
+    return JobRunner::Continuation([this, room, own, source]() mutable {
       doc_->adopt(std::make_unique<LoadedRoom>(std::move(*room)));
       // Unsaved again, pointing back at the user's project (never at the side folder).
       doc_->markRecovered(QFileInfo(source + "/project.json").exists() ? source : QString(), source);
-      QDir(abs).removeRecursively();
+      lingering_ = own;
+      QSettings settings;  // still recoverable until it is saved
+      settings.setValue("autosave/folder", own);
+      settings.setValue("autosave/source", source);
+      settings.setValue("autosave/time", QDateTime::currentDateTime());
       statusBar()->showMessage(tr("Recovered the autosaved edits of %1: save them to keep them.").arg(source), 10000);
     });
   });
@@ -282,9 +315,9 @@ void MainWindow::buildMenus() {
   quit->setShortcut(QKeySequence::Quit);
 
   QMenu* edit = menuBar()->addMenu(tr("&Edit"));
-  QAction* undo = doc_->undoStack()->createUndoAction(this, tr("&Undo"));
+  QAction* undo = undoAction_ = doc_->undoStack()->createUndoAction(this, tr("&Undo"));
   undo->setShortcut(QKeySequence::Undo);
-  QAction* redo = doc_->undoStack()->createRedoAction(this, tr("&Redo"));
+  QAction* redo = redoAction_ = doc_->undoStack()->createRedoAction(this, tr("&Redo"));
   redo->setShortcuts({QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z), QKeySequence::Redo});
   edit->addAction(undo);
   edit->addAction(redo);
@@ -368,7 +401,7 @@ void MainWindow::buildMenus() {
   view->addSeparator();
   for (QDockWidget* d : findChildren<QDockWidget*>()) view->addAction(d->toggleViewAction());
 
-  QMenu* lighting = menuBar()->addMenu(tr("&Lighting"));
+  QMenu* lighting = lightingMenu_ = menuBar()->addMenu(tr("&Lighting"));
   lighting->addAction(tr("&All lamps as photographed"), this, [this] {
     if (!doc_->isOpen()) return;
     doc_->undoStack()->beginMacro(tr("all lamps as photographed"));
@@ -467,7 +500,7 @@ void MainWindow::closeEvent(QCloseEvent* e) {
   QSettings settings;
   settings.setValue("window/geometry", saveGeometry());
   settings.setValue("window/state", saveState());
-  discardAutosave();  // a clean exit leaves nothing to recover
+  closeEvent_discard();  // a clean exit leaves nothing to recover
   e->accept();
 }
 

@@ -69,6 +69,7 @@ class MainWindow : public QMainWindow {
   void storeView();
   void restoreView();
   void discardAutosave();
+  void closeEvent_discard();
 
   Document* doc_;
   JobRunner* jobs_;
@@ -88,7 +89,11 @@ class MainWindow : public QMainWindow {
   bool interactive_ = true;
   class QTimer* autosaveTimer_;
   JobRunner* autosaveJobs_;
-  int autosavedIndex_ = -1;  // undo index at the last autosave
+  quint64 autosavedChanges_ = ~quint64(0);  // the document's change count at the last autosave
+  QString lingering_;  // an autosave folder the open document still reads its photos from
+  QMenu* lightingMenu_ = nullptr;
+  QAction *undoAction_ = nullptr, *redoAction_ = nullptr;
+  void setEditing(bool on);
 };
 
 }  // namespace relume

@@ -128,7 +128,10 @@ void ObjectsPanel::sync() {
 }
 
 void ObjectsPanel::rebuild() {
-  for (auto& r : rows_) delete r.turn->parentWidget();
+  for (auto& r : rows_) {  // its Delete button may be emitting right now
+    r.turn->parentWidget()->hide();
+    r.turn->parentWidget()->deleteLater();
+  }
   rows_.clear();
   for (size_t i = 0; i < doc_->objectCount(); ++i) {
     const VirtualObject& o = doc_->session()->object(int(i));
@@ -145,6 +148,7 @@ void ObjectsPanel::rebuild() {
     r.turn->setRange(-180, 180);
     r.turn->setSingleStep(15);
     r.turn->setWrapping(true);
+    r.turn->setKeyboardTracking(false);  // a typed angle turns once, when it is complete
     r.turn->setSuffix(tr("°"));
     r.turn->setToolTip(tr("Turn about the vertical"));
     r.remove = new QPushButton(tr("Delete"), row);

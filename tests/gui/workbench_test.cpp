@@ -478,15 +478,15 @@ class WorkbenchTest : public QObject {
     window_->findChild<QDockWidget*>("LightsDock")->raise();
   }
 
-  // An OBJ mesh (a pyramid) placed on the floor by a click: it stands there, faces as triangles.
+  // An OBJ mesh (a tetrahedron) placed on the floor by a click: it stands there; turns undo exactly.
   void objMeshPlaced() {
-    const QString obj = tmp_.path() + "/pyramid.obj";
+    const QString obj = tmp_.path() + "/tetrahedron.obj";
     {
       QFile f(obj);
       QVERIFY(f.open(QIODevice::WriteOnly | QIODevice::Text));
-      f.write("# a 0.4 m square pyramid, 0.5 m high, +Z up\n"
-              "v -0.2 -0.2 0\nv 0.2 -0.2 0\nv 0.2 0.2 0\nv -0.2 0.2 0\nv 0 0 0.5\n"
-              "f 4 3 2 1\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n");
+      f.write("# a lopsided tetrahedron, 0.4 m high, +Z up (not symmetric about its centre)\n"
+              "v -0.2 -0.2 0\nv 0.3 -0.2 0\nv -0.2 0.1 0\nv -0.1 -0.1 0.4\n"
+              "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n");
     }
     auto* vp = window_->viewport();
     vp->lockToPhoto();
@@ -499,21 +499,35 @@ class WorkbenchTest : public QObject {
     QTest::mouseClick(vp, Qt::LeftButton, {}, pos.toPoint());
     QCOMPARE(doc()->objectCount(), before + 1);
     const VirtualObject& o = doc()->session()->object(int(before));
-    QCOMPARE(o.name, std::string("pyramid 1"));
-    QCOMPARE(o.polygons.size(), size_t(6));  // the square base in two triangles, four sides
+    QCOMPARE(o.name, std::string("tetrahedron 1"));
+    QCOMPARE(o.polygons.size(), size_t(4));
     glm::dvec3 lo(1e300), hi(-1e300);
     for (const auto& p : o.polygons)
       for (const auto& v : p) {
         lo = glm::min(lo, v);
         hi = glm::max(hi, v);
       }
-    qInfo("pyramid placed: footprint centre %.3f %.3f, from z %.3f to %.3f, add took %.0f ms", 0.5 * (lo.x + hi.x),
+    qInfo("tetrahedron placed: footprint centre %.3f %.3f, from z %.3f to %.3f, add took %.0f ms", 0.5 * (lo.x + hi.x),
           0.5 * (lo.y + hi.y), lo.z, hi.z, doc()->lastUpdateMilliseconds());
     QVERIFY(glm::length(glm::dvec2(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y)) - glm::dvec2(spot)) < 0.01);
-    QVERIFY(std::abs(lo.z - 0.002) < 1e-6 && std::abs(hi.z - 0.502) < 1e-6);
+    QVERIFY(std::abs(lo.z - 0.002) < 1e-6 && std::abs(hi.z - 0.402) < 1e-6);
     // A file that is not a mesh says so and arms nothing.
     QVERIFY(!window_->objectsPanel()->placeObj(tmp_.path() + "/missing.obj"));
     QCOMPARE(window_->editTool()->mode(), EditTool::Mode::Select);
+    // Turned by 37 degrees and back by undo: exactly where it was, though its shape is not
+    // symmetric about its centre (it turns about a pivot that follows its moves).
+    const auto placed = doc()->session()->object(int(before)).polygons;
+    QString error;
+    QVERIFY2(doc()->tryMoveObject(o.name, glm::dvec3(0.0), 37.0, 0, &error), qPrintable(error));
+    QVERIFY2(doc()->tryMoveObject(o.name, glm::dvec3(0.1, 0.05, 0.0), 0.0, 0, &error), qPrintable(error));
+    QVERIFY2(doc()->tryMoveObject(o.name, glm::dvec3(0.0), -61.0, 0, &error), qPrintable(error));
+    for (int k = 0; k < 3; ++k) doc()->undoStack()->undo();
+    double worst = 0;
+    const auto back = doc()->session()->object(int(before)).polygons;
+    for (size_t f = 0; f < back.size(); ++f)
+      for (size_t v = 0; v < back[f].size(); ++v) worst = std::max(worst, glm::length(back[f][v] - placed[f][v]));
+    qInfo("turned, moved, turned, all undone: %.2g m from where it was", worst);
+    QVERIFY(worst < 1e-9);
     doc()->undoStack()->undo();
     QCOMPARE(doc()->objectCount(), before);
   }
@@ -676,9 +690,23 @@ class WorkbenchTest : public QObject {
     QVERIFY(next.document()->isDirty());
     QCOMPARE(next.document()->projectPath(), project);
     QVERIFY(!QFile::exists(dead));
+    // Until it is saved, a second crash would still find it (as this process's own autosave).
+    settings.sync();
+    QCOMPARE(settings.value("autosave/folder").toString(), MainWindow::autosaveFolder());
+    QVERIFY(!next.recoverAutosave(true));  // never this process's own
+    // Saved to the user's project: nothing is left to recover, and saving again still works
+    // (the recovered document reads its photos from the autosave folder, which stays meanwhile).
+    QVERIFY(next.saveTo(project));
+    t.restart();
+    while (next.jobs()->busy() && t.elapsed() < 120000) QTest::qWait(20);
+    QVERIFY2(!next.document()->isDirty(), qPrintable(next.lastError()));
     settings.sync();
     QVERIFY(settings.value("autosave/folder").toString().isEmpty());
-    QVERIFY(!next.recoverAutosave(true));  // nothing left to recover
+    next.document()->editLampScale(b, glm::dvec3(0.7));
+    QVERIFY(next.saveTo(project));
+    t.restart();
+    while (next.jobs()->busy() && t.elapsed() < 120000) QTest::qWait(20);
+    QVERIFY2(!next.document()->isDirty(), qPrintable(next.lastError()));
     doc()->undoStack()->undo();
     QCOMPARE(doc()->lampScale(b), glm::dvec3(1.0));
   }

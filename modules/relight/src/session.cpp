@@ -479,9 +479,13 @@ size_t RelightSession::moveObject(int object, const glm::dvec3& offset, Progress
 }
 
 size_t RelightSession::moveObject(int object, const glm::dvec3& offset, double turnRadians, Progress& progress) {
+  return moveObjectAbout(object, offset, turnRadians, objectCentre(impl_->objects.at(size_t(object))), progress);
+}
+
+size_t RelightSession::moveObjectAbout(int object, const glm::dvec3& offset, double turnRadians, const glm::dvec3& pivot,
+                                       Progress& progress) {
   auto& im = *impl_;
   VirtualObject moved = im.objects.at(size_t(object));
-  const glm::dvec3 pivot = objectCentre(moved);
   const double c = std::cos(turnRadians), sn = std::sin(turnRadians);
   const glm::dmat3 rot(glm::dvec3(c, sn, 0), glm::dvec3(-sn, c, 0), glm::dvec3(0, 0, 1));  // about +z
   for (auto& p : moved.polygons)

@@ -149,6 +149,10 @@ class RelightSession {
   // the new place intersects the room. Returns the links updated.
   size_t moveObject(int object, const glm::dvec3& offset, Progress& progress = silentProgress());
   size_t moveObject(int object, const glm::dvec3& offset, double turnRadians, Progress& progress = silentProgress());
+  // The same, turned about `pivot` (then moved by `offset`): with a pivot that follows the
+  // offsets, a turn is undone exactly by its opposite whatever the object's shape.
+  size_t moveObjectAbout(int object, const glm::dvec3& offset, double turnRadians, const glm::dvec3& pivot,
+                         Progress& progress = silentProgress());
   void removeObject(int object, Progress& progress = silentProgress());
   size_t objectCount() const;
   const VirtualObject& object(int object) const;  // where it is now
