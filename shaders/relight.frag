@@ -13,7 +13,7 @@ uniform vec2 texOrigin;         // uv of texel (0, 0)'s corner
 uniform float texelSize;        // metres per texel
 uniform vec2 texSize;           // texels
 uniform int kind;               // 0 textured, 1 window, 2 virtual (radiance B / pi)
-uniform int mode;               // 0 relit, 1 ratio-only, 2 photo, 3 unoccluded, 4 B, 5 D, 6 leaves
+uniform int mode;               // 0 relit, 1 ratio-only, 2 photo, 3 unoccluded, 4 B, 5 D, 6 leaves, 7 references
 uniform vec3 normal;
 uniform vec3 eye;
 uniform int checkerUnseen;
@@ -69,6 +69,11 @@ void main() {
     vec2 w = fwidth(vUV) * 1.5;
     bool border = vUV.x - r.x < w.x || r.z - vUV.x < w.x || vUV.y - r.y < w.y || r.w - vUV.y < w.y;
     if (border) result = mix(result, vec3(0.9, 0.15, 0.1) * max(1.0, dot(result, vec3(0.333))), 0.8);
+  }
+  if (mode == 7) {  // §4.3: occluded elements blue, the frontier they take references from yellow
+    float category = texelFetch(corners, vLeaf * 12 + 4).a;
+    vec3 tint = category > 2.5 ? vec3(1.0, 0.85, 0.1) : (category > 1.5 ? vec3(0.15, 0.35, 1.0) : vec3(0.0));
+    if (category > 1.5) result = mix(result, tint * max(0.25, dot(result, vec3(0.333))), 0.6);
   }
   colour = vec4(result, 1.0);
 }

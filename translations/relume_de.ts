@@ -455,6 +455,10 @@
         <source>Cannot move the autosave %1 to %2</source>
         <translation>Die automatische Sicherung %1 kann nicht nach %2 verschoben werden</translation>
     </message>
+    <message>
+        <source>Occluded and &amp;frontier elements (§4.3)</source>
+        <translation>Verdeckte und &amp;Grenzelemente (§4.3)</translation>
+    </message>
 </context>
 <context>
     <name>relume::ObjectsPanel</name>
@@ -596,6 +600,14 @@
     <message>
         <source>Recompute (changes pending)</source>
         <translation>Neu berechnen (Änderungen ausstehend)</translation>
+    </message>
+    <message>
+        <source>Show occluded and frontier elements</source>
+        <translation>Verdeckte und Grenzelemente zeigen</translation>
+    </message>
+    <message>
+        <source>In the view: occluded elements in blue, the unshadowed frontier they take their colour from in yellow</source>
+        <translation>In der Ansicht: verdeckte Elemente blau, die unverschattete Grenze, deren Farbe sie übernehmen, gelb</translation>
     </message>
 </context>
 <context>

@@ -455,6 +455,10 @@
         <source>Cannot move the autosave %1 to %2</source>
         <translation>Impossible de déplacer l&apos;enregistrement automatique %1 vers %2</translation>
     </message>
+    <message>
+        <source>Occluded and &amp;frontier elements (§4.3)</source>
+        <translation>Éléments occultés et &amp;frontière (§4.3)</translation>
+    </message>
 </context>
 <context>
     <name>relume::ObjectsPanel</name>
@@ -596,6 +600,14 @@
     <message>
         <source>Recompute (changes pending)</source>
         <translation>Recalculer (modifications en attente)</translation>
+    </message>
+    <message>
+        <source>Show occluded and frontier elements</source>
+        <translation>Montrer les éléments occultés et la frontière</translation>
+    </message>
+    <message>
+        <source>In the view: occluded elements in blue, the unshadowed frontier they take their colour from in yellow</source>
+        <translation>Dans la vue : les éléments occultés en bleu, la frontière non ombrée dont ils prennent la couleur en jaune</translation>
     </message>
 </context>
 <context>

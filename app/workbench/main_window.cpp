@@ -16,6 +16,7 @@
 #include <QPushButton>
 #include <QScrollArea>
 #include <QSettings>
+#include <QSignalBlocker>
 #include <QDateTime>
 #include <QDir>
 #include <QLocale>
@@ -47,7 +48,7 @@ struct ModeName {
 constexpr ModeName kModes[] = {{ViewMode::Relit, "relit"},           {ViewMode::RatioOnly, "ratio-only"},
                                {ViewMode::Photo, "photo"},           {ViewMode::Unoccluded, "unoccluded"},
                                {ViewMode::Radiosity, "radiosity"},   {ViewMode::DisplayFactor, "display-factor"},
-                               {ViewMode::Leaves, "leaves"}};
+                               {ViewMode::Leaves, "leaves"},         {ViewMode::References, "references"}};
 }  // namespace
 
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
@@ -80,6 +81,10 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   referencesDock->setWidget(references_);
   addDockWidget(Qt::RightDockWidgetArea, referencesDock);
   tabifyDockWidget(objectsDock, referencesDock);
+  connect(references_, &ReferencesPanel::showElements, this, [this](bool on) {
+    for (QAction* a : modes_->actions())
+      if (a->data().toString() == (on ? "references" : "relit")) a->trigger();
+  });
   lightsDock->raise();
   connect(tool_, &EditTool::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
   connect(lights_, &LightsPanel::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
@@ -344,7 +349,8 @@ void MainWindow::buildMenus() {
   const QString labels[] = {tr("&Relit (texture × B / D)"), tr("Relit, r&atio only (texture × B / B_orig)"),
                             tr("Original &photo"),           tr("&Unoccluded textures (shadows removed)"),
                             tr("Radiosity &B"),              tr("Display factor &D"),
-                            tr("&Leaf outlines")};
+                            tr("&Leaf outlines"),
+                            tr("Occluded and &frontier elements (§4.3)")};
   int k = 0;
   for (const auto& m : kModes) {
     QAction* a = view->addAction(labels[k]);
@@ -356,6 +362,8 @@ void MainWindow::buildMenus() {
     const ViewMode mode = m.mode;
     connect(a, &QAction::triggered, this, [this, mode] {
       viewport_->setViewMode(mode);
+      const QSignalBlocker block(references_->showButton());
+      references_->showButton()->setChecked(mode == ViewMode::References);
       storeView();
       updateStatus();
     });

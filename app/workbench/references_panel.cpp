@@ -23,6 +23,12 @@ ReferencesPanel::ReferencesPanel(Document* doc, EditTool* tool, JobRunner* jobs,
   summary_ = new QLabel(this);
   summary_->setWordWrap(true);
   layout->addWidget(summary_);
+  show_ = new QPushButton(tr("Show occluded and frontier elements"), this);
+  show_->setCheckable(true);
+  show_->setToolTip(tr("In the view: occluded elements in blue, the unshadowed frontier they take their colour "
+                       "from in yellow"));
+  layout->addWidget(show_);
+  connect(show_, &QPushButton::toggled, this, &ReferencesPanel::showElements);
   list_ = new QTreeWidget(this);
   list_->setColumnCount(3);
   list_->setHeaderLabels({tr("Polygon"), tr("Automatic"), tr("Yours")});

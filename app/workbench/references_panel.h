@@ -24,8 +24,12 @@ class ReferencesPanel : public QWidget {
   QPushButton* pickButton() const { return pick_; }
   QPushButton* clearButton() const { return clear_; }
   QPushButton* recomputeButton() const { return recompute_; }
+  QPushButton* showButton() const { return show_; }
   // Starts the recompute job; false when nothing is pending or a job runs.
   bool recompute();
+
+ signals:
+  void showElements(bool on);  // the view shows occluded (blue) and frontier (yellow) elements
 
  private:
   void rebuild();
@@ -37,7 +41,7 @@ class ReferencesPanel : public QWidget {
   JobRunner* jobs_;
   QLabel* summary_;
   QTreeWidget* list_;
-  QPushButton *pick_, *clear_, *recompute_;
+  QPushButton *pick_, *clear_, *recompute_, *show_;
 };
 
 }  // namespace relume

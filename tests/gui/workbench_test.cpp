@@ -561,6 +561,32 @@ class WorkbenchTest : public QObject {
     QVERIFY(panel->recomputeButton()->isEnabled());
     saveShot(panel, "references_panel");
 
+    // The occluded (blue) and frontier (yellow) elements over the image, on request.
+    {
+      const ImageRGB relit = vp->renderLinear(photoCamera(), ViewMode::Relit);
+      QTest::mouseClick(panel->showButton(), Qt::LeftButton);
+      QCOMPARE(vp->viewMode(), ViewMode::References);
+      const ImageRGB shown = vp->renderLinear(photoCamera(), ViewMode::References);
+      int bluer = 0, yellower = 0, n = 0;
+      for (int y = 0; y < shown.height; ++y)
+        for (int x = 0; x < shown.width; ++x) {
+          const glm::vec3 a = relit.at(x, y), b = shown.at(x, y);
+          ++n;
+          if (b.z > 1.3f * a.z && b.x < a.x) ++bluer;
+          if (b.x > 1.05f * a.x && b.z < 0.8f * a.z) ++yellower;
+        }
+      qInfo("references view: %.1f %% of the pixels occluded (blue), %.1f %% frontier (yellow)", 100.0 * bluer / n,
+            100.0 * yellower / n);
+      QVERIFY(bluer > n / 100);
+      QVERIFY(yellower > n / 1000);
+      // The floor in the table's shadow is occluded.
+      glm::dvec2 px;
+      QVERIFY(photoCamera().project(glm::dvec3(1.8, 2.2, 0.0), px));
+      QVERIFY(shown.at(int(px.x), int(px.y)).z > 1.3f * relit.at(int(px.x), int(px.y)).z);
+      saveShot(vp, "viewport_references");
+      QTest::mouseClick(panel->showButton(), Qt::LeftButton);
+      QCOMPARE(vp->viewMode(), ViewMode::Relit);
+    }
     const auto before = doc()->data().textures[size_t(floor)].unoccluded;
     const size_t vlamps = doc()->virtualLampCount(), objects = doc()->objectCount();
     const glm::dvec3 scaleA = doc()->lampScale(lampIndex("A"));

@@ -116,6 +116,7 @@ struct RelightSession::Impl {
   std::vector<VirtualObject> objects;
   std::vector<std::vector<int>> objectSurfaceIds;  // per object
   std::vector<glm::vec3> D, Borig;
+  std::vector<uint8_t> category;  // per node: §4.3's occluded / frontier elements (display only)
   std::vector<std::array<glm::vec3, 4>> cD, cBorig, cB;
   double insertSeconds = 0;
 
@@ -224,6 +225,7 @@ struct RelightSession::Impl {
     const auto& nodes = h->nodes();
     const size_t nn = nodes.size();
     seenWeight.resize(nn, 1.f);
+    category.resize(nn, 0);
     D.resize(nn, glm::vec3(0.f));
     Borig.resize(nn, glm::vec3(0.f));
     std::vector<int> oldLeaf(nn, -1);
@@ -235,6 +237,8 @@ struct RelightSession::Impl {
       const auto& P = nodes[oldLeaf[n]];
       const glm::dvec2 uv(0.5 * (double(N.u0) + N.u1), 0.5 * (double(N.v0) + N.v1));
       D[n] = interpolateCorners(P, cD[oldLeaf[n]], uv);
+      if (category.size() < nn) category.resize(nn, 0);
+      category[n] = category[oldLeaf[n]];
       Borig[n] = interpolateCorners(P, cBorig[oldLeaf[n]], uv);
       if (kinds[N.surface] == PolygonKind::Real && N.isLeaf()) setLeafReflectance(int(n));
     }
@@ -350,6 +354,29 @@ RelightSession::RelightSession(const Scene& scene, const RelightData& data, std:
   }
   im.stencil.apply(im.D, im.cD);
   im.stencil.apply(im.Borig, im.cBorig);
+  // §4.3's element sets under the original lighting, as the preprocess defines them: occluded
+  // (more than occludedFraction of the direct light blocked), and the frontier (unoccluded, seen
+  // by the photo, next to an occluded element) where references are looked for.
+  im.category.assign(nn, 0);
+  {
+    auto grey = [](const glm::vec3& c) { return (double(c.x) + c.y + c.z) / 3; };
+    std::vector<int> leaves = leavesOf(h, real);
+    std::vector<uint8_t> occluded(nn, 0), unoccluded(nn, 0);
+    for (int n : leaves) {
+      const double d = grey(sums.direct[n]), b = grey(sums.directBlocked[n]);
+      occluded[n] = d > 0 && b > data.options.occludedFraction * d;
+      unoccluded[n] = b <= 1e-3 * d;
+      if (occluded[n]) im.category[n] = kOccludedElement;
+    }
+    for (int n : leaves) {
+      if (!unoccluded[n] || im.seenWeight[n] < 0.5f) continue;
+      for (int m : neighbours(h, n))
+        if (occluded[m]) {
+          im.category[n] = kFrontierElement;
+          break;
+        }
+    }
+  }
   for (const auto& ids : im.objectSurfaceIds) h.translateSurfaces(ids, -away);
   for (size_t k = 0; k < im.vlampSurfaces.size(); ++k) h.setExitance(im.vlampSurfaces[k], im.vlampExitance[k]);
   for (const auto& [s, a] : objectSurfaces) h.setReflectance(s, a);
@@ -580,7 +607,7 @@ std::vector<glm::vec4> RelightSession::displayCorners(const DisplayMesh& mesh) c
     glm::vec4* o = &out[i * kDisplayCornerTexels];
     for (int c = 0; c < 4; ++c) {
       o[c] = glm::vec4(im.cB.at(leaf)[c], 1.f);
-      o[4 + c] = glm::vec4(im.cD.at(leaf)[c], 1.f);
+      o[4 + c] = glm::vec4(im.cD.at(leaf)[c], c == 0 && size_t(leaf) < im.category.size() ? float(im.category[leaf]) : 1.f);
       o[8 + c] = glm::vec4(im.cBorig.at(leaf)[c], 1.f);
     }
   }

@@ -38,7 +38,9 @@ struct DisplayMesh {
 
 // Per drawn leaf (DisplayMesh::leafNode order) kDisplayCornerTexels values: the corners (u0v0,
 // u1v0, u1v1, u0v1) of B, then of D, then of B_orig (radiosity on lamps and virtual surfaces,
-// irradiance on real surfaces: what the session's ratio is made of). Alpha is 1.
+// irradiance on real surfaces: what the session's ratio is made of). Alpha is 1, except texel 4
+// (D's first corner) whose alpha is the leaf's §4.3 category (0 none, or the two below).
 inline constexpr int kDisplayCornerTexels = 12;
+inline constexpr uint8_t kOccludedElement = 2, kFrontierElement = 3;
 
 }  // namespace relume

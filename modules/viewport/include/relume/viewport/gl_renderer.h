@@ -15,7 +15,7 @@ struct Scene;
 struct RelightData;
 class RelightSession;
 
-enum class ViewMode { Relit = 0, RatioOnly, Photo, Unoccluded, Radiosity, DisplayFactor, Leaves };
+enum class ViewMode { Relit = 0, RatioOnly, Photo, Unoccluded, Radiosity, DisplayFactor, Leaves, References };
 enum class DisplayOutput { Linear = 0, Exposed = 1, FalseColour = 2 };
 
 struct DisplaySettings {
