@@ -522,6 +522,19 @@ bool Document::trySetLampDrop(const std::string& name, double metres, QString* e
   return true;
 }
 
+void Document::beginObjectDrag() {
+  if (session_) session_->setDragPreview(true);
+}
+
+void Document::settleObject(const std::string& name) {
+  if (!session_) return;
+  session_->setDragPreview(false);
+  const int i = objectIndex(name);
+  if (i < 0) return;
+  timed([&] { session_->settleObject(i); });
+  emit meshChanged();
+}
+
 void Document::settleVirtualLamp(const std::string& name) {
   const int i = virtualLampIndex(name);
   if (i < 0) return;

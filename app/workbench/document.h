@@ -77,6 +77,10 @@ class Document : public QObject {
   // After a drag: the lamp goes in afresh where it now is (links refined there), not undoable (it
   // changes nothing the user sees but shadow sharpness).
   void settleVirtualLamp(const std::string& name);
+  // An object drag: its steps are previews (fewer visibility rays); at the end it settles (full
+  // rays on its links). Not undo steps: they change how exact the shadows are, not the scene.
+  void beginObjectDrag();
+  void settleObject(const std::string& name);
   // Undoable edits. The "try" ones apply at once and return false (with the library's message in
   // `error`) when the library refuses, leaving everything as it was.
   bool tryAddVirtualLamp(const VirtualLamp& lamp, QString* error = nullptr);

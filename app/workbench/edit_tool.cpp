@@ -169,6 +169,7 @@ bool EditTool::press(const ViewportPick& pick, Qt::KeyboardModifiers) {
   moved_ = glm::dvec3(0.0);
   refused_ = false;
   ++gesture_;
+  if (!dragObject_.empty()) doc_->beginObjectDrag();
   emit selected(QString::fromStdString(dragLamp_.empty() ? dragObject_ : dragLamp_));
   return true;
 }
@@ -194,6 +195,7 @@ void EditTool::drag(const ViewportPick& pick) {
 void EditTool::release(const ViewportPick& pick) {
   drag(pick);
   if (!dragLamp_.empty() && glm::length(moved_) > 0) doc_->settleVirtualLamp(dragLamp_);
+  if (!dragObject_.empty()) doc_->settleObject(dragObject_);
   dragLamp_.clear();
   dragObject_.clear();
 }

@@ -952,7 +952,8 @@ void HierarchicalRadiosity::refitClusters(std::vector<uint8_t>& touched) {
   }
 }
 
-size_t HierarchicalRadiosity::redoLinks(const std::vector<uint8_t>& redo) {
+size_t HierarchicalRadiosity::redoLinks(const std::vector<uint8_t>& redo, int visibilityRays) {
+  const int rays = visibilityRays > 0 ? visibilityRays : options_.visibilityRays;
   auto& im = *impl_;
   std::vector<int> work;
   for (size_t i = 0; i < links_.size(); ++i)
@@ -962,7 +963,7 @@ size_t HierarchicalRadiosity::redoLinks(const std::vector<uint8_t>& redo) {
     for (size_t j = r.begin(); j < r.end(); ++j) {
       Link& l = links_[work[j]];
       if (redo[work[j]] == 2) l.formFactor = float(k.formFactor(l.receiver, l.source, l.variation));
-      l.visibility = k.visibility(l.receiver, l.source, options_.visibilityRays, options_.seed);
+      l.visibility = k.visibility(l.receiver, l.source, rays, options_.seed);
       l.type = classify(l.visibility);
     }
   });
@@ -971,7 +972,7 @@ size_t HierarchicalRadiosity::redoLinks(const std::vector<uint8_t>& redo) {
 }
 
 size_t HierarchicalRadiosity::moveSurfaces(const std::vector<int>& moved, const glm::dmat3& rotation,
-                                           const glm::dvec3& pivot, const glm::dvec3& offset) {
+                                           const glm::dvec3& pivot, const glm::dvec3& offset, int visibilityRays) {
   auto& im = *impl_;
   glm::vec3 oldMin(1e30f), oldMax(-1e30f), newMin(1e30f), newMax(-1e30f);
   for (int s : moved) {
@@ -1005,7 +1006,7 @@ size_t HierarchicalRadiosity::moveSurfaces(const std::vector<int>& moved, const 
   for (int i : linksCrossingBox(newMin, newMax)) redo[i] = 1;
   for (size_t i = 0; i < links_.size(); ++i)
     if (touched[links_[i].receiver] || touched[links_[i].source]) redo[i] = 2;
-  return redoLinks(redo);
+  return redoLinks(redo, visibilityRays);
 }
 
 std::vector<int> HierarchicalRadiosity::addSurfaces(const std::vector<Surface>& added, Progress& progress) {

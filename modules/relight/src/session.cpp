@@ -117,6 +117,8 @@ struct RelightSession::Impl {
   std::vector<std::vector<int>> objectSurfaceIds;  // per object
   std::vector<glm::vec3> D, Borig;
   std::vector<uint8_t> category;  // per node: §4.3's occluded / frontier elements (display only)
+  bool dragPreview = false;
+  static constexpr int kPreviewRays = 4;
   std::vector<std::array<glm::vec3, 4>> cD, cBorig, cB;
   double insertSeconds = 0;
 
@@ -518,8 +520,20 @@ size_t RelightSession::moveObjectAbout(int object, const glm::dvec3& offset, dou
   for (auto& p : moved.polygons)
     for (auto& v : p) v = rot * (v - pivot) + pivot + offset;
   checkVirtualObject(im.scene, moved);
-  const size_t n = im.h->moveSurfaces(im.objectSurfaceIds[size_t(object)], rot, pivot, offset);
+  const size_t n = im.h->moveSurfaces(im.objectSurfaceIds[size_t(object)], rot, pivot, offset,
+                                      im.dragPreview ? Impl::kPreviewRays : 0);
   im.objects[size_t(object)] = moved;
+  im.basesValid = false;
+  im.geometryPending = true;
+  update(progress);
+  return n;
+}
+
+void RelightSession::setDragPreview(bool on) { impl_->dragPreview = on; }
+
+size_t RelightSession::settleObject(int object, Progress& progress) {
+  auto& im = *impl_;
+  const size_t n = im.h->moveSurfaces(im.objectSurfaceIds.at(size_t(object)), glm::dmat3(1.0), glm::dvec3(0.0), glm::dvec3(0.0));
   im.basesValid = false;
   im.geometryPending = true;
   update(progress);

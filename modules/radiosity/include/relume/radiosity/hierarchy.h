@@ -129,8 +129,10 @@ class HierarchicalRadiosity {
   // it is (passive). No refinement. Returns the number of links updated; call iterate() after.
   size_t translateSurfaces(const std::vector<int>& surfaces, const glm::dvec3& offset);
   // The same for a rigid motion: every vertex v goes to rotation (v - pivot) + pivot + offset.
+  // `visibilityRays` > 0 overrides the options' ray count for this update (a quick preview while
+  // dragging; a later update with the full count, e.g. a zero motion, settles it).
   size_t moveSurfaces(const std::vector<int>& surfaces, const glm::dmat3& rotation, const glm::dvec3& pivot,
-                      const glm::dvec3& offset);
+                      const glm::dvec3& offset, int visibilityRays = 0);
   // Adds polygons to a live hierarchy (a virtual lamp, the faces of a virtual object), without
   // rebuilding it: each becomes a child of the root cluster and an occluder (V redone on the links
   // whose shaft its bounds cross); it is linked to every other surface (as a source, and as a
@@ -185,7 +187,7 @@ class HierarchicalRadiosity {
   double pushPull();
   void rebuildRays();
   // Recomputes V (and F where flagged 2) of the links flagged in `redo`; returns how many.
-  size_t redoLinks(const std::vector<uint8_t>& redo);
+  size_t redoLinks(const std::vector<uint8_t>& redo, int visibilityRays = 0);
   void refitClusters(std::vector<uint8_t>& touched);
 
   friend struct Builder;

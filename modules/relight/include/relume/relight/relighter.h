@@ -153,6 +153,10 @@ class RelightSession {
   // offsets, a turn is undone exactly by its opposite whatever the object's shape.
   size_t moveObjectAbout(int object, const glm::dvec3& offset, double turnRadians, const glm::dvec3& pivot,
                          Progress& progress = silentProgress());
+  // While an object is dragged: its moves recompute visibility with few rays (a preview, about
+  // four times cheaper); settleObject() then redoes its links with the full count.
+  void setDragPreview(bool on);
+  size_t settleObject(int object, Progress& progress = silentProgress());
   void removeObject(int object, Progress& progress = silentProgress());
   size_t objectCount() const;
   const VirtualObject& object(int object) const;  // where it is now
