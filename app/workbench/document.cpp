@@ -528,9 +528,11 @@ void Document::beginObjectDrag() {
 
 void Document::settleObject(const std::string& name) {
   if (!session_) return;
-  session_->setDragPreview(false);
   const int i = objectIndex(name);
-  if (i < 0) return;
+  if (i < 0) {
+    session_->setDragPreview(false);
+    return;
+  }
   timed([&] { session_->settleObject(i); });
   emit meshChanged();
 }

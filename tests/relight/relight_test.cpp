@@ -366,3 +366,24 @@ TEST(Relight, VirtualThingsBuiltIntoASessionCanBeRemoved) {
   EXPECT_EQ(s.objectCount(), 0u);
   EXPECT_GE(compareImages(s.render(mainCamera(), RelightMethod::Full), original, all).psnr, p - 0.01);
 }
+
+// A drag previews visibility with few rays; once settled, the image is the one full-quality moves
+// give, along the whole path it took.
+TEST(Relight, ADraggedObjectSettlesToTheFullQualitySolution) {
+  const std::vector<uint8_t> all(room().masks.all.size(), 1);
+  const VirtualObject box = boxObject("box", {0.7, 1.5, 0.0}, {1.1, 1.9, 0.35}, glm::dvec3(0.6, 0.2, 0.2));
+  RelightSession dragged(room().scene, room().data, {}, {box}), stepped(room().scene, room().data, {}, {box});
+  dragged.setDragPreview(true);
+  for (int k = 0; k < 4; ++k) {
+    dragged.moveObject(0, glm::dvec3(0.15, 0.08, 0.0));
+    stepped.moveObject(0, glm::dvec3(0.15, 0.08, 0.0));
+  }
+  const double preview = compareImages(dragged.render(mainCamera(), RelightMethod::Full),
+                                       stepped.render(mainCamera(), RelightMethod::Full), all).psnr;
+  EXPECT_GT(dragged.settleObject(0), 0u);
+  const double settled = compareImages(dragged.render(mainCamera(), RelightMethod::Full),
+                                       stepped.render(mainCamera(), RelightMethod::Full), all).psnr;
+  std::printf("preview vs full-quality moves %.1f dB, settled %.1f dB\n", preview, settled);
+  EXPECT_GE(settled, 60.0);
+  EXPECT_GE(settled, preview);
+}

@@ -1009,6 +1009,17 @@ size_t HierarchicalRadiosity::moveSurfaces(const std::vector<int>& moved, const 
   return redoLinks(redo, visibilityRays);
 }
 
+size_t HierarchicalRadiosity::refreshLinks(const std::vector<int>& surfaces, const glm::vec3& boxMin,
+                                           const glm::vec3& boxMax) {
+  std::vector<uint8_t> touched(nodes_.size(), 0);
+  for (int s : surfaces) forSubtree(nodes_, children_, surfaceRoot_[s], [&](int n) { touched[n] = 1; });
+  std::vector<uint8_t> redo(links_.size(), 0);
+  for (int i : linksCrossingBox(boxMin, boxMax)) redo[i] = 1;
+  for (size_t i = 0; i < links_.size(); ++i)
+    if (touched[links_[i].receiver] || touched[links_[i].source]) redo[i] = 2;
+  return redoLinks(redo);
+}
+
 std::vector<int> HierarchicalRadiosity::addSurfaces(const std::vector<Surface>& added, Progress& progress) {
   auto& im = *impl_;
   Builder b{*this, im};

@@ -118,6 +118,7 @@ struct RelightSession::Impl {
   std::vector<glm::vec3> D, Borig;
   std::vector<uint8_t> category;  // per node: §4.3's occluded / frontier elements (display only)
   bool dragPreview = false;
+  glm::vec3 dragLo{1e30f}, dragHi{-1e30f};  // where the dragged object has been since the preview began
   static constexpr int kPreviewRays = 4;
   std::vector<std::array<glm::vec3, 4>> cD, cBorig, cB;
   double insertSeconds = 0;
@@ -520,6 +521,14 @@ size_t RelightSession::moveObjectAbout(int object, const glm::dvec3& offset, dou
   for (auto& p : moved.polygons)
     for (auto& v : p) v = rot * (v - pivot) + pivot + offset;
   checkVirtualObject(im.scene, moved);
+  if (im.dragPreview) {  // every place the object passes through is settled at the end
+    for (const VirtualObject* o : {&im.objects[size_t(object)], &moved})
+      for (const auto& p : o->polygons)
+        for (const auto& v : p) {
+          im.dragLo = glm::min(im.dragLo, glm::vec3(v));
+          im.dragHi = glm::max(im.dragHi, glm::vec3(v));
+        }
+  }
   const size_t n = im.h->moveSurfaces(im.objectSurfaceIds[size_t(object)], rot, pivot, offset,
                                       im.dragPreview ? Impl::kPreviewRays : 0);
   im.objects[size_t(object)] = moved;
@@ -529,11 +538,26 @@ size_t RelightSession::moveObjectAbout(int object, const glm::dvec3& offset, dou
   return n;
 }
 
-void RelightSession::setDragPreview(bool on) { impl_->dragPreview = on; }
+void RelightSession::setDragPreview(bool on) {
+  impl_->dragPreview = on;
+  if (on) {
+    impl_->dragLo = glm::vec3(1e30f);
+    impl_->dragHi = glm::vec3(-1e30f);
+  }
+}
 
 size_t RelightSession::settleObject(int object, Progress& progress) {
   auto& im = *impl_;
-  const size_t n = im.h->moveSurfaces(im.objectSurfaceIds.at(size_t(object)), glm::dmat3(1.0), glm::dvec3(0.0), glm::dvec3(0.0));
+  im.dragPreview = false;
+  glm::vec3 lo = im.dragLo, hi = im.dragHi;
+  for (const auto& p : im.objects.at(size_t(object)).polygons)
+    for (const auto& v : p) {
+      lo = glm::min(lo, glm::vec3(v));
+      hi = glm::max(hi, glm::vec3(v));
+    }
+  im.dragLo = glm::vec3(1e30f);
+  im.dragHi = glm::vec3(-1e30f);
+  const size_t n = im.h->refreshLinks(im.objectSurfaceIds.at(size_t(object)), lo, hi);
   im.basesValid = false;
   im.geometryPending = true;
   update(progress);

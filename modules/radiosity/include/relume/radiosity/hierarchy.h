@@ -133,6 +133,9 @@ class HierarchicalRadiosity {
   // dragging; a later update with the full count, e.g. a zero motion, settles it).
   size_t moveSurfaces(const std::vector<int>& surfaces, const glm::dmat3& rotation, const glm::dvec3& pivot,
                       const glm::dvec3& offset, int visibilityRays = 0);
+  // F and V again for the links with an end on `surfaces`, V for the links whose shaft crosses the
+  // box, with the full ray count (after previews). Returns the links updated.
+  size_t refreshLinks(const std::vector<int>& surfaces, const glm::vec3& boxMin, const glm::vec3& boxMax);
   // Adds polygons to a live hierarchy (a virtual lamp, the faces of a virtual object), without
   // rebuilding it: each becomes a child of the root cluster and an occluder (V redone on the links
   // whose shaft its bounds cross); it is linked to every other surface (as a source, and as a
