@@ -20,6 +20,7 @@
 #include <QDateTime>
 #include <QDir>
 #include <QLocale>
+#include <QLockFile>
 #include <QStandardPaths>
 #include <QTime>
 #include <QTimer>
@@ -131,7 +132,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   });
 
   connect(doc_, &Document::opened, this, [this] {
-    if (!lingering_.isEmpty() || QSettings().value("autosave/folder").toString() == autosaveFolder()) discardAutosave();
+    if (!lingering_.isEmpty() || QSettings().contains(autosaveKey() + "/folder")) discardAutosave();
     viewport_->setRoom(&doc_->scene(), &doc_->data(), doc_->session());
     restoreView();
     updateTitle();
@@ -152,7 +153,11 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   connect(doc_, &Document::dirtyChanged, this, [this](bool) { updateTitle(); });
   connect(viewport_, &ViewportWidget::frameDrawn, this, [this](double) { updateStatus(); });
 
-  // Autosave on its own runner: it never blocks the panels or the user's jobs.
+  // Autosave on its own runner: it never blocks the panels or the user's jobs. The lock says
+  // "this Relume is alive" to another one looking for autosaves to recover.
+  QDir().mkpath(QFileInfo(autosaveFolder()).absolutePath());
+  autosaveLock_ = std::make_unique<QLockFile>(autosaveFolder() + ".lock");
+  autosaveLock_->tryLock(0);  // a second window of the same process shares the first one's lock
   autosaveJobs_ = new JobRunner(this);
   autosaveTimer_ = new QTimer(this);
   connect(autosaveTimer_, &QTimer::timeout, this, [this] { autosaveNow(); });
@@ -188,6 +193,8 @@ MainWindow::~MainWindow() {
 
 void MainWindow::setAutosaveInterval(int ms) { autosaveTimer_->start(ms); }
 
+QString MainWindow::autosaveKey() { return "autosaves/" + QString::number(QCoreApplication::applicationPid()); }
+
 QString MainWindow::autosaveFolder() {
   return QStandardPaths::writableLocation(QStandardPaths::AppLocalDataLocation) + "/autosave/" +
          QString::number(QCoreApplication::applicationPid()) + ".relume";
@@ -209,9 +216,9 @@ bool MainWindow::autosaveNow() {
     return JobRunner::Continuation([this, folder, index, source] {
       autosavedChanges_ = index;
       QSettings settings;
-      settings.setValue("autosave/folder", folder);
-      settings.setValue("autosave/source", source);
-      settings.setValue("autosave/time", QDateTime::currentDateTime());
+      settings.setValue(autosaveKey() + "/folder", folder);
+      settings.setValue(autosaveKey() + "/source", source);
+      settings.setValue(autosaveKey() + "/time", QDateTime::currentDateTime());
       statusBar()->showMessage(tr("Autosaved at %1").arg(QTime::currentTime().toString("HH:mm")), 4000);
     });
   });
@@ -222,7 +229,7 @@ void MainWindow::discardAutosave() {
   autosavedChanges_ = ~quint64(0);
   QSettings settings;
   const QString own = autosaveFolder();
-  if (settings.value("autosave/folder").toString() == own) settings.remove("autosave");
+  settings.remove(autosaveKey());
   // A recovered document reads its photos from its autosave folder: that stays until the
   // document is replaced or Relume exits.
   const bool inUse = doc_->isOpen() && QDir::cleanPath(QString::fromStdString(doc_->scene().baseDir)).startsWith(QDir::cleanPath(own));
@@ -235,20 +242,40 @@ void MainWindow::discardAutosave() {
 void MainWindow::closeEvent_discard() {
   autosaveJobs_->waitForIdle();
   QSettings settings;
-  if (settings.value("autosave/folder").toString() == autosaveFolder()) settings.remove("autosave");
+  settings.remove(autosaveKey());
   QDir(autosaveFolder()).removeRecursively();
 }
 
 bool MainWindow::recoverAutosave(bool acceptWhenQuiet) {
+  // Autosaves of processes that are gone (their lock is free or stale); the newest first. A
+  // Relume still running keeps its lock, so its autosave is never taken from it.
   QSettings settings;
-  const QString folder = settings.value("autosave/folder").toString();
-  if (folder.isEmpty() || folder == autosaveFolder()) return false;  // none, or this process's own
-  const QString source = settings.value("autosave/source").toString();
-  const QDateTime when = settings.value("autosave/time").toDateTime();
-  if (!QFileInfo::exists(folder + "/project.json")) {
-    settings.remove("autosave");
-    return false;
+  settings.beginGroup("autosaves");
+  const QStringList owners = settings.childGroups();
+  settings.endGroup();
+  QString key;
+  QDateTime newest;
+  for (const QString& owner : owners) {
+    const QString k = "autosaves/" + owner;
+    if (k == autosaveKey()) continue;
+    const QString f = settings.value(k + "/folder").toString();
+    if (f.isEmpty() || !QFileInfo::exists(f + "/project.json")) {
+      settings.remove(k);
+      continue;
+    }
+    QLockFile lock(f + ".lock");
+    if (!lock.tryLock(0)) continue;  // its Relume is still running
+    lock.unlock();
+    const QDateTime t = settings.value(k + "/time").toDateTime();
+    if (key.isEmpty() || t > newest) {
+      key = k;
+      newest = t;
+    }
   }
+  if (key.isEmpty()) return false;
+  const QString folder = settings.value(key + "/folder").toString();
+  const QString source = settings.value(key + "/source").toString();
+  const QDateTime when = newest;
   bool accept = acceptWhenQuiet;
   if (interactive_)
     accept = QMessageBox::question(this, tr("Recover unsaved edits"),
@@ -256,7 +283,7 @@ bool MainWindow::recoverAutosave(bool acceptWhenQuiet) {
                                        .arg(source, QLocale().toString(when, QLocale::ShortFormat)),
                                    QMessageBox::Yes | QMessageBox::No, QMessageBox::Yes) == QMessageBox::Yes;
   if (!accept) {
-    settings.remove("autosave");
+    settings.remove(key);
     QDir(folder).removeRecursively();
     return false;
   }
@@ -269,7 +296,10 @@ bool MainWindow::recoverAutosave(bool acceptWhenQuiet) {
     showError(tr("Relume"), tr("Cannot move the autosave %1 to %2").arg(folder, own));
     return false;
   }
-  settings.setValue("autosave/folder", own);
+  settings.remove(key);
+  settings.setValue(autosaveKey() + "/folder", own);
+  settings.setValue(autosaveKey() + "/source", source);
+  settings.setValue(autosaveKey() + "/time", when);
   return jobs_->start(tr("Recovering %1").arg(QFileInfo(source).fileName()), [this, own, source](Progress& progress) {
     std::shared_ptr<LoadedRoom> room = loadRoomForWorkbench(own, progress);
     return JobRunner::Continuation([this, room, own, source]() mutable {
@@ -278,9 +308,9 @@ bool MainWindow::recoverAutosave(bool acceptWhenQuiet) {
       doc_->markRecovered(QFileInfo(source + "/project.json").exists() ? source : QString(), source);
       lingering_ = own;
       QSettings settings;  // still recoverable until it is saved
-      settings.setValue("autosave/folder", own);
-      settings.setValue("autosave/source", source);
-      settings.setValue("autosave/time", QDateTime::currentDateTime());
+      settings.setValue(autosaveKey() + "/folder", own);
+      settings.setValue(autosaveKey() + "/source", source);
+      settings.setValue(autosaveKey() + "/time", QDateTime::currentDateTime());
       statusBar()->showMessage(tr("Recovered the autosaved edits of %1: save them to keep them.").arg(source), 10000);
     });
   });

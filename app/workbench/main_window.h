@@ -2,6 +2,8 @@
 // The workbench's main window: the relighting viewport in the centre, dock panels around it,
 // menus, a status bar with what the viewport shows and the running job (progress, Cancel).
 #include <QMainWindow>
+#include <QLockFile>
+#include <memory>
 
 class QLabel;
 class QProgressBar;
@@ -49,6 +51,7 @@ class MainWindow : public QMainWindow {
   // cleanly, and recoverAutosave() offers it.
   void setAutosaveInterval(int ms);
   static QString autosaveFolder();
+  static QString autosaveKey();  // this process's QSettings group for its autosave
   bool autosaveNow();  // returns false when there was nothing to save or a save runs already
   bool autosaveRunning() const;
   // At start: when an autosave is left over, asks (or, not interactive, does `acceptWhenQuiet`)
@@ -88,6 +91,7 @@ class MainWindow : public QMainWindow {
   QString lastError_;
   bool interactive_ = true;
   class QTimer* autosaveTimer_;
+  std::unique_ptr<class QLockFile> autosaveLock_;
   JobRunner* autosaveJobs_;
   quint64 autosavedChanges_ = ~quint64(0);  // the document's change count at the last autosave
   QString lingering_;  // an autosave folder the open document still reads its photos from

@@ -13,6 +13,8 @@
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
+#include <QDateTime>
+#include <QLockFile>
 #include <QSettings>
 #include <QStandardPaths>
 #include <QTemporaryDir>
@@ -129,7 +131,7 @@ class WorkbenchTest : public QObject {
   void initTestCase() {
     QStandardPaths::setTestModeEnabled(true);
     QCoreApplication::setOrganizationName("RelumeTest");
-    QSettings().remove("autosave");  // an earlier run's leftovers are not this test's business
+    QSettings().remove("autosaves");  // an earlier run's leftovers are not this test's business
     window_ = std::make_unique<MainWindow>();
     window_->setInteractive(false);
     window_->resize(1280, 800);
@@ -685,13 +687,14 @@ class WorkbenchTest : public QObject {
     QSettings settings;
     QElapsedTimer t;
     t.start();
-    while ((settings.value("autosave/folder").toString() != MainWindow::autosaveFolder() || window_->autosaveRunning()) &&
+    while ((settings.value(MainWindow::autosaveKey() + "/folder").toString() != MainWindow::autosaveFolder() ||
+            window_->autosaveRunning()) &&
            t.elapsed() < 120000) {
       QTest::qWait(50);
       settings.sync();
     }
     window_->setAutosaveInterval(120000);
-    const QString folder = settings.value("autosave/folder").toString();
+    const QString folder = settings.value(MainWindow::autosaveKey() + "/folder").toString();
     qInfo("autosaved to %s after %lld ms", qPrintable(folder), t.elapsed());
     QCOMPARE(folder, MainWindow::autosaveFolder());
     QVERIFY(QFile::exists(folder + "/workbench.json"));
@@ -707,7 +710,19 @@ class WorkbenchTest : public QObject {
     const QString dead = QFileInfo(folder).absolutePath() + "/999999.relume";
     QDir(dead).removeRecursively();
     QVERIFY(QDir().rename(folder, dead));
-    settings.setValue("autosave/folder", dead);
+    settings.setValue("autosaves/999999/folder", dead);
+    settings.setValue("autosaves/999999/source", settings.value(MainWindow::autosaveKey() + "/source"));
+    settings.setValue("autosaves/999999/time", settings.value(MainWindow::autosaveKey() + "/time"));
+    settings.remove(MainWindow::autosaveKey());
+    // A Relume still running (its lock held) keeps its autosave: never offered.
+    const QString alive = QFileInfo(folder).absolutePath() + "/999998.relume";
+    QDir(alive).removeRecursively();
+    QVERIFY(QDir().mkpath(alive));
+    QFile::copy(dead + "/project.json", alive + "/project.json");
+    QLockFile aliveLock(alive + ".lock");
+    QVERIFY(aliveLock.tryLock(0));
+    settings.setValue("autosaves/999998/folder", alive);
+    settings.setValue("autosaves/999998/time", QDateTime::currentDateTime().addSecs(60));  // newer
     settings.sync();
     MainWindow next;
     next.setInteractive(false);
@@ -722,7 +737,11 @@ class WorkbenchTest : public QObject {
     QVERIFY(!QFile::exists(dead));
     // Until it is saved, a second crash would still find it (as this process's own autosave).
     settings.sync();
-    QCOMPARE(settings.value("autosave/folder").toString(), MainWindow::autosaveFolder());
+    QCOMPARE(settings.value(MainWindow::autosaveKey() + "/folder").toString(), MainWindow::autosaveFolder());
+    QVERIFY(QFile::exists(alive + "/project.json"));  // the live one was left alone
+    aliveLock.unlock();
+    QDir(alive).removeRecursively();
+    settings.remove("autosaves/999998");
     QVERIFY(!next.recoverAutosave(true));  // never this process's own
     // Saved to the user's project: nothing is left to recover, and saving again still works
     // (the recovered document reads its photos from the autosave folder, which stays meanwhile).
@@ -731,7 +750,7 @@ class WorkbenchTest : public QObject {
     while (next.jobs()->busy() && t.elapsed() < 120000) QTest::qWait(20);
     QVERIFY2(!next.document()->isDirty(), qPrintable(next.lastError()));
     settings.sync();
-    QVERIFY(settings.value("autosave/folder").toString().isEmpty());
+    QVERIFY(settings.value(MainWindow::autosaveKey() + "/folder").toString().isEmpty());
     next.document()->editLampScale(b, glm::dvec3(0.7));
     QVERIFY(next.saveTo(project));
     t.restart();
