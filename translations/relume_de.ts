@@ -380,10 +380,6 @@
         <translation>Kein Raum geöffnet</translation>
     </message>
     <message>
-        <source>%1 · %2 · refined mesh, %3 leaves · %4 links · frame %5 ms · EV %6%7</source>
-        <translation>%1 · %2 · verfeinertes Netz, %3 Blätter · %4 Verbindungen · Bild %5 ms · LW %6%7</translation>
-    </message>
-    <message>
         <source>free orbit</source>
         <translation>freie Umlaufansicht</translation>
     </message>
@@ -458,6 +454,30 @@
     <message>
         <source>Occluded and &amp;frontier elements (§4.3)</source>
         <translation>Verdeckte und &amp;Grenzelemente (§4.3)</translation>
+    </message>
+    <message>
+        <source>&amp;Interactive mesh (faster edits, coarser shadows)</source>
+        <translation>&amp;Interaktives Netz (schnellere Änderungen, gröbere Schatten)</translation>
+    </message>
+    <message>
+        <source>Building the interactive mesh</source>
+        <translation>Interaktives Netz wird gebaut</translation>
+    </message>
+    <message>
+        <source>Building the refined mesh</source>
+        <translation>Verfeinertes Netz wird gebaut</translation>
+    </message>
+    <message>
+        <source>%1 · %2 · %3, %4 leaves · %5 links · frame %6 ms · EV %7%8</source>
+        <translation>%1 · %2 · %3, %4 Blätter · %5 Verbindungen · Bild %6 ms · LW %7%8</translation>
+    </message>
+    <message>
+        <source>interactive mesh</source>
+        <translation>interaktives Netz</translation>
+    </message>
+    <message>
+        <source>refined mesh</source>
+        <translation>verfeinertes Netz</translation>
     </message>
 </context>
 <context>

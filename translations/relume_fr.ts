@@ -380,10 +380,6 @@
         <translation>Aucune pièce ouverte</translation>
     </message>
     <message>
-        <source>%1 · %2 · refined mesh, %3 leaves · %4 links · frame %5 ms · EV %6%7</source>
-        <translation>%1 · %2 · maillage raffiné, %3 feuilles · %4 liens · image %5 ms · IL %6%7</translation>
-    </message>
-    <message>
         <source>free orbit</source>
         <translation>orbite libre</translation>
     </message>
@@ -458,6 +454,30 @@
     <message>
         <source>Occluded and &amp;frontier elements (§4.3)</source>
         <translation>Éléments occultés et &amp;frontière (§4.3)</translation>
+    </message>
+    <message>
+        <source>&amp;Interactive mesh (faster edits, coarser shadows)</source>
+        <translation>Maillage &amp;interactif (modifications plus rapides, ombres plus grossières)</translation>
+    </message>
+    <message>
+        <source>Building the interactive mesh</source>
+        <translation>Construction du maillage interactif</translation>
+    </message>
+    <message>
+        <source>Building the refined mesh</source>
+        <translation>Construction du maillage raffiné</translation>
+    </message>
+    <message>
+        <source>%1 · %2 · %3, %4 leaves · %5 links · frame %6 ms · EV %7%8</source>
+        <translation>%1 · %2 · %3, %4 feuilles · %5 liens · image %6 ms · IL %7%8</translation>
+    </message>
+    <message>
+        <source>interactive mesh</source>
+        <translation>maillage interactif</translation>
+    </message>
+    <message>
+        <source>refined mesh</source>
+        <translation>maillage raffiné</translation>
     </message>
 </context>
 <context>

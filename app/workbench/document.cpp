@@ -335,6 +335,7 @@ void Document::adopt(std::unique_ptr<LoadedRoom> room) {
   view_ = room->state["view"].toObject();
   objectTurn_.clear();
   objectPivot_.clear();
+  mesh_ = SessionMesh::Refined;
   overrides_ = data_.referenceOverride;
   if (room->state.contains("reference_overrides")) {
     overrides_.clear();
@@ -732,8 +733,15 @@ void Document::applyReferenceOverride(const std::string& polygon, const std::opt
   emit referencesChanged();
 }
 
-std::function<std::function<void()>(Progress&)> Document::recomputeReferencesWork() {
+std::function<std::function<void()>(Progress&)> Document::recomputeReferencesWork() { return rebuildWork(true, mesh_); }
+
+std::function<std::function<void()>(Progress&)> Document::switchMeshWork(SessionMesh mesh) { return rebuildWork(false, mesh); }
+
+// A new session (after a new preprocess with the reference overrides, or on another mesh) with
+// the same lamps, virtual lamps and objects, swapped in by the continuation; the undo stack stays.
+std::function<std::function<void()>(Progress&)> Document::rebuildWork(bool preprocess, SessionMesh mesh) {
   auto scene = std::make_shared<Scene>(scene_);
+  auto data = std::make_shared<RelightData>(data_);
   RelightOptions options = data_.options;
   options.referenceOverride = overrides_;
   std::vector<VirtualLamp> vlamps;
@@ -741,26 +749,27 @@ std::function<std::function<void()>(Progress&)> Document::recomputeReferencesWor
   for (size_t i = 0; i < virtualLampCount(); ++i) vlamps.push_back(session_->virtualLamp(int(i)));
   for (size_t i = 0; i < objectCount(); ++i) objects.push_back(session_->object(int(i)));
   const std::vector<glm::dvec3> scales = lampScale_;
-  return [this, scene, options, vlamps, objects, scales](Progress& progress) -> std::function<void()> {
-    auto data = std::make_shared<RelightData>();
-    {
+  return [this, scene, data, options, vlamps, objects, scales, preprocess, mesh](Progress& progress) -> std::function<void()> {
+    if (preprocess) {
       ProgressScope scope(progress, 0.0, 0.8);
       *data = preprocessRoom(*scene, options, scope);
     }
     auto session = std::make_shared<std::unique_ptr<RelightSession>>();
     {
-      ProgressScope scope(progress, 0.8, 1.0);
-      *session = std::make_unique<RelightSession>(*scene, *data, vlamps, objects, scope, SessionMesh::Refined);
+      ProgressScope scope(progress, preprocess ? 0.8 : 0.0, 1.0);
+      *session = std::make_unique<RelightSession>(*scene, *data, vlamps, objects, scope, mesh);
     }
     for (size_t l = 0; l < scales.size(); ++l) (*session)->setLampScale(int(l), scales[l]);
     (*session)->update(progress);
-    return [this, data, session]() mutable {
-      // The same room and edits; new textures, references and session. The undo stack stays.
-      data_ = std::move(*data);
+    return [this, data, session, preprocess, mesh]() mutable {
+      if (preprocess) {
+        data_ = std::move(*data);
+        unsavedNew_ = true;  // the recomputed textures are not on disk yet
+      }
       session_ = std::move(*session);
-      unsavedNew_ = true;  // the recomputed textures are not on disk yet
+      mesh_ = mesh;
       emit relightingReplaced();
-      emit referencesChanged();
+      if (preprocess) emit referencesChanged();
       emit dirtyChanged(isDirty());
     };
   };

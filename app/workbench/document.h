@@ -112,6 +112,10 @@ class Document : public QObject {
   // Work for a job: step 1 and 2 again with the overrides (the whole preprocess), then a session
   // with the current lamps, virtual lamps and objects. Its continuation swaps them in.
   std::function<std::function<void()>(Progress&)> recomputeReferencesWork();
+  // Work for a job: the session on another mesh (§4.4's coarser interactive mesh: faster edits
+  // and drags, coarser shadows; or the refined one), with everything the user did.
+  std::function<std::function<void()>(Progress&)> switchMeshWork(SessionMesh mesh);
+  SessionMesh mesh() const { return mesh_; }
 
   // The view, kept in the project.
   QJsonObject viewState() const { return view_; }
@@ -152,6 +156,8 @@ class Document : public QObject {
   QJsonObject view_;
   std::map<std::string, double> objectTurn_;
   std::map<std::string, glm::dvec2> overrides_;
+  SessionMesh mesh_ = SessionMesh::Refined;
+  std::function<std::function<void()>(Progress&)> rebuildWork(bool preprocess, SessionMesh mesh);
   struct Mount {
     glm::dvec3 point{0.0}, normal{0.0};
   };

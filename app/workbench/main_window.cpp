@@ -132,6 +132,10 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   });
 
   connect(doc_, &Document::opened, this, [this] {
+    if (interactiveMesh_) {
+      const QSignalBlocker block(interactiveMesh_);
+      interactiveMesh_->setChecked(false);
+    }
     if (!lingering_.isEmpty() || QSettings().contains(autosaveKey() + "/folder")) discardAutosave();
     viewport_->setRoom(&doc_->scene(), &doc_->data(), doc_->session());
     restoreView();
@@ -146,6 +150,8 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   connect(doc_, &Document::meshChanged, viewport_, &ViewportWidget::meshChanged);
   connect(doc_, &Document::virtualsChanged, this, [this] { updateStatus(); });
   connect(doc_, &Document::relightingReplaced, this, [this] {
+    const QSignalBlocker block(interactiveMesh_);
+    interactiveMesh_->setChecked(doc_->mesh() == SessionMesh::Interactive);
     viewport_->setRoom(&doc_->scene(), &doc_->data(), doc_->session());
     restoreView();
     updateStatus();
@@ -437,6 +443,10 @@ void MainWindow::buildMenus() {
     updateStatus();
   });
   view->addSeparator();
+  interactiveMesh_ = view->addAction(tr("&Interactive mesh (faster edits, coarser shadows)"));
+  interactiveMesh_->setCheckable(true);
+  connect(interactiveMesh_, &QAction::triggered, this, [this](bool on) { switchMesh(on); });
+  view->addSeparator();
   for (QDockWidget* d : findChildren<QDockWidget*>()) view->addAction(d->toggleViewAction());
 
   QMenu* lighting = lightingMenu_ = menuBar()->addMenu(tr("&Lighting"));
@@ -497,6 +507,18 @@ bool MainWindow::openPath(const QString& path) {
       statusBar()->showMessage(tr("Opened %1").arg(abs), 5000);
     });
   });
+}
+
+bool MainWindow::switchMesh(bool interactive) {
+  const SessionMesh mesh = interactive ? SessionMesh::Interactive : SessionMesh::Refined;
+  if (!doc_->isOpen() || jobs_->busy() || doc_->mesh() == mesh) {
+    const QSignalBlocker block(interactiveMesh_);
+    interactiveMesh_->setChecked(doc_->isOpen() && doc_->mesh() == SessionMesh::Interactive);
+    return false;
+  }
+  auto work = doc_->switchMeshWork(mesh);
+  return jobs_->start(interactive ? tr("Building the interactive mesh") : tr("Building the refined mesh"),
+                      [work](Progress& progress) { return work(progress); });
 }
 
 bool MainWindow::saveTo(const QString& folder) {
@@ -562,9 +584,10 @@ void MainWindow::updateStatus() {
   for (QAction* a : modes_->actions())
     if (a->isChecked()) mode = a->text().remove('&');
   const auto totals = doc_->session()->engine().totals();
-  statusView_->setText(tr("%1 · %2 · refined mesh, %3 leaves · %4 links · frame %5 ms · EV %6%7")
+  statusView_->setText(tr("%1 · %2 · %3, %4 leaves · %5 links · frame %6 ms · EV %7%8")
                            .arg(mode)
                            .arg(viewport_->orbiting() ? tr("free orbit") : tr("photo camera"))
+                           .arg(doc_->mesh() == SessionMesh::Interactive ? tr("interactive mesh") : tr("refined mesh"))
                            .arg(totals.leaves)
                            .arg(totals.links)
                            .arg(viewport_->lastFrameMilliseconds(), 0, 'f', 1)

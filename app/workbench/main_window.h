@@ -32,6 +32,8 @@ class MainWindow : public QMainWindow {
   bool openPath(const QString& path);
   // Saves to `folder` (a job). Returns false when nothing started.
   bool saveTo(const QString& folder);
+  // Rebuilds the session on §4.4's interactive mesh or back on the refined one (a job).
+  bool switchMesh(bool interactive);
 
   Document* document() const { return doc_; }
   JobRunner* jobs() const { return jobs_; }
@@ -96,6 +98,7 @@ class MainWindow : public QMainWindow {
   quint64 autosavedChanges_ = ~quint64(0);  // the document's change count at the last autosave
   QString lingering_;  // an autosave folder the open document still reads its photos from
   QMenu* lightingMenu_ = nullptr;
+  QAction* interactiveMesh_ = nullptr;
   QAction *undoAction_ = nullptr, *redoAction_ = nullptr;
   void setEditing(bool on);
 };
