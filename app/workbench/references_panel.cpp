@@ -33,7 +33,6 @@ ReferencesPanel::ReferencesPanel(Document* doc, EditTool* tool, JobRunner* jobs,
   list_->setColumnCount(3);
   list_->setHeaderLabels({tr("Polygon"), tr("Automatic"), tr("Yours")});
   list_->setRootIsDecorated(false);
-  list_->header()->setSectionResizeMode(QHeaderView::ResizeToContents);
   layout->addWidget(list_, 1);
   auto* row = new QHBoxLayout;
   pick_ = new QPushButton(tr("Pick in the view"), this);
@@ -71,6 +70,8 @@ std::string ReferencesPanel::selectedPolygon() const {
 
 void ReferencesPanel::rebuild() {
   const std::string keep = selectedPolygon();
+  list_->setUpdatesEnabled(false);  // one layout for the whole list, not one per row
+  list_->header()->setSectionResizeMode(QHeaderView::Interactive);
   list_->clear();
   if (doc_->isOpen()) {
     const auto& est = doc_->data().estimates;
@@ -92,6 +93,8 @@ void ReferencesPanel::rebuild() {
   } else {
     summary_->setText(tr("No room open."));
   }
+  for (int c = 0; c < list_->columnCount(); ++c) list_->resizeColumnToContents(c);
+  list_->setUpdatesEnabled(true);
   refresh();
 }
 

@@ -144,7 +144,8 @@ class WorkbenchTest : public QObject {
     sinceLast.start();
     QTimer probe;
     connect(&probe, &QTimer::timeout, [&] {
-      maxGapMs_ = std::max(maxGapMs_, sinceLast.elapsed());
+      // While the job runs (the room's arrival on the UI thread afterwards is measured apart).
+      if (window_->jobs()->busy()) maxGapMs_ = std::max(maxGapMs_, sinceLast.elapsed());
       sinceLast.restart();
     });
     probe.start(10);
