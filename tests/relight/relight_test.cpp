@@ -4,11 +4,13 @@
 #include <QDir>
 #include <QTemporaryDir>
 #include <cmath>
-#include <numbers>
 #include <glm/geometric.hpp>
+#include <map>
 #include <memory>
+#include <numbers>
 
 #include "relume/geometry/error.h"
+#include "relume/geometry/polygon.h"
 #include "relume/image/image.h"
 #include "relume/project/relight_store.h"
 #include "relume/project/room_io.h"
@@ -386,4 +388,55 @@ TEST(Relight, ADraggedObjectSettlesToTheFullQualitySolution) {
   std::printf("preview vs full-quality moves %.1f dB, settled %.1f dB\n", preview, settled);
   EXPECT_GE(settled, 60.0);
   EXPECT_GE(settled, preview);
+}
+
+// What the workbench draws: per polygon, triangles that cover the polygon exactly and meet edge to
+// edge. An edge that is not on the polygon's outline is used once in each direction; a T-junction
+// (a leaf's edge with a smaller neighbour's corner inside it) would leave edges used once only,
+// and shows on screen as a crack of background pixels.
+TEST(Relight, TheDisplayMeshCoversEachPolygonWithoutCracks) {
+  RelightSession s(room().scene, room().data, {}, {boxObject("box", {0.7, 1.5, 0.0}, {1.1, 1.9, 0.35}, glm::dvec3(0.5))});
+  const DisplayMesh mesh = s.displayMesh();
+  ASSERT_FALSE(mesh.ranges.empty());
+  const auto& engine = s.engine();
+  size_t interiorEdges = 0;
+  for (const auto& r : mesh.ranges) {
+    const auto& poly = engine.surfaces()[size_t(r.surface)].vertices;
+    std::vector<glm::dvec2> outline;
+    for (const auto& v : poly) outline.push_back(engine.toUV(r.surface, v));
+    auto onOutline = [&](glm::dvec2 a, glm::dvec2 b) {
+      for (size_t i = 0; i < outline.size(); ++i) {
+        const glm::dvec2 p = outline[i], q = outline[(i + 1) % outline.size()];
+        const glm::dvec2 d = q - p;
+        auto off = [&](glm::dvec2 x) { return std::abs(d.x * (x.y - p.y) - d.y * (x.x - p.x)) / glm::length(d); };
+        if (off(a) < 1e-6 && off(b) < 1e-6) return true;
+      }
+      return false;
+    };
+    std::map<std::pair<std::pair<float, float>, std::pair<float, float>>, int> directed;
+    double area = 0;
+    for (size_t t = r.first; t < r.first + r.count; t += 3) {
+      glm::dvec2 p[3];
+      for (int k = 0; k < 3; ++k) p[k] = glm::dvec2(mesh.vertices[mesh.indices[t + size_t(k)]].uv);
+      area += 0.5 * ((p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[2].x - p[0].x) * (p[1].y - p[0].y));
+      for (int k = 0; k < 3; ++k) {
+        const glm::vec2 a(p[k]), b(p[(k + 1) % 3]);
+        ++directed[{{a.x, a.y}, {b.x, b.y}}];
+      }
+    }
+    EXPECT_NEAR(area, std::abs(polygonArea2D(outline)), 1e-4 * std::abs(polygonArea2D(outline)) + 1e-9)
+        << "surface " << r.surface << ": the triangles cover the polygon once";
+    for (const auto& [edge, count] : directed) {
+      const auto back = directed.find({edge.second, edge.first});
+      const glm::dvec2 a(edge.first.first, edge.first.second), b(edge.second.first, edge.second.second);
+      if (back != directed.end()) {
+        ++interiorEdges;
+        EXPECT_EQ(count, back->second) << "surface " << r.surface;
+      } else {
+        ASSERT_TRUE(onOutline(a, b)) << "surface " << r.surface << ": an edge from (" << a.x << ", " << a.y << ") to ("
+                                     << b.x << ", " << b.y << ") inside the polygon has no neighbour across it";
+      }
+    }
+  }
+  EXPECT_GT(interiorEdges, mesh.leafNode.size()) << "leaves share their edges";
 }

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <map>
 #include <numbers>
 
 #include "relight_common.h"
@@ -593,6 +594,55 @@ glm::dvec3 RelightSession::lampScale(int lamp) const { return impl_->lampScale.a
 size_t RelightSession::lampCount() const { return impl_->lampScale.size(); }
 const Camera& RelightSession::photoCamera() const { return impl_->photoCamera; }
 
+namespace {
+
+// Inserts into each leaf piece's outline the vertices of other pieces of the same polygon that
+// lie inside one of its axis-aligned edges (T-junctions). Leaf boundaries come from the same
+// splits of a common ancestor, so a shared boundary has bit-identical coordinates on both sides.
+void removeTJunctions(std::vector<std::vector<glm::dvec2>>& pieces) {
+  std::map<double, std::vector<double>> onU, onV;  // x = u: the v of every vertex; y = v: the u
+  for (const auto& piece : pieces)
+    for (const auto& p : piece) {
+      onU[p.x].push_back(p.y);
+      onV[p.y].push_back(p.x);
+    }
+  for (auto* m : {&onU, &onV})
+    for (auto& [key, list] : *m) {
+      std::sort(list.begin(), list.end());
+      list.erase(std::unique(list.begin(), list.end()), list.end());
+    }
+  for (auto& piece : pieces) {
+    std::vector<glm::dvec2> out;
+    out.reserve(piece.size() + 4);
+    for (size_t i = 0; i < piece.size(); ++i) {
+      const glm::dvec2 a = piece[i], b = piece[(i + 1) % piece.size()];
+      out.push_back(a);
+      const int axis = a.x == b.x ? 0 : a.y == b.y ? 1 : -1;  // the coordinate the edge keeps
+      if (axis < 0) continue;
+      const auto& m = axis == 0 ? onU : onV;
+      const auto it = m.find(a[axis]);
+      if (it == m.end()) continue;
+      const double from = a[1 - axis], to = b[1 - axis];
+      const auto& list = it->second;
+      auto emit = [&](double t) {
+        glm::dvec2 q;
+        q[axis] = a[axis];
+        q[1 - axis] = t;
+        out.push_back(q);
+      };
+      if (from < to) {
+        for (auto k = std::upper_bound(list.begin(), list.end(), from); k != list.end() && *k < to; ++k) emit(*k);
+      } else {
+        auto k = std::lower_bound(list.begin(), list.end(), from);
+        while (k != list.begin() && *(k - 1) > to) emit(*--k);
+      }
+    }
+    piece = std::move(out);
+  }
+}
+
+}  // namespace
+
 DisplayMesh RelightSession::displayMesh() const {
   const auto& im = *impl_;
   const auto& h = *im.h;
@@ -603,6 +653,8 @@ DisplayMesh RelightSession::displayMesh() const {
     if (!nodes[n].isCluster() && nodes[n].isLeaf()) leaves[nodes[n].surface].push_back(int(n));
   DisplayMesh mesh;
   mesh.realPolygons = im.np;
+  std::vector<std::vector<glm::dvec2>> pieces;
+  std::vector<int> pieceLeaf;
   for (size_t s = 0; s < ns; ++s) {
     const auto& surf = h.surfaces()[s];
     std::vector<glm::dvec2> outline;
@@ -614,24 +666,42 @@ DisplayMesh RelightSession::displayMesh() const {
                  : im.kinds[s] == PolygonKind::Window ? DisplaySurfaceKind::Window
                                                        : DisplaySurfaceKind::Textured;
     range.normal = glm::vec3(polygonNormal(surf.vertices));
-    range.first = mesh.vertices.size();
+    range.first = mesh.indices.size();
+    pieces.clear();
+    pieceLeaf.clear();
     for (int leaf : leaves[s]) {
       const auto& L = nodes[leaf];
-      const auto piece = clipToRect(outline, {L.u0, L.v0}, {L.u1, L.v1});
+      auto piece = clipToRect(outline, {L.u0, L.v0}, {L.u1, L.v1});
       if (piece.size() < 3 || polygonArea2D(piece) <= 0) continue;
+      pieces.push_back(std::move(piece));
+      pieceLeaf.push_back(leaf);
+    }
+    std::vector<glm::dvec2> centres(pieces.size());  // before the T-vertices are added
+    for (size_t k = 0; k < pieces.size(); ++k) {
+      for (const auto& p : pieces[k]) centres[k] += p;
+      centres[k] /= double(pieces[k].size());
+    }
+    removeTJunctions(pieces);
+    for (size_t k = 0; k < pieces.size(); ++k) {
+      const auto& L = nodes[pieceLeaf[k]];
       const int32_t index = int32_t(mesh.leafNode.size());
-      mesh.leafNode.push_back(leaf);
+      mesh.leafNode.push_back(pieceLeaf[k]);
       mesh.leafRect.emplace_back(L.u0, L.v0, L.u1, L.v1);
       auto vertex = [&](const glm::dvec2& uv) {
-        return DisplayMesh::Vertex{glm::vec3(h.toWorld(int(s), uv)), glm::vec2(uv), index};
+        mesh.vertices.push_back({glm::vec3(h.toWorld(int(s), uv)), glm::vec2(uv), index});
       };
-      for (size_t k = 1; k + 1 < piece.size(); ++k) {
-        mesh.vertices.push_back(vertex(piece[0]));
-        mesh.vertices.push_back(vertex(piece[k]));
-        mesh.vertices.push_back(vertex(piece[k + 1]));
+      const auto first = uint32_t(mesh.vertices.size());
+      const auto n = uint32_t(pieces[k].size());
+      if (n <= 4) {  // a triangle, or a quadrilateral as two triangles (a llvmpipe frame pays per triangle)
+        for (const auto& p : pieces[k]) vertex(p);
+        for (uint32_t i = 1; i + 1 < n; ++i) mesh.indices.insert(mesh.indices.end(), {first, first + i, first + i + 1});
+      } else {  // with T-vertices: a fan around the centre, no sliver triangles
+        vertex(centres[k]);
+        for (const auto& p : pieces[k]) vertex(p);
+        for (uint32_t i = 0; i < n; ++i) mesh.indices.insert(mesh.indices.end(), {first, first + 1 + i, first + 1 + (i + 1) % n});
       }
     }
-    range.count = mesh.vertices.size() - range.first;
+    range.count = mesh.indices.size() - range.first;
     if (range.count > 0) mesh.ranges.push_back(range);
   }
   return mesh;
@@ -649,6 +719,26 @@ std::vector<glm::vec4> RelightSession::displayCorners(const DisplayMesh& mesh) c
       o[8 + c] = glm::vec4(im.cBorig.at(leaf)[c], 1.f);
     }
   }
+  return out;
+}
+
+std::vector<float> RelightSession::displayVertexLight(const DisplayMesh& mesh) const {
+  const auto& im = *impl_;
+  const auto& nodes = im.h->nodes();
+  std::vector<float> out(mesh.vertices.size() * kDisplayVertexLight);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.vertices.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t v = r.begin(); v < r.end(); ++v) {
+      const auto& vertex = mesh.vertices[v];
+      const int leaf = mesh.leafNode.at(size_t(vertex.leaf));
+      const auto& L = nodes[leaf];
+      const glm::dvec2 uv(vertex.uv);
+      const glm::vec3 values[3] = {interpolateCorners(L, im.cB.at(leaf), uv), interpolateCorners(L, im.cD.at(leaf), uv),
+                                   interpolateCorners(L, im.cBorig.at(leaf), uv)};
+      float* o = &out[v * kDisplayVertexLight];
+      for (int k = 0; k < 3; ++k)
+        for (int c = 0; c < 3; ++c) o[3 * k + c] = values[k][c];
+    }
+  });
   return out;
 }
 

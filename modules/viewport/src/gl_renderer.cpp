@@ -1,6 +1,7 @@
 // The workbench's relighting renderer: the session's display mesh, photo textures and corner
-// values on the GPU; texture x B / D per fragment (shaders/relight.frag), then the display
-// transform (shaders/display.frag).
+// values on the GPU; texture x B / D with B and D per vertex (shaders/relight.vert), and the
+// display transform, in one pass (shaders/relight.frag): on llvmpipe every full-screen pass
+// costs about as much as the shading itself, so there is no second one.
 #include "relume/viewport/gl_renderer.h"
 
 #include <QFile>
@@ -11,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <glm/mat4x4.hpp>
+#include <map>
 #include <vector>
 
 #include "relume/geometry/error.h"
@@ -64,29 +66,26 @@ struct FloatTarget {
   }
 };
 
-// With `seen` (per texel), the texture is RGBA and its alpha says whether a photo saw the texel.
-GLuint uploadTexture(QOpenGLFunctions_3_3_Core& gl, int w, int h, const float* rgb, bool linear,
-                     const std::vector<TexelSource>* seen = nullptr) {
+// An RGBA float texture: `rgb` per texel and `alpha(texel)` (for the photo textures whether a
+// photo saw the texel, for the glow its lamp).
+template <class Alpha>
+GLuint uploadTexture(QOpenGLFunctions_3_3_Core& gl, int w, int h, const float* rgb, bool linear, Alpha alpha) {
   static const float black[3] = {0.f, 0.f, 0.f};
-  if (w <= 0 || h <= 0 || !rgb) {
+  const bool empty = w <= 0 || h <= 0 || !rgb;
+  if (empty) {
     w = h = 1;
     rgb = black;
-    seen = nullptr;
+  }
+  std::vector<float> rgba(size_t(w) * h * 4);
+  for (size_t i = 0; i < size_t(w) * h; ++i) {
+    for (int c = 0; c < 3; ++c) rgba[4 * i + c] = rgb[3 * i + c];
+    rgba[4 * i + 3] = empty ? 1.f : alpha(i);
   }
   GLuint id = 0;
   gl.glGenTextures(1, &id);
   gl.glBindTexture(GL_TEXTURE_2D, id);
   gl.glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  if (seen && seen->size() == size_t(w) * size_t(h)) {
-    std::vector<float> rgba(size_t(w) * h * 4);
-    for (size_t i = 0; i < size_t(w) * h; ++i) {
-      for (int c = 0; c < 3; ++c) rgba[4 * i + c] = rgb[3 * i + c];
-      rgba[4 * i + 3] = (*seen)[i] == TexelSource::Smooth ? 0.f : 1.f;
-    }
-    gl.glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, w, h, 0, GL_RGBA, GL_FLOAT, rgba.data());
-  } else {
-    gl.glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, w, h, 0, GL_RGB, GL_FLOAT, rgb);
-  }
+  gl.glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, w, h, 0, GL_RGBA, GL_FLOAT, rgba.data());
   const GLint filter = linear ? GL_LINEAR : GL_NEAREST;
   gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
   gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
@@ -122,18 +121,20 @@ bool sameCamera(const Camera& a, const Camera& b) {
 
 struct GlRelightRenderer::Impl {
   QOpenGLFunctions_3_3_Core* gl = nullptr;
-  std::unique_ptr<QOpenGLShaderProgram> relight, display;
-  GLuint vao = 0, vbo = 0, emptyVao = 0;
+  QByteArray vertexSource, fragmentSource;
+  std::map<int, std::unique_ptr<QOpenGLShaderProgram>> programs;  // by variant
+  GLuint vao = 0, vbo = 0, ebo = 0, lightVbo = 0;
   GLuint cornerBuffer = 0, cornerTexture = 0, rectBuffer = 0, rectTexture = 0;
-  GLuint glow = 0, glowLamp = 0;
+  GLuint glow = 0;
   bool hasGlow = false;
+  glm::vec4 glowBox{0.f};  // the glow's pixels, as texture coordinates x0, y0, x1, y1
   Camera photoCamera;
   std::vector<SurfaceTextures> textures;  // per scene polygon
   DisplayMesh mesh;
   bool meshReady = false, lightingReady = false;
   glm::vec3 boundsLo{0.f}, boundsHi{0.f};
   std::vector<glm::vec3> lampScale;
-  FloatTarget linear, readback;
+  FloatTarget readback;
   double lastMs = 0;
 
   void releaseRoom() {
@@ -143,18 +144,39 @@ struct GlRelightRenderer::Impl {
     }
     textures.clear();
     if (glow) gl->glDeleteTextures(1, &glow);
-    if (glowLamp) gl->glDeleteTextures(1, &glowLamp);
-    glow = glowLamp = 0;
+    glow = 0;
     hasGlow = false;
   }
 
-  void drawLinear(const Camera& camera, ViewMode mode, int w, int h) {
-    linear.ensure(*gl, w, h);
-    gl->glBindFramebuffer(GL_FRAMEBUFFER, linear.fbo);
-    gl->glViewport(0, 0, w, h);
+  // The program for a view mode, output, glow on or off and checker on or off, compiled on first use.
+  QOpenGLShaderProgram& program(ViewMode mode, DisplayOutput output, bool glowOn, bool checker) {
+    const int key = int(mode) * 16 + int(output) * 4 + (glowOn ? 2 : 0) + (checker ? 1 : 0);
+    auto& p = programs[key];
+    if (!p) {
+      const QByteArray defines = "#version 330 core\n#define MODE " + QByteArray::number(int(mode)) + "\n#define OUTPUT " +
+                                 QByteArray::number(int(output)) + "\n#define GLOW " + QByteArray::number(glowOn ? 1 : 0) +
+                                 "\n#define CHECKER " + QByteArray::number(checker ? 1 : 0) + "\n";
+      auto q = std::make_unique<QOpenGLShaderProgram>();
+      if (!q->addShaderFromSourceCode(QOpenGLShader::Vertex, defines + vertexSource) ||
+          !q->addShaderFromSourceCode(QOpenGLShader::Fragment, defines + fragmentSource) || !q->link())
+        throw Error(":/shaders/relight.frag", "shader", q->log().toStdString());
+      p = std::move(q);
+    }
+    return *p;
+  }
+
+  void drawView(const Camera& camera, ViewMode mode, const DisplaySettings& s, GLuint target, const ViewRect& rect) {
+    gl->glBindFramebuffer(GL_FRAMEBUFFER, target);
+    // The whole target (a scissored clear is a full-screen draw on llvmpipe): black where the
+    // values are radiance, the workbench's grey on a display.
+    gl->glDisable(GL_SCISSOR_TEST);
     gl->glDisable(GL_BLEND);
-    gl->glClearColor(0.f, 0.f, 0.f, 0.f);  // alpha 0: nothing drawn (the display fills cracks)
+    if (s.output == DisplayOutput::Linear) gl->glClearColor(0.f, 0.f, 0.f, 1.f);
+    else gl->glClearColor(0.16f, 0.16f, 0.17f, 1.f);
+    gl->glClearDepth(1.0);
+    gl->glDepthMask(GL_TRUE);
     gl->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    gl->glViewport(rect.x, rect.y, rect.width, rect.height);
     if (!meshReady || !lightingReady) return;
     gl->glEnable(GL_DEPTH_TEST);
     gl->glDepthFunc(GL_LESS);
@@ -167,74 +189,56 @@ struct GlRelightRenderer::Impl {
     }
     farZ = farZ * 1.05 + 0.1;
     const double nearZ = std::clamp(farZ * 1e-3, 0.005, 0.05);
-    relight->bind();
-    relight->setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(worldToClip(camera, nearZ, farZ))[0][0]));
-    relight->setUniformValue("eye", QVector3D(float(eye.x), float(eye.y), float(eye.z)));
-    relight->setUniformValue("mode", int(mode));
+    const bool glowOn = hasGlow && sameCamera(camera, photoCamera);
     // Away from the photo's own view, texels no photo saw are drawn as a checker.
-    relight->setUniformValue("checkerUnseen", sameCamera(camera, photoCamera) ? 0 : 1);
-    relight->setUniformValue("corners", 0);
-    relight->setUniformValue("rects", 1);
-    relight->setUniformValue("original", 2);
-    relight->setUniformValue("unoccluded", 3);
+    auto& relight = program(mode, s.output, glowOn, !sameCamera(camera, photoCamera));
+    relight.bind();
+    relight.setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(worldToClip(camera, nearZ, farZ))[0][0]));
+    relight.setUniformValue("eye", QVector3D(float(eye.x), float(eye.y), float(eye.z)));
+    relight.setUniformValue("corners", 0);
+    relight.setUniformValue("rects", 1);
+    relight.setUniformValue("original", 2);
+    relight.setUniformValue("unoccluded", 3);
+    relight.setUniformValue("glow", 4);
+    if (glowOn) {
+      gl->glActiveTexture(GL_TEXTURE4);
+      gl->glBindTexture(GL_TEXTURE_2D, glow);
+      relight.setUniformValue("glowBox", QVector4D(glowBox.x, glowBox.y, glowBox.z, glowBox.w));
+      std::vector<GLfloat> scales(3 * kMaxLamps, 1.f);
+      for (size_t l = 0; l < lampScale.size() && l < size_t(kMaxLamps); ++l)
+        for (int c = 0; c < 3; ++c) scales[3 * l + c] = lampScale[l][c];
+      relight.setUniformValueArray("lampScale", scales.data(), kMaxLamps, 3);
+    }
+    relight.setUniformValue("viewOrigin", QVector2D(float(rect.x), float(rect.y)));
+    relight.setUniformValue("viewSize", QVector2D(float(rect.width), float(rect.height)));
+    relight.setUniformValue("exposure", float(s.exposure));
+    relight.setUniformValue("falseMin", float(s.falseMin));
+    relight.setUniformValue("falseMax", float(s.falseMax));
     gl->glActiveTexture(GL_TEXTURE0);
     gl->glBindTexture(GL_TEXTURE_BUFFER, cornerTexture);
     gl->glActiveTexture(GL_TEXTURE1);
     gl->glBindTexture(GL_TEXTURE_BUFFER, rectTexture);
     gl->glBindVertexArray(vao);
     for (const auto& r : mesh.ranges) {
-      relight->setUniformValue("kind", int(r.kind));
-      relight->setUniformValue("normal", QVector3D(r.normal.x, r.normal.y, r.normal.z));
+      relight.setUniformValue("kind", int(r.kind));
+      relight.setUniformValue("normal", QVector3D(r.normal.x, r.normal.y, r.normal.z));
       if (size_t(r.surface) < textures.size()) {
         const auto& t = textures[r.surface];
         gl->glActiveTexture(GL_TEXTURE2);
         gl->glBindTexture(GL_TEXTURE_2D, t.original);
         gl->glActiveTexture(GL_TEXTURE3);
         gl->glBindTexture(GL_TEXTURE_2D, t.unoccluded);
-        relight->setUniformValue("texOrigin", QVector2D(t.origin.x, t.origin.y));
-        relight->setUniformValue("texelSize", t.texel);
-        relight->setUniformValue("texSize", QVector2D(t.size.x, t.size.y));
+        relight.setUniformValue("texOrigin", QVector2D(t.origin.x, t.origin.y));
+        relight.setUniformValue("texelSize", t.texel);
+        relight.setUniformValue("texSize", QVector2D(t.size.x, t.size.y));
       }
-      gl->glDrawArrays(GL_TRIANGLES, GLint(r.first), GLsizei(r.count));
+      gl->glDrawElements(GL_TRIANGLES, GLsizei(r.count), GL_UNSIGNED_INT,
+                         reinterpret_cast<const void*>(r.first * sizeof(uint32_t)));
     }
     gl->glBindVertexArray(0);
     gl->glDisable(GL_DEPTH_TEST);
-    relight->release();
-  }
-
-  void present(const Camera& camera, const DisplaySettings& s, GLuint target, const ViewRect& rect) {
-    gl->glBindFramebuffer(GL_FRAMEBUFFER, target);
-    gl->glViewport(rect.x, rect.y, rect.width, rect.height);
-    gl->glDisable(GL_DEPTH_TEST);
-    display->bind();
-    display->setUniformValue("linearImage", 0);
-    display->setUniformValue("glow", 1);
-    display->setUniformValue("glowLamp", 2);
     gl->glActiveTexture(GL_TEXTURE0);
-    gl->glBindTexture(GL_TEXTURE_2D, linear.colour);
-    const bool glowOn = hasGlow && sameCamera(camera, photoCamera);
-    display->setUniformValue("glowOn", glowOn ? 1 : 0);
-    if (glowOn) {
-      gl->glActiveTexture(GL_TEXTURE1);
-      gl->glBindTexture(GL_TEXTURE_2D, glow);
-      gl->glActiveTexture(GL_TEXTURE2);
-      gl->glBindTexture(GL_TEXTURE_2D, glowLamp);
-      std::vector<GLfloat> scales(3 * kMaxLamps, 1.f);
-      for (size_t l = 0; l < lampScale.size() && l < size_t(kMaxLamps); ++l)
-        for (int c = 0; c < 3; ++c) scales[3 * l + c] = lampScale[l][c];
-      display->setUniformValueArray("lampScale", scales.data(), kMaxLamps, 3);
-    }
-    display->setUniformValue("viewOrigin", QVector2D(float(rect.x), float(rect.y)));
-    display->setUniformValue("viewSize", QVector2D(float(rect.width), float(rect.height)));
-    display->setUniformValue("outputMode", int(s.output));
-    display->setUniformValue("exposure", float(s.exposure));
-    display->setUniformValue("falseMin", float(s.falseMin));
-    display->setUniformValue("falseMax", float(s.falseMax));
-    gl->glBindVertexArray(emptyVao);
-    gl->glDrawArrays(GL_TRIANGLES, 0, 3);
-    gl->glBindVertexArray(0);
-    display->release();
-    gl->glActiveTexture(GL_TEXTURE0);
+    relight.release();
   }
 };
 
@@ -244,14 +248,12 @@ GlRelightRenderer::~GlRelightRenderer() {
   auto& im = *impl_;
   if (!im.gl || !QOpenGLContext::currentContext()) return;  // the context went first: GL frees it all
   im.releaseRoom();
-  im.linear.release(*im.gl);
   im.readback.release(*im.gl);
-  for (GLuint* b : {&im.vbo, &im.cornerBuffer, &im.rectBuffer})
+  for (GLuint* b : {&im.vbo, &im.ebo, &im.lightVbo, &im.cornerBuffer, &im.rectBuffer})
     if (*b) im.gl->glDeleteBuffers(1, b);
   for (GLuint* t : {&im.cornerTexture, &im.rectTexture})
     if (*t) im.gl->glDeleteTextures(1, t);
-  for (GLuint* a : {&im.vao, &im.emptyVao})
-    if (*a) im.gl->glDeleteVertexArrays(1, a);
+  if (im.vao) im.gl->glDeleteVertexArrays(1, &im.vao);
 }
 
 void GlRelightRenderer::initialize() {
@@ -262,19 +264,20 @@ void GlRelightRenderer::initialize() {
   im.gl = QOpenGLVersionFunctionsFactory::get<QOpenGLFunctions_3_3_Core>(ctx);
   if (!im.gl || !im.gl->initializeOpenGLFunctions())
     throw Error("", "OpenGL", "the display does not offer OpenGL 3.3 core");
-  auto program = [](const char* vert, const char* frag) {
-    auto p = std::make_unique<QOpenGLShaderProgram>();
-    if (!p->addShaderFromSourceFile(QOpenGLShader::Vertex, vert) ||
-        !p->addShaderFromSourceFile(QOpenGLShader::Fragment, frag) || !p->link())
-      throw Error(frag, "shader", p->log().toStdString());
-    return p;
+  auto read = [](const char* name) {
+    QFile f(name);
+    if (!f.open(QIODevice::ReadOnly)) throw Error(name, "shader", "missing from the binary's resources");
+    return f.readAll();
   };
-  im.relight = program(":/shaders/relight.vert", ":/shaders/relight.frag");
-  im.display = program(":/shaders/display.vert", ":/shaders/display.frag");
+  im.vertexSource = read(":/shaders/relight.vert");
+  im.fragmentSource = read(":/shaders/relight.frag");
+  im.programs.clear();
+  im.program(ViewMode::Relit, DisplayOutput::Exposed, true, false);  // the usual view: errors show now
   auto& gl = *im.gl;
   gl.glGenVertexArrays(1, &im.vao);
-  gl.glGenVertexArrays(1, &im.emptyVao);
   gl.glGenBuffers(1, &im.vbo);
+  gl.glGenBuffers(1, &im.ebo);
+  gl.glGenBuffers(1, &im.lightVbo);
   gl.glGenBuffers(1, &im.cornerBuffer);
   gl.glGenBuffers(1, &im.rectBuffer);
   gl.glGenTextures(1, &im.cornerTexture);
@@ -288,6 +291,13 @@ void GlRelightRenderer::initialize() {
   gl.glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, sizeof(V), reinterpret_cast<void*>(offsetof(V, uv)));
   gl.glEnableVertexAttribArray(2);
   gl.glVertexAttribIPointer(2, 1, GL_INT, sizeof(V), reinterpret_cast<void*>(offsetof(V, leaf)));
+  gl.glBindBuffer(GL_ARRAY_BUFFER, im.lightVbo);
+  for (GLuint k = 0; k < 3; ++k) {
+    gl.glEnableVertexAttribArray(3 + k);
+    gl.glVertexAttribPointer(3 + k, 3, GL_FLOAT, GL_FALSE, kDisplayVertexLight * sizeof(float),
+                             reinterpret_cast<void*>(3 * k * sizeof(float)));
+  }
+  gl.glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, im.ebo);  // part of the vertex array's state
   gl.glBindVertexArray(0);
 }
 
@@ -299,8 +309,10 @@ void GlRelightRenderer::setRoom(const Scene& scene, const RelightData& data) {
     SurfaceTextures s;
     const float* orig = t.original.empty() ? nullptr : &t.original[0].x;
     const float* fin = t.unoccluded.empty() ? orig : &t.unoccluded[0].x;
-    s.original = uploadTexture(gl, t.width, t.height, orig, true, &t.source);
-    s.unoccluded = uploadTexture(gl, t.width, t.height, fin, true, &t.source);
+    const bool known = t.source.size() == size_t(std::max(0, t.width)) * size_t(std::max(0, t.height));
+    auto seen = [&](size_t i) { return known && t.source[i] == TexelSource::Smooth ? 0.f : 1.f; };
+    s.original = uploadTexture(gl, t.width, t.height, orig, true, seen);
+    s.unoccluded = uploadTexture(gl, t.width, t.height, fin, true, seen);
     s.origin = glm::vec2(t.origin);
     s.texel = float(t.texel);
     s.size = glm::vec2(std::max(1, t.width), std::max(1, t.height));
@@ -309,10 +321,20 @@ void GlRelightRenderer::setRoom(const Scene& scene, const RelightData& data) {
   if (const Photo* ph = scene.findPhoto(data.photo)) im.photoCamera = ph->camera;
   im.hasGlow = data.glow.width > 0 && data.glowLamp.size() == size_t(data.glow.width) * data.glow.height;
   if (im.hasGlow) {
-    im.glow = uploadTexture(gl, data.glow.width, data.glow.height, data.glow.pixels.data(), false);
-    std::vector<float> which(data.glowLamp.size() * 3);
-    for (size_t k = 0; k < data.glowLamp.size(); ++k) which[3 * k] = which[3 * k + 1] = which[3 * k + 2] = float(data.glowLamp[k]);
-    im.glowLamp = uploadTexture(gl, data.glow.width, data.glow.height, which.data(), false);
+    const int w = data.glow.width, h = data.glow.height;
+    im.glow = uploadTexture(gl, w, h, data.glow.pixels.data(), false, [&](size_t i) { return float(data.glowLamp[i]); });
+    // The pixels that have glow, so that the fragments elsewhere skip the lookup.
+    int x0 = w, y0 = h, x1 = 0, y1 = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        if (data.glowLamp[size_t(y) * w + x] >= 0) {
+          x0 = std::min(x0, x);
+          y0 = std::min(y0, y);
+          x1 = std::max(x1, x + 1);
+          y1 = std::max(y1, y + 1);
+        }
+    im.glowBox = x1 > x0 ? glm::vec4(float(x0) / w, float(y0) / h, float(x1) / w, float(y1) / h) : glm::vec4(0.f);
+    im.hasGlow = x1 > x0;
   }
   im.meshReady = im.lightingReady = false;
 }
@@ -330,6 +352,11 @@ void GlRelightRenderer::setMesh(const RelightSession& session) {
   gl.glBindBuffer(GL_ARRAY_BUFFER, im.vbo);
   gl.glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(im.mesh.vertices.size() * sizeof(DisplayMesh::Vertex)),
                   im.mesh.vertices.data(), GL_STATIC_DRAW);
+  gl.glBindVertexArray(im.vao);
+  gl.glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, im.ebo);
+  gl.glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(im.mesh.indices.size() * sizeof(uint32_t)), im.mesh.indices.data(),
+                  GL_STATIC_DRAW);
+  gl.glBindVertexArray(0);
   gl.glBindBuffer(GL_TEXTURE_BUFFER, im.rectBuffer);
   gl.glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(im.mesh.leafRect.size() * sizeof(glm::vec4)), im.mesh.leafRect.data(),
                   GL_STATIC_DRAW);
@@ -340,6 +367,14 @@ void GlRelightRenderer::setMesh(const RelightSession& session) {
   if (size_t(maxTexels) < im.mesh.leafNode.size() * kDisplayCornerTexels)
     throw Error("", "OpenGL", "the mesh's " + std::to_string(im.mesh.leafNode.size()) +
                                   " leaves exceed the display's texture-buffer size");
+  // The corner values serve the references view (the §4.3 category, which changes only with the
+  // mesh); the light itself travels per vertex.
+  const auto corners = session.displayCorners(im.mesh);
+  gl.glBindBuffer(GL_TEXTURE_BUFFER, im.cornerBuffer);
+  gl.glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(corners.size() * sizeof(glm::vec4)), corners.data(), GL_STATIC_DRAW);
+  gl.glBindTexture(GL_TEXTURE_BUFFER, im.cornerTexture);
+  gl.glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, im.cornerBuffer);
+  gl.glBindBuffer(GL_TEXTURE_BUFFER, 0);
   im.meshReady = true;
   setLighting(session);
 }
@@ -347,12 +382,10 @@ void GlRelightRenderer::setMesh(const RelightSession& session) {
 void GlRelightRenderer::setLighting(const RelightSession& session) {
   auto& im = *impl_;
   auto& gl = *im.gl;
-  const auto corners = session.displayCorners(im.mesh);
-  gl.glBindBuffer(GL_TEXTURE_BUFFER, im.cornerBuffer);
-  gl.glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(corners.size() * sizeof(glm::vec4)), corners.data(), GL_DYNAMIC_DRAW);
-  gl.glBindTexture(GL_TEXTURE_BUFFER, im.cornerTexture);
-  gl.glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, im.cornerBuffer);
-  gl.glBindBuffer(GL_TEXTURE_BUFFER, 0);
+  const auto light = session.displayVertexLight(im.mesh);
+  gl.glBindBuffer(GL_ARRAY_BUFFER, im.lightVbo);
+  gl.glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(light.size() * sizeof(float)), light.data(), GL_DYNAMIC_DRAW);
+  gl.glBindBuffer(GL_ARRAY_BUFFER, 0);
   im.lampScale.resize(session.lampCount());
   for (size_t l = 0; l < im.lampScale.size(); ++l) im.lampScale[l] = glm::vec3(session.lampScale(int(l)));
   im.lightingReady = true;
@@ -368,8 +401,7 @@ void GlRelightRenderer::draw(const Camera& camera, ViewMode mode, const DisplayS
   if (rect.width <= 0 || rect.height <= 0) return;
   im.gl->glFinish();
   const auto t0 = std::chrono::steady_clock::now();
-  im.drawLinear(camera, mode, rect.width, rect.height);
-  im.present(camera, display, target, rect);
+  im.drawView(camera, mode, display, target, rect);
   im.gl->glFinish();
   im.lastMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }

@@ -204,11 +204,14 @@ size_t ViewportWidget::leafCount() const { return renderer_->leafCount(); }
 
 void ViewportWidget::paintGL() {
   upload();
-  auto* f = context()->functions();
-  f->glClearColor(0.16f, 0.16f, 0.17f, 1.f);
-  f->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   QString message = glError_;
-  if (glError_.isEmpty() && session_ && renderer_->ready()) {
+  const bool drawing = glError_.isEmpty() && session_ && renderer_->ready();
+  if (!drawing) {  // (the renderer clears what it draws into)
+    auto* f = context()->functions();
+    f->glClearColor(0.16f, 0.16f, 0.17f, 1.f);
+    f->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  }
+  if (drawing) {
     DisplaySettings d;
     d.output = falseColour_ ? DisplayOutput::FalseColour : DisplayOutput::Exposed;
     d.exposure = (data_ ? data_->photoExposure : 1.0) * std::pow(2.0, ev_);

@@ -1,9 +1,13 @@
 #pragma once
 // What a display draws of a relighting session (Loscos 2000 §2.4: texture x B / D): the leaf
-// elements of the session's mesh clipped to their polygons as triangles, and per leaf the corner
-// values of B, D and B_orig that the display interpolates bilinearly, exactly as the CPU renderer
-// (RelightSession::render) does. No light is computed from it: it is the session's solution laid
-// out for a GPU.
+// elements of the session's mesh clipped to their polygons as indexed triangles, and per leaf the
+// corner values of B, D and B_orig. Within a polygon the triangles are watertight: every corner
+// of a neighbouring leaf that lies on a leaf's edge (a T-junction) is a vertex of that leaf's
+// outline too; a leaf with such vertices is a fan around its centre, a plain one two triangles.
+// A display that evaluates the leaf's bilinear B and D at these vertices and interpolates them
+// linearly (Gouraud, as the paper's display does) matches the CPU renderer's per-pixel bilinear
+// values (RelightSession::render) exactly along every leaf edge. No light is computed from it: it is the
+// session's solution laid out for a GPU.
 #include <cstdint>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -27,9 +31,10 @@ struct DisplayMesh {
     int surface = -1;  // engine surface; for surface < realPolygons, also the scene polygon / texture
     DisplaySurfaceKind kind = DisplaySurfaceKind::Textured;
     glm::vec3 normal{0.f};  // front side (back faces are drawn black)
-    size_t first = 0, count = 0;  // into vertices (a triangle list)
+    size_t first = 0, count = 0;  // into indices (a triangle list)
   };
   std::vector<Vertex> vertices;
+  std::vector<uint32_t> indices;    // three per triangle
   std::vector<Range> ranges;        // one per surface that has triangles
   std::vector<int> leafNode;        // engine node of each drawn leaf
   std::vector<glm::vec4> leafRect;  // its u0, v0, u1, v1
@@ -41,6 +46,8 @@ struct DisplayMesh {
 // irradiance on real surfaces: what the session's ratio is made of). Alpha is 1, except texel 4
 // (D's first corner) whose alpha is the leaf's §4.3 category (0 none, or the two below).
 inline constexpr int kDisplayCornerTexels = 12;
+// Per vertex: B, D and B_orig (RGB each) of its leaf at its place.
+inline constexpr int kDisplayVertexLight = 9;
 inline constexpr uint8_t kOccludedElement = 2, kFrontierElement = 3;
 
 }  // namespace relume

@@ -175,6 +175,10 @@ class RelightSession {
   // on it (refresh after every lighting change); see display_mesh.h.
   DisplayMesh displayMesh() const;
   std::vector<glm::vec4> displayCorners(const DisplayMesh& mesh) const;
+  // Per vertex of `mesh` its leaf's bilinear B, D and B_orig at the vertex (kDisplayVertexLight
+  // floats): what a display interpolates across the triangles (refresh after every lighting
+  // change).
+  std::vector<float> displayVertexLight(const DisplayMesh& mesh) const;
   // Lamp scales as set, and the photo camera whose view shows the lamps' glow layer.
   glm::dvec3 lampScale(int lamp) const;
   size_t lampCount() const;

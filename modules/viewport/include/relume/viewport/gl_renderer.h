@@ -1,7 +1,7 @@
 #pragma once
 // The relighting renderer of the workbench (OpenGL 3.3 core): draws a RelightSession's display
-// mesh as texture x B / D (or another view mode) into a linear float buffer, then applies the
-// display transform (the photo's exposure, sRGB, or false colour) into the target framebuffer.
+// mesh as texture x B / D (or another view mode) and applies the display transform (linear, the
+// photo's exposure and sRGB, or false colour) in the same pass, into the target framebuffer.
 // It computes no light: B, D and the textures are the session's. Needs a current OpenGL 3.3
 // context for every call except the constructor.
 #include <memory>
@@ -41,7 +41,8 @@ class GlRelightRenderer {
   void setMesh(const RelightSession& session);      // after the session's mesh changed
   void setLighting(const RelightSession& session);  // after any lighting change
   bool ready() const;
-  // Draws `camera`'s view into `target` (a framebuffer object id; 0 the default) at `rect`.
+  // Clears `target` (a framebuffer object id; 0 the default; black for linear output, grey
+  // otherwise) and draws `camera`'s view into it at `rect`.
   // The glow layer is added when `camera` is the photo's camera (its image, scaled to rect).
   void draw(const Camera& camera, ViewMode mode, const DisplaySettings& display, unsigned target, const ViewRect& rect);
   // Renders `camera`'s view at the camera's own resolution into a float framebuffer and reads it
