@@ -37,6 +37,10 @@ void addRelightOptions(QCommandLineParser& p) {
   p.addOption({"lamps-from-equations", "Estimate lamps by Eq. 2 / least squares even when the HDR photos show them."});
   p.addOption({"eps", "Radiosity refinement threshold.", "X"});
   p.addOption({"reference-patch", "POLYGON=U,V: the polygon's default reference patch (plane coordinates, metres).", "P=U,V"});
+  p.addOption({"reference-region",
+               "POLYGON=U,V@U1,V1,R1[@U2,V2,R2...]: the occluded elements of POLYGON inside the discs (centre, radius; "
+               "plane coordinates, metres) take their reflectance from the element at U,V. Repeatable; later wins.",
+               "P=U,V@U,V,R"});
 }
 
 RelightOptions relightOptions(const QCommandLineParser& p) {
@@ -72,6 +76,32 @@ RelightOptions relightOptions(const QCommandLineParser& p) {
     if (!okU || !okV) throw Error("", "--reference-patch " + str(r), "U and V must be numbers");
     o.referenceOverride[str(r.left(eq))] = {u, v};
   }
+  for (const QString& r : p.values("reference-region")) {
+    const int eq = r.indexOf('=');
+    const QStringList parts = r.mid(eq + 1).split('@');
+    const std::string what = "--reference-region " + str(r);
+    if (eq <= 0 || parts.size() < 2) throw Error("", what, "expected POLYGON=U,V@U1,V1,R1[@...]");
+    auto numbers = [&](const QString& s, int n) {
+      const QStringList f = s.split(',');
+      std::vector<double> x;
+      for (const QString& e : f) {
+        bool ok = false;
+        x.push_back(e.toDouble(&ok));
+        if (!ok) throw Error("", what, "'" + str(s) + "' is not a list of numbers");
+      }
+      if (int(x.size()) != n) throw Error("", what, "'" + str(s) + "' needs " + std::to_string(n) + " numbers");
+      return x;
+    };
+    ReferenceRegion region;
+    region.polygon = str(r.left(eq));
+    const auto ref = numbers(parts[0], 2);
+    region.reference = {ref[0], ref[1]};
+    for (int k = 1; k < parts.size(); ++k) {
+      const auto d = numbers(parts[k], 3);
+      region.discs.emplace_back(d[0], d[1], d[2]);
+    }
+    o.referenceRegions.push_back(region);
+  }
   return o;
 }
 
@@ -87,9 +117,10 @@ void printEstimates(const RelightData& d) {
                  l.photographed.x, l.photographed.y, l.photographed.z);
   std::fprintf(stderr,
                "texture-based refinement: %zu -> %zu elements (%zu subdivided, %zu cancelled); %zu occluded elements, "
-               "%zu on the frontier, %zu corrected from the frontier, %zu from the polygon's default reference; %.1f s\n",
+               "%zu on the frontier, %zu corrected from the frontier, %zu from the polygon's default reference, %zu from painted "
+               "regions; %.1f s\n",
                e.leavesBeforeTextureRefinement, e.leavesAfter, e.texturesSubdivided, e.subdivisionsCancelled, e.occludedLeaves,
-               e.frontierLeaves, e.referencedByFrontier, e.referencedByDefault, e.seconds);
+               e.frontierLeaves, e.referencedByFrontier, e.referencedByDefault, e.referencedByRegion, e.seconds);
 }
 
 QJsonObject estimatesJson(const RelightData& d) {

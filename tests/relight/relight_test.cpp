@@ -242,24 +242,56 @@ TEST(Relight, MovingAVirtualBoxUpdatesOnlyTheLinksItCrossesAndMatchesAFreshSolut
   EXPECT_THROW(moving.moveObject(0, glm::dvec3(-2.0, 0, 0)), Error);
 }
 
-TEST(Relight, TheUserPicksAPolygonsReferencePatchAndTheProjectKeepsIt) {
+// The user's §4.3 choices: a polygon's default reference patch, and a region painted over the
+// table's shadow on the floor whose occluded elements all take the reflectance of one chosen
+// element. Both travel with the project; bad ones are refused with the polygon named.
+TEST(Relight, TheUserPicksReferencePatchesAndPaintsRegionsAndTheProjectKeepsThem) {
   RelightOptions o;
-  const auto& floor = room().scene.polygons[room().scene.findPolygon("floor")].vertices;
-  const PlaneFrame f = PlaneFrame::of(floor);
+  const int floorIndex = room().scene.findPolygon("floor");
+  const PlaneFrame f = PlaneFrame::of(room().scene.polygons[floorIndex].vertices);
   const glm::dvec2 uv = f.toUV(glm::dvec3(3.5, 1.0, 0.0));
   o.referenceOverride["floor"] = uv;
+  const glm::dvec2 shadow = f.toUV(glm::dvec3(1.8, 2.7, 0.0)), lit = f.toUV(glm::dvec3(0.6, 1.2, 0.0));
+  o.referenceRegions.push_back({"floor", {glm::dvec3(shadow, 0.3)}, lit});
   const RelightData d = preprocessRoom(room().scene, o);
   ASSERT_EQ(d.referenceOverride.count("floor"), 1u);
+  ASSERT_EQ(d.referenceRegions.size(), 1u);
+  EXPECT_GT(d.estimates.referencedByRegion, 20u) << "the table's shadow has occluded elements";
+  // Reflectance (the albedo texture) inside the region against the chosen element's.
+  auto meanAlbedo = [&](const RelightData& data, glm::dvec2 c, double r) {
+    const auto& t = data.textures[size_t(floorIndex)];
+    glm::dvec3 sum(0.0);
+    double n = 0;
+    for (int y = 0; y < t.height; ++y)
+      for (int x = 0; x < t.width; ++x)
+        if (glm::length(t.uvOf(x + 0.5, y + 0.5) - c) < r) {
+          sum += glm::dvec3(t.albedo[t.index(x, y)]);
+          n += 1;
+        }
+    return sum / std::max(n, 1.0);
+  };
+  const glm::dvec3 reference = meanAlbedo(d, lit, 0.04);
+  auto error = [&](const RelightData& data) { return glm::length(meanAlbedo(data, shadow, 0.2) - reference) / glm::length(reference); };
+  std::printf("reflectance under the table vs the chosen element: %.1f %% painted, %.1f %% automatic\n",
+              100 * error(d), 100 * error(room().data));
+  EXPECT_LT(error(d), 0.05);
   QTemporaryDir dir;
   const std::string folder = dir.filePath("p").toStdString();
   saveRelightProject(room().scene, d, folder);
   const RelightData back = readRelightData(readProject(folder));
   ASSERT_EQ(back.referenceOverride.count("floor"), 1u);
   EXPECT_NEAR(back.referenceOverride.at("floor").x, uv.x, 1e-9);
+  ASSERT_EQ(back.options.referenceRegions.size(), 1u);
+  EXPECT_TRUE(back.options.referenceRegions[0] == d.referenceRegions[0]);
   o.referenceOverride = {{"no_such_polygon", uv}};
   EXPECT_THROW(preprocessRoom(room().scene, o), Error);
   o.referenceOverride = {{"floor", glm::dvec2(1e3, 1e3)}};
   EXPECT_THROW(preprocessRoom(room().scene, o), Error);
+  o.referenceOverride.clear();
+  o.referenceRegions = {{"floor", {glm::dvec3(shadow, 0.3)}, glm::dvec2(1e3, 1e3)}};
+  EXPECT_THROW(preprocessRoom(room().scene, o), Error) << "a reference outside the polygon";
+  o.referenceRegions = {{"floor", {glm::dvec3(shadow, -1.0)}, lit}};
+  EXPECT_THROW(preprocessRoom(room().scene, o), Error) << "a negative radius";
 }
 
 // Lamp edits are weighted sums of per-lamp solutions (radiosity is linear in the emittances);

@@ -7,6 +7,7 @@
 #include <QJsonDocument>
 #include <QJsonObject>
 #include <QSaveFile>
+#include <cmath>
 #include <cstdio>
 #include <numbers>
 
@@ -55,6 +56,45 @@ QJsonObject optionsJson(const RelightOptions& o) {
 }
 
 }  // namespace
+
+QJsonArray referenceRegionsJson(const std::vector<ReferenceRegion>& regions) {
+  QJsonArray out;
+  for (const auto& r : regions) {
+    QJsonArray discs;
+    for (const auto& d : r.discs) discs.append(vec(d));
+    out.append(QJsonObject{{"polygon", QString::fromStdString(r.polygon)}, {"reference", vec(r.reference)}, {"discs", discs}});
+  }
+  return out;
+}
+
+std::vector<ReferenceRegion> referenceRegionsFromJson(const QJsonArray& a, const std::string& file) {
+  std::vector<ReferenceRegion> out;
+  auto numbers = [&](const QJsonValue& v, int n, const char* what) {
+    const QJsonArray x = v.toArray();
+    std::vector<double> r;
+    for (const auto& e : x)
+      if (e.isDouble() && std::isfinite(e.toDouble())) r.push_back(e.toDouble());
+    if (int(r.size()) != n || x.size() != n)
+      throw Error(file, "reference_regions", std::string(what) + " must be " + std::to_string(n) + " finite numbers");
+    return r;
+  };
+  for (const auto& v : a) {
+    const QJsonObject o = v.toObject();
+    ReferenceRegion r;
+    r.polygon = o["polygon"].toString().toStdString();
+    if (r.polygon.empty()) throw Error(file, "reference_regions", "a region names no polygon");
+    const auto ref = numbers(o["reference"], 2, "a reference");
+    r.reference = {ref[0], ref[1]};
+    for (const auto& d : o["discs"].toArray()) {
+      const auto x = numbers(d, 3, "a disc (u, v, radius)");
+      if (x[2] <= 0) throw Error(file, "reference_regions", "a disc's radius must be positive");
+      r.discs.emplace_back(x[0], x[1], x[2]);
+    }
+    if (r.discs.empty()) throw Error(file, "reference_regions", "the region on '" + r.polygon + "' has no disc");
+    out.push_back(std::move(r));
+  }
+  return out;
+}
 
 bool hasRelightData(const std::string& folder) {
   return QFileInfo::exists(QDir(QString::fromStdString(folder)).filePath("relight/relight.json"));
@@ -106,6 +146,7 @@ void saveRelightProject(const Scene& sceneIn, const RelightData& data, const std
     QJsonObject refs, overrides;
     for (const auto& [k, v] : data.referencePatch) refs[QString::fromStdString(k)] = vec(v);
     for (const auto& [k, v] : data.referenceOverride) overrides[QString::fromStdString(k)] = vec(v);
+
     QJsonObject root{{"format", "relume-relight"},
                      {"version", 1},
                      {"photo", QString::fromStdString(data.photo)},
@@ -127,9 +168,11 @@ void saveRelightProject(const Scene& sceneIn, const RelightData& data, const std
                                   {"frontier_elements", double(e.frontierLeaves)},
                                   {"referenced_by_frontier", double(e.referencedByFrontier)},
                                   {"referenced_by_default", double(e.referencedByDefault)},
+                                  {"referenced_by_region", double(e.referencedByRegion)},
                                   {"seconds", e.seconds}}},
                      {"reference_patches", refs},
                      {"reference_overrides", overrides},
+                     {"reference_regions", referenceRegionsJson(data.referenceRegions)},
                      {"textures", texs}};
     QSaveFile f(dir.filePath("relight/relight.json"));
     if (!f.open(QIODevice::WriteOnly) || f.write(QJsonDocument(root).toJson()) < 0 || !f.commit())
@@ -208,6 +251,7 @@ RelightData readRelightData(const Scene& scene) {
   for (auto it = refs.begin(); it != refs.end(); ++it) d.referencePatch[it.key().toStdString()] = v2(it.value());
   for (auto it = overrides.begin(); it != overrides.end(); ++it) d.referenceOverride[it.key().toStdString()] = v2(it.value());
   d.options.referenceOverride = d.referenceOverride;
+  d.referenceRegions = d.options.referenceRegions = referenceRegionsFromJson(root["reference_regions"].toArray(), path);
   const QJsonArray texs = root["textures"].toArray();
   if (size_t(texs.size()) != scene.polygons.size())
     throw Error(path, "textures", "lists " + std::to_string(texs.size()) + " polygons, the project has " +

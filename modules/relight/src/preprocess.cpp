@@ -84,6 +84,12 @@ struct Leaf {
 
 }  // namespace
 
+bool ReferenceRegion::contains(glm::dvec2 uv) const {
+  for (const auto& d : discs)
+    if (glm::length(uv - glm::dvec2(d)) <= d.z) return true;
+  return false;
+}
+
 RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress& progress) {
   auto uvPolygon = [&](int s) {
     const PlaneFrame f = PlaneFrame::of(scene.polygons[s].vertices);
@@ -94,6 +100,24 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
   const auto t0 = std::chrono::steady_clock::now();
   RelightData out;
   out.options = o;
+  // The user's reference choices, checked before any work.
+  for (const auto& [name, uv] : o.referenceOverride) {
+    const int s = scene.findPolygon(name);
+    if (s < 0) throw Error(scene.sourceFile, "reference patch '" + name + "'", "the room has no polygon of that name");
+    if (!insideConvex2D(uvPolygon(s), uv, 1e-9))
+      throw Error(scene.sourceFile, "reference patch '" + name + "'", "the point lies outside the polygon");
+  }
+  for (const auto& r : o.referenceRegions) {
+    const std::string what = "reference region on '" + r.polygon + "'";
+    const int s = scene.findPolygon(r.polygon);
+    if (s < 0) throw Error(scene.sourceFile, what, "the room has no polygon of that name");
+    if (r.discs.empty()) throw Error(scene.sourceFile, what, "has no painted area");
+    for (const auto& d : r.discs)
+      if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z) || d.z <= 0)
+        throw Error(scene.sourceFile, what, "a disc needs a finite centre and a positive radius");
+    if (!insideConvex2D(uvPolygon(s), r.reference, 1e-9))
+      throw Error(scene.sourceFile, what, "the reference lies outside the polygon");
+  }
   if (!(o.meanReflectance > 0 && o.meanReflectance < 1))
     throw Error(scene.sourceFile, "mean reflectance", "must lie in (0, 1)");
   if (scene.lamps.empty())
@@ -561,39 +585,56 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
     // The user's choice wins: the element under the chosen point of that polygon.
     for (const auto& [name, uv] : o.referenceOverride) {
       const int s = scene.findPolygon(name);
-      if (s < 0) throw Error(scene.sourceFile, "reference patch '" + name + "'", "the room has no polygon of that name");
-      if (!insideConvex2D(uvPolygon(s), uv, 1e-9))
-        throw Error(scene.sourceFile, "reference patch '" + name + "'", "the point lies outside the polygon");
       const int leaf = h.findLeaf(s, uv);
       if (leafIndex[leaf] < 0) throw Error(scene.sourceFile, "reference patch '" + name + "'", "no element there");
       defaultRef[s] = leafIndex[leaf];
       out.referenceOverride[name] = uv;
     }
   }
+  // Painted regions: per region its polygon and the element its reference point lies on.
+  std::vector<std::pair<int, int>> regionRef;
+  for (const auto& r : o.referenceRegions) {
+    const std::string what = "reference region on '" + r.polygon + "'";
+    const int s = scene.findPolygon(r.polygon);
+    const int leaf = h.findLeaf(s, r.reference);
+    if (leafIndex[leaf] < 0) throw Error(scene.sourceFile, what, "no element at the reference");
+    regionRef.emplace_back(s, leafIndex[leaf]);
+    out.referenceRegions.push_back(r);
+  }
   std::vector<glm::vec3> factor(h.nodes().size(), glm::vec3(1.f));
-  size_t nOcc = 0, nFront = 0, byFrontier = 0, byDefault = 0;
+  size_t nOcc = 0, nFront = 0, byFrontier = 0, byDefault = 0, byRegion = 0;
   for (const auto& f : frontier) nFront += f.size();
   if (o.reference != RelightOptions::Reference::Off) {
     for (size_t k = 0; k < leaves.size(); ++k) {
       if (!occluded[k]) continue;
       ++nOcc;
       const int s = leaves[k].surface;
-      const glm::dvec3 ci = glm::dvec3(h.nodes()[leaves[k].node].center);
+      const auto& N = h.nodes()[leaves[k].node];
+      // The reference: the latest painted region holding the element, else the nearest frontier
+      // element of similar colour, else the polygon's default.
       int ref = -1;
-      double bestDist = 1e300;
-      for (int n : frontier[s]) {
-        if (glm::length(lab[n] - lab[k]) >= o.colourThreshold) continue;
-        const double d = glm::length(glm::dvec3(h.nodes()[leaves[n].node].center) - ci);
-        if (d < bestDist) {
-          bestDist = d;
-          ref = n;
+      for (size_t r = 0; r < regionRef.size(); ++r)
+        if (regionRef[r].first == s && o.referenceRegions[r].contains({0.5 * (N.u0 + N.u1), 0.5 * (N.v0 + N.v1)}))
+          ref = regionRef[r].second;
+      if (ref >= 0) {
+        ++byRegion;
+      } else {
+        const glm::dvec3 ci = glm::dvec3(N.center);
+        double bestDist = 1e300;
+        for (int n : frontier[s]) {
+          if (glm::length(lab[n] - lab[k]) >= o.colourThreshold) continue;
+          const double d = glm::length(glm::dvec3(h.nodes()[leaves[n].node].center) - ci);
+          if (d < bestDist) {
+            bestDist = d;
+            ref = n;
+          }
         }
-      }
-      if (ref >= 0) ++byFrontier;
-      else {
-        ref = defaultRef[s];
-        if (ref < 0) continue;
-        ++byDefault;
+        if (ref >= 0) ++byFrontier;
+        else {
+          ref = defaultRef[s];
+          if (ref < 0) continue;
+          ++byDefault;
+        }
       }
       // Eq. 8 with the reflectance of step 1 (already divided by the unoccluded irradiance, so the
       // form-factor ratio of Eq. 7 is inside it), then Eq. 9's modulation of T_inter.
@@ -607,12 +648,11 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
       factor[leaves[k].node] = glm::vec3(f);
     }
   }
-  // Override of a polygon's reference by the user: applied to all its occluded elements that had
-  // no frontier reference is what the workbench will edit; stored here for the project.
   out.estimates.occludedLeaves = nOcc;
   out.estimates.frontierLeaves = nFront;
   out.estimates.referencedByFrontier = byFrontier;
   out.estimates.referencedByDefault = byDefault;
+  out.estimates.referencedByRegion = byRegion;
   {
     const auto cF = leafCornerValues(h, factor, &wSeen);
     forEachTexel([&](PolygonTexture& t, size_t i, int leaf, glm::dvec2 uv) {

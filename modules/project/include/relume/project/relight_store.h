@@ -5,10 +5,13 @@
 // textures and the texel-source map as EXR files.
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "relume/geometry/progress.h"
 #include "relume/geometry/scene.h"
 #include "relume/relight/relighter.h"
+
+class QJsonArray;
 
 namespace relume {
 
@@ -21,5 +24,9 @@ void saveRelightProject(const Scene& scene, const RelightData& data, const std::
 // when the project was not preprocessed or a file is missing or damaged.
 RelightData readRelightData(const Scene& project);
 bool hasRelightData(const std::string& projectFolder);
+// Painted reference regions as JSON ([{polygon, reference: [u, v], discs: [[u, v, r], ...]}]), as
+// relight.json and the workbench's state keep them; the reader names `file` in its errors.
+QJsonArray referenceRegionsJson(const std::vector<ReferenceRegion>& regions);
+std::vector<ReferenceRegion> referenceRegionsFromJson(const QJsonArray& regions, const std::string& file);
 
 }  // namespace relume

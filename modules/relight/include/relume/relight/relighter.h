@@ -19,6 +19,19 @@
 
 namespace relume {
 
+// §4.3: a region of a polygon painted by the user, whose occluded elements take their reflectance
+// from the element at `reference`: for a shadow where neither a similar-coloured frontier element
+// nor the polygon's default reference fits (a shadow across two materials, say). The region is a
+// union of discs in the polygon's plane coordinates (PlaneFrame::of its vertices), metres; an
+// element belongs to it when its centre does.
+struct ReferenceRegion {
+  std::string polygon;
+  std::vector<glm::dvec3> discs;  // u, v, radius
+  glm::dvec2 reference{0.0};
+  bool contains(glm::dvec2 uv) const;
+  bool operator==(const ReferenceRegion&) const = default;
+};
+
 struct RelightOptions {
   double meanReflectance = 0.5;      // rho-hat of Eq. 1, given by the user, then refined (§4)
   double colourThreshold = 10.0;     // CIELAB distance (Eq. 4) below which colours are similar
@@ -38,10 +51,11 @@ struct RelightOptions {
   double textureMinArea = 4e-4;      // m^2: texture-based refinement stops there
   double occludedFraction = 0.02;    // an element is occluded when more of its direct light is blocked
   radiosity::Options engine;         // the radiosity solution (BF oracle by default)
-  double interactiveEpsilon = 0.02;
+  double interactiveEpsilon = 0.02;  // refinement threshold of §4.4's coarser interactive (BFV) mesh
   // Default reference patch per polygon name, chosen by the user (plane coordinates u, v of the
   // polygon's frame, PlaneFrame::of its vertices); polygons not named get one chosen automatically.
-  std::map<std::string, glm::dvec2> referenceOverride;  // refinement threshold of §4.4's coarser interactive (BFV) mesh
+  std::map<std::string, glm::dvec2> referenceOverride;
+  std::vector<ReferenceRegion> referenceRegions;  // painted by the user (win over both, later over earlier)
 };
 
 // A lamp added by the user: an emissive polygon (radiance RGB, exitance = pi x radiance).
@@ -80,7 +94,8 @@ struct RelightEstimates {
   std::string lampModelReason;
   std::vector<LampEstimate> lamps;  // in scene lamp order
   size_t leavesBeforeTextureRefinement = 0, leavesAfter = 0, texturesSubdivided = 0, subdivisionsCancelled = 0;
-  size_t occludedLeaves = 0, frontierLeaves = 0, referencedByFrontier = 0, referencedByDefault = 0;
+  size_t occludedLeaves = 0, frontierLeaves = 0, referencedByFrontier = 0, referencedByDefault = 0,
+         referencedByRegion = 0;
   double seconds = 0;
 };
 
@@ -97,6 +112,7 @@ struct RelightData {
   std::vector<glm::dvec3> lampExitance;  // per scene lamp, as estimated
   std::map<std::string, glm::dvec2> referencePatch;  // per polygon name: uv of its default reference
   std::map<std::string, glm::dvec2> referenceOverride;  // chosen by the user (wins over the above)
+  std::vector<ReferenceRegion> referenceRegions;        // painted by the user (as used)
   RelightEstimates estimates;
   RelightOptions options;
 };
