@@ -31,6 +31,14 @@
         <source>automatic reference of %1</source>
         <translation>automatische Referenz von %1</translation>
     </message>
+    <message>
+        <source>reference region on %1</source>
+        <translation>Referenzbereich auf %1</translation>
+    </message>
+    <message>
+        <source>no reference regions on %1</source>
+        <translation>keine Referenzbereiche auf %1</translation>
+    </message>
 </context>
 <context>
     <name>relume::EditTool</name>
@@ -85,6 +93,18 @@
     <message>
         <source>%1 cannot stand there: %2</source>
         <translation>%1 kann dort nicht stehen: %2</translation>
+    </message>
+    <message>
+        <source>Paint over the shadowed part of %1 (drag); then click the texel it should take its colour from.</source>
+        <translation>Übermalen Sie den verschatteten Teil von %1 (ziehen); klicken Sie dann das Texel, dessen Farbe er übernehmen soll.</translation>
+    </message>
+    <message>
+        <source>Reference region painted on %1: recompute to see it.</source>
+        <translation>Referenzbereich auf %1 gemalt: neu berechnen, um ihn zu sehen.</translation>
+    </message>
+    <message>
+        <source>Now click the texel of %1 whose colour the painted shadow should take.</source>
+        <translation>Klicken Sie jetzt das Texel von %1, dessen Farbe der gemalte Schatten übernehmen soll.</translation>
     </message>
 </context>
 <context>
@@ -594,14 +614,6 @@
         <translation>Zurück zur automatischen Wahl für das gewählte Polygon</translation>
     </message>
     <message>
-        <source>%1 occluded elements: %2 took a similar-coloured unshadowed neighbour as reference, %3 their polygon&apos;s reference patch. Choose a better patch where a shadow left a wrong colour.</source>
-        <translation>%1 verdeckte Elemente: %2 nahmen einen ähnlich gefärbten unverschatteten Nachbarn als Referenz, %3 das Referenzfeld ihres Polygons. Wählen Sie ein besseres Feld, wo ein Schatten eine falsche Farbe hinterlassen hat.</translation>
-    </message>
-    <message>
-        <source>none (not seen)</source>
-        <translation>keines (nicht gesehen)</translation>
-    </message>
-    <message>
         <source>No room open.</source>
         <translation>Kein Raum geöffnet.</translation>
     </message>
@@ -628,6 +640,50 @@
     <message>
         <source>In the view: occluded elements in blue, the unshadowed frontier they take their colour from in yellow</source>
         <translation>In der Ansicht: verdeckte Elemente blau, die unverschattete Grenze, deren Farbe sie übernehmen, gelb</translation>
+    </message>
+    <message>
+        <source>Reference patches as plane coordinates u, v of their polygon, in metres</source>
+        <translation>Referenzflecken als Ebenenkoordinaten u, v ihres Polygons, in Metern</translation>
+    </message>
+    <message>
+        <source>Paint a region</source>
+        <translation>Bereich malen</translation>
+    </message>
+    <message>
+        <source>Drag over a shadow of the selected polygon, then click the texel whose colour its occluded elements should take (for a shadow across two materials, say)</source>
+        <translation>Ziehen Sie über einen Schatten des gewählten Polygons und klicken Sie dann das Texel, dessen Farbe seine verdeckten Elemente übernehmen sollen (etwa für einen Schatten über zwei Materialien)</translation>
+    </message>
+    <message>
+        <source> m</source>
+        <translation> m</translation>
+    </message>
+    <message>
+        <source>Brush radius</source>
+        <translation>Pinselradius</translation>
+    </message>
+    <message>
+        <source>Clear regions</source>
+        <translation>Bereiche löschen</translation>
+    </message>
+    <message>
+        <source>Remove the regions painted on the selected polygon</source>
+        <translation>Die auf dem gewählten Polygon gemalten Bereiche entfernen</translation>
+    </message>
+    <message>
+        <source>%1 occluded elements: %2 took a similar-coloured unshadowed neighbour as reference, %3 their polygon&apos;s reference patch, %4 a painted region&apos;s. Choose a better patch, or paint a region, where a shadow left a wrong colour.</source>
+        <translation>%1 verdeckte Elemente: %2 nahmen einen ähnlich gefärbten unverschatteten Nachbarn als Referenz, %3 den Referenzfleck ihres Polygons, %4 den eines gemalten Bereichs. Wählen Sie einen besseren Fleck oder malen Sie einen Bereich, wo ein Schatten eine falsche Farbe hinterließ.</translation>
+    </message>
+    <message>
+        <source>not seen</source>
+        <translation>nicht gesehen</translation>
+    </message>
+    <message>
+        <source>1 region</source>
+        <translation>1 Bereich</translation>
+    </message>
+    <message>
+        <source>%1 regions</source>
+        <translation>%1 Bereiche</translation>
     </message>
 </context>
 <context>

@@ -31,6 +31,14 @@
         <source>automatic reference of %1</source>
         <translation>référence automatique de %1</translation>
     </message>
+    <message>
+        <source>reference region on %1</source>
+        <translation>région de référence sur %1</translation>
+    </message>
+    <message>
+        <source>no reference regions on %1</source>
+        <translation>aucune région de référence sur %1</translation>
+    </message>
 </context>
 <context>
     <name>relume::EditTool</name>
@@ -85,6 +93,18 @@
     <message>
         <source>%1 cannot stand there: %2</source>
         <translation>%1 ne peut pas être posé ici : %2</translation>
+    </message>
+    <message>
+        <source>Paint over the shadowed part of %1 (drag); then click the texel it should take its colour from.</source>
+        <translation>Peignez la partie ombrée de %1 (glisser) ; puis cliquez le texel dont elle doit prendre la couleur.</translation>
+    </message>
+    <message>
+        <source>Reference region painted on %1: recompute to see it.</source>
+        <translation>Région de référence peinte sur %1 : recalculez pour la voir.</translation>
+    </message>
+    <message>
+        <source>Now click the texel of %1 whose colour the painted shadow should take.</source>
+        <translation>Cliquez maintenant le texel de %1 dont l&apos;ombre peinte doit prendre la couleur.</translation>
     </message>
 </context>
 <context>
@@ -594,14 +614,6 @@
         <translation>Revenir au choix automatique pour le polygone sélectionné</translation>
     </message>
     <message>
-        <source>%1 occluded elements: %2 took a similar-coloured unshadowed neighbour as reference, %3 their polygon&apos;s reference patch. Choose a better patch where a shadow left a wrong colour.</source>
-        <translation>%1 éléments occultés : %2 ont pris pour référence un voisin non ombré de couleur semblable, %3 le patch de référence de leur polygone. Choisissez un meilleur patch là où une ombre a laissé une couleur fausse.</translation>
-    </message>
-    <message>
-        <source>none (not seen)</source>
-        <translation>aucun (non vu)</translation>
-    </message>
-    <message>
         <source>No room open.</source>
         <translation>Aucune pièce ouverte.</translation>
     </message>
@@ -628,6 +640,50 @@
     <message>
         <source>In the view: occluded elements in blue, the unshadowed frontier they take their colour from in yellow</source>
         <translation>Dans la vue : les éléments occultés en bleu, la frontière non ombrée dont ils prennent la couleur en jaune</translation>
+    </message>
+    <message>
+        <source>Reference patches as plane coordinates u, v of their polygon, in metres</source>
+        <translation>Zones de référence en coordonnées u, v du plan de leur polygone, en mètres</translation>
+    </message>
+    <message>
+        <source>Paint a region</source>
+        <translation>Peindre une région</translation>
+    </message>
+    <message>
+        <source>Drag over a shadow of the selected polygon, then click the texel whose colour its occluded elements should take (for a shadow across two materials, say)</source>
+        <translation>Glissez sur une ombre du polygone choisi, puis cliquez le texel dont ses éléments occultés doivent prendre la couleur (pour une ombre sur deux matériaux, par exemple)</translation>
+    </message>
+    <message>
+        <source> m</source>
+        <translation> m</translation>
+    </message>
+    <message>
+        <source>Brush radius</source>
+        <translation>Rayon du pinceau</translation>
+    </message>
+    <message>
+        <source>Clear regions</source>
+        <translation>Effacer les régions</translation>
+    </message>
+    <message>
+        <source>Remove the regions painted on the selected polygon</source>
+        <translation>Supprimer les régions peintes sur le polygone choisi</translation>
+    </message>
+    <message>
+        <source>%1 occluded elements: %2 took a similar-coloured unshadowed neighbour as reference, %3 their polygon&apos;s reference patch, %4 a painted region&apos;s. Choose a better patch, or paint a region, where a shadow left a wrong colour.</source>
+        <translation>%1 éléments occultés : %2 ont pris pour référence un voisin non ombré de couleur proche, %3 la zone de référence de leur polygone, %4 celle d&apos;une région peinte. Choisissez une meilleure zone, ou peignez une région, là où une ombre a laissé une couleur fausse.</translation>
+    </message>
+    <message>
+        <source>not seen</source>
+        <translation>non vu</translation>
+    </message>
+    <message>
+        <source>1 region</source>
+        <translation>1 région</translation>
+    </message>
+    <message>
+        <source>%1 regions</source>
+        <translation>%1 régions</translation>
     </message>
 </context>
 <context>

@@ -241,6 +241,20 @@ class ReferenceCommand : public QUndoCommand {
   std::optional<glm::dvec2> before_, after_;
 };
 
+class RegionsCommand : public QUndoCommand {
+ public:
+  RegionsCommand(Document* doc, const QString& text, std::vector<ReferenceRegion> before, std::vector<ReferenceRegion> after)
+      : doc_(doc), before_(std::move(before)), after_(std::move(after)) {
+    setText(text);
+  }
+  void redo() override { doc_->applyReferenceRegions(after_); }
+  void undo() override { doc_->applyReferenceRegions(before_); }
+
+ private:
+  Document* doc_;
+  std::vector<ReferenceRegion> before_, after_;
+};
+
 QJsonArray point(const glm::dvec3& v) { return QJsonArray{v.x, v.y, v.z}; }
 
 QJsonArray polygonJson(const std::vector<glm::dvec3>& poly) {
@@ -279,6 +293,9 @@ std::unique_ptr<LoadedRoom> loadRoomForWorkbench(const QString& path, Progress& 
   }
   // Saved virtual lamps and objects go into the session as it is built.
   const std::string stateFile = (room->projectPath + "/workbench.json").toStdString();
+  room->regions = room->state.contains("reference_regions")
+                      ? referenceRegionsFromJson(room->state["reference_regions"].toArray(), stateFile)
+                      : room->data.referenceRegions;
   std::vector<VirtualLamp> vlamps;
   std::vector<VirtualObject> objects;
   for (const auto& v : room->state["virtual_lights"].toArray()) {
@@ -345,6 +362,7 @@ void Document::adopt(std::unique_ptr<LoadedRoom> room) {
       if (a.size() == 2) overrides_[it.key().toStdString()] = glm::dvec2(a[0].toDouble(), a[1].toDouble());
     }
   }
+  regions_ = room->regions;
   lampMount_.clear();
   for (const auto& v : room->state["virtual_lights"].toArray()) {
     const QJsonArray m = v.toObject()["mount"].toArray();
@@ -373,6 +391,7 @@ void Document::close() {
   objectTurn_.clear();
   objectPivot_.clear();
   overrides_.clear();
+  regions_.clear();
   lampMount_.clear();
   view_ = {};
   unsavedNew_ = false;
@@ -424,7 +443,7 @@ QJsonObject Document::editsJson() const {
   for (const auto& [name, uv] : overrides_) refs[QString::fromStdString(name)] = QJsonArray{uv.x, uv.y};
   return QJsonObject{{"format", "relume-workbench"}, {"version", kWorkbenchStateVersion}, {"lamps", lamps},
                      {"virtual_lights", vlamps}, {"virtual_objects", objects}, {"reference_overrides", refs},
-                     {"view", view_}};
+                     {"reference_regions", referenceRegionsJson(regions_)}, {"view", view_}};
 }
 
 // --- virtual lamps and objects -------------------------------------------------------------------
@@ -733,6 +752,26 @@ void Document::applyReferenceOverride(const std::string& polygon, const std::opt
   emit referencesChanged();
 }
 
+void Document::addReferenceRegion(const ReferenceRegion& region) {
+  auto after = regions_;
+  after.push_back(region);
+  undo_.push(new RegionsCommand(this, Document::tr("reference region on %1").arg(QString::fromStdString(region.polygon)),
+                                regions_, after));
+}
+
+void Document::clearReferenceRegions(const std::string& polygon) {
+  auto after = regions_;
+  std::erase_if(after, [&](const ReferenceRegion& r) { return r.polygon == polygon; });
+  if (after.size() == regions_.size()) return;
+  undo_.push(new RegionsCommand(this, Document::tr("no reference regions on %1").arg(QString::fromStdString(polygon)),
+                                regions_, after));
+}
+
+void Document::applyReferenceRegions(const std::vector<ReferenceRegion>& regions) {
+  regions_ = regions;
+  emit referencesChanged();
+}
+
 std::function<std::function<void()>(Progress&)> Document::recomputeReferencesWork() { return rebuildWork(true, mesh_); }
 
 std::function<std::function<void()>(Progress&)> Document::switchMeshWork(SessionMesh mesh) { return rebuildWork(false, mesh); }
@@ -744,6 +783,7 @@ std::function<std::function<void()>(Progress&)> Document::rebuildWork(bool prepr
   auto data = std::make_shared<RelightData>(data_);
   RelightOptions options = data_.options;
   options.referenceOverride = overrides_;
+  options.referenceRegions = regions_;
   std::vector<VirtualLamp> vlamps;
   std::vector<VirtualObject> objects;
   for (size_t i = 0; i < virtualLampCount(); ++i) vlamps.push_back(session_->virtualLamp(int(i)));

@@ -28,6 +28,7 @@ struct LoadedRoom {
   QString projectPath;   // the project folder, or empty when the room came from a bundle / OBJ
   QString sourcePath;    // what the user opened
   QJsonObject state;     // the workbench's saved edits (workbench.json), empty if none
+  std::vector<ReferenceRegion> regions;  // painted reference regions (the state's, else the data's)
 };
 
 // Reads a room or project; preprocesses it when it holds no relighting data; builds the session
@@ -108,7 +109,13 @@ class Document : public QObject {
   // the image after recomputeReferencesWork() has run.
   void setReferenceOverride(const std::string& polygon, const std::optional<glm::dvec2>& uv);
   void applyReferenceOverride(const std::string& polygon, const std::optional<glm::dvec2>& uv);
-  bool referencesPending() const { return overrides_ != data_.referenceOverride; }
+  // Painted regions (§4.3): their occluded elements take the reflectance of one chosen element.
+  // Undoable; take effect after recomputeReferencesWork() like the overrides.
+  const std::vector<ReferenceRegion>& referenceRegions() const { return regions_; }
+  void addReferenceRegion(const ReferenceRegion& region);
+  void clearReferenceRegions(const std::string& polygon);
+  void applyReferenceRegions(const std::vector<ReferenceRegion>& regions);
+  bool referencesPending() const { return overrides_ != data_.referenceOverride || regions_ != data_.referenceRegions; }
   // Work for a job: step 1 and 2 again with the overrides (the whole preprocess), then a session
   // with the current lamps, virtual lamps and objects. Its continuation swaps them in.
   std::function<std::function<void()>(Progress&)> recomputeReferencesWork();
@@ -156,6 +163,7 @@ class Document : public QObject {
   QJsonObject view_;
   std::map<std::string, double> objectTurn_;
   std::map<std::string, glm::dvec2> overrides_;
+  std::vector<ReferenceRegion> regions_;
   SessionMesh mesh_ = SessionMesh::Refined;
   std::function<std::function<void()>(Progress&)> rebuildWork(bool preprocess, SessionMesh mesh);
   struct Mount {

@@ -25,6 +25,11 @@ EditTool::EditTool(Document* doc, QObject* parent) : QObject(parent), doc_(doc) 
 
 void EditTool::setMode(Mode m) {
   if (m == mode_) return;
+  if (mode_ == Mode::PaintRegion && !stroke_.discs.empty()) {
+    stroke_.discs.clear();
+    emit strokeChanged();
+  }
+  painting_ = strokeDone_ = false;
   mode_ = m;
   emit modeChanged(m);
   if (m == Mode::PlaceLamp) emit message(tr("Click a surface to put a virtual lamp 2 cm in front of it."));
@@ -37,6 +42,15 @@ void EditTool::pickReferenceOn(const std::string& polygon) {
   mode_ = Mode::Select;  // so that setMode announces the change
   setMode(Mode::PickReference);
   emit message(tr("Click a texel of %1 whose colour its shadowed parts should take.").arg(QString::fromStdString(polygon)));
+}
+
+void EditTool::paintRegionOn(const std::string& polygon, double radius) {
+  mode_ = Mode::Select;
+  setMode(Mode::PaintRegion);
+  stroke_ = ReferenceRegion{polygon, {}, glm::dvec2(0.0)};
+  brush_ = radius;
+  emit message(tr("Paint over the shadowed part of %1 (drag); then click the texel it should take its colour from.")
+                   .arg(QString::fromStdString(polygon)));
 }
 
 void EditTool::placeMesh(const QString& stem, const VirtualObject& mesh) {
@@ -107,6 +121,26 @@ bool EditTool::press(const ViewportPick& pick, Qt::KeyboardModifiers) {
     setMode(Mode::Select);
     return true;
   }
+  if (mode_ == Mode::PaintRegion) {
+    const int s = doc_->scene().findPolygon(stroke_.polygon);
+    if (!pick.hit() || pick.surface != s) {
+      emit message(tr("That is not %1: click on it, or press Esc.").arg(QString::fromStdString(stroke_.polygon)));
+      return true;
+    }
+    const glm::dvec2 uv = doc_->session()->engine().toUV(s, pick.point);
+    if (!strokeDone_) {  // painting starts
+      painting_ = true;
+      stroke_.discs.emplace_back(uv, brush_);
+      emit strokeChanged();
+      return true;
+    }
+    stroke_.reference = uv;  // the reference: the region is done
+    const ReferenceRegion region = stroke_;
+    setMode(Mode::Select);  // drops the stroke
+    doc_->addReferenceRegion(region);
+    emit message(tr("Reference region painted on %1: recompute to see it.").arg(QString::fromStdString(region.polygon)));
+    return true;
+  }
   if (mode_ == Mode::PlaceBox || mode_ == Mode::PlaceMesh) {
     if (!pick.hit() || pick.normal.z < 0.7) {
       emit message(tr("Objects stand on floors and tables: click a horizontal surface."));
@@ -175,6 +209,15 @@ bool EditTool::press(const ViewportPick& pick, Qt::KeyboardModifiers) {
 }
 
 void EditTool::drag(const ViewportPick& pick) {
+  if (painting_) {  // a disc wherever the brush has moved a third of its radius on the polygon
+    const int s = doc_->scene().findPolygon(stroke_.polygon);
+    if (!pick.hit() || pick.surface != s) return;
+    const glm::dvec2 uv = doc_->session()->engine().toUV(s, pick.point);
+    if (!stroke_.discs.empty() && glm::length(uv - glm::dvec2(stroke_.discs.back())) < brush_ / 3) return;
+    stroke_.discs.emplace_back(uv, brush_);
+    emit strokeChanged();
+    return;
+  }
   if (dragLamp_.empty() && dragObject_.empty()) return;
   glm::dvec3 q;
   if (!rayPlane(pick, planePoint_, planeNormal_, q)) return;
@@ -193,6 +236,14 @@ void EditTool::drag(const ViewportPick& pick) {
 }
 
 void EditTool::release(const ViewportPick& pick) {
+  if (painting_) {
+    drag(pick);
+    painting_ = false;
+    strokeDone_ = true;
+    emit message(tr("Now click the texel of %1 whose colour the painted shadow should take.")
+                     .arg(QString::fromStdString(stroke_.polygon)));
+    return;
+  }
   drag(pick);
   if (!dragLamp_.empty() && glm::length(moved_) > 0) doc_->settleVirtualLamp(dragLamp_);
   if (!dragObject_.empty()) doc_->settleObject(dragObject_);

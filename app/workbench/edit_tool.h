@@ -19,7 +19,7 @@ class Document;
 class EditTool : public QObject, public ViewportGestures {
   Q_OBJECT
  public:
-  enum class Mode { Select, PlaceLamp, PlaceBox, PlaceMesh, PickReference };
+  enum class Mode { Select, PlaceLamp, PlaceBox, PlaceMesh, PickReference, PaintRegion };
   explicit EditTool(Document* doc, QObject* parent = nullptr);
 
   void setMode(Mode m);
@@ -33,6 +33,11 @@ class EditTool : public QObject, public ViewportGestures {
   static constexpr double kLampSize = 0.3, kLampOffset = 0.02;
   // The polygon whose reference patch the next click (Mode::PickReference) chooses.
   void pickReferenceOn(const std::string& polygon);
+  // Mode::PaintRegion on `polygon`: a drag paints discs of `radius` metres; after the release a
+  // click on the polygon picks the element the painted occluded elements take their reflectance
+  // from, and the region goes to the document (one undo step). Esc or another tool drops it.
+  void paintRegionOn(const std::string& polygon, double radius);
+  const ReferenceRegion& stroke() const { return stroke_; }
 
   bool press(const ViewportPick& pick, Qt::KeyboardModifiers mods) override;
   void drag(const ViewportPick& pick) override;
@@ -47,6 +52,7 @@ class EditTool : public QObject, public ViewportGestures {
   void modeChanged(Mode m);
   void message(const QString& text);
   void selected(const QString& name);
+  void strokeChanged();  // the region being painted grew, was finished or was dropped
 
  private:
   Document* doc_;
@@ -54,6 +60,9 @@ class EditTool : public QObject, public ViewportGestures {
   bool enabled_ = true;
   glm::dvec3 boxSize_{0.4, 0.4, 0.4}, boxAlbedo_{0.6, 0.6, 0.6};
   std::string referencePolygon_;
+  ReferenceRegion stroke_;
+  double brush_ = 0.1;
+  bool painting_ = false, strokeDone_ = false;
   QString meshStem_;
   VirtualObject mesh_;
   // The drag under way: what, the plane it slides on, where the cursor's ray met it at the press,

@@ -26,6 +26,8 @@
 #include <QTimer>
 #include <QStatusBar>
 #include <QUndoStack>
+#include <cmath>
+#include <numbers>
 
 #include "document.h"
 #include "i18n.h"
@@ -77,7 +79,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   addDockWidget(Qt::RightDockWidgetArea, objectsDock);
   tabifyDockWidget(lightsDock, objectsDock);
   references_ = new ReferencesPanel(doc_, tool_, jobs_, this);
-  auto* referencesDock = new QDockWidget(tr("Reference patches"), this);
+  auto* referencesDock = referencesDock_ = new QDockWidget(tr("Reference patches"), this);
   referencesDock->setObjectName("ReferencesDock");
   referencesDock->setWidget(references_);
   addDockWidget(Qt::RightDockWidgetArea, referencesDock);
@@ -86,6 +88,11 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     for (QAction* a : modes_->actions())
       if (a->data().toString() == (on ? "references" : "relit")) a->trigger();
   });
+  connect(referencesDock, &QDockWidget::visibilityChanged, this, &MainWindow::updateOverlays);
+  connect(tool_, &EditTool::strokeChanged, this, &MainWindow::updateOverlays);
+  connect(doc_, &Document::referencesChanged, this, &MainWindow::updateOverlays);
+  connect(doc_, &Document::opened, this, &MainWindow::updateOverlays);
+  connect(doc_, &Document::closed, this, &MainWindow::updateOverlays);
   lightsDock->raise();
   connect(tool_, &EditTool::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
   connect(lights_, &LightsPanel::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
@@ -593,6 +600,33 @@ void MainWindow::updateStatus() {
                            .arg(viewport_->lastFrameMilliseconds(), 0, 'f', 1)
                            .arg(viewport_->exposureEV() >= 0 ? "+" : "")
                            .arg(viewport_->exposureEV(), 0, 'f', 1));
+}
+
+void MainWindow::updateOverlays() {
+  std::vector<ViewportOverlay> overlays;
+  if (doc_->isOpen() && doc_->session()) {
+    const auto& engine = doc_->session()->engine();
+    auto add = [&](const ReferenceRegion& r, unsigned rgb, bool marker) {
+      const int s = doc_->scene().findPolygon(r.polygon);
+      if (s < 0) return;
+      ViewportOverlay o;
+      o.rgb = rgb;
+      for (const auto& d : r.discs) {
+        std::vector<glm::dvec3> loop;
+        for (int k = 0; k < 32; ++k) {
+          const double a = 2 * std::numbers::pi * k / 32;
+          loop.push_back(engine.toWorld(s, glm::dvec2(d) + d.z * glm::dvec2(std::cos(a), std::sin(a))));
+        }
+        o.areas.push_back(std::move(loop));
+      }
+      if (marker) o.markers.push_back(engine.toWorld(s, r.reference));
+      overlays.push_back(std::move(o));
+    };
+    if (referencesDock_ && referencesDock_->isVisible() && !referencesDock_->visibleRegion().isEmpty())
+      for (const auto& r : doc_->referenceRegions()) add(r, 0xe040fb, true);
+    if (!tool_->stroke().discs.empty()) add(tool_->stroke(), 0xff8c1a, false);
+  }
+  viewport_->setOverlays(std::move(overlays));
 }
 
 void MainWindow::storeView() {

@@ -72,6 +72,7 @@ class MainWindow : public QMainWindow {
   bool maybeSave();
   void showError(const QString& title, const QString& message);
   void storeView();
+  void updateOverlays();  // painted reference regions (while their panel shows) and the stroke under way
   void restoreView();
   void discardAutosave();
   void closeEvent_discard();
@@ -82,6 +83,7 @@ class MainWindow : public QMainWindow {
   LightsPanel* lights_;
   ObjectsPanel* objects_;
   ReferencesPanel* references_;
+  QDockWidget* referencesDock_ = nullptr;
   EditTool* tool_;
   QString selected_;
   QLabel* statusView_;

@@ -1,5 +1,6 @@
 #include "references_panel.h"
 
+#include <QDoubleSpinBox>
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QLabel>
@@ -14,7 +15,7 @@
 namespace relume {
 
 namespace {
-QString uvText(const glm::dvec2& uv) { return QString("%1, %2 m").arg(uv.x, 0, 'f', 2).arg(uv.y, 0, 'f', 2); }
+QString uvText(const glm::dvec2& uv) { return QString("%1, %2").arg(uv.x, 0, 'f', 2).arg(uv.y, 0, 'f', 2); }
 }  // namespace
 
 ReferencesPanel::ReferencesPanel(Document* doc, EditTool* tool, JobRunner* jobs, QWidget* parent)
@@ -32,6 +33,7 @@ ReferencesPanel::ReferencesPanel(Document* doc, EditTool* tool, JobRunner* jobs,
   list_ = new QTreeWidget(this);
   list_->setColumnCount(3);
   list_->setHeaderLabels({tr("Polygon"), tr("Automatic"), tr("Yours")});
+  list_->setToolTip(tr("Reference patches as plane coordinates u, v of their polygon, in metres"));
   list_->setRootIsDecorated(false);
   layout->addWidget(list_, 1);
   auto* row = new QHBoxLayout;
@@ -43,6 +45,23 @@ ReferencesPanel::ReferencesPanel(Document* doc, EditTool* tool, JobRunner* jobs,
   row->addWidget(pick_);
   row->addWidget(clear_);
   layout->addLayout(row);
+  auto* paintRow = new QHBoxLayout;
+  paint_ = new QPushButton(tr("Paint a region"), this);
+  paint_->setToolTip(tr("Drag over a shadow of the selected polygon, then click the texel whose colour its "
+                        "occluded elements should take (for a shadow across two materials, say)"));
+  brush_ = new QDoubleSpinBox(this);
+  brush_->setRange(0.02, 1.0);
+  brush_->setSingleStep(0.02);
+  brush_->setDecimals(2);
+  brush_->setValue(0.1);
+  brush_->setSuffix(tr(" m"));
+  brush_->setToolTip(tr("Brush radius"));
+  clearRegions_ = new QPushButton(tr("Clear regions"), this);
+  clearRegions_->setToolTip(tr("Remove the regions painted on the selected polygon"));
+  paintRow->addWidget(paint_);
+  paintRow->addWidget(brush_);
+  paintRow->addWidget(clearRegions_);
+  layout->addLayout(paintRow);
   recompute_ = new QPushButton(tr("Recompute"), this);
   recompute_->setToolTip(tr("Remove the real shadows again with these reference patches (the whole preprocess, as a job)"));
   layout->addWidget(recompute_);
@@ -54,6 +73,14 @@ ReferencesPanel::ReferencesPanel(Document* doc, EditTool* tool, JobRunner* jobs,
   connect(clear_, &QPushButton::clicked, this, [this] {
     const std::string p = selectedPolygon();
     if (!p.empty()) doc_->setReferenceOverride(p, std::nullopt);
+  });
+  connect(paint_, &QPushButton::clicked, this, [this] {
+    const std::string p = selectedPolygon();
+    if (!p.empty()) tool_->paintRegionOn(p, brush_->value());
+  });
+  connect(clearRegions_, &QPushButton::clicked, this, [this] {
+    const std::string p = selectedPolygon();
+    if (!p.empty()) doc_->clearReferenceRegions(p);
   });
   connect(recompute_, &QPushButton::clicked, this, [this] { recompute(); });
   connect(list_, &QTreeWidget::itemSelectionChanged, this, &ReferencesPanel::refresh);
@@ -76,18 +103,27 @@ void ReferencesPanel::rebuild() {
   if (doc_->isOpen()) {
     const auto& est = doc_->data().estimates;
     summary_->setText(tr("%1 occluded elements: %2 took a similar-coloured unshadowed neighbour as reference, %3 "
-                         "their polygon's reference patch. Choose a better patch where a shadow left a wrong colour.")
+                         "their polygon's reference patch, %4 a painted region's. Choose a better patch, or paint a "
+                         "region, where a shadow left a wrong colour.")
                           .arg(est.occludedLeaves)
                           .arg(est.referencedByFrontier)
-                          .arg(est.referencedByDefault));
+                          .arg(est.referencedByDefault)
+                          .arg(est.referencedByRegion));
     for (const auto& p : doc_->scene().polygons) {
       if (p.kind != PolygonKind::Real) continue;
       auto* item = new QTreeWidgetItem(list_);
       item->setText(0, QString::fromStdString(p.name));
       const auto a = doc_->data().referencePatch.find(p.name);
-      item->setText(1, a == doc_->data().referencePatch.end() ? tr("none (not seen)") : uvText(a->second));
+      item->setText(1, a == doc_->data().referencePatch.end() ? tr("not seen") : uvText(a->second));
       const auto o = doc_->referenceOverrides().find(p.name);
-      item->setText(2, o == doc_->referenceOverrides().end() ? QString("—") : uvText(o->second));
+      int regions = 0;
+      for (const auto& r : doc_->referenceRegions()) regions += r.polygon == p.name;
+      QStringList yours;
+      if (o != doc_->referenceOverrides().end()) yours << uvText(o->second);
+      if (regions == 1) yours << tr("1 region");
+      if (regions > 1) yours << tr("%1 regions").arg(regions);
+      item->setText(2, yours.isEmpty() ? QString("—") : yours.join(" + "));
+      item->setToolTip(2, item->text(2));
       if (p.name == keep) item->setSelected(true);
     }
   } else {
@@ -103,6 +139,10 @@ void ReferencesPanel::refresh() {
   const std::string p = selectedPolygon();
   pick_->setEnabled(open && !p.empty());
   clear_->setEnabled(open && !p.empty() && doc_->referenceOverrides().count(p) > 0);
+  paint_->setEnabled(open && !p.empty());
+  bool hasRegions = false;
+  for (const auto& r : doc_->referenceRegions()) hasRegions |= r.polygon == p;
+  clearRegions_->setEnabled(open && !p.empty() && hasRegions);
   recompute_->setEnabled(open && doc_->referencesPending());
   recompute_->setText(open && doc_->referencesPending() ? tr("Recompute (changes pending)") : tr("Recompute"));
 }

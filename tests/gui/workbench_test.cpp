@@ -607,9 +607,10 @@ class WorkbenchTest : public QObject {
     QCOMPARE(doc()->objectCount(), before);
   }
 
-  // Reference patches (§4.3): the user picks the floor's reference texel in the viewport, then
-  // recomputes: the project's relighting data carries the choice and the floor's shadow-free
-  // texture follows it; lamps, virtual lamps and objects are kept.
+  // Reference patches (§4.3): the user picks the floor's reference texel in the viewport, and
+  // paints a region over the table's shadow with the texel its occluded elements take their
+  // colour from, then recomputes: the project's relighting data carries both choices and the
+  // floor's shadow-free texture follows them; lamps, virtual lamps and objects are kept.
   void referencePatchPickedAndRecomputed() {
     auto* vp = window_->viewport();
     vp->lockToPhoto();
@@ -634,6 +635,49 @@ class WorkbenchTest : public QObject {
     QVERIFY(glm::length(doc()->referenceOverrides().at("floor") - uv) < 0.01);
     QVERIFY(doc()->referencesPending());
     QVERIFY(panel->recomputeButton()->isEnabled());
+
+    // A region painted over the table's shadow (a drag), then its reference texel (a click).
+    const glm::dvec3 shadow(1.8, 2.3, 0.0);
+    QPointF shadowPos;
+    QVERIFY(vp->widgetPosition(shadow, shadowPos));
+    const QColor plain = vp->grabFramebuffer().pixelColor(shadowPos.toPoint());
+    panel->brush()->setValue(0.2);
+    QTest::mouseClick(panel->paintButton(), Qt::LeftButton);
+    QCOMPARE(window_->editTool()->mode(), EditTool::Mode::PaintRegion);
+    QPointF from, to;
+    QVERIFY(vp->widgetPosition(shadow - glm::dvec3(0.3, 0, 0), from));
+    QVERIFY(vp->widgetPosition(shadow + glm::dvec3(0.3, 0, 0), to));
+    QTest::mousePress(vp, Qt::LeftButton, {}, from.toPoint());
+    for (int k = 1; k <= 6; ++k) {
+      const QPointF p = from + (to - from) * (k / 6.0);
+      QMouseEvent move(QEvent::MouseMove, p, vp->mapToGlobal(p), Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
+      QApplication::sendEvent(vp, &move);
+    }
+    QTest::mouseRelease(vp, Qt::LeftButton, {}, to.toPoint());
+    QVERIFY(window_->editTool()->stroke().discs.size() >= 4);
+    QVERIFY(doc()->referenceRegions().empty());
+    const int stepsBefore = doc()->undoStack()->index();
+    QTest::mouseClick(vp, Qt::LeftButton, {}, pos.toPoint());  // the reference: the spot above
+    QCOMPARE(window_->editTool()->mode(), EditTool::Mode::Select);
+    QCOMPARE(doc()->referenceRegions().size(), size_t(1));
+    QCOMPARE(doc()->undoStack()->index(), stepsBefore + 1);
+    const ReferenceRegion painted = doc()->referenceRegions().front();
+    QCOMPARE(painted.polygon, std::string("floor"));
+    QVERIFY(glm::length(painted.reference - uv) < 0.01);
+    QVERIFY(painted.contains(doc()->session()->engine().toUV(floor, shadow)));
+    QVERIFY(!painted.contains(doc()->session()->engine().toUV(floor, shadow + glm::dvec3(0.6, 0, 0))));
+    // The region shows over the image (magenta) while the panel is open.
+    QTest::qWait(50);
+    const QColor marked = vp->grabFramebuffer().pixelColor(shadowPos.toPoint());
+    qInfo("painted region over the shadow: %d %d %d -> %d %d %d", plain.red(), plain.green(), plain.blue(), marked.red(),
+          marked.green(), marked.blue());
+    QVERIFY(marked.blue() - marked.green() > plain.blue() - plain.green() + 15);
+    QVERIFY(marked.red() - marked.green() > plain.red() - plain.green() + 15);
+    saveShot(window_.get(), "main_window_reference_region");
+    doc()->undoStack()->undo();
+    QVERIFY(doc()->referenceRegions().empty());
+    doc()->undoStack()->redo();
+    QCOMPARE(doc()->referenceRegions().size(), size_t(1));
     saveShot(panel, "references_panel");
 
     // The occluded (blue) and frontier (yellow) elements over the image, on request.
@@ -688,6 +732,9 @@ class WorkbenchTest : public QObject {
           uv.x, uv.y, est.referencedByDefault, 100 * changed / std::max(total, 1e-30));
     QVERIFY(est.referencedByDefault > 0);
     QVERIFY(changed > 0);
+    QVERIFY(doc()->data().referenceRegions == doc()->referenceRegions());
+    qInfo("%zu occluded elements took the painted region's reference", est.referencedByRegion);
+    QVERIFY(est.referencedByRegion > 10);
     // The viewport shows the new session, and it still matches the CPU renderer.
     const ImageRGB gl = vp->renderLinear(photoCamera(), ViewMode::Relit);
     const ImageRGB cpu = doc()->session()->render(photoCamera(), RelightMethod::Full);
@@ -733,6 +780,9 @@ class WorkbenchTest : public QObject {
     QVERIFY(second.document()->referenceOverrides() == doc()->referenceOverrides());
     QVERIFY(second.document()->data().referenceOverride == doc()->data().referenceOverride);
     QVERIFY(!second.document()->referenceOverrides().empty());
+    QVERIFY(second.document()->referenceRegions() == doc()->referenceRegions());
+    QVERIFY(second.document()->data().referenceRegions == doc()->data().referenceRegions);
+    QVERIFY(!second.document()->referenceRegions().empty());
     QVERIFY(!second.document()->isDirty());
     // The reopened session shows what the first one showed.
     const Camera cam = photoCamera();

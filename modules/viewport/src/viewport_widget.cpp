@@ -5,6 +5,7 @@
 #include <QOpenGLContext>
 #include <QOpenGLFunctions>
 #include <QPainter>
+#include <QPainterPath>
 #include <QWheelEvent>
 #include <algorithm>
 #include <chrono>
@@ -230,11 +231,48 @@ void ViewportWidget::paintGL() {
     message = tr("Open a room or a project (File > Open) to relight it.");
   }
   const bool showing = session_ && renderer_->ready() && glError_.isEmpty();
+  if (showing && !overlays_.empty()) paintOverlays();
   message_->setText(showing ? QString() : message);
   message_->setVisible(!showing);
   message_->setGeometry(rect());
   colourBar_->setVisible(showing && falseColour_);
   colourBar_->setGeometry(width() - 110, 16, 100, std::max(120, height() - 32));
+}
+
+void ViewportWidget::setOverlays(std::vector<ViewportOverlay> overlays) {
+  overlays_ = std::move(overlays);
+  update();
+}
+
+void ViewportWidget::paintOverlays() {
+  QPainter p(this);
+  p.setRenderHint(QPainter::Antialiasing);
+  for (const auto& o : overlays_) {
+    const QColor c((o.rgb >> 16) & 255, (o.rgb >> 8) & 255, o.rgb & 255);
+    QPainterPath path;
+    path.setFillRule(Qt::WindingFill);  // overlapping loops fill once: their union
+    for (const auto& loop : o.areas) {
+      QPolygonF poly;
+      QPointF q;
+      for (const auto& v : loop)
+        if (widgetPosition(v, q)) poly << q;
+      if (poly.size() == int(loop.size()) && poly.size() >= 3) path.addPolygon(poly);
+    }
+    if (!path.isEmpty()) {
+      QColor fill = c;
+      fill.setAlpha(70);
+      p.fillPath(path, fill);
+      p.strokePath(path.simplified(), QPen(c, 1.5));
+    }
+    p.setPen(QPen(c, 2));
+    for (const auto& m : o.markers) {
+      QPointF q;
+      if (!widgetPosition(m, q)) continue;
+      p.drawEllipse(q, 6, 6);
+      p.drawLine(q - QPointF(10, 0), q + QPointF(10, 0));
+      p.drawLine(q - QPointF(0, 10), q + QPointF(0, 10));
+    }
+  }
 }
 
 ImageRGB ViewportWidget::renderLinear(const Camera& camera, ViewMode mode) {

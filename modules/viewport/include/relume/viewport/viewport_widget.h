@@ -5,6 +5,7 @@
 #include <QOpenGLWidget>
 #include <glm/vec3.hpp>
 #include <memory>
+#include <vector>
 
 #include "relume/geometry/camera.h"
 #include "relume/image/image.h"
@@ -39,6 +40,14 @@ class ViewportGestures {
   virtual Qt::CursorShape hoverCursor(const ViewportPick& pick) const = 0;
 };
 
+// Marks drawn over the image, not part of its light: translucent areas (closed loops of world
+// points, filled as their union and outlined) and point markers, in one colour (0xRRGGBB).
+struct ViewportOverlay {
+  std::vector<std::vector<glm::dvec3>> areas;
+  std::vector<glm::dvec3> markers;
+  unsigned rgb = 0xff8c1a;
+};
+
 class ViewportWidget : public QOpenGLWidget {
   Q_OBJECT
  public:
@@ -70,6 +79,7 @@ class ViewportWidget : public QOpenGLWidget {
   // The widget position (logical pixels) where a world point appears; false when behind the camera.
   bool widgetPosition(const glm::dvec3& world, QPointF& pos) const;
   void setGestures(ViewportGestures* g) { gestures_ = g; }
+  void setOverlays(std::vector<ViewportOverlay> overlays);
 
   // Renders `camera`'s view at its own resolution into a float buffer: linear radiance.
   ImageRGB renderLinear(const Camera& camera, ViewMode mode);
@@ -99,6 +109,7 @@ class ViewportWidget : public QOpenGLWidget {
  private:
   ViewRect photoRect() const;
   void upload();
+  void paintOverlays();
 
   std::unique_ptr<GlRelightRenderer> renderer_;
   const Scene* scene_ = nullptr;
@@ -114,6 +125,7 @@ class ViewportWidget : public QOpenGLWidget {
   Orbit orbitState_;
   QPoint lastMouse_;
   ViewportGestures* gestures_ = nullptr;
+  std::vector<ViewportOverlay> overlays_;
   bool gestureActive_ = false;
   double frameMs_ = 0;
   QLabel* message_ = nullptr;
