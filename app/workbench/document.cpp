@@ -317,9 +317,13 @@ std::unique_ptr<LoadedRoom> loadRoomForWorkbench(const QString& path, Progress& 
     ob.albedo = readRgb(o["albedo"], stateFile, "virtual object '" + ob.name + "' albedo");
     objects.push_back(ob);
   }
+  const QString meshName = room->state["mesh"].toString("refined");
+  if (meshName != "refined" && meshName != "interactive")
+    throw Error(stateFile, "mesh", "must be \"refined\" or \"interactive\", not \"" + meshName.toStdString() + "\"");
+  room->mesh = meshName == "interactive" ? SessionMesh::Interactive : SessionMesh::Refined;
   {
     ProgressScope scope(progress, preprocessed ? 0.0 : 0.8, 1.0);
-    room->session = std::make_unique<RelightSession>(room->scene, room->data, vlamps, objects, scope, SessionMesh::Refined);
+    room->session = std::make_unique<RelightSession>(room->scene, room->data, vlamps, objects, scope, room->mesh);
   }
   // Saved lamp scales (by lamp name) go on the session before the UI sees it.
   const QJsonObject lamps = room->state["lamps"].toObject();
@@ -352,7 +356,7 @@ void Document::adopt(std::unique_ptr<LoadedRoom> room) {
   view_ = room->state["view"].toObject();
   objectTurn_.clear();
   objectPivot_.clear();
-  mesh_ = SessionMesh::Refined;
+  mesh_ = room->mesh;
   overrides_ = data_.referenceOverride;
   if (room->state.contains("reference_overrides")) {
     overrides_.clear();
@@ -443,7 +447,8 @@ QJsonObject Document::editsJson() const {
   for (const auto& [name, uv] : overrides_) refs[QString::fromStdString(name)] = QJsonArray{uv.x, uv.y};
   return QJsonObject{{"format", "relume-workbench"}, {"version", kWorkbenchStateVersion}, {"lamps", lamps},
                      {"virtual_lights", vlamps}, {"virtual_objects", objects}, {"reference_overrides", refs},
-                     {"reference_regions", referenceRegionsJson(regions_)}, {"view", view_}};
+                     {"reference_regions", referenceRegionsJson(regions_)},
+                     {"mesh", mesh_ == SessionMesh::Interactive ? "interactive" : "refined"}, {"view", view_}};
 }
 
 // --- virtual lamps and objects -------------------------------------------------------------------

@@ -29,6 +29,7 @@ struct LoadedRoom {
   QString sourcePath;    // what the user opened
   QJsonObject state;     // the workbench's saved edits (workbench.json), empty if none
   std::vector<ReferenceRegion> regions;  // painted reference regions (the state's, else the data's)
+  SessionMesh mesh = SessionMesh::Refined;  // the mesh the session was built on (the state's choice)
 };
 
 // Reads a room or project; preprocesses it when it holds no relighting data; builds the session

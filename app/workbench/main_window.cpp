@@ -141,7 +141,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   connect(doc_, &Document::opened, this, [this] {
     if (interactiveMesh_) {
       const QSignalBlocker block(interactiveMesh_);
-      interactiveMesh_->setChecked(false);
+      interactiveMesh_->setChecked(doc_->mesh() == SessionMesh::Interactive);
     }
     if (!lingering_.isEmpty() || QSettings().contains(autosaveKey() + "/folder")) discardAutosave();
     viewport_->setRoom(&doc_->scene(), &doc_->data(), doc_->session());

@@ -5,6 +5,7 @@
 #include <QDoubleSpinBox>
 #include <QPushButton>
 #include <QDir>
+#include <QDirIterator>
 #include <QElapsedTimer>
 #include <QFile>
 #include <QPainter>
@@ -34,6 +35,7 @@
 #include "objects_panel.h"
 #include "references_panel.h"
 #include <QTreeWidget>
+#include "relume/geometry/error.h"
 #include "relume/geometry/polygon.h"
 #include "relume/raytrace/ray_scene.h"
 #include "main_window.h"
@@ -107,6 +109,28 @@ void saveShot(QWidget* w, const QString& name) {
     if (v->isVisible()) painter.drawImage(QRect(v->mapTo(w, QPoint(0, 0)), v->size()), v->grabFramebuffer());
   painter.end();
   shot.save(dir + "/" + name + ".png");
+}
+
+QJsonObject readJson(const QString& file) {
+  QFile f(file);
+  if (!f.open(QIODevice::ReadOnly)) return {};
+  return QJsonDocument::fromJson(f.readAll()).object();
+}
+
+void writeJson(const QString& file, const QJsonObject& o) {
+  QFile f(file);
+  if (f.open(QIODevice::WriteOnly | QIODevice::Truncate)) f.write(QJsonDocument(o).toJson());
+}
+
+// A copy of a folder tree (a project), for edits that must not touch the original.
+bool copyFolder(const QString& from, const QString& to) {
+  QDirIterator it(from, QDir::Files | QDir::NoDotAndDotDot, QDirIterator::Subdirectories);
+  while (it.hasNext()) {
+    const QString src = it.next();
+    const QString dst = to + "/" + QDir(from).relativeFilePath(src);
+    if (!QDir().mkpath(QFileInfo(dst).path()) || !QFile::copy(src, dst)) return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -792,6 +816,25 @@ class WorkbenchTest : public QObject {
     // The reopened session refines the virtual lamp's links afresh (forced onto the photographed
     // polygons as it is built) where the live one refined them by the oracle and then moved it.
     QVERIFY(p >= 30.0);
+
+    // The mesh chosen in View > Interactive mesh is kept too; a damaged choice is refused by name.
+    QCOMPARE(readJson(folder + "/workbench.json")["mesh"].toString(), QString("refined"));
+    const QString copy = tmp_.path() + "/interactive.relume";
+    QVERIFY(copyFolder(folder, copy));
+    QJsonObject state = readJson(copy + "/workbench.json");
+    state["mesh"] = "interactive";
+    writeJson(copy + "/workbench.json", state);
+    const auto room = loadRoomForWorkbench(copy, silentProgress());
+    QCOMPARE(room->mesh, SessionMesh::Interactive);
+    QVERIFY(room->session->engine().totals().leaves < doc()->session()->engine().totals().leaves);
+    state["mesh"] = "coarse";
+    writeJson(copy + "/workbench.json", state);
+    try {
+      loadRoomForWorkbench(copy, silentProgress());
+      QFAIL("a mesh named coarse was accepted");
+    } catch (const relume::Error& e) {
+      QVERIFY2(QString(e.what()).contains("workbench.json") && QString(e.what()).contains("mesh"), e.what());
+    }
   }
 
   // Autosave writes a side folder (never the user's project); after a crash the next start
