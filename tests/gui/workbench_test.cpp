@@ -357,7 +357,8 @@ class WorkbenchTest : public QObject {
     QTest::mouseClick(window_->lightsPanel()->addLampButton(), Qt::LeftButton);
     QCOMPARE(window_->editTool()->mode(), EditTool::Mode::PlaceLamp);
     const int steps = doc()->undoStack()->index();
-    QTest::mouseClick(vp, Qt::LeftButton, {}, pos.toPoint());
+    // The click goes where a user's goes: to the viewport's native GL window.
+    QTest::mouseClick(vp->glWindow(), Qt::LeftButton, {}, pos.toPoint());
     QCOMPARE(doc()->virtualLampCount(), size_t(1));
     QCOMPARE(doc()->undoStack()->index(), steps + 1);
     QCOMPARE(window_->editTool()->mode(), EditTool::Mode::Select);

@@ -1,11 +1,16 @@
 #include "relume/viewport/viewport_widget.h"
 
-#include <QLabel>
+#include <QCoreApplication>
+#include <QHBoxLayout>
 #include <QMouseEvent>
 #include <QOpenGLContext>
+#include <QOpenGLFramebufferObject>
 #include <QOpenGLFunctions>
+#include <QOpenGLPaintDevice>
+#include <QOpenGLWindow>
 #include <QPainter>
 #include <QPainterPath>
+#include <QSurfaceFormat>
 #include <QWheelEvent>
 #include <algorithm>
 #include <chrono>
@@ -19,65 +24,93 @@
 
 namespace relume {
 
+namespace {
+
 // The false-colour scale: luminance per colour, three labelled decades (the shader's ramp).
-class ColourBar : public QWidget {
- public:
-  explicit ColourBar(QWidget* parent) : QWidget(parent) { setAttribute(Qt::WA_TransparentForMouseEvents); }
-  void setRange(double lo, double hi) {
-    if (lo == lo_ && hi == hi_) return;
-    lo_ = lo;
-    hi_ = hi;
-    update();
+void paintColourBar(QPainter& p, const QRect& area, double lo, double hi) {
+  p.save();
+  p.translate(area.topLeft());
+  const int width = area.width(), height = area.height();
+  p.fillRect(QRect(0, 0, width, height), QColor(20, 20, 22, 170));
+  const QRect bar(8, 24, 16, height - 36);
+  QLinearGradient g(bar.bottomLeft(), bar.topLeft());
+  const QColor stops[5] = {QColor::fromRgbF(0.05f, 0.1f, 0.6f), QColor::fromRgbF(0.1f, 0.7f, 0.9f),
+                           QColor::fromRgbF(0.15f, 0.8f, 0.2f), QColor::fromRgbF(0.95f, 0.9f, 0.1f),
+                           QColor::fromRgbF(0.9f, 0.1f, 0.1f)};
+  for (int k = 0; k < 5; ++k) g.setColorAt(k / 4.0, stops[k]);
+  p.fillRect(bar, g);
+  p.setPen(Qt::white);
+  p.drawText(QRect(4, 2, width - 8, 20), Qt::AlignLeft | Qt::AlignVCenter, ViewportWidget::tr("luminance"));
+  const int steps = 4;
+  for (int k = 0; k <= steps; ++k) {
+    const double v = std::pow(10.0, lo + (hi - lo) * k / steps);
+    const int y = bar.bottom() - k * bar.height() / steps;
+    p.drawLine(bar.right() + 1, y, bar.right() + 5, y);
+    p.drawText(bar.right() + 8, y + 4, QString::number(v, 'g', 2));
   }
+  p.restore();
+}
+
+}  // namespace
+
+// The native GL window the viewport shows its frames in (inside a window container): frames are
+// drawn straight into the window's own framebuffer and swapped, which on Mesa's llvmpipe under X
+// costs less than QOpenGLWidget's render-to-texture and composition (relume-workbench --bench
+// measures both). Mouse events go to the ViewportWidget's handlers.
+class ViewportWindow : public QOpenGLWindow {
+ public:
+  explicit ViewportWindow(ViewportWidget* owner) : owner_(owner) {}
 
  protected:
-  void paintEvent(QPaintEvent*) override {
-    QPainter p(this);
-    p.setRenderHint(QPainter::Antialiasing);
-    p.fillRect(rect(), QColor(20, 20, 22, 170));
-    const QRect bar(8, 24, 16, height() - 36);
-    QLinearGradient g(bar.bottomLeft(), bar.topLeft());
-    const QColor stops[5] = {QColor::fromRgbF(0.05f, 0.1f, 0.6f), QColor::fromRgbF(0.1f, 0.7f, 0.9f),
-                             QColor::fromRgbF(0.15f, 0.8f, 0.2f), QColor::fromRgbF(0.95f, 0.9f, 0.1f),
-                             QColor::fromRgbF(0.9f, 0.1f, 0.1f)};
-    for (int k = 0; k < 5; ++k) g.setColorAt(k / 4.0, stops[k]);
-    p.fillRect(bar, g);
-    p.setPen(Qt::white);
-    p.drawText(QRect(4, 2, width() - 8, 20), Qt::AlignLeft | Qt::AlignVCenter, ViewportWidget::tr("luminance"));
-    const int steps = 4;
-    for (int k = 0; k <= steps; ++k) {
-      const double v = std::pow(10.0, lo_ + (hi_ - lo_) * k / steps);
-      const int y = bar.bottom() - k * bar.height() / steps;
-      p.drawLine(bar.right() + 1, y, bar.right() + 5, y);
-      p.drawText(bar.right() + 8, y + 4, QString::number(v, 'g', 2));
-    }
+  void initializeGL() override { owner_->initializeGL(); }
+  void paintGL() override { owner_->paintFrame(defaultFramebufferObject(), this); }
+  void mousePressEvent(QMouseEvent* e) override {
+    owner_->setFocus(Qt::MouseFocusReason);
+    owner_->mousePressEvent(e);
   }
+  void mouseMoveEvent(QMouseEvent* e) override { owner_->mouseMoveEvent(e); }
+  void mouseReleaseEvent(QMouseEvent* e) override { owner_->mouseReleaseEvent(e); }
+  void wheelEvent(QWheelEvent* e) override { owner_->wheelEvent(e); }
 
  private:
-  double lo_ = 0, hi_ = 1;
+  ViewportWidget* owner_;
 };
 
-ViewportWidget::ViewportWidget(QWidget* parent) : QOpenGLWidget(parent), renderer_(std::make_unique<GlRelightRenderer>()) {
-  QSurfaceFormat f = format();
+ViewportWidget::ViewportWidget(QWidget* parent) : QWidget(parent), renderer_(std::make_unique<GlRelightRenderer>()) {
+  window_ = new ViewportWindow(this);
+  QSurfaceFormat f = QSurfaceFormat::defaultFormat();
   f.setVersion(3, 3);
   f.setProfile(QSurfaceFormat::CoreProfile);
   f.setDepthBufferSize(24);
-  setFormat(f);
+  window_->setFormat(f);
+  // Keys stay with the widget (and the main window's shortcuts) when the GL window is clicked.
+  window_->setFlag(Qt::WindowDoesNotAcceptFocus);
+  container_ = QWidget::createWindowContainer(window_, this);
+  container_->setFocusPolicy(Qt::NoFocus);
+  auto* layout = new QHBoxLayout(this);
+  layout->setContentsMargins(0, 0, 0, 0);
+  layout->addWidget(container_);
   setMinimumSize(320, 240);
-  message_ = new QLabel(this);
-  message_->setAlignment(Qt::AlignCenter);
-  message_->setWordWrap(true);
-  message_->setStyleSheet("color: #ddd; background: transparent;");
-  colourBar_ = new ColourBar(this);
-  colourBar_->hide();
   setFocusPolicy(Qt::StrongFocus);
   setMouseTracking(true);
 }
 
 ViewportWidget::~ViewportWidget() {
-  makeCurrent();
-  renderer_.reset();
-  doneCurrent();
+  if (window_->isValid()) {
+    window_->makeCurrent();
+    renderer_.reset();
+    window_->doneCurrent();
+  }
+}
+
+void ViewportWidget::requestFrame() { window_->update(); }
+
+QWindow* ViewportWidget::glWindow() const { return window_; }
+
+void ViewportWidget::renderNow() {
+  window_->update();
+  QEvent request(QEvent::UpdateRequest);
+  QCoreApplication::sendEvent(window_, &request);
 }
 
 void ViewportWidget::setRoom(const Scene* scene, const RelightData* data, const RelightSession* session) {
@@ -87,45 +120,45 @@ void ViewportWidget::setRoom(const Scene* scene, const RelightData* data, const 
   photo_.clear();
   roomDirty_ = meshDirty_ = lightingDirty_ = true;
   resetOrbit();
-  update();
+  requestFrame();
 }
 
 void ViewportWidget::meshChanged() {
   meshDirty_ = true;
-  update();
+  requestFrame();
 }
 
 void ViewportWidget::lightingChanged() {
   lightingDirty_ = true;
-  update();
+  requestFrame();
 }
 
 void ViewportWidget::setViewMode(ViewMode mode) {
   mode_ = mode;
-  update();
+  requestFrame();
 }
 
 void ViewportWidget::setExposureEV(double ev) {
   ev_ = ev;
-  update();
+  requestFrame();
 }
 
 void ViewportWidget::setFalseColour(bool on) {
   falseColour_ = on;
-  update();
+  requestFrame();
 }
 
 void ViewportWidget::lockToPhoto(const std::string& photo) {
   photo_ = photo;
   orbit_ = false;
   emit viewChanged();
-  update();
+  requestFrame();
 }
 
 void ViewportWidget::setOrbit(bool free) {
   orbit_ = free;
   emit viewChanged();
-  update();
+  requestFrame();
 }
 
 void ViewportWidget::resetOrbit() {
@@ -151,7 +184,7 @@ void ViewportWidget::resetOrbit() {
 
 void ViewportWidget::setOrbitState(const Orbit& o) {
   orbitState_ = o;
-  update();
+  requestFrame();
 }
 
 Camera ViewportWidget::currentCamera() const {
@@ -203,49 +236,55 @@ void ViewportWidget::upload() {
 
 size_t ViewportWidget::leafCount() const { return renderer_->leafCount(); }
 
-void ViewportWidget::paintGL() {
+void ViewportWidget::paintFrame(unsigned framebuffer, QPaintDevice* device) {
   upload();
   QString message = glError_;
   const bool drawing = glError_.isEmpty() && session_ && renderer_->ready();
+  const int W = std::max(1, int(width() * devicePixelRatio())), H = std::max(1, int(height() * devicePixelRatio()));
   if (!drawing) {  // (the renderer clears what it draws into)
-    auto* f = context()->functions();
+    auto* f = QOpenGLContext::currentContext()->functions();
+    f->glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    f->glViewport(0, 0, W, H);
     f->glClearColor(0.16f, 0.16f, 0.17f, 1.f);
     f->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   }
+  DisplaySettings d;
   if (drawing) {
-    DisplaySettings d;
     d.output = falseColour_ ? DisplayOutput::FalseColour : DisplayOutput::Exposed;
     d.exposure = (data_ ? data_->photoExposure : 1.0) * std::pow(2.0, ev_);
     // False colour: from 1 % to 200 % of the luminance that the display shows as white.
     d.falseMin = std::log10(0.01 / d.exposure);
     d.falseMax = std::log10(2.0 / d.exposure);
     try {
-      renderer_->draw(currentCamera(), mode_, d, defaultFramebufferObject(), photoRect());
+      renderer_->draw(currentCamera(), mode_, d, framebuffer, photoRect());
       frameMs_ = renderer_->lastDrawMilliseconds();
     } catch (const std::exception& e) {
       message = QString::fromStdString(e.what());
     }
-    colourBar_->setRange(d.falseMin, d.falseMax);
     emit frameDrawn(frameMs_);
   } else if (message.isEmpty()) {
     message = tr("Open a room or a project (File > Open) to relight it.");
   }
-  const bool showing = session_ && renderer_->ready() && glError_.isEmpty();
-  if (showing && !overlays_.empty()) paintOverlays();
-  message_->setText(showing ? QString() : message);
-  message_->setVisible(!showing);
-  message_->setGeometry(rect());
-  colourBar_->setVisible(showing && falseColour_);
-  colourBar_->setGeometry(width() - 110, 16, 100, std::max(120, height() - 32));
+  const bool showing = drawing && message.isEmpty();
+  if (showing && overlays_.empty() && !falseColour_) return;
+  // What is drawn over the frame: overlays, the colour bar, or the message.
+  QOpenGLContext::currentContext()->functions()->glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  QPainter p(device);
+  if (showing) {
+    paintOverlays(p);
+    if (falseColour_) paintColourBar(p, QRect(width() - 110, 16, 100, std::max(120, height() - 32)), d.falseMin, d.falseMax);
+  } else {
+    p.setPen(QColor(0xdd, 0xdd, 0xdd));
+    p.drawText(rect().adjusted(16, 16, -16, -16), Qt::AlignCenter | Qt::TextWordWrap, message);
+  }
 }
 
 void ViewportWidget::setOverlays(std::vector<ViewportOverlay> overlays) {
   overlays_ = std::move(overlays);
-  update();
+  requestFrame();
 }
 
-void ViewportWidget::paintOverlays() {
-  QPainter p(this);
+void ViewportWidget::paintOverlays(QPainter& p) {
   p.setRenderHint(QPainter::Antialiasing);
   for (const auto& o : overlays_) {
     const QColor c((o.rgb >> 16) & 255, (o.rgb >> 8) & 255, o.rgb & 255);
@@ -275,15 +314,34 @@ void ViewportWidget::paintOverlays() {
   }
 }
 
+QImage ViewportWidget::grabFramebuffer() {
+  if (!window_->isValid()) return QImage();
+  window_->makeCurrent();
+  const QSize s(std::max(1, int(width() * devicePixelRatio())), std::max(1, int(height() * devicePixelRatio())));
+  QOpenGLFramebufferObjectFormat format;
+  format.setAttachment(QOpenGLFramebufferObject::Depth);
+  QImage img;
+  {
+    QOpenGLFramebufferObject fbo(s, format);
+    QOpenGLPaintDevice device(s);
+    device.setDevicePixelRatio(devicePixelRatio());
+    paintFrame(fbo.handle(), &device);
+    img = fbo.toImage();
+  }
+  window_->doneCurrent();
+  return img;
+}
+
 ImageRGB ViewportWidget::renderLinear(const Camera& camera, ViewMode mode) {
-  makeCurrent();
+  if (!window_->isValid()) throw Error("", "viewport", "the viewport is not on screen yet");
+  window_->makeCurrent();
   upload();
   if (!glReady_ || !renderer_->ready()) {
-    doneCurrent();
+    window_->doneCurrent();
     throw Error("", "viewport", glError_.isEmpty() ? "nothing to render" : glError_.toStdString());
   }
   ImageRGB img = renderer_->renderLinear(camera, mode);
-  doneCurrent();
+  window_->doneCurrent();
   return img;
 }
 
@@ -328,7 +386,7 @@ void ViewportWidget::mousePressEvent(QMouseEvent* e) {
   gestureActive_ = false;
   if (gestures_ && e->button() == Qt::LeftButton && session_)
     gestureActive_ = gestures_->press(pickAt(e->position()), e->modifiers());
-  QOpenGLWidget::mousePressEvent(e);
+  QWidget::mousePressEvent(e);
 }
 
 void ViewportWidget::mouseReleaseEvent(QMouseEvent* e) {
@@ -336,7 +394,7 @@ void ViewportWidget::mouseReleaseEvent(QMouseEvent* e) {
     gestureActive_ = false;
     gestures_->release(pickAt(e->position()));
   }
-  QOpenGLWidget::mouseReleaseEvent(e);
+  QWidget::mouseReleaseEvent(e);
 }
 
 void ViewportWidget::mouseMoveEvent(QMouseEvent* e) {
@@ -347,7 +405,11 @@ void ViewportWidget::mouseMoveEvent(QMouseEvent* e) {
     gestures_->drag(pickAt(e->position()));
     return;
   }
-  if (gestures_ && session_ && e->buttons() == Qt::NoButton) setCursor(gestures_->hoverCursor(pickAt(e->position())));
+  if (gestures_ && session_ && e->buttons() == Qt::NoButton) {
+    const Qt::CursorShape shape = gestures_->hoverCursor(pickAt(e->position()));
+    setCursor(shape);
+    window_->setCursor(shape);
+  }
   if (!orbit_) return;
   if (e->buttons() & Qt::LeftButton) {  // orbit about the target
     orbitState_.yaw -= 0.008 * d.x();
@@ -362,14 +424,14 @@ void ViewportWidget::mouseMoveEvent(QMouseEvent* e) {
     return;
   }
   emit viewChanged();
-  update();
+  requestFrame();
 }
 
 void ViewportWidget::wheelEvent(QWheelEvent* e) {
   if (!orbit_) return;
   orbitState_.distance = std::clamp(orbitState_.distance * std::pow(0.9, e->angleDelta().y() / 120.0), 0.2, 100.0);
   emit viewChanged();
-  update();
+  requestFrame();
 }
 
 }  // namespace relume

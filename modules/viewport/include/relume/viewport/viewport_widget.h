@@ -1,8 +1,10 @@
 #pragma once
-// The relighting viewport of the workbench: a QOpenGLWidget that shows a RelightSession through
+// The relighting viewport of the workbench: a widget holding a native OpenGL window (the faster
+// presentation path on Mesa, see relume-workbench --bench) that shows a RelightSession through
 // a photo's camera (the default: the image lies exactly on the photo) or from a free orbit
 // around the model, in one of the view modes, exposed like the photo.
-#include <QOpenGLWidget>
+#include <QImage>
+#include <QWidget>
 #include <glm/vec3.hpp>
 #include <memory>
 #include <vector>
@@ -11,14 +13,15 @@
 #include "relume/image/image.h"
 #include "relume/viewport/gl_renderer.h"
 
-class QLabel;
+class QPainter;
+class QWindow;
+class QPaintDevice;
 
 namespace relume {
 
 struct Scene;
 struct RelightData;
 class RelightSession;
-class ColourBar;
 
 // What lies under a point of the viewport: the engine surface hit (real polygon, virtual lamp or
 // object face), the point, and the surface normal turned towards the viewer.
@@ -48,7 +51,9 @@ struct ViewportOverlay {
   unsigned rgb = 0xff8c1a;
 };
 
-class ViewportWidget : public QOpenGLWidget {
+class ViewportWindow;
+
+class ViewportWidget : public QWidget {
   Q_OBJECT
  public:
   explicit ViewportWidget(QWidget* parent = nullptr);
@@ -84,6 +89,12 @@ class ViewportWidget : public QOpenGLWidget {
   // Renders `camera`'s view at its own resolution into a float buffer: linear radiance.
   ImageRGB renderLinear(const Camera& camera, ViewMode mode);
   double lastFrameMilliseconds() const { return frameMs_; }
+  // The frame as shown (overlays included), drawn afresh into an image of the widget's size.
+  QImage grabFramebuffer();
+  // Draws a frame now (not at the next turn of the event loop), or at the next turn.
+  void renderNow();
+  void requestFrame();
+  QWindow* glWindow() const;  // the native window the frames are shown in (it takes the mouse)
   size_t leafCount() const;
 
   // Orbit state, for projects that keep the view.
@@ -99,8 +110,6 @@ class ViewportWidget : public QOpenGLWidget {
   void viewChanged();
 
  protected:
-  void initializeGL() override;
-  void paintGL() override;
   void mousePressEvent(QMouseEvent* e) override;
   void mouseMoveEvent(QMouseEvent* e) override;
   void mouseReleaseEvent(QMouseEvent* e) override;
@@ -109,7 +118,12 @@ class ViewportWidget : public QOpenGLWidget {
  private:
   ViewRect photoRect() const;
   void upload();
-  void paintOverlays();
+  void paintOverlays(QPainter& p);
+  friend class ViewportWindow;
+  void initializeGL();
+  void paintFrame(unsigned framebuffer, QPaintDevice* device);
+  ViewportWindow* window_ = nullptr;
+  QWidget* container_ = nullptr;
 
   std::unique_ptr<GlRelightRenderer> renderer_;
   const Scene* scene_ = nullptr;
@@ -128,8 +142,6 @@ class ViewportWidget : public QOpenGLWidget {
   std::vector<ViewportOverlay> overlays_;
   bool gestureActive_ = false;
   double frameMs_ = 0;
-  QLabel* message_ = nullptr;
-  ColourBar* colourBar_ = nullptr;
 };
 
 }  // namespace relume
