@@ -34,23 +34,28 @@ class BenchGlWidget : public QOpenGLWidget {
  public:
   BenchGlWidget(const Scene& scene, const RelightData& data, const RelightSession& session)
       : scene_(scene), data_(data), session_(session) {}
+  ~BenchGlWidget() override {  // the renderer's GL objects go with its own context current
+    makeCurrent();
+    renderer_.reset();
+    doneCurrent();
+  }
   Camera camera;
   int frames = 0;
   double lastMs = 0;
 
  protected:
   void initializeGL() override {
-    renderer_.initialize();
-    renderer_.setRoom(scene_, data_);
-    renderer_.setMesh(session_);
+    renderer_->initialize();
+    renderer_->setRoom(scene_, data_);
+    renderer_->setMesh(session_);
   }
   void paintGL() override {
     DisplaySettings d;
     d.output = DisplayOutput::Exposed;
     d.exposure = data_.photoExposure;
     const int w = int(width() * devicePixelRatio()), h = int(height() * devicePixelRatio());
-    renderer_.draw(camera, ViewMode::Relit, d, defaultFramebufferObject(), {0, 0, w, h});
-    lastMs = renderer_.lastDrawMilliseconds();
+    renderer_->draw(camera, ViewMode::Relit, d, defaultFramebufferObject(), {0, 0, w, h});
+    lastMs = renderer_->lastDrawMilliseconds();
     ++frames;
   }
 
@@ -58,7 +63,7 @@ class BenchGlWidget : public QOpenGLWidget {
   const Scene& scene_;
   const RelightData& data_;
   const RelightSession& session_;
-  GlRelightRenderer renderer_;
+  std::unique_ptr<GlRelightRenderer> renderer_ = std::make_unique<GlRelightRenderer>();
 };
 
 double median(std::vector<double> v) {

@@ -293,9 +293,16 @@ std::unique_ptr<LoadedRoom> loadRoomForWorkbench(const QString& path, Progress& 
   }
   // Saved virtual lamps and objects go into the session as it is built.
   const std::string stateFile = (room->projectPath + "/workbench.json").toStdString();
+  if (room->state.contains("reference_regions") && !room->state["reference_regions"].isArray())
+    throw Error(stateFile, "reference_regions", "must be a list");
   room->regions = room->state.contains("reference_regions")
                       ? referenceRegionsFromJson(room->state["reference_regions"].toArray(), stateFile)
                       : room->data.referenceRegions;
+  for (const auto& r : room->regions) {
+    const int s = room->scene.findPolygon(r.polygon);
+    if (s < 0 || room->scene.polygons[size_t(s)].kind != PolygonKind::Real)
+      throw Error(stateFile, "reference_regions", "names '" + r.polygon + "', which is not a photographed polygon of the room");
+  }
   std::vector<VirtualLamp> vlamps;
   std::vector<VirtualObject> objects;
   for (const auto& v : room->state["virtual_lights"].toArray()) {
@@ -317,6 +324,7 @@ std::unique_ptr<LoadedRoom> loadRoomForWorkbench(const QString& path, Progress& 
     ob.albedo = readRgb(o["albedo"], stateFile, "virtual object '" + ob.name + "' albedo");
     objects.push_back(ob);
   }
+  if (room->state.contains("mesh") && !room->state["mesh"].isString()) throw Error(stateFile, "mesh", "must be a string");
   const QString meshName = room->state["mesh"].toString("refined");
   if (meshName != "refined" && meshName != "interactive")
     throw Error(stateFile, "mesh", "must be \"refined\" or \"interactive\", not \"" + meshName.toStdString() + "\"");
@@ -812,6 +820,7 @@ std::function<std::function<void()>(Progress&)> Document::rebuildWork(bool prepr
         unsavedNew_ = true;  // the recomputed textures are not on disk yet
       }
       session_ = std::move(*session);
+      if (mesh_ != mesh) unsavedNew_ = true;  // the project keeps the mesh chosen
       mesh_ = mesh;
       emit relightingReplaced();
       if (preprocess) emit referencesChanged();

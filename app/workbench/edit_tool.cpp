@@ -49,6 +49,7 @@ void EditTool::paintRegionOn(const std::string& polygon, double radius) {
   setMode(Mode::PaintRegion);
   stroke_ = ReferenceRegion{polygon, {}, glm::dvec2(0.0)};
   brush_ = radius;
+  emit strokeChanged();
   emit message(tr("Paint over the shadowed part of %1 (drag); then click the texel it should take its colour from.")
                    .arg(QString::fromStdString(polygon)));
 }

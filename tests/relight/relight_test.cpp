@@ -3,6 +3,7 @@
 
 #include <QDir>
 #include <QTemporaryDir>
+#include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <map>
@@ -427,7 +428,12 @@ TEST(Relight, ADraggedObjectSettlesToTheFullQualitySolution) {
 // (a leaf's edge with a smaller neighbour's corner inside it) would leave edges used once only,
 // and shows on screen as a crack of background pixels.
 TEST(Relight, TheDisplayMeshCoversEachPolygonWithoutCracks) {
-  RelightSession s(room().scene, room().data, {}, {boxObject("box", {0.7, 1.5, 0.0}, {1.1, 1.9, 0.35}, glm::dvec3(0.5))});
+  // A box, and a tetrahedron: triangular faces cut leaves into triangles, which T-vertices split.
+  VirtualObject tetra{"tetrahedron", {}, glm::dvec3(0.6)};
+  const glm::dvec3 a(2.6, 1.0, 0.0), b(3.4, 1.0, 0.0), c(3.0, 1.7, 0.0), d(3.0, 1.23, 0.8);
+  tetra.polygons = {{a, c, b}, {a, b, d}, {b, c, d}, {c, a, d}};
+  RelightSession s(room().scene, room().data, {},
+                   {boxObject("box", {0.7, 1.5, 0.0}, {1.1, 1.9, 0.35}, glm::dvec3(0.5)), tetra});
   const DisplayMesh mesh = s.displayMesh();
   ASSERT_FALSE(mesh.ranges.empty());
   const auto& engine = s.engine();
@@ -456,6 +462,37 @@ TEST(Relight, TheDisplayMeshCoversEachPolygonWithoutCracks) {
         ++directed[{{a.x, a.y}, {b.x, b.y}}];
       }
     }
+    // No vertex of the surface lies inside a triangle's edge (a T-junction, even one that a
+    // zero-area triangle pairs up).
+    {
+      const double cell = 0.05;
+      std::map<std::pair<int, int>, std::vector<glm::dvec2>> grid;
+      auto key = [&](glm::dvec2 q) { return std::make_pair(int(std::floor(q.x / cell)), int(std::floor(q.y / cell))); };
+      for (size_t t = r.first; t < r.first + r.count; ++t) {
+        const glm::dvec2 q(mesh.vertices[mesh.indices[t]].uv);
+        auto& list = grid[key(q)];
+        if (std::find(list.begin(), list.end(), q) == list.end()) list.push_back(q);
+      }
+      for (size_t t = r.first; t < r.first + r.count; t += 3)
+        for (int k = 0; k < 3; ++k) {
+          const glm::dvec2 a(mesh.vertices[mesh.indices[t + size_t(k)]].uv), b(mesh.vertices[mesh.indices[t + size_t((k + 1) % 3)]].uv);
+          const double len = glm::length(b - a);
+          if (len <= 0) continue;
+          const auto lo = key(glm::min(a, b)), hi = key(glm::max(a, b));
+          for (int i = lo.first; i <= hi.first; ++i)
+            for (int j = lo.second; j <= hi.second; ++j) {
+              const auto it = grid.find({i, j});
+              if (it == grid.end()) continue;
+              for (const auto& q : it->second) {
+                const double along = glm::dot(q - a, b - a) / (len * len);
+                const double off = std::abs((b - a).x * (q - a).y - (b - a).y * (q - a).x) / len;
+                ASSERT_FALSE(along > 1e-6 && along < 1 - 1e-6 && off < 1e-7)
+                    << "surface " << r.surface << ": vertex (" << q.x << ", " << q.y << ") inside the edge (" << a.x << ", "
+                    << a.y << ") - (" << b.x << ", " << b.y << ")";
+              }
+            }
+        }
+    }
     EXPECT_NEAR(area, std::abs(polygonArea2D(outline)), 1e-4 * std::abs(polygonArea2D(outline)) + 1e-9)
         << "surface " << r.surface << ": the triangles cover the polygon once";
     for (const auto& [edge, count] : directed) {
@@ -463,7 +500,7 @@ TEST(Relight, TheDisplayMeshCoversEachPolygonWithoutCracks) {
       const glm::dvec2 a(edge.first.first, edge.first.second), b(edge.second.first, edge.second.second);
       if (back != directed.end()) {
         ++interiorEdges;
-        EXPECT_EQ(count, back->second) << "surface " << r.surface;
+        EXPECT_EQ(count, back->second) << "surface " << r.surface << " edge (" << a.x << ", " << a.y << ") - (" << b.x << ", " << b.y << ")";
       } else {
         ASSERT_TRUE(onOutline(a, b)) << "surface " << r.surface << ": an edge from (" << a.x << ", " << a.y << ") to ("
                                      << b.x << ", " << b.y << ") inside the polygon has no neighbour across it";

@@ -104,18 +104,20 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
   for (const auto& [name, uv] : o.referenceOverride) {
     const int s = scene.findPolygon(name);
     if (s < 0) throw Error(scene.sourceFile, "reference patch '" + name + "'", "the room has no polygon of that name");
-    if (!insideConvex2D(uvPolygon(s), uv, 1e-9))
+    if (!std::isfinite(uv.x) || !std::isfinite(uv.y) || !insideConvex2D(uvPolygon(s), uv, 1e-9))
       throw Error(scene.sourceFile, "reference patch '" + name + "'", "the point lies outside the polygon");
   }
   for (const auto& r : o.referenceRegions) {
     const std::string what = "reference region on '" + r.polygon + "'";
     const int s = scene.findPolygon(r.polygon);
     if (s < 0) throw Error(scene.sourceFile, what, "the room has no polygon of that name");
+    if (scene.polygons[size_t(s)].kind != PolygonKind::Real)
+      throw Error(scene.sourceFile, what, "only photographed surfaces (not lamps or windows) have real shadows to correct");
     if (r.discs.empty()) throw Error(scene.sourceFile, what, "has no painted area");
     for (const auto& d : r.discs)
       if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z) || d.z <= 0)
         throw Error(scene.sourceFile, what, "a disc needs a finite centre and a positive radius");
-    if (!insideConvex2D(uvPolygon(s), r.reference, 1e-9))
+    if (!std::isfinite(r.reference.x) || !std::isfinite(r.reference.y) || !insideConvex2D(uvPolygon(s), r.reference, 1e-9))
       throw Error(scene.sourceFile, what, "the reference lies outside the polygon");
   }
   if (!(o.meanReflectance > 0 && o.meanReflectance < 1))

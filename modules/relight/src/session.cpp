@@ -598,7 +598,9 @@ namespace {
 
 // Inserts into each leaf piece's outline the vertices of other pieces of the same polygon that
 // lie inside one of its axis-aligned edges (T-junctions). Leaf boundaries come from the same
-// splits of a common ancestor, so a shared boundary has bit-identical coordinates on both sides.
+// splits of a common ancestor, so a shared boundary line has bit-identical coordinates on both
+// sides (where a slanted outline crosses it, the two clipped points may differ in the last bits:
+// a sliver, not a crack).
 void removeTJunctions(std::vector<std::vector<glm::dvec2>>& pieces) {
   std::map<double, std::vector<double>> onU, onV;  // x = u: the v of every vertex; y = v: the u
   for (const auto& piece : pieces)
@@ -641,6 +643,45 @@ void removeTJunctions(std::vector<std::vector<glm::dvec2>>& pieces) {
   }
 }
 
+// Makes the pieces of one polygon agree to the last bit: coordinates within 1 µm of each other
+// become one value (the same boundary clipped on its two sides, or a leaf rectangle kept in
+// single precision against a corner in double), and a corner that then repeats is dropped.
+void snapPieces(std::vector<std::vector<glm::dvec2>>& pieces, std::vector<int>& leafOf) {
+  constexpr double tol = 1e-6;
+  for (int axis = 0; axis < 2; ++axis) {
+    std::vector<double> values;
+    for (const auto& piece : pieces)
+      for (const auto& p : piece) values.push_back(p[axis]);
+    std::sort(values.begin(), values.end());
+    std::vector<double> canonical;  // the first value of each run of values closer than tol
+    for (double v : values)
+      if (canonical.empty() || v - canonical.back() > tol) canonical.push_back(v);
+    for (auto& piece : pieces)
+      for (auto& p : piece) {
+        auto it = std::upper_bound(canonical.begin(), canonical.end(), p[axis]);
+        p[axis] = *std::prev(it);
+      }
+  }
+  for (auto& piece : pieces) {
+    std::vector<glm::dvec2> distinct;
+    for (const auto& p : piece)
+      if (distinct.empty() || p != distinct.back()) distinct.push_back(p);
+    while (distinct.size() > 1 && distinct.front() == distinct.back()) distinct.pop_back();
+    piece = std::move(distinct);
+  }
+  size_t kept = 0;
+  for (size_t k = 0; k < pieces.size(); ++k)
+    if (pieces[k].size() >= 3 && polygonArea2D(pieces[k]) > 0) {
+      if (kept != k) {
+        pieces[kept] = std::move(pieces[k]);
+        leafOf[kept] = leafOf[k];
+      }
+      ++kept;
+    }
+  pieces.resize(kept);
+  leafOf.resize(kept);
+}
+
 }  // namespace
 
 DisplayMesh RelightSession::displayMesh() const {
@@ -676,10 +717,13 @@ DisplayMesh RelightSession::displayMesh() const {
       pieces.push_back(std::move(piece));
       pieceLeaf.push_back(leaf);
     }
+    snapPieces(pieces, pieceLeaf);
     std::vector<glm::dvec2> centres(pieces.size());  // before the T-vertices are added
+    std::vector<size_t> corners(pieces.size());
     for (size_t k = 0; k < pieces.size(); ++k) {
       for (const auto& p : pieces[k]) centres[k] += p;
       centres[k] /= double(pieces[k].size());
+      corners[k] = pieces[k].size();
     }
     removeTJunctions(pieces);
     for (size_t k = 0; k < pieces.size(); ++k) {
@@ -692,7 +736,7 @@ DisplayMesh RelightSession::displayMesh() const {
       };
       const auto first = uint32_t(mesh.vertices.size());
       const auto n = uint32_t(pieces[k].size());
-      if (n <= 4) {  // a triangle, or a quadrilateral as two triangles (a llvmpipe frame pays per triangle)
+      if (n == corners[k] && n <= 4) {  // a triangle, or a quadrilateral as two (llvmpipe pays per triangle)
         for (const auto& p : pieces[k]) vertex(p);
         for (uint32_t i = 1; i + 1 < n; ++i) mesh.indices.insert(mesh.indices.end(), {first, first + i, first + i + 1});
       } else {  // with T-vertices: a fan around the centre, no sliver triangles

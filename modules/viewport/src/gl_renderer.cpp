@@ -342,7 +342,13 @@ void GlRelightRenderer::setRoom(const Scene& scene, const RelightData& data) {
 void GlRelightRenderer::setMesh(const RelightSession& session) {
   auto& im = *impl_;
   auto& gl = *im.gl;
+  im.meshReady = im.lightingReady = false;  // until the whole mesh is up
   im.mesh = session.displayMesh();
+  GLint maxTexels = 0;
+  gl.glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+  if (size_t(maxTexels) < im.mesh.leafNode.size() * kDisplayCornerTexels)
+    throw Error("", "OpenGL", "the mesh's " + std::to_string(im.mesh.leafNode.size()) +
+                                  " leaves exceed the display's texture-buffer size");
   im.boundsLo = glm::vec3(1e30f);
   im.boundsHi = glm::vec3(-1e30f);
   for (const auto& v : im.mesh.vertices) {
@@ -362,11 +368,6 @@ void GlRelightRenderer::setMesh(const RelightSession& session) {
                   GL_STATIC_DRAW);
   gl.glBindTexture(GL_TEXTURE_BUFFER, im.rectTexture);
   gl.glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, im.rectBuffer);
-  GLint maxTexels = 0;
-  gl.glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
-  if (size_t(maxTexels) < im.mesh.leafNode.size() * kDisplayCornerTexels)
-    throw Error("", "OpenGL", "the mesh's " + std::to_string(im.mesh.leafNode.size()) +
-                                  " leaves exceed the display's texture-buffer size");
   // The corner values serve the references view (the §4.3 category, which changes only with the
   // mesh); the light itself travels per vertex.
   const auto corners = session.displayCorners(im.mesh);

@@ -82,6 +82,7 @@ ViewportWidget::ViewportWidget(QWidget* parent) : QWidget(parent), renderer_(std
   f.setVersion(3, 3);
   f.setProfile(QSurfaceFormat::CoreProfile);
   f.setDepthBufferSize(24);
+  f.setStencilBufferSize(8);  // QPainter fills non-convex overlays with the stencil
   window_->setFormat(f);
   // Keys stay with the widget (and the main window's shortcuts) when the GL window is clicked.
   window_->setFlag(Qt::WindowDoesNotAcceptFocus);
@@ -118,6 +119,7 @@ void ViewportWidget::setRoom(const Scene* scene, const RelightData* data, const 
   data_ = data;
   session_ = session;
   photo_.clear();
+  if (glReady_) glError_.clear();  // a new room gets a new chance (an unusable context stays unusable)
   roomDirty_ = meshDirty_ = lightingDirty_ = true;
   resetOrbit();
   requestFrame();
@@ -286,6 +288,8 @@ void ViewportWidget::setOverlays(std::vector<ViewportOverlay> overlays) {
 
 void ViewportWidget::paintOverlays(QPainter& p) {
   p.setRenderHint(QPainter::Antialiasing);
+  const Camera cam = currentCamera();
+  const ViewRect rect = photoRect();
   for (const auto& o : overlays_) {
     const QColor c((o.rgb >> 16) & 255, (o.rgb >> 8) & 255, o.rgb & 255);
     QPainterPath path;
@@ -294,7 +298,7 @@ void ViewportWidget::paintOverlays(QPainter& p) {
       QPolygonF poly;
       QPointF q;
       for (const auto& v : loop)
-        if (widgetPosition(v, q)) poly << q;
+        if (widgetPosition(cam, rect, v, q)) poly << q;
       if (poly.size() == int(loop.size()) && poly.size() >= 3) path.addPolygon(poly);
     }
     if (!path.isEmpty()) {
@@ -306,7 +310,7 @@ void ViewportWidget::paintOverlays(QPainter& p) {
     p.setPen(QPen(c, 2));
     for (const auto& m : o.markers) {
       QPointF q;
-      if (!widgetPosition(m, q)) continue;
+      if (!widgetPosition(cam, rect, m, q)) continue;
       p.drawEllipse(q, 6, 6);
       p.drawLine(q - QPointF(10, 0), q + QPointF(10, 0));
       p.drawLine(q - QPointF(0, 10), q + QPointF(0, 10));
@@ -319,7 +323,7 @@ QImage ViewportWidget::grabFramebuffer() {
   window_->makeCurrent();
   const QSize s(std::max(1, int(width() * devicePixelRatio())), std::max(1, int(height() * devicePixelRatio())));
   QOpenGLFramebufferObjectFormat format;
-  format.setAttachment(QOpenGLFramebufferObject::Depth);
+  format.setAttachment(QOpenGLFramebufferObject::CombinedDepthStencil);
   QImage img;
   {
     QOpenGLFramebufferObject fbo(s, format);
@@ -327,6 +331,7 @@ QImage ViewportWidget::grabFramebuffer() {
     device.setDevicePixelRatio(devicePixelRatio());
     paintFrame(fbo.handle(), &device);
     img = fbo.toImage();
+    img.setDevicePixelRatio(devicePixelRatio());
   }
   window_->doneCurrent();
   return img;
@@ -335,14 +340,14 @@ QImage ViewportWidget::grabFramebuffer() {
 ImageRGB ViewportWidget::renderLinear(const Camera& camera, ViewMode mode) {
   if (!window_->isValid()) throw Error("", "viewport", "the viewport is not on screen yet");
   window_->makeCurrent();
+  struct Done {
+    QOpenGLWindow* w;
+    ~Done() { w->doneCurrent(); }
+  } done{window_};
   upload();
-  if (!glReady_ || !renderer_->ready()) {
-    window_->doneCurrent();
+  if (!glReady_ || !glError_.isEmpty() || !renderer_->ready())
     throw Error("", "viewport", glError_.isEmpty() ? "nothing to render" : glError_.toStdString());
-  }
-  ImageRGB img = renderer_->renderLinear(camera, mode);
-  window_->doneCurrent();
-  return img;
+  return renderer_->renderLinear(camera, mode);
 }
 
 ViewportPick ViewportWidget::pickAt(const QPointF& pos) const {
@@ -371,8 +376,10 @@ ViewportPick ViewportWidget::pickAt(const QPointF& pos) const {
 }
 
 bool ViewportWidget::widgetPosition(const glm::dvec3& world, QPointF& pos) const {
-  const Camera cam = currentCamera();
-  const ViewRect r = photoRect();
+  return widgetPosition(currentCamera(), photoRect(), world, pos);
+}
+
+bool ViewportWidget::widgetPosition(const Camera& cam, const ViewRect& r, const glm::dvec3& world, QPointF& pos) const {
   glm::dvec2 px;
   if (cam.width <= 0 || !cam.project(world, px)) return false;
   const double dpr = devicePixelRatio();

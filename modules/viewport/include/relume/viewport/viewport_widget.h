@@ -119,6 +119,7 @@ class ViewportWidget : public QWidget {
   ViewRect photoRect() const;
   void upload();
   void paintOverlays(QPainter& p);
+  bool widgetPosition(const Camera& cam, const ViewRect& rect, const glm::dvec3& world, QPointF& pos) const;
   friend class ViewportWindow;
   void initializeGL();
   void paintFrame(unsigned framebuffer, QPaintDevice* device);
