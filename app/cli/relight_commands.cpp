@@ -25,6 +25,18 @@ namespace relume::cli {
 namespace {
 
 std::string str(const QString& s) { return s.toStdString(); }
+
+// `n` comma-separated numbers of an option's value; `what` names the option in errors.
+std::vector<double> numbersIn(const QString& text, int n, const std::string& what) {
+  std::vector<double> x;
+  for (const QString& e : text.split(',')) {
+    bool ok = false;
+    x.push_back(e.toDouble(&ok));
+    if (!ok) throw Error("", what, "'" + str(text) + "' is not a list of numbers");
+  }
+  if (int(x.size()) != n) throw Error("", what, "'" + str(text) + "' needs " + std::to_string(n) + " numbers");
+  return x;
+}
 QJsonArray rgbJson(const glm::dvec3& v) { return QJsonArray{v.x, v.y, v.z}; }
 
 void addRelightOptions(QCommandLineParser& p) {
@@ -69,35 +81,21 @@ RelightOptions relightOptions(const QCommandLineParser& p) {
   o.lampsFromPhoto = !p.isSet("lamps-from-equations");
   for (const QString& r : p.values("reference-patch")) {
     const int eq = r.indexOf('=');
-    const QStringList uv = r.mid(eq + 1).split(',');
-    bool okU = false, okV = false;
-    if (eq <= 0 || uv.size() != 2) throw Error("", "--reference-patch " + str(r), "expected POLYGON=U,V");
-    const double u = uv[0].toDouble(&okU), v = uv[1].toDouble(&okV);
-    if (!okU || !okV) throw Error("", "--reference-patch " + str(r), "U and V must be numbers");
-    o.referenceOverride[str(r.left(eq))] = {u, v};
+    if (eq <= 0) throw Error("", "--reference-patch " + str(r), "expected POLYGON=U,V");
+    const auto uv = numbersIn(r.mid(eq + 1), 2, "--reference-patch " + str(r));
+    o.referenceOverride[str(r.left(eq))] = {uv[0], uv[1]};
   }
   for (const QString& r : p.values("reference-region")) {
     const int eq = r.indexOf('=');
     const QStringList parts = r.mid(eq + 1).split('@');
     const std::string what = "--reference-region " + str(r);
     if (eq <= 0 || parts.size() < 2) throw Error("", what, "expected POLYGON=U,V@U1,V1,R1[@...]");
-    auto numbers = [&](const QString& s, int n) {
-      const QStringList f = s.split(',');
-      std::vector<double> x;
-      for (const QString& e : f) {
-        bool ok = false;
-        x.push_back(e.toDouble(&ok));
-        if (!ok) throw Error("", what, "'" + str(s) + "' is not a list of numbers");
-      }
-      if (int(x.size()) != n) throw Error("", what, "'" + str(s) + "' needs " + std::to_string(n) + " numbers");
-      return x;
-    };
     ReferenceRegion region;
     region.polygon = str(r.left(eq));
-    const auto ref = numbers(parts[0], 2);
+    const auto ref = numbersIn(parts[0], 2, what);
     region.reference = {ref[0], ref[1]};
     for (int k = 1; k < parts.size(); ++k) {
-      const auto d = numbers(parts[k], 3);
+      const auto d = numbersIn(parts[k], 3, what);
       region.discs.emplace_back(d[0], d[1], d[2]);
     }
     o.referenceRegions.push_back(region);

@@ -10,7 +10,6 @@
 #include <QJsonDocument>
 #include <QJsonObject>
 #include <QOpenGLWidget>
-#include <QSurfaceFormat>
 #include <QSaveFile>
 #include <QThread>
 #include <algorithm>
@@ -153,11 +152,7 @@ QJsonObject benchRoom(const QString& room, int runs) {
     double widgetFps = 0, widgetGpu = 0;
     {
       auto* glWidget = new BenchGlWidget(doc->scene(), doc->data(), *doc->session());
-      QSurfaceFormat f = QSurfaceFormat::defaultFormat();
-      f.setVersion(3, 3);
-      f.setProfile(QSurfaceFormat::CoreProfile);
-      f.setDepthBufferSize(24);
-      glWidget->setFormat(f);
+      glWidget->setFormat(viewportSurfaceFormat());
       glWidget->camera = vp->currentCamera();
       glWidget->resize(s);
       glWidget->show();

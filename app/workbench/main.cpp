@@ -7,14 +7,11 @@
 #include "bench.h"
 #include "i18n.h"
 #include "main_window.h"
+#include "relume/viewport/viewport_widget.h"
 
 int main(int argc, char** argv) {
   // The viewport needs OpenGL 3.3 core; ask for it before any window exists.
-  QSurfaceFormat format;
-  format.setVersion(3, 3);
-  format.setProfile(QSurfaceFormat::CoreProfile);
-  format.setDepthBufferSize(24);
-  QSurfaceFormat::setDefaultFormat(format);
+  QSurfaceFormat::setDefaultFormat(relume::viewportSurfaceFormat());
   QApplication app(argc, argv);
   QApplication::setOrganizationName("Relume");
   QApplication::setApplicationName("relume-workbench");

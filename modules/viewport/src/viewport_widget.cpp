@@ -76,14 +76,18 @@ class ViewportWindow : public QOpenGLWindow {
   ViewportWidget* owner_;
 };
 
-ViewportWidget::ViewportWidget(QWidget* parent) : QWidget(parent), renderer_(std::make_unique<GlRelightRenderer>()) {
-  window_ = new ViewportWindow(this);
+QSurfaceFormat viewportSurfaceFormat() {
   QSurfaceFormat f = QSurfaceFormat::defaultFormat();
   f.setVersion(3, 3);
   f.setProfile(QSurfaceFormat::CoreProfile);
   f.setDepthBufferSize(24);
   f.setStencilBufferSize(8);  // QPainter fills non-convex overlays with the stencil
-  window_->setFormat(f);
+  return f;
+}
+
+ViewportWidget::ViewportWidget(QWidget* parent) : QWidget(parent), renderer_(std::make_unique<GlRelightRenderer>()) {
+  window_ = new ViewportWindow(this);
+  window_->setFormat(viewportSurfaceFormat());
   // Keys stay with the widget (and the main window's shortcuts) when the GL window is clicked.
   window_->setFlag(Qt::WindowDoesNotAcceptFocus);
   container_ = QWidget::createWindowContainer(window_, this);

@@ -4,6 +4,7 @@
 // a photo's camera (the default: the image lies exactly on the photo) or from a free orbit
 // around the model, in one of the view modes, exposed like the photo.
 #include <QImage>
+#include <QSurfaceFormat>
 #include <QWidget>
 #include <glm/vec3.hpp>
 #include <memory>
@@ -52,6 +53,10 @@ struct ViewportOverlay {
 };
 
 class ViewportWindow;
+
+// What the viewport's renderer needs of an OpenGL surface: 3.3 core, a depth buffer, and a
+// stencil for QPainter's overlays. Set it as the default before the first window exists.
+QSurfaceFormat viewportSurfaceFormat();
 
 class ViewportWidget : public QWidget {
   Q_OBJECT
