@@ -295,6 +295,66 @@ TEST(Relight, TheUserPicksReferencePatchesAndPaintsRegionsAndTheProjectKeepsThem
   EXPECT_THROW(preprocessRoom(room().scene, o), Error) << "a negative radius";
 }
 
+// The workbench's Recompute: changing one polygon's reference choices redoes only that polygon's
+// step 2 (and the global final reflectance pass) on the kept preprocess state, and gives what the
+// whole preprocess with those choices gives.
+TEST(Relight, RedoingStepTwoForOnePolygonGivesTheWholePreprocess) {
+  const Scene& scene = room().scene;
+  const int floorIndex = scene.findPolygon("floor");
+  const PlaneFrame f = PlaneFrame::of(scene.polygons[floorIndex].vertices);
+  const std::map<std::string, glm::dvec2> overrides{{"floor", f.toUV(glm::dvec3(3.5, 1.0, 0.0))}};
+  const std::vector<ReferenceRegion> regions{
+      {"floor", {glm::dvec3(f.toUV(glm::dvec3(1.8, 2.7, 0.0)), 0.3)}, f.toUV(glm::dvec3(0.6, 1.2, 0.0))}};
+  RelightOptions o;
+  o.referenceOverride = overrides;
+  o.referenceRegions = regions;
+  const RelightData whole = preprocessRoom(scene, o);
+
+  Preprocessor pre(scene, RelightOptions{});
+  const RelightData before = pre.data();
+  EXPECT_TRUE(pre.redoReferences({}, {}).empty()) << "nothing changed, nothing redone";
+  // Mean relative difference of a texture layer over the texels a photo saw.
+  auto difference = [](const PolygonTexture& a, const PolygonTexture& b, auto layer) {
+    double sum = 0, n = 0;
+    for (size_t i = 0; i < a.source.size(); ++i) {
+      if (a.source[i] == TexelSource::Outside) continue;
+      const glm::dvec3 x((a.*layer)[i]), y((b.*layer)[i]);
+      sum += glm::length(x - y) / std::max(glm::length(y), 1e-6);
+      n += 1;
+    }
+    return sum / std::max(n, 1.0);
+  };
+  EXPECT_THROW(pre.redoReferences({{"floor", glm::dvec2(1e3, 1e3)}}, {}), Error);
+  EXPECT_EQ(difference(pre.data().textures[floorIndex], before.textures[floorIndex], &PolygonTexture::albedo), 0.0)
+      << "a refused choice changes nothing";
+
+  const std::vector<int> redone = pre.redoReferences(overrides, regions);
+  ASSERT_EQ(redone, std::vector<int>{floorIndex});
+  const RelightData& after = pre.data();
+  EXPECT_EQ(after.estimates.referencedByRegion, whole.estimates.referencedByRegion);
+  EXPECT_EQ(after.estimates.referencedByDefault, whole.estimates.referencedByDefault);
+  EXPECT_EQ(after.referenceOverride.count("floor"), 1u);
+  EXPECT_EQ(after.referenceRegions.size(), 1u);
+  const double floorUnocc = difference(after.textures[floorIndex], whole.textures[floorIndex], &PolygonTexture::unoccluded);
+  const double floorChanged = difference(before.textures[floorIndex], whole.textures[floorIndex], &PolygonTexture::unoccluded);
+  std::printf("floor T_final against the whole preprocess: %.5f %% redone, %.3f %% before the redo; step 2 %.2f s, whole %.2f s\n",
+              100 * floorUnocc, 100 * floorChanged, after.estimates.stepTwoSeconds, whole.estimates.seconds);
+  EXPECT_LT(floorUnocc, 1e-4);
+  EXPECT_GT(floorChanged, 10 * floorUnocc) << "the choices must change the floor for this test to mean anything";
+  for (size_t s = 0; s < scene.polygons.size(); ++s) {
+    if (scene.polygons[s].kind != PolygonKind::Real) continue;
+    EXPECT_LT(difference(after.textures[s], whole.textures[s], &PolygonTexture::albedo), 2e-3) << scene.polygons[s].name;
+    // (Polygons no photo shows are drawn from the solution, which every reflectance changes.)
+    if (int(s) != floorIndex && whole.textures[s].photographed())
+      EXPECT_EQ(difference(after.textures[s], before.textures[s], &PolygonTexture::unoccluded), 0.0)
+          << scene.polygons[s].name << ": T_final of a polygon whose choices did not change stays";
+  }
+  // Clearing the choices goes back to the automatic result.
+  ASSERT_EQ(pre.redoReferences({}, {}), std::vector<int>{floorIndex});
+  EXPECT_LT(difference(pre.data().textures[floorIndex], before.textures[floorIndex], &PolygonTexture::unoccluded), 1e-4);
+  EXPECT_TRUE(pre.data().referenceOverride.empty());
+}
+
 // Lamp edits are weighted sums of per-lamp solutions (radiosity is linear in the emittances);
 // they must show what radiosity steps on the same links show.
 TEST(Relight, LampEditsFromPerLampSolutionsMatchRadiositySteps) {

@@ -6,6 +6,9 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <map>
+#include <optional>
 #include <glm/geometric.hpp>
 #include <numbers>
 
@@ -82,32 +85,21 @@ struct Leaf {
   double seen;     // fraction of its texels the main photo shows
 };
 
-}  // namespace
-
-bool ReferenceRegion::contains(glm::dvec2 uv) const {
-  for (const auto& d : discs)
-    if (glm::length(uv - glm::dvec2(d)) <= d.z) return true;
-  return false;
-}
-
-RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress& progress) {
+void checkReferenceChoices(const Scene& scene, const std::map<std::string, glm::dvec2>& overrides,
+                           const std::vector<ReferenceRegion>& regions) {
   auto uvPolygon = [&](int s) {
     const PlaneFrame f = PlaneFrame::of(scene.polygons[s].vertices);
     std::vector<glm::dvec2> uv;
     for (const auto& v : scene.polygons[s].vertices) uv.push_back(f.toUV(v));
     return uv;
   };
-  const auto t0 = std::chrono::steady_clock::now();
-  RelightData out;
-  out.options = o;
-  // The user's reference choices, checked before any work.
-  for (const auto& [name, uv] : o.referenceOverride) {
+  for (const auto& [name, uv] : overrides) {
     const int s = scene.findPolygon(name);
     if (s < 0) throw Error(scene.sourceFile, "reference patch '" + name + "'", "the room has no polygon of that name");
     if (!std::isfinite(uv.x) || !std::isfinite(uv.y) || !insideConvex2D(uvPolygon(s), uv, 1e-9))
       throw Error(scene.sourceFile, "reference patch '" + name + "'", "the point lies outside the polygon");
   }
-  for (const auto& r : o.referenceRegions) {
+  for (const auto& r : regions) {
     const std::string what = "reference region on '" + r.polygon + "'";
     const int s = scene.findPolygon(r.polygon);
     if (s < 0) throw Error(scene.sourceFile, what, "the room has no polygon of that name");
@@ -120,6 +112,57 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
     if (!std::isfinite(r.reference.x) || !std::isfinite(r.reference.y) || !insideConvex2D(uvPolygon(s), r.reference, 1e-9))
       throw Error(scene.sourceFile, what, "the reference lies outside the polygon");
   }
+}
+
+}  // namespace
+
+// The preprocess's state after §4.2's step 1, kept for redoing step 2.
+struct Preprocessor::Impl {
+  Impl(const Scene& sc, const RelightOptions& opt) : scene(sc), o(opt) {}
+  const Scene scene;
+  const RelightOptions o;
+  RelightData out;
+  std::unique_ptr<HierarchicalRadiosity> hr;
+  std::vector<Leaf> leaves;
+  std::vector<int> leafIndex;                     // per node: its index in `leaves` (-1 none)
+  LinkSums sums;                                  // after step 1
+  std::vector<float> wSeen;                       // per node: corner values lean on what the photo shows
+  std::vector<std::vector<glm::vec3>> inter;      // T_inter per polygon
+  std::vector<glm::dvec3> rhoInter, lab;          // per leaf
+  std::vector<uint8_t> real, observed, occluded, unoccluded;
+  std::vector<std::vector<int>> frontier;         // per polygon: its frontier leaves
+  std::vector<int> autoRef;                       // per polygon: its automatic default reference leaf
+  static constexpr uint8_t kByRegion = 1, kByFrontier = 2, kByDefault = 3;
+  std::vector<uint8_t> how;                       // per leaf: where its reference came from
+  std::vector<glm::vec3> factor;                  // per node: Eq. 9's modulation
+  glm::dvec3 meanRho{0.0};
+  bool stale = false;                             // a redo did not finish: redo every polygon next
+
+  struct Choices {
+    std::vector<std::pair<int, int>> defaultRef, regionRef;  // (polygon, leaf)
+  };
+  glm::dvec3 rhoAt(int surface, const glm::dvec3& radiance, const glm::dvec3& irradiance) const {
+    return observed[surface] ? clampRho(kPi * radiance / glm::max(irradiance, glm::dvec3(1e-12))) : meanRho;
+  }
+  void run(Progress& progress);
+  Choices resolve(const std::map<std::string, glm::dvec2>& overrides, const std::vector<ReferenceRegion>& regions) const;
+  void step2(const std::vector<uint8_t>& redo, const std::map<std::string, glm::dvec2>& overrides,
+             const std::vector<ReferenceRegion>& regions);
+  void finalPass(Progress& progress);
+  std::vector<glm::dvec3> unoccludedReflectances() const;
+  void forEachTexel(const std::vector<uint8_t>& polygons, const std::function<void(PolygonTexture&, size_t, int, glm::dvec2)>& fn);
+};
+
+bool ReferenceRegion::contains(glm::dvec2 uv) const {
+  for (const auto& d : discs)
+    if (glm::length(uv - glm::dvec2(d)) <= d.z) return true;
+  return false;
+}
+
+void Preprocessor::Impl::run(Progress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  out.options = o;
+  checkReferenceChoices(scene, o.referenceOverride, o.referenceRegions);
   if (!(o.meanReflectance > 0 && o.meanReflectance < 1))
     throw Error(scene.sourceFile, "mean reflectance", "must lie in (0, 1)");
   if (scene.lamps.empty())
@@ -136,7 +179,7 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
   const size_t np = scene.polygons.size(), nlamps = scene.lamps.size();
   std::vector<int> lampSurfaces;
   for (const auto& l : scene.lamps) lampSurfaces.push_back(l.polygon);
-  std::vector<uint8_t> real(np, 0);
+  real.assign(np, 0);
   for (size_t i = 0; i < np; ++i) real[i] = scene.polygons[i].kind == PolygonKind::Real;
 
   // Textures (the ray scene of the room itself tells what the camera sees).
@@ -199,18 +242,18 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
   double rhoHat = o.meanReflectance;
   // Polygons no photo shows (a wall behind the camera) still reflect light: they get the mean
   // reflectance of the room (its colour from the photo), refined with the computed ones below.
-  std::vector<uint8_t> observed(np, 0);
+  observed.assign(np, 0);
   for (size_t i = 0; i < np; ++i)
     observed[i] = tex[i].photographed();
-  glm::dvec3 meanRho = clampRho(rhoHat * imageMean / grey(imageMean));
+  meanRho = clampRho(rhoHat * imageMean / grey(imageMean));
   auto eq1 = [&](double rh) {
     std::vector<glm::dvec3> r(np, glm::dvec3(0.0));
     for (size_t i = 0; i < np; ++i)
       if (real[i]) r[i] = observed[i] ? clampRho(polyMean[i] / glm::max(imageMean, glm::dvec3(1e-12)) * rh) : clampRho(rh * imageMean / grey(imageMean));
     return r;
   };
-  auto rhoOf = [&](int surface, const glm::dvec3& radiance, const glm::dvec3& irradiance) {
-    return observed[surface] ? clampRho(kPi * radiance / glm::max(irradiance, glm::dvec3(1e-12))) : meanRho;
+  auto rhoOf = [this](int surface, const glm::dvec3& radiance, const glm::dvec3& irradiance) {
+    return rhoAt(surface, radiance, irradiance);
   };
   auto updateMeanRho = [&](const HierarchicalRadiosity& hr, const std::vector<Leaf>& ls) {
     glm::dvec3 sum(0.0);
@@ -234,7 +277,8 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
   out.estimates.meanReflectanceGiven = rhoHat;
 
   radiosity::Options eo = o.engine;
-  HierarchicalRadiosity h(engineSurfaces(scene, eq1(rhoHat), exitances(rhoHat)), eo);
+  hr = std::make_unique<HierarchicalRadiosity>(engineSurfaces(scene, eq1(rhoHat), exitances(rhoHat)), eo);
+  auto& h = *hr;
   {
     ProgressScope scope(progress, 0.15, 0.4);
     h.solve(scope);
@@ -254,7 +298,7 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
     });
     return ls;
   };
-  std::vector<Leaf> leaves = leafData();
+  leaves = leafData();
   // The glow around lamps: the photo minus its reprojected textures, in the rings the textures
   // left out.
   {
@@ -490,29 +534,18 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
 
   // §4.2, step 1: add the blocked light back (Eq. 5-6), modulating at leaf vertices.
   progress.report(0.75, "adding blocked light back (Eq. 5-6)");
-  LinkSums sums = linkSums(h, o.blockedIndirect);
+  sums = linkSums(h, o.blockedIndirect);
   std::vector<glm::vec3> Enode(h.nodes().size());
   for (size_t i = 0; i < Enode.size(); ++i) Enode[i] = h.irradiance(int(i));
   // Corner values lean on the elements the photo shows: hidden ones (behind a poster, under a
   // box) have no light to speak of and would spread their extreme ratios to visible neighbours.
-  std::vector<float> wSeen(h.nodes().size(), 1.f);
+  wSeen.assign(h.nodes().size(), 1.f);
   for (const auto& L : leaves) wSeen[L.node] = float(L.seen) + 1e-3f;
-  auto forEachTexel = [&](const std::function<void(PolygonTexture&, size_t, int, glm::dvec2)>& fn) {
-    tbb::parallel_for(size_t(0), np, [&](size_t s) {
-      if (!real[s]) return;
-      auto& t = tex[s];
-      for (int y = 0; y < t.height; ++y)
-        for (int x = 0; x < t.width; ++x) {
-          if (t.source[t.index(x, y)] == TexelSource::Outside) continue;
-          const glm::dvec2 uv = t.uvOf(x + 0.5, y + 0.5);
-          fn(t, t.index(x, y), h.findLeaf(int(s), uv), uv);
-        }
-    });
-  };
+  const std::vector<uint8_t> all(np, 1);
   {
     const auto cU = leafCornerValues(h, sums.unoccluded, &wSeen), cE = leafCornerValues(h, Enode, &wSeen);
     for (size_t s = 0; s < np; ++s) tex[s].unoccluded = tex[s].original;
-    forEachTexel([&](PolygonTexture& t, size_t i, int leaf, glm::dvec2 uv) {
+    forEachTexel(all, [&](PolygonTexture& t, size_t i, int leaf, glm::dvec2 uv) {
       const auto& L = h.nodes()[leaf];
       const glm::vec3 u = interpolateCorners(L, cU[leaf], uv), e = interpolateCorners(L, cE[leaf], uv);
       const glm::vec3 f = glm::clamp(u / glm::max(e, glm::vec3(1e-20f)), glm::vec3(1.f), glm::vec3(50.f));
@@ -520,34 +553,26 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
     });
     for (size_t s = 0; s < np; ++s) fillSmoothly(tex[s], tex[s].unoccluded, true);
   }
-  // Reflectance per element of the current unoccluded texture over the unoccluded irradiance
-  // (rho_inter after step 1, rho_final after step 2). The mesh no longer changes from here.
-  auto unoccludedReflectances = [&]() {
-    std::vector<glm::dvec3> rho(leaves.size());
-    for (size_t k = 0; k < leaves.size(); ++k) {
-      const auto& N = h.nodes()[leaves[k].node];
-      const auto& t = tex[N.surface];
-      const glm::dvec3 m(t.mean(t.unoccluded, {N.u0, N.v0}, {N.u1, N.v1}));
-      rho[k] = rhoOf(leaves[k].surface, m, glm::dvec3(sums.unoccluded[leaves[k].node]));
-    }
-    return rho;
-  };
-  const std::vector<glm::dvec3> rhoInter = unoccludedReflectances();
+  // T_inter: what step 2 starts from (kept, so that step 2 can be redone per polygon).
+  rhoInter = unoccludedReflectances();
+  inter.resize(np);
+  for (size_t s = 0; s < np; ++s) inter[s] = tex[s].unoccluded;
 
-  // §4.3, step 2: reference patches on the frontier of unoccluded elements (Fig. 16), Eq. 7-9.
+  // §4.3, step 2: the element sets and automatic references do not depend on the user's choices.
   progress.report(0.82, "reference-patch correction (Eq. 7-9)");
-  std::vector<int> leafIndex(h.nodes().size(), -1);
+  leafIndex.assign(h.nodes().size(), -1);
   for (size_t k = 0; k < leaves.size(); ++k) leafIndex[leaves[k].node] = int(k);
-  std::vector<uint8_t> occluded(leaves.size(), 0), unoccluded(leaves.size(), 0);
+  occluded.assign(leaves.size(), 0);
+  unoccluded.assign(leaves.size(), 0);
   for (size_t k = 0; k < leaves.size(); ++k) {
     const double d = grey(glm::dvec3(sums.direct[leaves[k].node]));
     const double b = grey(glm::dvec3(sums.directBlocked[leaves[k].node]));
     occluded[k] = d > 0 && b > o.occludedFraction * d;
     unoccluded[k] = b <= 1e-3 * d;
   }
-  std::vector<glm::dvec3> lab(leaves.size());
+  lab.resize(leaves.size());
   for (size_t k = 0; k < leaves.size(); ++k) lab[k] = linearRgbToLab(rhoInter[k]);
-  std::vector<std::vector<int>> frontier(np);
+  frontier.assign(np, {});
   for (size_t k = 0; k < leaves.size(); ++k) {
     if (!unoccluded[k] || leaves[k].seen < 0.5) continue;
     for (int n : neighbours(h, leaves[k].node))
@@ -556,150 +581,250 @@ RelightData preprocessRoom(const Scene& scene, const RelightOptions& o, Progress
         break;
       }
   }
-  // Default reference per polygon: the user's choice, else the unoccluded element the photo shows
-  // whose colour is nearest the polygon's mean unoccluded colour.
-  std::vector<int> defaultRef(np, -1);
+  // Automatic default reference per polygon: the unoccluded element the photo shows whose colour
+  // is nearest the polygon's mean unoccluded colour.
+  autoRef.assign(np, -1);
   {
-    std::vector<glm::dvec3> meanRho(np, glm::dvec3(0.0));
+    std::vector<glm::dvec3> meanRhoInter(np, glm::dvec3(0.0));
     std::vector<double> wsum(np, 0);
     for (size_t k = 0; k < leaves.size(); ++k)
       if (unoccluded[k] && leaves[k].seen >= 0.5) {
-        meanRho[leaves[k].surface] += leaves[k].area * rhoInter[k];
+        meanRhoInter[leaves[k].surface] += leaves[k].area * rhoInter[k];
         wsum[leaves[k].surface] += leaves[k].area;
       }
     std::vector<double> best(np, 1e300);
     for (size_t k = 0; k < leaves.size(); ++k) {
       const int s = leaves[k].surface;
       if (!unoccluded[k] || leaves[k].seen < 0.5 || wsum[s] <= 0) continue;
-      const double d = glm::length(lab[k] - linearRgbToLab(meanRho[s] / wsum[s]));
+      const double d = glm::length(lab[k] - linearRgbToLab(meanRhoInter[s] / wsum[s]));
       if (d < best[s]) {
         best[s] = d;
-        defaultRef[s] = int(k);
+        autoRef[s] = int(k);
       }
-    }
-    for (size_t s = 0; s < np; ++s) {
-      const auto& name = scene.polygons[s].name;
-      if (defaultRef[s] >= 0) {
-        const auto& N = h.nodes()[leaves[defaultRef[s]].node];
-        out.referencePatch[name] = {0.5 * (N.u0 + N.u1), 0.5 * (N.v0 + N.v1)};
-      }
-    }
-    // The user's choice wins: the element under the chosen point of that polygon.
-    for (const auto& [name, uv] : o.referenceOverride) {
-      const int s = scene.findPolygon(name);
-      const int leaf = h.findLeaf(s, uv);
-      if (leafIndex[leaf] < 0) throw Error(scene.sourceFile, "reference patch '" + name + "'", "no element there");
-      defaultRef[s] = leafIndex[leaf];
-      out.referenceOverride[name] = uv;
-    }
-  }
-  // Painted regions: per region its polygon and the element its reference point lies on.
-  std::vector<std::pair<int, int>> regionRef;
-  for (const auto& r : o.referenceRegions) {
-    const std::string what = "reference region on '" + r.polygon + "'";
-    const int s = scene.findPolygon(r.polygon);
-    const int leaf = h.findLeaf(s, r.reference);
-    if (leafIndex[leaf] < 0) throw Error(scene.sourceFile, what, "no element at the reference");
-    regionRef.emplace_back(s, leafIndex[leaf]);
-    out.referenceRegions.push_back(r);
-  }
-  std::vector<glm::vec3> factor(h.nodes().size(), glm::vec3(1.f));
-  size_t nOcc = 0, nFront = 0, byFrontier = 0, byDefault = 0, byRegion = 0;
-  for (const auto& f : frontier) nFront += f.size();
-  if (o.reference != RelightOptions::Reference::Off) {
-    for (size_t k = 0; k < leaves.size(); ++k) {
-      if (!occluded[k]) continue;
-      ++nOcc;
-      const int s = leaves[k].surface;
-      const auto& N = h.nodes()[leaves[k].node];
-      // The reference: the latest painted region holding the element, else the nearest frontier
-      // element of similar colour, else the polygon's default.
-      int ref = -1;
-      for (size_t r = 0; r < regionRef.size(); ++r)
-        if (regionRef[r].first == s && o.referenceRegions[r].contains({0.5 * (N.u0 + N.u1), 0.5 * (N.v0 + N.v1)}))
-          ref = regionRef[r].second;
-      if (ref >= 0) {
-        ++byRegion;
-      } else {
-        const glm::dvec3 ci = glm::dvec3(N.center);
-        double bestDist = 1e300;
-        for (int n : frontier[s]) {
-          if (glm::length(lab[n] - lab[k]) >= o.colourThreshold) continue;
-          const double d = glm::length(glm::dvec3(h.nodes()[leaves[n].node].center) - ci);
-          if (d < bestDist) {
-            bestDist = d;
-            ref = n;
-          }
-        }
-        if (ref >= 0) ++byFrontier;
-        else {
-          ref = defaultRef[s];
-          if (ref < 0) continue;
-          ++byDefault;
-        }
-      }
-      // Eq. 8 with the reflectance of step 1 (already divided by the unoccluded irradiance, so the
-      // form-factor ratio of Eq. 7 is inside it), then Eq. 9's modulation of T_inter.
-      glm::dvec3 f = rhoInter[ref] / rhoInter[k];
-      if (o.reference == RelightOptions::Reference::Weighted) {
-        const double d = grey(glm::dvec3(sums.direct[leaves[k].node]));
-        const double b = std::clamp(grey(glm::dvec3(sums.directBlocked[leaves[k].node])) / std::max(d, 1e-30), 0.0, 0.999);
-        const double r = b / (1 - b), w = r * r / (1 + r * r);
-        f = glm::pow(f, glm::dvec3(w));
-      }
-      factor[leaves[k].node] = glm::vec3(f);
-    }
-  }
-  out.estimates.occludedLeaves = nOcc;
-  out.estimates.frontierLeaves = nFront;
-  out.estimates.referencedByFrontier = byFrontier;
-  out.estimates.referencedByDefault = byDefault;
-  out.estimates.referencedByRegion = byRegion;
-  {
-    const auto cF = leafCornerValues(h, factor, &wSeen);
-    forEachTexel([&](PolygonTexture& t, size_t i, int leaf, glm::dvec2 uv) {
-      t.unoccluded[i] *= interpolateCorners(h.nodes()[leaf], cF[leaf], uv);
-    });
-    for (size_t s = 0; s < np; ++s) fillSmoothly(tex[s], tex[s].unoccluded, true);
-  }
-  // rho_final, B_final, and the reflectance map (T_final over the unoccluded irradiance).
-  progress.report(0.9, "final reflectances");
-  {
-    setLeafReflectance(unoccludedReflectances());
-    h.iterate(progress);
-    sums = linkSums(h, o.blockedIndirect);
-    const auto cU = leafCornerValues(h, sums.unoccluded, &wSeen);
-    for (size_t s = 0; s < np; ++s) tex[s].albedo.assign(tex[s].original.size(), glm::vec3(0.f));
-    forEachTexel([&](PolygonTexture& t, size_t i, int leaf, glm::dvec2 uv) {
-      const glm::vec3 u = interpolateCorners(h.nodes()[leaf], cU[leaf], uv);
-      t.albedo[i] = glm::clamp(float(kPi) * t.unoccluded[i] / glm::max(u, glm::vec3(1e-20f)), glm::vec3(0.f), glm::vec3(1.f));
-    });
-    for (size_t s = 0; s < np; ++s) {
-      if (real[s] && !observed[s]) {  // nothing seen: the mean reflectance, lit by the solution
-        std::fill(tex[s].albedo.begin(), tex[s].albedo.end(), glm::vec3(meanRho));
-        const auto& t = tex[s];
-        for (int y = 0; y < t.height; ++y)
-          for (int x = 0; x < t.width; ++x) {
-            if (t.source[t.index(x, y)] == TexelSource::Outside) continue;
-            const glm::dvec2 uv = t.uvOf(x + 0.5, y + 0.5);
-            const int leaf = h.findLeaf(int(s), uv);
-            const glm::vec3 u = interpolateCorners(h.nodes()[leaf], cU[leaf], uv);
-            tex[s].original[t.index(x, y)] = tex[s].unoccluded[t.index(x, y)] = glm::vec3(meanRho) * u / float(kPi);
-          }
-        fillSmoothly(tex[s], tex[s].original, true);
-        fillSmoothly(tex[s], tex[s].unoccluded, true);
-      }
-      if (real[s]) fillSmoothly(tex[s], tex[s].albedo, true);
     }
     for (size_t s = 0; s < np; ++s)
-      if (!real[s]) {
-        tex[s].unoccluded = tex[s].original;
-        tex[s].albedo.assign(tex[s].original.size(), glm::vec3(0.f));
+      if (autoRef[s] >= 0) {
+        const auto& N = h.nodes()[leaves[autoRef[s]].node];
+        out.referencePatch[scene.polygons[s].name] = {0.5 * (N.u0 + N.u1), 0.5 * (N.v0 + N.v1)};
       }
   }
+  factor.assign(h.nodes().size(), glm::vec3(1.f));
+  how.assign(leaves.size(), 0);
+  step2(all, o.referenceOverride, o.referenceRegions);
+  finalPass(progress);
   out.estimates.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   progress.report(1.0, "preprocessed");
-  return out;
+}
+
+// Each element's leaf index on the user's chosen points, checked before anything changes.
+Preprocessor::Impl::Choices Preprocessor::Impl::resolve(const std::map<std::string, glm::dvec2>& overrides,
+                                                       const std::vector<ReferenceRegion>& regions) const {
+  checkReferenceChoices(scene, overrides, regions);
+  Choices c;
+  for (const auto& [name, uv] : overrides) {
+    const int s = scene.findPolygon(name);
+    const int leaf = hr->findLeaf(s, uv);
+    if (leaf < 0 || leafIndex[leaf] < 0) throw Error(scene.sourceFile, "reference patch '" + name + "'", "no element there");
+    c.defaultRef.emplace_back(s, leafIndex[leaf]);
+  }
+  for (const auto& r : regions) {
+    const int s = scene.findPolygon(r.polygon);
+    const int leaf = hr->findLeaf(s, r.reference);
+    if (leaf < 0 || leafIndex[leaf] < 0)
+      throw Error(scene.sourceFile, "reference region on '" + r.polygon + "'", "no element at the reference");
+    c.regionRef.emplace_back(s, leafIndex[leaf]);
+  }
+  return c;
+}
+
+// §4.3, step 2 on the polygons in `redo`: each occluded element takes its reflectance from a
+// reference — the latest painted region holding it, else the nearest frontier element of similar
+// colour, else the polygon's default (the user's, else the automatic one) — Eq. 7-9, and T_final
+// = T_inter modulated by the ratio. Other polygons keep what they had.
+void Preprocessor::Impl::step2(const std::vector<uint8_t>& redo, const std::map<std::string, glm::dvec2>& overrides,
+                               const std::vector<ReferenceRegion>& regions) {
+  const Choices c = resolve(overrides, regions);
+  auto& h = *hr;
+  auto& tex = out.textures;
+  const size_t np = scene.polygons.size();
+  std::vector<int> defaultRef = autoRef;
+  for (const auto& [s, k] : c.defaultRef) defaultRef[s] = k;
+  out.referenceOverride = overrides;
+  out.referenceRegions = regions;
+  out.options.referenceOverride = overrides;
+  out.options.referenceRegions = regions;
+  for (size_t k = 0; k < leaves.size(); ++k) {
+    const int s = leaves[k].surface;
+    if (!occluded[k] || !redo[s]) continue;
+    const auto& N = h.nodes()[leaves[k].node];
+    factor[leaves[k].node] = glm::vec3(1.f);
+    how[k] = 0;
+    if (o.reference == RelightOptions::Reference::Off) continue;
+    int ref = -1;
+    for (size_t r = 0; r < c.regionRef.size(); ++r)
+      if (c.regionRef[r].first == s && regions[r].contains({0.5 * (N.u0 + N.u1), 0.5 * (N.v0 + N.v1)}))
+        ref = c.regionRef[r].second;
+    if (ref >= 0) {
+      how[k] = kByRegion;
+    } else {
+      const glm::dvec3 ci = glm::dvec3(N.center);
+      double bestDist = 1e300;
+      for (int n : frontier[s]) {
+        if (glm::length(lab[n] - lab[k]) >= o.colourThreshold) continue;
+        const double d = glm::length(glm::dvec3(h.nodes()[leaves[n].node].center) - ci);
+        if (d < bestDist) {
+          bestDist = d;
+          ref = n;
+        }
+      }
+      if (ref >= 0) how[k] = kByFrontier;
+      else {
+        ref = defaultRef[s];
+        if (ref < 0) continue;
+        how[k] = kByDefault;
+      }
+    }
+    // Eq. 8 with the reflectance of step 1 (already divided by the unoccluded irradiance, so the
+    // form-factor ratio of Eq. 7 is inside it), then Eq. 9's modulation of T_inter.
+    glm::dvec3 f = rhoInter[ref] / rhoInter[k];
+    if (o.reference == RelightOptions::Reference::Weighted) {
+      const double d = grey(glm::dvec3(sums.direct[leaves[k].node]));
+      const double b = std::clamp(grey(glm::dvec3(sums.directBlocked[leaves[k].node])) / std::max(d, 1e-30), 0.0, 0.999);
+      const double r = b / (1 - b), w = r * r / (1 + r * r);
+      f = glm::pow(f, glm::dvec3(w));
+    }
+    factor[leaves[k].node] = glm::vec3(f);
+  }
+  auto& est = out.estimates;
+  est.occludedLeaves = est.frontierLeaves = est.referencedByFrontier = est.referencedByDefault = est.referencedByRegion = 0;
+  for (const auto& f : frontier) est.frontierLeaves += f.size();
+  for (size_t k = 0; k < leaves.size(); ++k) {
+    est.occludedLeaves += occluded[k] && o.reference != RelightOptions::Reference::Off;
+    est.referencedByRegion += how[k] == kByRegion;
+    est.referencedByFrontier += how[k] == kByFrontier;
+    est.referencedByDefault += how[k] == kByDefault;
+  }
+  const auto cF = leafCornerValues(h, factor, &wSeen);
+  for (size_t s = 0; s < np; ++s)
+    if (redo[s]) tex[s].unoccluded = inter[s];
+  forEachTexel(redo, [&](PolygonTexture& t, size_t i, int leaf, glm::dvec2 uv) {
+    t.unoccluded[i] *= interpolateCorners(h.nodes()[leaf], cF[leaf], uv);
+  });
+  for (size_t s = 0; s < np; ++s)
+    if (redo[s]) fillSmoothly(tex[s], tex[s].unoccluded, true);
+}
+
+// rho_final, B_final, and the reflectance map (T_final over the unoccluded irradiance): global,
+// since a polygon's reflectance lights every other.
+void Preprocessor::Impl::finalPass(Progress& progress) {
+  progress.report(0.9, "final reflectances");
+  auto& h = *hr;
+  auto& tex = out.textures;
+  const size_t np = scene.polygons.size();
+  const auto rho = unoccludedReflectances();
+  for (size_t k = 0; k < leaves.size(); ++k) h.setElementReflectance(leaves[k].node, rho[k]);
+  h.iterate(progress);
+  const LinkSums finalSums = linkSums(h, o.blockedIndirect);
+  const auto cU = leafCornerValues(h, finalSums.unoccluded, &wSeen);
+  for (size_t s = 0; s < np; ++s) tex[s].albedo.assign(tex[s].original.size(), glm::vec3(0.f));
+  const std::vector<uint8_t> all(np, 1);
+  forEachTexel(all, [&](PolygonTexture& t, size_t i, int leaf, glm::dvec2 uv) {
+    const glm::vec3 u = interpolateCorners(h.nodes()[leaf], cU[leaf], uv);
+    t.albedo[i] = glm::clamp(float(kPi) * t.unoccluded[i] / glm::max(u, glm::vec3(1e-20f)), glm::vec3(0.f), glm::vec3(1.f));
+  });
+  for (size_t s = 0; s < np; ++s) {
+    if (real[s] && !observed[s]) {  // nothing seen: the mean reflectance, lit by the solution
+      std::fill(tex[s].albedo.begin(), tex[s].albedo.end(), glm::vec3(meanRho));
+      const auto& t = tex[s];
+      for (int y = 0; y < t.height; ++y)
+        for (int x = 0; x < t.width; ++x) {
+          if (t.source[t.index(x, y)] == TexelSource::Outside) continue;
+          const glm::dvec2 uv = t.uvOf(x + 0.5, y + 0.5);
+          const int leaf = h.findLeaf(int(s), uv);
+          const glm::vec3 u = interpolateCorners(h.nodes()[leaf], cU[leaf], uv);
+          tex[s].original[t.index(x, y)] = tex[s].unoccluded[t.index(x, y)] = glm::vec3(meanRho) * u / float(kPi);
+        }
+      fillSmoothly(tex[s], tex[s].original, true);
+      fillSmoothly(tex[s], tex[s].unoccluded, true);
+    }
+    if (real[s]) fillSmoothly(tex[s], tex[s].albedo, true);
+  }
+  for (size_t s = 0; s < np; ++s)
+    if (!real[s]) {
+      tex[s].unoccluded = tex[s].original;
+      tex[s].albedo.assign(tex[s].original.size(), glm::vec3(0.f));
+    }
+}
+
+std::vector<glm::dvec3> Preprocessor::Impl::unoccludedReflectances() const {
+  std::vector<glm::dvec3> rho(leaves.size());
+  for (size_t k = 0; k < leaves.size(); ++k) {
+    const auto& N = hr->nodes()[leaves[k].node];
+    const auto& t = out.textures[N.surface];
+    const glm::dvec3 m(t.mean(t.unoccluded, {N.u0, N.v0}, {N.u1, N.v1}));
+    rho[k] = rhoAt(leaves[k].surface, m, glm::dvec3(sums.unoccluded[leaves[k].node]));
+  }
+  return rho;
+}
+
+void Preprocessor::Impl::forEachTexel(const std::vector<uint8_t>& polygons,
+                                      const std::function<void(PolygonTexture&, size_t, int, glm::dvec2)>& fn) {
+  tbb::parallel_for(size_t(0), scene.polygons.size(), [&](size_t s) {
+    if (!real[s] || !polygons[s]) return;
+    auto& t = out.textures[s];
+    for (int y = 0; y < t.height; ++y)
+      for (int x = 0; x < t.width; ++x) {
+        if (t.source[t.index(x, y)] == TexelSource::Outside) continue;
+        const glm::dvec2 uv = t.uvOf(x + 0.5, y + 0.5);
+        fn(t, t.index(x, y), hr->findLeaf(int(s), uv), uv);
+      }
+  });
+}
+
+Preprocessor::Preprocessor(const Scene& scene, const RelightOptions& options, Progress& progress)
+    : impl_(std::make_unique<Impl>(scene, options)) {
+  impl_->run(progress);
+}
+
+Preprocessor::~Preprocessor() = default;
+
+const RelightData& Preprocessor::data() const { return impl_->out; }
+
+std::vector<int> Preprocessor::redoReferences(const std::map<std::string, glm::dvec2>& overrides,
+                                              const std::vector<ReferenceRegion>& regions, Progress& progress) {
+  auto& im = *impl_;
+  const size_t np = im.scene.polygons.size();
+  im.resolve(overrides, regions);  // refused before anything changes
+  // The polygons whose choices differ from those applied (all after a failed or cancelled redo).
+  std::vector<uint8_t> redo(np, im.stale ? 1 : 0);
+  auto choicesOf = [&](int s, const std::map<std::string, glm::dvec2>& ov, const std::vector<ReferenceRegion>& rs) {
+    const std::string& name = im.scene.polygons[size_t(s)].name;
+    std::pair<std::optional<glm::dvec2>, std::vector<ReferenceRegion>> c;
+    if (auto it = ov.find(name); it != ov.end()) c.first = it->second;
+    for (const auto& r : rs)
+      if (r.polygon == name) c.second.push_back(r);
+    return c;
+  };
+  for (size_t s = 0; s < np; ++s)
+    if (choicesOf(int(s), overrides, regions) != choicesOf(int(s), im.out.referenceOverride, im.out.referenceRegions))
+      redo[s] = 1;
+  std::vector<int> changed;
+  for (size_t s = 0; s < np; ++s)
+    if (redo[s] && im.real[s]) changed.push_back(int(s));
+  if (changed.empty()) return changed;
+  const auto t0 = std::chrono::steady_clock::now();
+  im.stale = true;
+  im.step2(redo, overrides, regions);
+  im.finalPass(progress);
+  im.stale = false;
+  im.out.estimates.stepTwoSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  progress.report(1.0, "reference patches recomputed");
+  return changed;
+}
+
+RelightData preprocessRoom(const Scene& scene, const RelightOptions& options, Progress& progress) {
+  Preprocessor p(scene, options, progress);
+  return p.data();
 }
 
 }  // namespace relume

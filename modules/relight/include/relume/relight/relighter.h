@@ -96,7 +96,8 @@ struct RelightEstimates {
   size_t leavesBeforeTextureRefinement = 0, leavesAfter = 0, texturesSubdivided = 0, subdivisionsCancelled = 0;
   size_t occludedLeaves = 0, frontierLeaves = 0, referencedByFrontier = 0, referencedByDefault = 0,
          referencedByRegion = 0;
-  double seconds = 0;
+  double seconds = 0;        // the whole preprocess
+  double stepTwoSeconds = 0;  // the last Preprocessor::redoReferences (0: none since the preprocess)
 };
 
 // What preprocessing produces and a project stores.
@@ -120,6 +121,30 @@ struct RelightData {
 // The whole preprocess of §4, up to T_final, B and D. Ignores the scene's albedos and lamp
 // strengths (a photographed room has none). Throws relume::Error on unusable input.
 RelightData preprocessRoom(const Scene& scene, const RelightOptions& options, Progress& progress = silentProgress());
+
+// The same preprocess, keeping its state after §4.2's step 1 (the hierarchy, T_inter, rho_inter,
+// the occluded and frontier elements) so that §4.3's step 2 can be redone when the user changes a
+// polygon's reference patch or painted regions: only those polygons' step 2, then the final
+// reflectance pass (global: a polygon's reflectance lights every other). Holds about as much
+// memory as a session.
+class Preprocessor {
+ public:
+  Preprocessor(const Scene& scene, const RelightOptions& options, Progress& progress = silentProgress());
+  ~Preprocessor();
+  Preprocessor(const Preprocessor&) = delete;
+  Preprocessor& operator=(const Preprocessor&) = delete;
+  // What preprocessRoom returns, with the reference choices applied last.
+  const RelightData& data() const;
+  // Step 2 again with these user choices (they replace the options' ones). Returns the polygons
+  // whose step 2 was redone (none: nothing changed). Throws relume::Error, before anything
+  // changes, on a choice outside its polygon; after a cancel the next call redoes every polygon.
+  std::vector<int> redoReferences(const std::map<std::string, glm::dvec2>& overrides,
+                                  const std::vector<ReferenceRegion>& regions, Progress& progress = silentProgress());
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 enum class RelightMethod { Full, RatioOnly };
 
