@@ -626,10 +626,6 @@
         <translation>Neu berechnen</translation>
     </message>
     <message>
-        <source>Remove the real shadows again with these reference patches (the whole preprocess, as a job)</source>
-        <translation>Reale Schatten mit diesen Referenzfeldern erneut entfernen (die ganze Vorverarbeitung, als Hintergrundaufgabe)</translation>
-    </message>
-    <message>
         <source>Recompute (changes pending)</source>
         <translation>Neu berechnen (Änderungen ausstehend)</translation>
     </message>
@@ -684,6 +680,10 @@
     <message>
         <source>%1 regions</source>
         <translation>%1 Bereiche</translation>
+    </message>
+    <message>
+        <source>Remove the real shadows again with these reference patches: step 2 of the polygons whose choices changed, as a job</source>
+        <translation>Die echten Schatten mit diesen Referenzflächen erneut entfernen: Schritt 2 der Polygone, deren Wahl sich geändert hat, als Auftrag</translation>
     </message>
 </context>
 <context>

@@ -626,10 +626,6 @@
         <translation>Recalculer</translation>
     </message>
     <message>
-        <source>Remove the real shadows again with these reference patches (the whole preprocess, as a job)</source>
-        <translation>Retirer à nouveau les ombres réelles avec ces patchs de référence (tout le prétraitement, en tâche de fond)</translation>
-    </message>
-    <message>
         <source>Recompute (changes pending)</source>
         <translation>Recalculer (modifications en attente)</translation>
     </message>
@@ -684,6 +680,10 @@
     <message>
         <source>%1 regions</source>
         <translation>%1 régions</translation>
+    </message>
+    <message>
+        <source>Remove the real shadows again with these reference patches: step 2 of the polygons whose choices changed, as a job</source>
+        <translation>Retirer à nouveau les ombres réelles avec ces zones de référence : étape 2 des polygones dont le choix a changé, en tâche de fond</translation>
     </message>
 </context>
 <context>

@@ -289,7 +289,8 @@ std::unique_ptr<LoadedRoom> loadRoomForWorkbench(const QString& path, Progress& 
     room->state = readState(room->projectPath);
   } else {
     ProgressScope scope(progress, 0.0, 0.8);
-    room->data = preprocessRoom(room->scene, RelightOptions{}, scope);
+    room->preprocessor = std::make_shared<Preprocessor>(room->scene, RelightOptions{}, scope);
+    room->data = room->preprocessor->data();
   }
   // Saved virtual lamps and objects go into the session as it is built.
   const std::string stateFile = (room->projectPath + "/workbench.json").toStdString();
@@ -359,6 +360,7 @@ void Document::adopt(std::unique_ptr<LoadedRoom> room) {
   scene_ = std::move(room->scene);
   data_ = std::move(room->data);
   session_ = std::move(room->session);
+  preprocessor_ = room->preprocessor;
   projectPath_ = room->projectPath;
   sourcePath_ = room->sourcePath;
   view_ = room->state["view"].toObject();
@@ -395,6 +397,7 @@ void Document::adopt(std::unique_ptr<LoadedRoom> room) {
 void Document::close() {
   undo_.clear();
   session_.reset();
+  preprocessor_.reset();
   scene_ = Scene{};
   data_ = RelightData{};
   projectPath_.clear();
@@ -785,45 +788,67 @@ void Document::applyReferenceRegions(const std::vector<ReferenceRegion>& regions
   emit referencesChanged();
 }
 
-std::function<std::function<void()>(Progress&)> Document::recomputeReferencesWork() { return rebuildWork(true, mesh_); }
-
-std::function<std::function<void()>(Progress&)> Document::switchMeshWork(SessionMesh mesh) { return rebuildWork(false, mesh); }
-
-// A new session (after a new preprocess with the reference overrides, or on another mesh) with
-// the same lamps, virtual lamps and objects, swapped in by the continuation; the undo stack stays.
-std::function<std::function<void()>(Progress&)> Document::rebuildWork(bool preprocess, SessionMesh mesh) {
+std::function<std::function<void()>(Progress&)> Document::recomputeReferencesWork() {
   auto scene = std::make_shared<Scene>(scene_);
-  auto data = std::make_shared<RelightData>(data_);
+  auto pre = preprocessor_;
+  const auto overrides = overrides_;
+  const auto regions = regions_;
   RelightOptions options = data_.options;
-  options.referenceOverride = overrides_;
-  options.referenceRegions = regions_;
+  options.referenceOverride = overrides;
+  options.referenceRegions = regions;
+  const std::vector<glm::dvec3> exitance = data_.lampExitance;
+  auto rebuild = rebuildWork(mesh_);
+  return [this, scene, pre, overrides, regions, options, exitance, rebuild](Progress& progress) mutable -> std::function<void()> {
+    {
+      ProgressScope scope(progress, 0.0, 0.8);
+      if (!pre) pre = std::make_shared<Preprocessor>(*scene, options, scope);  // the first time: all of it
+      else pre->redoReferences(overrides, regions, scope);                      // then step 2 where it changed
+    }
+    auto data = std::make_shared<RelightData>(pre->data());
+    std::function<void()> swapSession;
+    // A preprocess by another version may have estimated other lamps: then a new session.
+    if (data->lampExitance != exitance) {
+      ProgressScope scope(progress, 0.8, 1.0);
+      swapSession = rebuild(*data, scope);
+    }
+    return [this, pre, data, swapSession]() {
+      if (!swapSession) timed([&] { session_->setReflectanceMaps(data->textures); });
+      data_ = std::move(*data);
+      preprocessor_ = pre;
+      unsavedNew_ = true;  // the recomputed textures are not on disk yet
+      if (swapSession) swapSession();
+      else emit relightingReplaced();
+      emit referencesChanged();
+      emit dirtyChanged(isDirty());
+    };
+  };
+}
+
+std::function<std::function<void()>(Progress&)> Document::switchMeshWork(SessionMesh mesh) {
+  auto data = std::make_shared<RelightData>(data_);
+  auto rebuild = rebuildWork(mesh);
+  return [data, rebuild](Progress& progress) { return rebuild(*data, progress); };
+}
+
+// A new session on `data` (on the mesh given) with the same lamps, virtual lamps and objects,
+// swapped in by the continuation; the undo stack stays.
+std::function<std::function<void()>(const RelightData&, Progress&)> Document::rebuildWork(SessionMesh mesh) {
+  auto scene = std::make_shared<Scene>(scene_);
   std::vector<VirtualLamp> vlamps;
   std::vector<VirtualObject> objects;
   for (size_t i = 0; i < virtualLampCount(); ++i) vlamps.push_back(session_->virtualLamp(int(i)));
   for (size_t i = 0; i < objectCount(); ++i) objects.push_back(session_->object(int(i)));
   const std::vector<glm::dvec3> scales = lampScale_;
-  return [this, scene, data, options, vlamps, objects, scales, preprocess, mesh](Progress& progress) -> std::function<void()> {
-    if (preprocess) {
-      ProgressScope scope(progress, 0.0, 0.8);
-      *data = preprocessRoom(*scene, options, scope);
-    }
+  return [this, scene, vlamps, objects, scales, mesh](const RelightData& data, Progress& progress) -> std::function<void()> {
     auto session = std::make_shared<std::unique_ptr<RelightSession>>();
-    {
-      ProgressScope scope(progress, preprocess ? 0.8 : 0.0, 1.0);
-      *session = std::make_unique<RelightSession>(*scene, *data, vlamps, objects, scope, mesh);
-    }
+    *session = std::make_unique<RelightSession>(*scene, data, vlamps, objects, progress, mesh);
     for (size_t l = 0; l < scales.size(); ++l) (*session)->setLampScale(int(l), scales[l]);
     (*session)->update(progress);
-    return [this, data, session, preprocess, mesh]() mutable {
-      if (preprocess) {
-        data_ = std::move(*data);
-        unsavedNew_ = true;  // the recomputed textures are not on disk yet
-      }
+    return [this, session, mesh]() mutable {
       session_ = std::move(*session);
       if (mesh_ != mesh) unsavedNew_ = true;  // the project keeps the mesh chosen
       mesh_ = mesh;
       emit relightingReplaced();
-      if (preprocess) emit referencesChanged();
       emit dirtyChanged(isDirty());
     };
   };

@@ -25,6 +25,7 @@ struct LoadedRoom {
   Scene scene;
   RelightData data;
   std::unique_ptr<RelightSession> session;
+  std::shared_ptr<Preprocessor> preprocessor;  // when the room was preprocessed now (for Recompute)
   QString projectPath;   // the project folder, or empty when the room came from a bundle / OBJ
   QString sourcePath;    // what the user opened
   QJsonObject state;     // the workbench's saved edits (workbench.json), empty if none
@@ -117,8 +118,10 @@ class Document : public QObject {
   void clearReferenceRegions(const std::string& polygon);
   void applyReferenceRegions(const std::vector<ReferenceRegion>& regions);
   bool referencesPending() const { return overrides_ != data_.referenceOverride || regions_ != data_.referenceRegions; }
-  // Work for a job: step 1 and 2 again with the overrides (the whole preprocess), then a session
-  // with the current lamps, virtual lamps and objects. Its continuation swaps them in.
+  // Work for a job: §4.3's step 2 again for the polygons whose reference choices changed, on the
+  // preprocess state kept since the room was preprocessed (the whole preprocess first when there
+  // is none, as after opening a saved project). Its continuation gives the live session the new
+  // reflectance maps (lamps, virtual lamps and objects stay) and the document the new data.
   std::function<std::function<void()>(Progress&)> recomputeReferencesWork();
   // Work for a job: the session on another mesh (§4.4's coarser interactive mesh: faster edits
   // and drags, coarser shadows; or the refined one), with everything the user did.
@@ -159,6 +162,7 @@ class Document : public QObject {
   Scene scene_;
   RelightData data_;
   std::unique_ptr<RelightSession> session_;
+  std::shared_ptr<Preprocessor> preprocessor_;  // the preprocess state for redoing step 2, if kept
   QString projectPath_, sourcePath_;
   std::vector<glm::dvec3> lampScale_;
   QJsonObject view_;
@@ -166,7 +170,7 @@ class Document : public QObject {
   std::map<std::string, glm::dvec2> overrides_;
   std::vector<ReferenceRegion> regions_;
   SessionMesh mesh_ = SessionMesh::Refined;
-  std::function<std::function<void()>(Progress&)> rebuildWork(bool preprocess, SessionMesh mesh);
+  std::function<std::function<void()>(const RelightData&, Progress&)> rebuildWork(SessionMesh mesh);
   struct Mount {
     glm::dvec3 point{0.0}, normal{0.0};
   };

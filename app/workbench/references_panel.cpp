@@ -63,7 +63,7 @@ ReferencesPanel::ReferencesPanel(Document* doc, EditTool* tool, JobRunner* jobs,
   paintRow->addWidget(clearRegions_);
   layout->addLayout(paintRow);
   recompute_ = new QPushButton(tr("Recompute"), this);
-  recompute_->setToolTip(tr("Remove the real shadows again with these reference patches (the whole preprocess, as a job)"));
+  recompute_->setToolTip(tr("Remove the real shadows again with these reference patches: step 2 of the polygons whose choices changed, as a job"));
   layout->addWidget(recompute_);
 
   connect(pick_, &QPushButton::clicked, this, [this] {

@@ -734,9 +734,15 @@ class WorkbenchTest : public QObject {
     const auto before = doc()->data().textures[size_t(floor)].unoccluded;
     const size_t vlamps = doc()->virtualLampCount(), objects = doc()->objectCount();
     const glm::dvec3 scaleA = doc()->lampScale(lampIndex("A"));
+    const RelightSession* live = doc()->session();
+    QElapsedTimer recomputeTime;
+    recomputeTime.start();
     QTest::mouseClick(panel->recomputeButton(), Qt::LeftButton);
     QVERIFY(window_->jobs()->busy());
     QVERIFY2(waitForJob(600000), "the recompute did not finish");
+    qInfo("Recompute (step 2 of the floor, then the live session's new maps): %lld ms, of which %.0f ms on the UI thread",
+          recomputeTime.elapsed(), doc()->lastUpdateMilliseconds());
+    QVERIFY2(doc()->session() == live, "the live session takes the new maps; it is not rebuilt");
     QVERIFY2(window_->lastError().isEmpty() || !window_->jobs()->busy(), qPrintable(window_->lastError()));
     QVERIFY(!doc()->referencesPending());
     QVERIFY(doc()->data().referenceOverride.count("floor"));

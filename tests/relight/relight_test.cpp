@@ -4,6 +4,7 @@
 #include <QDir>
 #include <QTemporaryDir>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <map>
@@ -349,6 +350,28 @@ TEST(Relight, RedoingStepTwoForOnePolygonGivesTheWholePreprocess) {
       EXPECT_EQ(difference(after.textures[s], before.textures[s], &PolygonTexture::unoccluded), 0.0)
           << scene.polygons[s].name << ": T_final of a polygon whose choices did not change stays";
   }
+  // A live session (a lamp dimmed, a box in the room) given the new maps shows what a session
+  // built on them shows.
+  const VirtualObject box = boxObject("box", {2.6, 1.0, 0.0}, {3.0, 1.4, 0.4}, glm::dvec3(0.6));
+  RelightSession live(scene, before, {}, {box});
+  live.setLampScale(0, glm::dvec3(0.3));
+  live.update();
+  const ImageRGB old = live.render(mainCamera(), RelightMethod::Full);
+  const auto t0 = std::chrono::steady_clock::now();
+  live.setReflectanceMaps(after.textures);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  RelightSession fresh(scene, after, {}, {box});
+  fresh.setLampScale(0, glm::dvec3(0.3));
+  fresh.update();
+  const ImageRGB a = live.render(mainCamera(), RelightMethod::Full), b = fresh.render(mainCamera(), RelightMethod::Full);
+  const double psnr = compareImages(a, b, room().masks.all).psnr;
+  const double psnrOld = compareImages(old, b, room().masks.all).psnr;
+  std::printf("live session given the new maps against a new session: %.1f dB (%.2f s); before them %.1f dB\n", psnr,
+              seconds, psnrOld);
+  EXPECT_GT(psnr, 45.0);
+  EXPECT_GT(psnr, psnrOld + 10.0) << "the new maps must change what the session shows for this to mean anything";
+  EXPECT_GT(compareImages(live.render(mainCamera(), RelightMethod::Full), fresh.render(mainCamera(), RelightMethod::Full),
+                          room().masks.shadow).psnr, 40.0);
   // Clearing the choices goes back to the automatic result.
   ASSERT_EQ(pre.redoReferences({}, {}), std::vector<int>{floorIndex});
   EXPECT_LT(difference(pre.data().textures[floorIndex], before.textures[floorIndex], &PolygonTexture::unoccluded), 1e-4);

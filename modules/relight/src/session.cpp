@@ -113,6 +113,7 @@ struct RelightSession::Impl {
   ImageRGB glow;
   std::vector<int> glowLamp;
   Camera photoCamera;
+  RelightOptions options;                        // the preprocess's (blocked light, element sets)
   Scene scene;                                   // for checking where objects may go
   std::vector<VirtualObject> objects;
   std::vector<std::vector<int>> objectSurfaceIds;  // per object
@@ -222,6 +223,66 @@ struct RelightSession::Impl {
       h->setElementReflectance(leaf, glm::dvec3(t.mean(t.albedo, {N.u0, N.v0}, {N.u1, N.v1}, &seenFraction)));
     seenWeight[leaf] = float(seenFraction) + 1e-3f;
   }
+  // D and B_orig with the original lighting (§2.4: D is the display factor of the real room),
+  // taken before anything virtual adds light: virtual lamps dark, lamps at their estimates, and
+  // objects out of the room (far above it; only the links they cross are redone), so the real
+  // room's B_orig has no virtual shadows in it; virtual objects then make B < D where they cast
+  // shadows. Also §4.3's element sets under that lighting. Everything is put back after; the
+  // per-lamp bases are stale.
+  void originalLighting(Progress& progress) {
+    auto& hr = *h;
+    for (size_t k = 0; k < lampSurfaces.size(); ++k) hr.setExitance(lampSurfaces[k], baseExitance[k]);
+    for (int s : vlampSurfaces) hr.setExitance(s, glm::dvec3(0.0));
+    for (const auto& ids : objectSurfaceIds)
+      for (int s : ids) hr.setReflectance(s, glm::dvec3(0.0));
+    const glm::dvec3 away(0.0, 0.0, 1000.0);
+    for (const auto& ids : objectSurfaceIds) hr.translateSurfaces(ids, away);
+    hr.iterate(progress);
+    const LinkSums sums = linkSums(hr, options.blockedIndirect);
+    const size_t nn = hr.nodes().size();
+    D.resize(nn);
+    Borig.resize(nn);
+    for (size_t n = 0; n < nn; ++n) {
+      Borig[n] = shading(int(n));
+      D[n] = byIrradiance(int(n)) ? Borig[n] + sums.blocked[n] : Borig[n];
+    }
+    stencil.apply(D, cD);
+    stencil.apply(Borig, cBorig);
+    // §4.3's element sets, as the preprocess defines them: occluded (more than occludedFraction
+    // of the direct light blocked), and the frontier (unoccluded, seen by the photo, next to an
+    // occluded element) where references are looked for.
+    category.assign(nn, 0);
+    {
+      auto grey = [](const glm::vec3& c) { return (double(c.x) + c.y + c.z) / 3; };
+      const std::vector<int> leaves = leavesOf(hr, realMask());
+      std::vector<uint8_t> occluded(nn, 0), unoccluded(nn, 0);
+      for (int n : leaves) {
+        const double d = grey(sums.direct[n]), b = grey(sums.directBlocked[n]);
+        occluded[n] = d > 0 && b > options.occludedFraction * d;
+        unoccluded[n] = b <= 1e-3 * d;
+        if (occluded[n]) category[n] = kOccludedElement;
+      }
+      for (int n : leaves) {
+        if (!unoccluded[n] || seenWeight[n] < 0.5f) continue;
+        for (int m : neighbours(hr, n))
+          if (occluded[m]) {
+            category[n] = kFrontierElement;
+            break;
+          }
+      }
+    }
+    for (const auto& ids : objectSurfaceIds) hr.translateSurfaces(ids, -away);
+    for (size_t k = 0; k < lampSurfaces.size(); ++k) hr.setExitance(lampSurfaces[k], baseExitance[k] * lampScale[k]);
+    for (size_t k = 0; k < vlampSurfaces.size(); ++k) hr.setExitance(vlampSurfaces[k], vlampExitance[k]);
+    for (size_t o = 0; o < objectSurfaceIds.size(); ++o)
+      for (int s : objectSurfaceIds[o]) hr.setReflectance(s, objects[o].albedo);
+    basesValid = false;
+  }
+  std::vector<uint8_t> realMask() const {
+    std::vector<uint8_t> real(np, 0);
+    for (size_t i = 0; i < np; ++i) real[i] = kinds[i] == PolygonKind::Real;
+    return real;
+  }
   // After surfaces were added (the mesh grew): new elements of real polygons take their
   // reflectance from the maps, and D and B_orig (the original lighting, which nothing virtual
   // changes) from the corner values of the old leaf they were cut from; then new corners.
@@ -274,6 +335,7 @@ RelightSession::RelightSession(const Scene& scene, const RelightData& data, std:
   auto surfaces = engineSurfaces(scene, refl, data.lampExitance);
   for (const auto& l : scene.lamps) im.lampSurfaces.push_back(l.polygon);
   im.baseExitance = data.lampExitance;
+  im.options = data.options;
   im.lampScale.assign(scene.lamps.size(), glm::dvec3(1.0));
   im.glow = data.glow;
   im.glowLamp = data.glowLamp;
@@ -339,57 +401,24 @@ RelightSession::RelightSession(const Scene& scene, const RelightData& data, std:
   im.seenWeight.assign(h.nodes().size(), 1.f);
   for (int leaf : leavesOf(h, real)) im.setLeafReflectance(leaf);
   im.stencil = CornerStencil(h, &im.seenWeight);
-  // D with the original lighting, before anything virtual adds light (§2.4: D is the display
-  // factor of the real room; virtual objects then make B < D where they cast shadows).
-  for (int s : im.vlampSurfaces) h.setExitance(s, glm::dvec3(0.0));
-  for (const auto& [s, a] : objectSurfaces) h.setReflectance(s, glm::dvec3(0.0));
-  // The real room's B_orig has no virtual shadows in it: the objects step out of the room (far
-  // above it) while it is taken, then come back (only the links they cross are redone).
-  const glm::dvec3 away(0.0, 0.0, 1000.0);
-  for (const auto& ids : im.objectSurfaceIds) h.translateSurfaces(ids, away);
-  h.iterate(progress);
-  const LinkSums sums = linkSums(h, data.options.blockedIndirect);
-  const size_t nn = h.nodes().size();
-  im.D.resize(nn);
-  im.Borig.resize(nn);
-  for (size_t n = 0; n < nn; ++n) {
-    im.Borig[n] = im.shading(int(n));
-    im.D[n] = im.byIrradiance(int(n)) ? im.Borig[n] + sums.blocked[n] : im.Borig[n];
-  }
-  im.stencil.apply(im.D, im.cD);
-  im.stencil.apply(im.Borig, im.cBorig);
-  // §4.3's element sets under the original lighting, as the preprocess defines them: occluded
-  // (more than occludedFraction of the direct light blocked), and the frontier (unoccluded, seen
-  // by the photo, next to an occluded element) where references are looked for.
-  im.category.assign(nn, 0);
-  {
-    auto grey = [](const glm::vec3& c) { return (double(c.x) + c.y + c.z) / 3; };
-    std::vector<int> leaves = leavesOf(h, real);
-    std::vector<uint8_t> occluded(nn, 0), unoccluded(nn, 0);
-    for (int n : leaves) {
-      const double d = grey(sums.direct[n]), b = grey(sums.directBlocked[n]);
-      occluded[n] = d > 0 && b > data.options.occludedFraction * d;
-      unoccluded[n] = b <= 1e-3 * d;
-      if (occluded[n]) im.category[n] = kOccludedElement;
-    }
-    for (int n : leaves) {
-      if (!unoccluded[n] || im.seenWeight[n] < 0.5f) continue;
-      for (int m : neighbours(h, n))
-        if (occluded[m]) {
-          im.category[n] = kFrontierElement;
-          break;
-        }
-    }
-  }
-  for (const auto& ids : im.objectSurfaceIds) h.translateSurfaces(ids, -away);
-  for (size_t k = 0; k < im.vlampSurfaces.size(); ++k) h.setExitance(im.vlampSurfaces[k], im.vlampExitance[k]);
-  for (const auto& [s, a] : objectSurfaces) h.setReflectance(s, a);
+  im.originalLighting(progress);
   im.buildBases(progress);
   im.combineBases();
   progress.report(1.0, "relighting session ready");
 }
 
 RelightSession::~RelightSession() = default;
+
+void RelightSession::setReflectanceMaps(const std::vector<PolygonTexture>& textures, Progress& progress) {
+  auto& im = *impl_;
+  if (textures.size() != im.np)
+    throw Error(im.scene.sourceFile, "reflectance maps", "do not match the room (one texture per polygon)");
+  im.textures = textures;
+  for (int leaf : leavesOf(*im.h, im.realMask())) im.setLeafReflectance(leaf);
+  im.originalLighting(progress);
+  im.geometryPending = false;
+  update(progress);
+}
 
 const HierarchicalRadiosity& RelightSession::engine() const { return *impl_->h; }
 HierarchicalRadiosity& RelightSession::engine() { return *impl_->h; }

@@ -203,6 +203,10 @@ class RelightSession {
   const VirtualObject& object(int object) const;  // where it is now
   const std::vector<int>& objectSurfaces(int object) const;
 
+  // New reflectance maps and T_final for the room's polygons (after Preprocessor::redoReferences):
+  // element reflectances from the maps, D and B_orig with the original lighting again, then
+  // update(). Lamps, virtual lamps and objects stay as they are.
+  void setReflectanceMaps(const std::vector<PolygonTexture>& textures, Progress& progress = silentProgress());
   // Brings the display up to date after edits. After a lamp edit alone: the per-lamp solutions
   // weighted by the lamps' scales (no radiosity steps; they are rebuilt first if the geometry
   // changed since). After a geometry change: radiosity steps (gather + push-pull) until stable.
