@@ -359,6 +359,59 @@ QJsonObject relightBench(const Scene& sceneIn, int runs, Progress& progress) {
       t.push_back(s.insertSeconds() * 1000.0);
     }
     out["virtual_lamp_insert_median_ms"] = median(t);
+    // The workbench's edits on a live session (the refined mesh): a lamp added and removed, a box
+    // added, the first lamp edit after the box moved (the per-lamp solutions are rebuilt), a lamp
+    // edit after that, and Recompute after a reference patch changed (step 2 of that polygon on
+    // the kept preprocess, then the session's new reflectance maps).
+    progress.report(0.9, "bench: edits on a live session");
+    Preprocessor pre(scene, RelightOptions{});
+    RelightSession live(scene, pre.data());
+    const glm::dvec3 bc(lo.x + 0.3 * (hi.x - lo.x), lo.y + 0.3 * (hi.y - lo.y), lo.z);
+    const VirtualObject box = boxObject("bench_box", bc, bc + glm::dvec3(0.3, 0.3, 0.3), glm::dvec3(0.5));
+    std::vector<double> add, remove, addBox, firstEdit, edit, recompute;
+    int real = -1;
+    for (size_t i = 0; i < scene.polygons.size() && real < 0; ++i)
+      if (scene.polygons[i].kind == PolygonKind::Real && pre.data().textures[i].photographed()) real = int(i);
+    const PlaneFrame frame = PlaneFrame::of(scene.polygons[size_t(real)].vertices);
+    std::vector<glm::dvec2> uvs;
+    for (const auto& p : scene.polygons[size_t(real)].vertices) uvs.push_back(frame.toUV(p));
+    for (int r = 0; r < std::max(runs, 3); ++r) {
+      auto t0 = clock::now();
+      const int k = live.addVirtualLamp(v);
+      add.push_back(ms(t0));
+      t0 = clock::now();
+      live.removeVirtualLamp(k);
+      remove.push_back(ms(t0));
+      try {
+        t0 = clock::now();
+        const int b = live.addObject(box);
+        addBox.push_back(ms(t0));
+        live.moveObject(b, glm::dvec3(0.05, 0, 0));
+        t0 = clock::now();
+        live.setLampScale(0, glm::dvec3(r % 2 ? 1.0 : 0.5));
+        live.update();
+        firstEdit.push_back(ms(t0));
+        t0 = clock::now();
+        live.setLampScale(0, glm::dvec3(r % 2 ? 0.5 : 1.0));
+        live.update();
+        edit.push_back(ms(t0));
+        live.removeObject(b);
+      } catch (const Error&) {  // no room for the box there
+      }
+      // A reference patch at a point of the polygon (alternating between two), then Recompute.
+      const glm::dvec2 at = r % 2 ? 0.5 * (uvs[0] + uvs[2]) : (uvs[0] + uvs[1] + uvs[2]) / 3.0;
+      t0 = clock::now();
+      pre.redoReferences({{scene.polygons[size_t(real)].name, at}}, {});
+      live.setReflectanceMaps(pre.data().textures);
+      recompute.push_back(ms(t0));
+    }
+    out["live_session"] = QJsonObject{{"virtual_lamp_add_median_ms", median(add)},
+                                      {"virtual_lamp_remove_median_ms", median(remove)},
+                                      {"box_add_median_ms", median(addBox)},
+                                      {"first_lamp_edit_after_a_move_median_ms", median(firstEdit)},
+                                      {"lamp_edit_median_ms", median(edit)},
+                                      {"recompute_one_reference_patch_median_ms", median(recompute)},
+                                      {"reference_patch_polygon", QString::fromStdString(scene.polygons[size_t(real)].name)}};
   }
   return out;
 }
