@@ -6,7 +6,8 @@ pkgs=(cmake ninja-build ccache g++ pkg-config python3
       libopenimageio-dev openimageio-tools libopencv-dev libgtest-dev colmap
       libqt6sql6-sqlite
       libqt6opengl6-dev libgl-dev libxkbcommon-dev qt6-tools-dev qt6-tools-dev-tools
-      qt6-l10n-tools libgl1-mesa-dri xvfb xauth)
+      qt6-l10n-tools libgl1-mesa-dri xvfb xauth
+      libvtk9-dev qt6-charts-dev)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -108,6 +108,201 @@
     </message>
 </context>
 <context>
+    <name>relume::InspectorPanel</name>
+    <message>
+        <source>Radiosity B</source>
+        <translation>Radiosität B</translation>
+    </message>
+    <message>
+        <source>Irradiance E</source>
+        <translation>Bestrahlungsstärke E</translation>
+    </message>
+    <message>
+        <source>Display factor D</source>
+        <translation>Anzeigefaktor D</translation>
+    </message>
+    <message>
+        <source>Ratio B / D</source>
+        <translation>Verhältnis B / D</translation>
+    </message>
+    <message>
+        <source>Reflectance</source>
+        <translation>Reflexionsgrad</translation>
+    </message>
+    <message>
+        <source>Shadow-free texture T_final</source>
+        <translation>Schattenfreie Textur T_final</translation>
+    </message>
+    <message>
+        <source>Element level</source>
+        <translation>Elementebene</translation>
+    </message>
+    <message>
+        <source>Visibility from a lamp</source>
+        <translation>Sichtbarkeit von einer Lampe</translation>
+    </message>
+    <message>
+        <source>What colours the elements (RGB quantities: the mean of R, G and B)</source>
+        <translation>Was die Elemente färbt (RGB-Größen: der Mittelwert von R, G und B)</translation>
+    </message>
+    <message>
+        <source>The lamp whose links are classed: visible, partly hidden, or hidden</source>
+        <translation>Die Lampe, deren Verbindungen eingeteilt werden: sichtbar, teilweise verdeckt oder verdeckt</translation>
+    </message>
+    <message>
+        <source>Show the elements of one polygon only</source>
+        <translation>Nur die Elemente eines Polygons zeigen</translation>
+    </message>
+    <message>
+        <source>Viewport&apos;s mesh</source>
+        <translation>Netz der Ansicht</translation>
+    </message>
+    <message>
+        <source>Other mesh</source>
+        <translation>Anderes Netz</translation>
+    </message>
+    <message>
+        <source>The refined and the interactive mesh: the other one is a second session, built as a job</source>
+        <translation>Das verfeinerte und das interaktive Netz: das andere ist eine zweite Sitzung, als Auftrag erstellt</translation>
+    </message>
+    <message>
+        <source>Colour by</source>
+        <translation>Färben nach</translation>
+    </message>
+    <message>
+        <source>Polygon</source>
+        <translation>Polygon</translation>
+    </message>
+    <message>
+        <source>Role</source>
+        <translation>Rolle</translation>
+    </message>
+    <message>
+        <source>Source</source>
+        <translation>Quelle</translation>
+    </message>
+    <message>
+        <source>Receiver</source>
+        <translation>Empfänger</translation>
+    </message>
+    <message>
+        <source>F</source>
+        <translation>F</translation>
+    </message>
+    <message>
+        <source>V</source>
+        <translation>V</translation>
+    </message>
+    <message>
+        <source>F × V</source>
+        <translation>F × V</translation>
+    </message>
+    <message>
+        <source>Type</source>
+        <translation>Typ</translation>
+    </message>
+    <message>
+        <source>Oracle error</source>
+        <translation>Fehler des Orakels</translation>
+    </message>
+    <message>
+        <source>The links the picked element holds: those it gathers by, and those it sends by</source>
+        <translation>Die Verbindungen des gewählten Elements: über die es empfängt und über die es sendet</translation>
+    </message>
+    <message>
+        <source>Links of the picked element</source>
+        <translation>Verbindungen des gewählten Elements</translation>
+    </message>
+    <message>
+        <source>Counts per polygon</source>
+        <translation>Anzahlen je Polygon</translation>
+    </message>
+    <message>
+        <source>All polygons</source>
+        <translation>Alle Polygone</translation>
+    </message>
+    <message>
+        <source>No room open.</source>
+        <translation>Kein Raum geöffnet.</translation>
+    </message>
+    <message>
+        <source>Light from %1</source>
+        <translation>Licht von %1</translation>
+    </message>
+    <message>
+        <source>VISIBLE</source>
+        <translation>SICHTBAR</translation>
+    </message>
+    <message>
+        <source>INVISIBLE</source>
+        <translation>VERDECKT</translation>
+    </message>
+    <message>
+        <source>PARTIAL</source>
+        <translation>TEILWEISE</translation>
+    </message>
+    <message>
+        <source>%1: %2 elements shown of %3 leaves; %4 links in the engine</source>
+        <translation>%1: %2 Elemente gezeigt von %3 Blättern; %4 Verbindungen in der Engine</translation>
+    </message>
+    <message>
+        <source>interactive mesh</source>
+        <translation>interaktives Netz</translation>
+    </message>
+    <message>
+        <source>refined mesh</source>
+        <translation>verfeinertes Netz</translation>
+    </message>
+    <message>
+        <source>cluster %1</source>
+        <translation>Cluster %1</translation>
+    </message>
+    <message>
+        <source>%1 #%2 (level %3)</source>
+        <translation>%1 Nr. %2 (Ebene %3)</translation>
+    </message>
+    <message>
+        <source>visible</source>
+        <translation>sichtbar</translation>
+    </message>
+    <message>
+        <source>invisible</source>
+        <translation>verdeckt</translation>
+    </message>
+    <message>
+        <source>partial</source>
+        <translation>teilweise</translation>
+    </message>
+    <message>
+        <source>gathers</source>
+        <translation>empfängt</translation>
+    </message>
+    <message>
+        <source>sends</source>
+        <translation>sendet</translation>
+    </message>
+    <message>
+        <source>Elements, leaves and links per polygon (the 6 with the most links)</source>
+        <translation>Elemente, Blätter und Verbindungen je Polygon (die 6 mit den meisten Verbindungen)</translation>
+    </message>
+    <message>
+        <source>elements</source>
+        <translation>Elemente</translation>
+    </message>
+    <message>
+        <source>leaves</source>
+        <translation>Blätter</translation>
+    </message>
+    <message>
+        <source>links received</source>
+        <translation>empfangene Verbindungen</translation>
+    </message>
+    <message>
+        <source>Building the other mesh for the inspector</source>
+        <translation>Das andere Netz für den Inspektor wird erstellt</translation>
+    </message>
+</context>
+<context>
     <name>relume::JobRunner</name>
     <message>
         <source>Cancelled; nothing was changed.</source>
@@ -498,6 +693,10 @@
     <message>
         <source>refined mesh</source>
         <translation>verfeinertes Netz</translation>
+    </message>
+    <message>
+        <source>Inspector</source>
+        <translation>Inspektor</translation>
     </message>
 </context>
 <context>

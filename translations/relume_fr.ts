@@ -108,6 +108,201 @@
     </message>
 </context>
 <context>
+    <name>relume::InspectorPanel</name>
+    <message>
+        <source>Radiosity B</source>
+        <translation>Radiosité B</translation>
+    </message>
+    <message>
+        <source>Irradiance E</source>
+        <translation>Éclairement E</translation>
+    </message>
+    <message>
+        <source>Display factor D</source>
+        <translation>Facteur d&apos;affichage D</translation>
+    </message>
+    <message>
+        <source>Ratio B / D</source>
+        <translation>Rapport B / D</translation>
+    </message>
+    <message>
+        <source>Reflectance</source>
+        <translation>Réflectance</translation>
+    </message>
+    <message>
+        <source>Shadow-free texture T_final</source>
+        <translation>Texture sans ombres T_final</translation>
+    </message>
+    <message>
+        <source>Element level</source>
+        <translation>Niveau de l&apos;élément</translation>
+    </message>
+    <message>
+        <source>Visibility from a lamp</source>
+        <translation>Visibilité depuis une lampe</translation>
+    </message>
+    <message>
+        <source>What colours the elements (RGB quantities: the mean of R, G and B)</source>
+        <translation>Ce qui colore les éléments (grandeurs RVB : la moyenne de R, V et B)</translation>
+    </message>
+    <message>
+        <source>The lamp whose links are classed: visible, partly hidden, or hidden</source>
+        <translation>La lampe dont les liens sont classés : visibles, en partie cachés ou cachés</translation>
+    </message>
+    <message>
+        <source>Show the elements of one polygon only</source>
+        <translation>N&apos;afficher que les éléments d&apos;un polygone</translation>
+    </message>
+    <message>
+        <source>Viewport&apos;s mesh</source>
+        <translation>Maillage de la vue</translation>
+    </message>
+    <message>
+        <source>Other mesh</source>
+        <translation>Autre maillage</translation>
+    </message>
+    <message>
+        <source>The refined and the interactive mesh: the other one is a second session, built as a job</source>
+        <translation>Le maillage raffiné et le maillage interactif : l&apos;autre est une seconde session, construite en tâche de fond</translation>
+    </message>
+    <message>
+        <source>Colour by</source>
+        <translation>Couleur selon</translation>
+    </message>
+    <message>
+        <source>Polygon</source>
+        <translation>Polygone</translation>
+    </message>
+    <message>
+        <source>Role</source>
+        <translation>Rôle</translation>
+    </message>
+    <message>
+        <source>Source</source>
+        <translation>Source</translation>
+    </message>
+    <message>
+        <source>Receiver</source>
+        <translation>Récepteur</translation>
+    </message>
+    <message>
+        <source>F</source>
+        <translation>F</translation>
+    </message>
+    <message>
+        <source>V</source>
+        <translation>V</translation>
+    </message>
+    <message>
+        <source>F × V</source>
+        <translation>F × V</translation>
+    </message>
+    <message>
+        <source>Type</source>
+        <translation>Type</translation>
+    </message>
+    <message>
+        <source>Oracle error</source>
+        <translation>Erreur de l&apos;oracle</translation>
+    </message>
+    <message>
+        <source>The links the picked element holds: those it gathers by, and those it sends by</source>
+        <translation>Les liens de l&apos;élément choisi : ceux par lesquels il reçoit, et ceux par lesquels il émet</translation>
+    </message>
+    <message>
+        <source>Links of the picked element</source>
+        <translation>Liens de l&apos;élément choisi</translation>
+    </message>
+    <message>
+        <source>Counts per polygon</source>
+        <translation>Comptes par polygone</translation>
+    </message>
+    <message>
+        <source>All polygons</source>
+        <translation>Tous les polygones</translation>
+    </message>
+    <message>
+        <source>No room open.</source>
+        <translation>Aucune pièce ouverte.</translation>
+    </message>
+    <message>
+        <source>Light from %1</source>
+        <translation>Lumière de %1</translation>
+    </message>
+    <message>
+        <source>VISIBLE</source>
+        <translation>VISIBLE</translation>
+    </message>
+    <message>
+        <source>INVISIBLE</source>
+        <translation>INVISIBLE</translation>
+    </message>
+    <message>
+        <source>PARTIAL</source>
+        <translation>PARTIELLE</translation>
+    </message>
+    <message>
+        <source>%1: %2 elements shown of %3 leaves; %4 links in the engine</source>
+        <translation>%1 : %2 éléments affichés sur %3 feuilles ; %4 liens dans le moteur</translation>
+    </message>
+    <message>
+        <source>interactive mesh</source>
+        <translation>maillage interactif</translation>
+    </message>
+    <message>
+        <source>refined mesh</source>
+        <translation>maillage raffiné</translation>
+    </message>
+    <message>
+        <source>cluster %1</source>
+        <translation>groupe %1</translation>
+    </message>
+    <message>
+        <source>%1 #%2 (level %3)</source>
+        <translation>%1 n° %2 (niveau %3)</translation>
+    </message>
+    <message>
+        <source>visible</source>
+        <translation>visible</translation>
+    </message>
+    <message>
+        <source>invisible</source>
+        <translation>invisible</translation>
+    </message>
+    <message>
+        <source>partial</source>
+        <translation>partielle</translation>
+    </message>
+    <message>
+        <source>gathers</source>
+        <translation>reçoit</translation>
+    </message>
+    <message>
+        <source>sends</source>
+        <translation>émet</translation>
+    </message>
+    <message>
+        <source>Elements, leaves and links per polygon (the 6 with the most links)</source>
+        <translation>Éléments, feuilles et liens par polygone (les 6 qui ont le plus de liens)</translation>
+    </message>
+    <message>
+        <source>elements</source>
+        <translation>éléments</translation>
+    </message>
+    <message>
+        <source>leaves</source>
+        <translation>feuilles</translation>
+    </message>
+    <message>
+        <source>links received</source>
+        <translation>liens reçus</translation>
+    </message>
+    <message>
+        <source>Building the other mesh for the inspector</source>
+        <translation>Construction de l&apos;autre maillage pour l&apos;inspecteur</translation>
+    </message>
+</context>
+<context>
     <name>relume::JobRunner</name>
     <message>
         <source>Cancelled; nothing was changed.</source>
@@ -498,6 +693,10 @@
     <message>
         <source>refined mesh</source>
         <translation>maillage raffiné</translation>
+    </message>
+    <message>
+        <source>Inspector</source>
+        <translation>Inspecteur</translation>
     </message>
 </context>
 <context>

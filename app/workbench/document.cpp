@@ -854,6 +854,28 @@ std::function<std::function<void()>(const RelightData&, Progress&)> Document::re
   };
 }
 
+std::function<std::unique_ptr<RelightSession>(Progress&)> Document::otherMeshSessionWork() const {
+  auto scene = std::make_shared<Scene>(scene_);
+  auto data = std::make_shared<RelightData>(data_);
+  std::vector<VirtualLamp> vlamps;
+  std::vector<VirtualObject> objects;
+  for (size_t i = 0; i < virtualLampCount(); ++i) vlamps.push_back(session_->virtualLamp(int(i)));
+  for (size_t i = 0; i < objectCount(); ++i) objects.push_back(session_->object(int(i)));
+  const std::vector<glm::dvec3> scales = lampScale_;
+  const SessionMesh other = mesh_ == SessionMesh::Refined ? SessionMesh::Interactive : SessionMesh::Refined;
+  return [scene, data, vlamps, objects, scales, other](Progress& progress) {
+    auto session = std::make_unique<RelightSession>(*scene, *data, vlamps, objects, progress, other);
+    for (size_t l = 0; l < scales.size(); ++l) session->setLampScale(int(l), scales[l]);
+    session->update(progress);
+    session->syncEngine(progress);
+    return session;
+  };
+}
+
+void Document::syncEngine() {
+  if (session_) session_->syncEngine();
+}
+
 void Document::markRecovered(const QString& project, const QString& source) {
   projectPath_ = project;
   sourcePath_ = source;

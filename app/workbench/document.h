@@ -127,6 +127,11 @@ class Document : public QObject {
   // and drags, coarser shadows; or the refined one), with everything the user did.
   std::function<std::function<void()>(Progress&)> switchMeshWork(SessionMesh mesh);
   SessionMesh mesh() const { return mesh_; }
+  // Work for a job: a second session on the other mesh with the same lamps, virtual lamps and
+  // objects, for the inspector (the document keeps its own).
+  std::function<std::unique_ptr<RelightSession>(Progress&)> otherMeshSessionWork() const;
+  // The engine's own radiosity made current (the inspector reads it).
+  void syncEngine();
 
   // The view, kept in the project.
   QJsonObject viewState() const { return view_; }

@@ -181,7 +181,10 @@ bool EditTool::press(const ViewportPick& pick, Qt::KeyboardModifiers) {
   // Select: grab a virtual lamp or object under the cursor.
   dragLamp_ = virtualLampAt(pick);
   dragObject_ = dragLamp_.empty() ? objectAt(pick) : std::string();
-  if (dragLamp_.empty() && dragObject_.empty()) return false;
+  if (dragLamp_.empty() && dragObject_.empty()) {
+    if (pick.hit()) emit surfaceClicked(pick.surface, pick.point);
+    return false;
+  }
   if (!dragLamp_.empty()) {  // slides in its own plane, parallel to the surface it sits on
     const VirtualLamp& l = doc_->session()->virtualLamp(doc_->virtualLampIndex(dragLamp_));
     planePoint_ = glm::dvec3(0.0);

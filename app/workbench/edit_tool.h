@@ -52,7 +52,10 @@ class EditTool : public QObject, public ViewportGestures {
   void modeChanged(Mode m);
   void message(const QString& text);
   void selected(const QString& name);
-  void strokeChanged();  // the region being painted grew, was finished or was dropped
+  void strokeChanged();
+  // A click in Select mode on a surface that is no virtual lamp or object (the inspector picks
+  // the element there).
+  void surfaceClicked(int surface, const glm::dvec3& point);  // the region being painted grew, was finished or was dropped
 
  private:
   Document* doc_;

@@ -36,6 +36,7 @@
 #include "edit_tool.h"
 #include "lights_panel.h"
 #include "objects_panel.h"
+#include "inspector_panel.h"
 #include "references_panel.h"
 #include "relume/viewport/viewport_widget.h"
 
@@ -84,6 +85,24 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   referencesDock->setWidget(references_);
   addDockWidget(Qt::RightDockWidgetArea, referencesDock);
   tabifyDockWidget(objectsDock, referencesDock);
+  // The inspector, below the viewport (hidden until asked for: View > Inspector).
+  inspector_ = new InspectorPanel(doc_, jobs_, this);
+  inspectorDock_ = new QDockWidget(tr("Inspector"), this);
+  inspectorDock_->setObjectName("InspectorDock");
+  inspectorDock_->setWidget(inspector_);
+  addDockWidget(Qt::BottomDockWidgetArea, inspectorDock_);
+  inspectorDock_->hide();
+  inspectorDock_->toggleViewAction()->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_I));
+  connect(inspector_, &InspectorPanel::pickedChanged, this, &MainWindow::updateOverlays);
+  connect(inspectorDock_, &QDockWidget::visibilityChanged, this, &MainWindow::updateOverlays);
+  connect(inspectorDock_, &QDockWidget::visibilityChanged, this, [this](bool on) {
+    // Shown for the first time (no saved layout gave it a size): 45 % of the window's height.
+    if (on && !inspectorDock_->isFloating() && inspectorDock_->height() < height() / 3)
+      resizeDocks({inspectorDock_}, {int(height() * 0.45)}, Qt::Vertical);
+  });
+  connect(tool_, &EditTool::surfaceClicked, this, [this](int surface, const glm::dvec3& point) {
+    if (inspectorDock_->isVisible()) inspector_->pickAt(surface, point);
+  });
   connect(references_, &ReferencesPanel::showElements, this, [this](bool on) {
     for (QAction* a : modes_->actions())
       if (a->data().toString() == (on ? "references" : "relit")) a->trigger();
@@ -625,6 +644,16 @@ void MainWindow::updateOverlays() {
     if (referencesDock_ && referencesDock_->isVisible() && !referencesDock_->visibleRegion().isEmpty())
       for (const auto& r : doc_->referenceRegions()) add(r, 0xe040fb, true);
     if (!tool_->stroke().discs.empty()) add(tool_->stroke(), 0xff8c1a, false);
+    // The element picked in the inspector (of the viewport's own session).
+    if (inspectorDock_ && inspectorDock_->isVisible() && inspector_->session() == doc_->session()) {
+      auto outline = inspector_->pickedOutline();
+      if (!outline.empty()) {
+        ViewportOverlay o;
+        o.rgb = 0x00e5ff;
+        o.areas.push_back(std::move(outline));
+        overlays.push_back(std::move(o));
+      }
+    }
   }
   viewport_->setOverlays(std::move(overlays));
 }

@@ -18,6 +18,7 @@ class JobRunner;
 class LightsPanel;
 class ObjectsPanel;
 class ReferencesPanel;
+class InspectorPanel;
 class EditTool;
 class ViewportWidget;
 
@@ -41,6 +42,8 @@ class MainWindow : public QMainWindow {
   LightsPanel* lightsPanel() const { return lights_; }
   ObjectsPanel* objectsPanel() const { return objects_; }
   ReferencesPanel* referencesPanel() const { return references_; }
+  InspectorPanel* inspectorPanel() const { return inspector_; }
+  QDockWidget* inspectorDock() const { return inspectorDock_; }
   EditTool* editTool() const { return tool_; }
   QString lastError() const { return lastError_; }
   // When false (tests), questions and errors are not shown as dialogs (errors still go to the
@@ -84,6 +87,8 @@ class MainWindow : public QMainWindow {
   ObjectsPanel* objects_;
   ReferencesPanel* references_;
   QDockWidget* referencesDock_ = nullptr;
+  InspectorPanel* inspector_ = nullptr;
+  QDockWidget* inspectorDock_ = nullptr;
   EditTool* tool_;
   QString selected_;
   QLabel* statusView_;

@@ -34,6 +34,13 @@
 #include "lights_panel.h"
 #include "objects_panel.h"
 #include "references_panel.h"
+#include "inspector_panel.h"
+#include <QComboBox>
+#include <QTableWidget>
+#include <QTabWidget>
+#include "relume/inspect/inspection.h"
+#include "relume/inspect/inspector_view.h"
+#include "relume/radiosity/hierarchy.h"
 #include <QTreeWidget>
 #include "relume/geometry/error.h"
 #include "relume/geometry/polygon.h"
@@ -771,6 +778,148 @@ class WorkbenchTest : public QObject {
     const ImageRGB cpu = doc()->session()->render(photoCamera(), RelightMethod::Full);
     QVERIFY(psnrNoGain(gl, cpu) >= 35.0);
     window_->findChild<QDockWidget*>("LightsDock")->raise();
+  }
+
+  // The inspector: the engine's elements in 3-D. A floor element picked by a click lists exactly
+  // the links the engine holds for it; coloured by the visibility of lamp A's links, the floor
+  // shows INVISIBLE, PARTIAL and VISIBLE where the test's own rays from lamp A say so.
+  void inspectorShowsTheEngine() {
+    auto* dock = window_->inspectorDock();
+    auto* panel = window_->inspectorPanel();
+    dock->show();
+    QTest::qWait(50);
+    QElapsedTimer first;
+    first.start();
+    panel->refresh();
+    QTest::qWait(50);
+    const double firstMs = double(first.nsecsElapsed()) * 1e-6;
+    QVERIFY(panel->elements().node.size() > 1000);
+    const auto& h = doc()->session()->engine();
+    QCOMPARE(panel->elements().node.size(), inspect::elementMesh(h).node.size());
+    const int floor = doc()->scene().findPolygon("floor");
+    panel->polygonFilter()->setCurrentIndex(panel->polygonFilter()->findData(floor));
+    QTest::qWait(50);
+    for (int s : panel->elements().surface) QCOMPARE(s, floor);
+    panel->view()->resetCamera();
+    QTest::qWait(50);
+
+    // A click on a floor element in the view.
+    const glm::dvec3 spot(3.2, 2.3, 0.0);  // unshadowed floor the photo shows
+    const int node = h.findLeaf(floor, h.toUV(floor, spot));
+    QPointF pos;
+    QVERIFY(panel->view()->widgetPosition(inspect::nodeCentre(h, node), pos));
+    QElapsedTimer pick;
+    pick.start();
+    QTest::mouseClick(panel->view(), Qt::LeftButton, {}, pos.toPoint());
+    const double pickMs = double(pick.nsecsElapsed()) * 1e-6;
+    QCOMPARE(panel->pickedNode(), node);
+    std::vector<float> engineF;
+    for (const auto& l : h.links())
+      if (l.receiver == node || l.source == node) engineF.push_back(l.formFactor);
+    auto* table = panel->linksTable();
+    QCOMPARE(table->rowCount(), int(engineF.size()));
+    std::vector<float> shownF;
+    for (int r = 0; r < table->rowCount(); ++r) shownF.push_back(table->item(r, 3)->text().toFloat());
+    std::sort(engineF.begin(), engineF.end());
+    std::sort(shownF.begin(), shownF.end());
+    for (size_t k = 0; k < engineF.size(); ++k) QVERIFY(std::abs(shownF[k] - engineF[k]) <= 1e-4f * engineF[k] + 1e-12f);
+    qInfo("inspector: first view %.0f ms (%zu elements), pick + links %.0f ms (%d links of the picked element)", firstMs,
+          inspect::elementMesh(h).node.size(), pickMs, table->rowCount());
+    // The pick shows in the viewport too (the element in cyan over the floor), and a click in the
+    // viewport picks the element there.
+    QVERIFY(!panel->pickedOutline().empty());
+    auto* vp = window_->viewport();
+    vp->lockToPhoto();
+    QPointF inView;
+    QVERIFY(vp->widgetPosition(inspect::nodeCentre(h, node), inView));
+    QTest::qWait(50);
+    const QColor marked = vp->grabFramebuffer().pixelColor(inView.toPoint());
+    panel->pickNode(-1);
+    QTest::qWait(50);
+    const QColor plain = vp->grabFramebuffer().pixelColor(inView.toPoint());
+    qInfo("picked element in the viewport: %d %d %d, unpicked %d %d %d", marked.red(), marked.green(), marked.blue(), plain.red(),
+          plain.green(), plain.blue());
+    QVERIFY(marked.blue() - marked.red() > plain.blue() - plain.red() + 30);
+    const glm::dvec3 other(2.6, 2.0, 0.0);
+    QVERIFY(vp->widgetPosition(other, inView));
+    QTest::mouseClick(vp, Qt::LeftButton, {}, inView.toPoint());
+    QCOMPARE(panel->pickedNode(), h.findLeaf(floor, h.toUV(floor, other)));
+    QVERIFY(panel->view()->selected() >= 0);
+    panel->pickNode(node);
+
+    // Lamp A's visibility classes against the test's own rays: 4 x 4 points on the lamp, 3 x 3 on
+    // each floor element; all blocked: INVISIBLE, none: VISIBLE, some: PARTIAL.
+    panel->quantity()->setCurrentIndex(panel->quantity()->findData(int(inspect::Quantity::LampVisibility)));
+    const int lampA = doc()->scene().lamps[size_t(lampIndex("A"))].polygon;
+    panel->lamp()->setCurrentIndex(panel->lamp()->findData(lampA));
+    QTest::qWait(100);
+    const auto classes = inspect::elementValues(*doc()->session(), panel->elements(), inspect::Quantity::LampVisibility, lampA);
+    const auto& lamp = doc()->scene().polygons[size_t(lampA)].vertices;
+    std::vector<glm::vec3> lampPoints;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) {
+        const double a = (i + 0.5) / 4, b = (j + 0.5) / 4;  // bilinear over the lamp quad
+        lampPoints.push_back(glm::vec3((1 - a) * (1 - b) * lamp[0] + a * (1 - b) * lamp[1] + a * b * lamp[2] + (1 - a) * b * lamp[3]));
+      }
+    const glm::vec3 lampNormal(glm::normalize(polygonNormal(lamp)));
+    int agree = 0, total = 0, contradictions = 0, invisible = 0, partial = 0, visible = 0, darkElement = -1, litElement = -1;
+    const auto& elements = panel->elements();
+    for (size_t e = 0; e < elements.node.size(); ++e) {
+      const auto& N = h.nodes()[size_t(elements.node[e])];
+      int blocked = 0, rays = 0;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          const glm::dvec2 uv(N.u0 + (i + 0.5) / 3 * (N.u1 - N.u0), N.v0 + (j + 0.5) / 3 * (N.v1 - N.v0));
+          const glm::vec3 p(h.toWorld(floor, uv) + glm::dvec3(0, 0, 1e-4));
+          for (const auto& q : lampPoints) {
+            ++rays;
+            blocked += h.rayScene().occluded(p, q - 1e-4f * lampNormal);
+          }
+        }
+      const int mine = blocked == rays ? 1 : blocked == 0 ? 0 : 2;
+      const int shown = std::isnan(classes[e]) ? -1 : int(classes[e]);
+      if (shown < 0) continue;
+      ++total;
+      agree += mine == shown;
+      contradictions += (mine == 1 && shown == 0) || (mine == 0 && shown == 1);
+      invisible += shown == 1;
+      partial += shown == 2;
+      visible += shown == 0;
+      if (mine == 1 && shown == 1 && darkElement < 0) darkElement = int(e);
+      if (mine == 0 && shown == 0 && litElement < 0) litElement = int(e);
+    }
+    qInfo("lamp A on the floor: %d visible, %d partial, %d invisible; the test's rays agree on %.1f %%, %d contradictions",
+          visible, partial, invisible, 100.0 * agree / std::max(total, 1), contradictions);
+    QVERIFY(invisible > 10 && partial > 10 && visible > 10);
+    QVERIFY(agree >= 0.9 * total);
+    QCOMPARE(contradictions, 0);
+    // And the view shows it: a hidden element in the dark blue, a lit one in the warm yellow.
+    QVERIFY(darkElement >= 0 && litElement >= 0);
+    const QImage frame = panel->view()->grabFramebuffer();
+    auto colourAt = [&](int e) {
+      const auto& o = elements.outline[size_t(e)];
+      glm::dvec3 c(0.0);
+      for (const auto& p : o) c += p;
+      QPointF at;
+      if (!panel->view()->widgetPosition(c / double(o.size()), at)) return QColor();
+      return frame.pixelColor(int(at.x() * frame.devicePixelRatio()), int(at.y() * frame.devicePixelRatio()));
+    };
+    const QColor dark = colourAt(darkElement), lit = colourAt(litElement);
+    qInfo("hidden element shown as %d %d %d, lit one as %d %d %d", dark.red(), dark.green(), dark.blue(), lit.red(), lit.green(),
+          lit.blue());
+    QVERIFY(dark.blue() > dark.red() + 20);
+    QVERIFY(lit.red() > lit.blue() + 60);
+    saveShot(window_.get(), "main_window_inspector");
+    saveShot(panel, "inspector_visibility");
+    panel->quantity()->setCurrentIndex(panel->quantity()->findData(int(inspect::Quantity::Irradiance)));
+    panel->polygonFilter()->setCurrentIndex(0);
+    QTest::qWait(100);
+    saveShot(panel, "inspector_irradiance");
+    panel->findChild<QTabWidget*>()->setCurrentIndex(1);
+    QTest::qWait(100);
+    saveShot(panel, "inspector_counts");
+    panel->findChild<QTabWidget*>()->setCurrentIndex(0);
+    dock->hide();
   }
 
   // Save, then open the saved project in a fresh window: the edits come back.

@@ -423,6 +423,18 @@ void RelightSession::setReflectanceMaps(const std::vector<PolygonTexture>& textu
 const HierarchicalRadiosity& RelightSession::engine() const { return *impl_->h; }
 HierarchicalRadiosity& RelightSession::engine() { return *impl_->h; }
 double RelightSession::insertSeconds() const { return impl_->insertSeconds; }
+void RelightSession::syncEngine(Progress& progress) { impl_->syncEngine(progress); }
+glm::vec3 RelightSession::displayFactor(int node) const {
+  const auto& D = impl_->D;
+  return node >= 0 && size_t(node) < D.size() ? D[size_t(node)] : glm::vec3(0.f);
+}
+glm::vec3 RelightSession::originalShading(int node) const {
+  const auto& B = impl_->Borig;
+  return node >= 0 && size_t(node) < B.size() ? B[size_t(node)] : glm::vec3(0.f);
+}
+glm::vec3 RelightSession::shading(int node) const { return impl_->shading(node); }
+const PolygonTexture& RelightSession::texture(int polygon) const { return impl_->textures.at(size_t(polygon)); }
+size_t RelightSession::realPolygonCount() const { return impl_->np; }
 
 void RelightSession::setLampScale(int lamp, const glm::dvec3& scale) {
   impl_->h->setExitance(impl_->lampSurfaces.at(lamp), impl_->baseExitance.at(lamp) * scale);

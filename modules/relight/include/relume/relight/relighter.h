@@ -233,6 +233,20 @@ class RelightSession {
   const radiosity::HierarchicalRadiosity& engine() const;
   radiosity::HierarchicalRadiosity& engine();
   double insertSeconds() const;  // virtual lamp forced refinement + update
+  // --- for inspection ---
+  // Makes the engine's own radiosity current after lamp edits made by per-lamp sums (radiosity
+  // steps; nothing when it is current already).
+  void syncEngine(Progress& progress = silentProgress());
+  // Per engine node: D, the display factor under the original lighting (irradiance plus blocked
+  // light on real surfaces, radiosity on the others), and B_orig; zero for clusters.
+  glm::vec3 displayFactor(int node) const;
+  glm::vec3 originalShading(int node) const;
+  // What the display's ratio B / D is made of at a node now: irradiance on real surfaces,
+  // radiosity on lamps and virtual surfaces (after syncEngine).
+  glm::vec3 shading(int node) const;
+  // The reflectance map and T_final of a scene polygon.
+  const PolygonTexture& texture(int polygon) const;
+  size_t realPolygonCount() const;
 
  private:
   struct Impl;
