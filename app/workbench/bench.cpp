@@ -18,6 +18,9 @@
 #include <vector>
 
 #include "document.h"
+#include "inspector_panel.h"
+#include "relume/inspect/inspection.h"
+#include "relume/inspect/inspector_view.h"
 #include "job_runner.h"
 #include "main_window.h"
 #include "relume/viewport/gl_renderer.h"
@@ -173,6 +176,66 @@ QJsonObject benchRoom(const QString& room, int runs) {
   }
   vp->hide();
   vp->setParent(&w);
+
+  // The inspector alone in a 1280 x 720 window: its first view of the session's mesh (elements,
+  // colours, the first frame), a pick (the element under the cursor, its links listed and drawn,
+  // the next frame), and frames per second on screen while orbiting.
+  QJsonObject inspector;
+  {
+    auto* panel = new InspectorPanel(doc, w.jobs());
+    panel->resize(1280, 720);
+    auto* view = panel->view();
+    int frames = 0;
+    QObject::connect(view, &inspect::InspectorView::frameDrawn, view, [&](double) { ++frames; });
+    auto waitFrame = [&](int before) {
+      QElapsedTimer t;
+      t.start();
+      while (frames == before && t.elapsed() < 10000) QApplication::processEvents(QEventLoop::AllEvents, 2);
+    };
+    QElapsedTimer first;
+    first.start();
+    panel->show();
+    panel->refresh();
+    waitFrame(0);
+    const double firstMs = double(first.nsecsElapsed()) * 1e-6;
+    std::vector<double> pick;
+    const auto& els = panel->elements();
+    for (int r = 0; r < std::max(runs, 5) && !els.node.empty(); ++r) {
+      const auto& o = els.outline[size_t(r * 7919) % els.outline.size()];
+      glm::dvec3 c(0.0);
+      for (const auto& p : o) c += p;
+      QPointF at;
+      view->widgetPosition(c / double(o.size()), at);
+      QElapsedTimer t;
+      t.start();
+      const int before = frames;
+      const int e = view->elementAt(at);
+      panel->pickNode(e >= 0 ? els.node[size_t(e)] : -1);
+      waitFrame(before);
+      pick.push_back(double(t.nsecsElapsed()) * 1e-6);
+    }
+    const int start = frames, target = std::max(30, runs * 6);
+    QElapsedTimer wall;
+    wall.start();
+    std::vector<double> frameMs;
+    while (frames - start < target && wall.elapsed() < 60000) {
+      const int before = frames;
+      view->orbit(2.0, 0.0);
+      waitFrame(before);
+      frameMs.push_back(view->lastFrameMilliseconds());
+    }
+    const double fps = (frames - start) / (double(wall.nsecsElapsed()) * 1e-9);
+    inspector = QJsonObject{{"elements", double(els.node.size())},
+                            {"first_view_ms", firstMs},
+                            {"pick_and_links_median_ms", median(pick)},
+                            {"orbit_frames_per_second", fps},
+                            {"orbit_frame_median_ms", median(frameMs)},
+                            {"width", 1280},
+                            {"height", 720}};
+    std::fprintf(stderr, "bench: inspector first view %.0f ms (%zu elements), pick %.1f ms, orbit %.1f frames/s\n", firstMs,
+                 els.node.size(), median(pick), fps);
+    delete panel;
+  }
   const auto totals = doc->session()->engine().totals();
   return QJsonObject{{"room", room},
                      {"open_seconds", openSeconds},
@@ -180,6 +243,7 @@ QJsonObject benchRoom(const QString& room, int runs) {
                      {"links", double(totals.links)},
                      {"lamp_update_median_ms", median(lamp)},
                      {"viewport", sizes},
+                     {"inspector", inspector},
                      {"peak_rss_mib", peakRssMiB()}};
 }
 

@@ -919,6 +919,23 @@ class WorkbenchTest : public QObject {
     QTest::qWait(100);
     saveShot(panel, "inspector_counts");
     panel->findChild<QTabWidget*>()->setCurrentIndex(0);
+    // The other mesh (§4.4's coarser interactive one) as a second session, built as a job; the
+    // document's session stays as it was.
+    const RelightSession* own = doc()->session();
+    const size_t refinedElements = panel->elements().node.size();
+    panel->mesh()->setCurrentIndex(1);
+    QVERIFY(window_->jobs()->busy());
+    QVERIFY2(waitForJob(300000), "the other mesh was not built");
+    QCOMPARE(panel->mesh()->currentIndex(), 1);
+    QVERIFY(panel->session() != own);
+    QCOMPARE(doc()->session(), own);
+    QCOMPARE(panel->elements().node.size(), inspect::elementMesh(panel->session()->engine()).node.size());
+    qInfo("inspector: %zu elements on the refined mesh, %zu on the interactive one", refinedElements,
+          panel->elements().node.size());
+    QVERIFY(panel->elements().node.size() < refinedElements);
+    panel->mesh()->setCurrentIndex(0);
+    QCOMPARE(panel->session(), own);
+    QCOMPARE(panel->elements().node.size(), refinedElements);
     dock->hide();
   }
 

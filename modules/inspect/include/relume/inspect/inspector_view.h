@@ -36,6 +36,8 @@ class InspectorView : public QOpenGLWidget {
   // log scale from the smallest to the largest.
   void setLinks(const std::vector<std::pair<glm::dvec3, glm::dvec3>>& segments, const std::vector<double>& weights);
   void resetCamera();
+  // Turns the camera about its focal point (degrees; +z stays up), as a left drag does.
+  void orbit(double azimuthDegrees, double elevationDegrees);
 
   // The element under a widget position (-1: none), and where a world point shows in the widget.
   int elementAt(QPointF pos);
