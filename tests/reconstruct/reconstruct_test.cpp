@@ -405,6 +405,99 @@ TEST(Correspondences, CamerasFromThirtyClicksMatchTheTruth) {
   EXPECT_LT(worst, 0.02);
 }
 
+// A click 40 px off (a mis-click): the robust loss keeps the cameras where the other clicks put
+// them, and the bundle adjustment names it as beyond the robust scale.
+TEST(Correspondences, AMisclickDoesNotBendTheCameras) {
+  std::vector<Camera> truth;
+  for (int i = 0; i < 5; ++i)
+    truth.push_back(Camera::lookAt({0.6 + 0.7 * i, 0.5 + 0.3 * (i % 3), 1.4 + 0.15 * (i % 2)}, {2.0 + 0.2 * (i - 2), 4.0, 0.9}, 1600,
+                                   1200, 1385));
+  std::vector<glm::dvec3> pts;
+  for (int i = 0; i < 12; ++i) pts.push_back({0.3 + 0.3 * i, 5.0, 0.2 + 0.18 * i});
+  for (int i = 0; i < 12; ++i) pts.push_back({0.4 + 0.28 * i, 3.0 + 0.15 * (i % 4), 0.0});
+  for (int i = 0; i < 12; ++i) pts.push_back({1.5 + 0.1 * (i % 6), 3.6 + 0.2 * (i / 6), 0.75 + 0.02 * i});
+  std::mt19937 rng(21);
+  std::normal_distribution<double> N(0, 0.5);
+  std::vector<Track> tracks;
+  for (size_t k = 0; k < pts.size(); ++k) {
+    Track t;
+    t.name = "p" + std::to_string(k);
+    for (int i = 0; i < 5; ++i) {
+      glm::dvec2 px;
+      if (truth[i].project(pts[k], px) && px.x > 0 && px.y > 0 && px.x < 1600 && px.y < 1200)
+        t.clicks.emplace_back(i, px + glm::dvec2(N(rng), N(rng)));
+    }
+    tracks.push_back(t);
+  }
+  // Point 30 clicked 40 px to the right in its third photo.
+  ASSERT_GE(tracks[30].clicks.size(), 3u);
+  tracks[30].clicks[2].second.x += 40.0;
+  const CameraSolution sol = solveCameras(truth, {"a", "b", "c", "d", "e"}, tracks);
+  std::vector<glm::dvec3> est, tru;
+  for (int i = 0; i < 5; ++i) {
+    ASSERT_TRUE(sol.posed[i]);
+    est.push_back(sol.cameras[i].center());
+    tru.push_back(truth[i].center());
+  }
+  const CenterAlignment a = alignCenters(est, tru);
+  std::printf("with one click 40 px off: largest centre error %.4f m, %zu click(s) flagged\n", a.max, sol.bundle.beyondRobust);
+  EXPECT_LT(a.max, 0.01);
+  EXPECT_GE(sol.bundle.beyondRobust, 1u);
+  EXPECT_LE(sol.bundle.beyondRobust, 3u);
+}
+
+// Bundle adjustment from a perturbed start: 8 cameras, 100 points, 0.5 px noise. It comes back to
+// the truth (up to the noise), the fixed camera does not move, and the held scale stays.
+TEST(Bundle, PerturbedCamerasAndPointsReturnToTheTruth) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> N(0, 1);
+  std::vector<Camera> truth;
+  for (int i = 0; i < 8; ++i)
+    truth.push_back(Camera::lookAt({0.5 + 0.5 * i, 0.4 + 0.2 * (i % 3), 1.3 + 0.1 * (i % 2)}, {2.2, 4.0, 1.0}, 1600, 1200, 1400));
+  std::vector<glm::dvec3> X;
+  for (int k = 0; k < 100; ++k) X.push_back({0.5 + 3.0 * (k % 10) / 9.0, 3.5 + 1.5 * ((k / 10) % 2), 0.1 + 2.2 * (k / 10) / 9.0});
+  std::vector<BundleObservation> obs;
+  for (int i = 0; i < 8; ++i)
+    for (int k = 0; k < 100; ++k) {
+      glm::dvec2 px;
+      if (truth[i].project(X[k], px) && px.x > 0 && px.y > 0 && px.x < 1600 && px.y < 1200)
+        obs.push_back({i, k, px + 0.5 * glm::dvec2(N(rng), N(rng))});
+    }
+  std::vector<Camera> cams = truth;
+  std::vector<glm::dvec3> pts = X;
+  for (int i = 2; i < 8; ++i) {
+    cams[i].t += 0.03 * glm::dvec3(N(rng), N(rng), N(rng));
+    const double a = 0.01;
+    glm::dmat3 Rx(1.0);
+    Rx[1][1] = Rx[2][2] = std::cos(a);
+    Rx[1][2] = std::sin(a);
+    Rx[2][1] = -std::sin(a);
+    cams[i].R = Rx * cams[i].R;
+  }
+  for (auto& p : pts) p += 0.02 * glm::dvec3(N(rng), N(rng), N(rng));
+  const glm::dvec3 heldT = cams[1].t;
+  const BundleReport r = bundleAdjust(cams, pts, obs, {0}, 1);
+  std::vector<glm::dvec3> est, tru;
+  for (int i = 0; i < 8; ++i) est.push_back(cams[i].center()), tru.push_back(truth[i].center());
+  const CenterAlignment a = alignCenters(est, tru);
+  double worst = 0;
+  for (int k = 0; k < 100; ++k) worst = std::max(worst, glm::length(a.S.apply(pts[k]) - X[k]));
+  std::printf("bundle adjustment: rms %.2f -> %.3f px in %d iterations; centres within %.4f m, points within %.4f m\n",
+              r.initialRms, r.rms, r.iterations, a.max, worst);
+  EXPECT_TRUE(r.converged);
+  EXPECT_GT(r.initialRms, 5.0);
+  EXPECT_LT(r.rms, 0.6);
+  EXPECT_LT(a.max, 0.005);
+  EXPECT_LT(worst, 0.01);
+  EXPECT_EQ(cams[0].t, truth[0].t) << "the fixed camera stays";
+  EXPECT_EQ(cams[0].R, truth[0].R);
+  int largest = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(heldT[k]) > std::abs(heldT[largest])) largest = k;
+  EXPECT_EQ(cams[1].t[largest], heldT[largest]) << "the scale gauge stays";
+  EXPECT_THROW(bundleAdjust(cams, pts, obs, {}), Error) << "no gauge";
+}
+
 TEST(Correspondences, RelativePoseNeedsEightClicks) {
   const std::string e = errorText([] { relativePose({{1, 1}, {2, 2}}, {{1, 1}, {2, 2}}, glm::dmat3(1.0), glm::dmat3(1.0)); });
   EXPECT_NE(e.find("8 or more"), std::string::npos) << e;

@@ -5,7 +5,11 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -48,61 +52,77 @@ bool residual(const Camera& c, const glm::dvec3& X, const glm::dvec2& px, glm::d
   return true;
 }
 
-// Generic dense Levenberg-Marquardt with a numerical Jacobian (small problems only).
-// `f(params, residuals)` returns false when the parameters are invalid (e.g. behind a camera).
-double levenbergMarquardt(std::vector<double>& x, int nres,
-                          const std::function<bool(const std::vector<double>&, std::vector<double>&)>& f, int iters,
-                          const std::vector<int>& fixed = {}) {
-  const int n = int(x.size());
-  std::vector<double> r(nres), rt(nres);
-  if (!f(x, r)) return -1;
-  auto cost = [](const std::vector<double>& v) { return std::inner_product(v.begin(), v.end(), v.begin(), 0.0); };
-  double c = cost(r), lambda = 1e-3;
-  std::vector<bool> isFixed(n, false);
-  for (int i : fixed) isFixed[i] = true;
-  cv::Mat J(nres, n, CV_64F);
-  for (int it = 0; it < iters; ++it) {
-    for (int j = 0; j < n; ++j) {
-      if (isFixed[j]) {
-        for (int i = 0; i < nres; ++i) J.at<double>(i, j) = 0;
-        continue;
-      }
-      std::vector<double> xp = x;
-      const double h = 1e-6 * std::max(1.0, std::abs(x[j]));
-      xp[j] += h;
-      if (!f(xp, rt)) {
-        xp[j] = x[j] - h;
-        f(xp, rt);
-        for (int i = 0; i < nres; ++i) J.at<double>(i, j) = (r[i] - rt[i]) / h;
-      } else {
-        for (int i = 0; i < nres; ++i) J.at<double>(i, j) = (rt[i] - r[i]) / h;
-      }
-    }
-    cv::Mat rm(nres, 1, CV_64F, r.data());
-    cv::Mat A = J.t() * J, g = J.t() * rm;
-    bool improved = false;
-    for (int tries = 0; tries < 10 && !improved; ++tries) {
-      cv::Mat Ad = A.clone();
-      for (int j = 0; j < n; ++j) Ad.at<double>(j, j) += lambda * (A.at<double>(j, j) + 1e-12) + (isFixed[j] ? 1.0 : 0.0);
-      cv::Mat dx;
-      if (!cv::solve(Ad, -g, dx, cv::DECOMP_CHOLESKY) && !cv::solve(Ad, -g, dx, cv::DECOMP_SVD)) break;
-      std::vector<double> xn = x;
-      for (int j = 0; j < n; ++j) xn[j] += dx.at<double>(j);
-      if (f(xn, rt) && cost(rt) < c) {
-        const double rel = (c - cost(rt)) / std::max(c, 1e-300);
-        x = xn;
-        r = rt;
-        c = cost(rt);
-        lambda = std::max(lambda / 10, 1e-12);
-        improved = true;
-        if (rel < 1e-12) return c;
-      } else {
-        lambda *= 10;
-      }
-    }
-    if (!improved) break;
+// Reprojection error of a point in a pinhole camera: angle-axis rotation w, translation t (x_cam
+// = R(w) X + t), then K; in pixels.
+struct Reprojection {
+  double fx, fy, cx, cy, u, v;
+  template <class T>
+  bool operator()(const T* pose, const T* X, T* r) const {
+    T p[3];
+    ceres::AngleAxisRotatePoint(pose, X, p);
+    p[0] += pose[3];
+    p[1] += pose[4];
+    p[2] += pose[5];
+    r[0] = T(fx) * p[0] / p[2] + T(cx) - T(u);
+    r[1] = T(fy) * p[1] / p[2] + T(cy) - T(v);
+    return true;
   }
-  return c;
+};
+
+// Sampson distance (pixels) of a correspondence under the relative pose (R(w) R0, unit t = t0 +
+// a e1 + b e2, normalised): five parameters, w then (a, b).
+struct SampsonDistance {
+  glm::dmat3 R0, K1i, K2i;
+  glm::dvec3 t0, e1, e2, x1, x2;
+  template <class T>
+  bool operator()(const T* x, T* r) const {
+    T Rw[9];  // column-major
+    ceres::AngleAxisToRotationMatrix(x, Rw);
+    T R[3][3];  // R[row][col] = (R(w) R0)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        R[i][j] = T(0);
+        for (int k = 0; k < 3; ++k) R[i][j] += Rw[k * 3 + i] * T(R0[j][k]);
+      }
+    T t[3];
+    for (int i = 0; i < 3; ++i) t[i] = T(t0[i]) + x[3] * T(e1[i]) + x[4] * T(e2[i]);
+    const T n = ceres::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    for (T& c : t) c /= n;
+    // E = [t]x R; F = K2^-T E K1^-1; here F x1 and F^T x2 directly.
+    const T tx[3][3] = {{T(0), -t[2], t[1]}, {t[2], T(0), -t[0]}, {-t[1], t[0], T(0)}};
+    T E[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) E[i][j] = tx[i][0] * R[0][j] + tx[i][1] * R[1][j] + tx[i][2] * R[2][j];
+    T F[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        F[i][j] = T(0);
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) F[i][j] += T(K2i[i][a]) * E[a][b] * T(K1i[j][b]);  // K2i^T(i,a) = K2i[i][a] (glm col-major)
+      }
+    T Fx1[3], Ftx2[3];
+    for (int i = 0; i < 3; ++i) {
+      Fx1[i] = F[i][0] * T(x1.x) + F[i][1] * T(x1.y) + F[i][2] * T(x1.z);
+      Ftx2[i] = F[0][i] * T(x2.x) + F[1][i] * T(x2.y) + F[2][i] * T(x2.z);
+    }
+    const T num = T(x2.x) * Fx1[0] + T(x2.y) * Fx1[1] + T(x2.z) * Fx1[2];
+    const T den = Fx1[0] * Fx1[0] + Fx1[1] * Fx1[1] + Ftx2[0] * Ftx2[0] + Ftx2[1] * Ftx2[1];
+    r[0] = num / ceres::sqrt(den + T(1e-300));
+    return true;
+  }
+};
+
+ceres::Solver::Options solverOptions(int maxIterations, ceres::LinearSolverType solver) {
+  ceres::Solver::Options o;
+  o.linear_solver_type = solver;
+  o.max_num_iterations = maxIterations;
+  o.num_threads = 1;
+  o.logging_type = ceres::SILENT;
+  o.minimizer_progress_to_stdout = false;
+  o.function_tolerance = 1e-12;
+  o.parameter_tolerance = 1e-12;
+  o.gradient_tolerance = 1e-14;
+  return o;
 }
 
 }  // namespace
@@ -345,25 +365,32 @@ RelativePose relativePose(const std::vector<glm::dvec2>& p1, const std::vector<g
     Ro = rodrigues({x[0], x[1], x[2]}) * R;
     to = glm::normalize(t + x[3] * e1 + x[4] * e2);
   };
-  auto sampson = [&](const std::vector<double>& x, std::vector<double>& res) {
+  // Ceres, automatic derivatives; a Huber loss at 1 px keeps a wrong click that RANSAC let in
+  // from bending the pose.
+  std::vector<double> x(5, 0.0);
+  {
+    ceres::Problem problem;
+    for (int k : in)
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SampsonDistance, 1, 5>(new SampsonDistance{
+                                   R, K1i, K2i, t, e1, e2, glm::dvec3(p1[k], 1.0), glm::dvec3(p2[k], 1.0)}),
+                               new ceres::HuberLoss(1.0), x.data());
+    ceres::Solver::Summary summary;
+    ceres::Solve(solverOptions(50, ceres::DENSE_QR), &problem, &summary);
+  }
+  pose(x, rp.R, rp.t);
+  double cost = 0;  // squared Sampson distances, without the loss
+  {
     glm::dmat3 Ro;
     glm::dvec3 to;
     pose(x, Ro, to);
-    glm::dmat3 tx(0.0);
-    tx[1][0] = -to.z; tx[2][0] = to.y; tx[0][1] = to.z; tx[2][1] = -to.x; tx[0][2] = -to.y; tx[1][2] = to.x;
-    const glm::dmat3 Fm = glm::transpose(K2i) * tx * Ro * K1i;
-    for (size_t k = 0; k < in.size(); ++k) {
-      const glm::dvec3 x1(p1[in[k]], 1.0), x2(p2[in[k]], 1.0);
-      const glm::dvec3 Fx1 = Fm * x1, Ftx2 = glm::transpose(Fm) * x2;
-      const double num = glm::dot(x2, Fx1);
-      const double den = Fx1.x * Fx1.x + Fx1.y * Fx1.y + Ftx2.x * Ftx2.x + Ftx2.y * Ftx2.y;
-      res[k] = den > 0 ? num / std::sqrt(den) : 0;
+    const double w[5] = {0, 0, 0, 0, 0};
+    for (int k : in) {
+      const SampsonDistance d{Ro, K1i, K2i, to, e1, e2, glm::dvec3(p1[k], 1.0), glm::dvec3(p2[k], 1.0)};
+      double r = 0;
+      d(w, &r);
+      cost += r * r;
     }
-    return true;
-  };
-  std::vector<double> x(5, 0.0);
-  const double cost = levenbergMarquardt(x, int(in.size()), sampson, 50);
-  pose(x, rp.R, rp.t);
+  }
   rp.fundamentalRms = std::sqrt(std::max(cost, 0.0) / std::max<size_t>(in.size(), 1));
   return rp;
 }
@@ -459,61 +486,100 @@ CameraSolution solveCameras(const std::vector<Camera>& intr, const std::vector<s
     sol.posed[next] = true;
     triangulateAll();
   }
-  // Bundle adjustment: poses of every posed photo but the first, and every triangulated point.
-  std::vector<int> cams, pts;
-  for (int i = 0; i < nPhotos; ++i)
-    if (sol.posed[i] && i != bi) cams.push_back(i);
-  for (size_t k = 0; k < tracks.size(); ++k)
-    if (sol.triangulated[k]) pts.push_back(int(k));
-  std::vector<double> x;
-  for (int i : cams) {
-    const glm::dvec3 w = rodriguesInv(sol.cameras[i].R);
-    x.insert(x.end(), {w.x, w.y, w.z, sol.cameras[i].t.x, sol.cameras[i].t.y, sol.cameras[i].t.z});
+  // Bundle adjustment: poses of every posed photo but the first, the scale held by the initial
+  // pair's second camera, and every triangulated point.
+  std::vector<glm::dvec3> X(tracks.size(), glm::dvec3(0.0));
+  std::vector<BundleObservation> obs;
+  for (size_t k = 0; k < tracks.size(); ++k) {
+    if (!sol.triangulated[k]) continue;
+    X[k] = sol.points[k].X;
+    for (const auto& c : tracks[k].clicks)
+      if (sol.posed[c.first]) obs.push_back({c.first, int(k), c.second});
   }
-  for (int k : pts) x.insert(x.end(), {sol.points[k].X.x, sol.points[k].X.y, sol.points[k].X.z});
-  int nres = 0;
-  for (int k : pts)
-    for (const auto& c : tracks[k].clicks) nres += sol.posed[c.first] ? 2 : 0;
-  auto unpack = [&](const std::vector<double>& v, std::vector<Camera>& cs) {
-    cs = sol.cameras;
-    for (size_t ci = 0; ci < cams.size(); ++ci) {
-      cs[cams[ci]].R = rodrigues({v[6 * ci], v[6 * ci + 1], v[6 * ci + 2]});
-      cs[cams[ci]].t = {v[6 * ci + 3], v[6 * ci + 4], v[6 * ci + 5]};
-    }
-  };
-  auto ba = [&](const std::vector<double>& v, std::vector<double>& res) {
-    std::vector<Camera> cs;
-    unpack(v, cs);
-    int r = 0;
-    const size_t off = 6 * cams.size();
-    for (size_t pk = 0; pk < pts.size(); ++pk) {
-      const glm::dvec3 X(v[off + 3 * pk], v[off + 3 * pk + 1], v[off + 3 * pk + 2]);
-      for (const auto& c : tracks[pts[pk]].clicks) {
-        if (!sol.posed[c.first]) continue;
-        glm::dvec2 e;
-        if (!residual(cs[c.first], X, c.second, e)) return false;
-        res[r++] = e.x;
-        res[r++] = e.y;
-      }
-    }
-    return true;
-  };
-  // Fix the scale gauge: the first translation component of the initial pair's second camera.
-  std::vector<int> fixedParams;
-  for (size_t ci = 0; ci < cams.size(); ++ci)
-    if (cams[ci] == bj) {
-      int largest = 0;
-      for (int k = 1; k < 3; ++k)
-        if (std::abs(sol.cameras[bj].t[k]) > std::abs(sol.cameras[bj].t[largest])) largest = k;
-      fixedParams.push_back(int(6 * ci + 3 + largest));
-    }
-  const double cost = levenbergMarquardt(x, nres, ba, 30, fixedParams);
-  unpack(x, sol.cameras);
-  const size_t off = 6 * cams.size();
-  for (size_t pk = 0; pk < pts.size(); ++pk) sol.points[pts[pk]].X = {x[off + 3 * pk], x[off + 3 * pk + 1], x[off + 3 * pk + 2]};
+  const BundleReport report = bundleAdjust(sol.cameras, X, obs, {bi}, bj);
+  for (size_t k = 0; k < tracks.size(); ++k)
+    if (sol.triangulated[k]) sol.points[k].X = X[k];
   triangulateAll();
-  sol.rmsError = std::sqrt(std::max(cost, 0.0) / std::max(nres / 2, 1));
+  sol.rmsError = report.rms;
+  sol.bundle = report;
   return sol;
+}
+
+BundleReport bundleAdjust(std::vector<Camera>& cameras, std::vector<glm::dvec3>& points,
+                          const std::vector<BundleObservation>& observations, const std::vector<int>& fixedCameras,
+                          int scaleCamera, const BundleOptions& options) {
+  BundleReport rep;
+  if (fixedCameras.empty()) throw Error("", "bundle adjustment", "needs at least one camera held fixed (the gauge)");
+  for (const auto& o : observations)
+    if (o.camera < 0 || size_t(o.camera) >= cameras.size() || o.point < 0 || size_t(o.point) >= points.size())
+      throw Error("", "bundle adjustment", "an observation names a camera or point that does not exist");
+  std::vector<std::array<double, 6>> pose(cameras.size());
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const glm::dvec3 w = rodriguesInv(cameras[i].R);
+    pose[i] = {w.x, w.y, w.z, cameras[i].t.x, cameras[i].t.y, cameras[i].t.z};
+  }
+  std::vector<std::array<double, 3>> X(points.size());
+  for (size_t k = 0; k < points.size(); ++k) X[k] = {points[k].x, points[k].y, points[k].z};
+  auto rms = [&]() {
+    double se = 0;
+    size_t n = 0;
+    rep.beyondRobust = 0;
+    for (const auto& o : observations) {
+      const auto& K = cameras[size_t(o.camera)].K;
+      const Reprojection f{K[0][0], K[1][1], K[2][0], K[2][1], o.pixel.x, o.pixel.y};
+      double r[2];
+      f(pose[size_t(o.camera)].data(), X[size_t(o.point)].data(), r);
+      const double e2 = r[0] * r[0] + r[1] * r[1];
+      if (!std::isfinite(e2)) continue;
+      se += e2;
+      ++n;
+      rep.beyondRobust += options.robustPixels > 0 && std::sqrt(e2) > 3 * options.robustPixels;
+    }
+    return n ? std::sqrt(se / double(n)) : 0.0;
+  };
+  rep.initialRms = rms();
+  ceres::Problem problem;
+  std::vector<uint8_t> used(cameras.size(), 0);
+  for (const auto& o : observations) {
+    const Camera& c = cameras[size_t(o.camera)];
+    if ((c.R * points[size_t(o.point)] + c.t).z <= 0) continue;  // behind it: left out
+    const auto& K = c.K;
+    ceres::LossFunction* loss = options.robustPixels > 0 ? new ceres::HuberLoss(options.robustPixels) : nullptr;
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Reprojection, 2, 6, 3>(
+                                 new Reprojection{K[0][0], K[1][1], K[2][0], K[2][1], o.pixel.x, o.pixel.y}),
+                             loss, pose[size_t(o.camera)].data(), X[size_t(o.point)].data());
+    used[size_t(o.camera)] = 1;
+  }
+  if (problem.NumResidualBlocks() == 0) throw Error("", "bundle adjustment", "no observation lies in front of its camera");
+  for (int i : fixedCameras)
+    if (i >= 0 && size_t(i) < cameras.size() && used[size_t(i)]) problem.SetParameterBlockConstant(pose[size_t(i)].data());
+  if (scaleCamera >= 0 && size_t(scaleCamera) < cameras.size() && used[size_t(scaleCamera)] &&
+      !problem.IsParameterBlockConstant(pose[size_t(scaleCamera)].data())) {
+    int largest = 3;
+    for (int k = 4; k < 6; ++k)
+      if (std::abs(pose[size_t(scaleCamera)][k]) > std::abs(pose[size_t(scaleCamera)][largest])) largest = k;
+    problem.SetManifold(pose[size_t(scaleCamera)].data(), new ceres::SubsetManifold(6, {largest}));
+  }
+  // Points first in the elimination order: the Schur complement leaves the small camera system.
+  auto* order = new ceres::ParameterBlockOrdering;
+  for (auto& x : X)
+    if (problem.HasParameterBlock(x.data())) order->AddElementToGroup(x.data(), 0);
+  for (size_t i = 0; i < pose.size(); ++i)
+    if (used[i]) order->AddElementToGroup(pose[i].data(), 1);
+  ceres::Solver::Options so = solverOptions(options.maxIterations, ceres::SPARSE_SCHUR);
+  so.linear_solver_ordering.reset(order);
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  rep.iterations = int(summary.iterations.size());
+  rep.converged = summary.termination_type == ceres::CONVERGENCE;
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    if (!used[i] || problem.IsParameterBlockConstant(pose[i].data())) continue;  // exactly as given
+    cameras[i].R = rodrigues({pose[i][0], pose[i][1], pose[i][2]});
+    cameras[i].t = {pose[i][3], pose[i][4], pose[i][5]};
+  }
+  for (size_t k = 0; k < points.size(); ++k) points[k] = {X[k][0], X[k][1], X[k][2]};
+  rep.rms = rms();
+  return rep;
 }
 
 }  // namespace relume::recon

@@ -48,6 +48,36 @@ struct CenterAlignment {
 };
 CenterAlignment alignCenters(const std::vector<glm::dvec3>& estimated, const std::vector<glm::dvec3>& truth);
 
+// ---- Bundle adjustment (Ceres Solver: automatic derivatives, a robust loss, sparse Schur) ----
+
+struct BundleObservation {
+  int camera = -1, point = -1;
+  glm::dvec2 pixel{0.0};  // undistorted
+};
+
+struct BundleOptions {
+  // Huber loss scale in pixels: residuals beyond it count linearly, so a mis-click pulls the
+  // solution far less than under squares. 0: plain least squares.
+  double robustPixels = 2.0;
+  int maxIterations = 100;
+};
+
+struct BundleReport {
+  double initialRms = 0, rms = 0;  // pixels, over every observation, before and after
+  int iterations = 0;
+  bool converged = false;
+  size_t beyondRobust = 0;  // observations whose final error exceeds 3 x robustPixels (likely mis-clicks)
+};
+
+// Refines the poses of `cameras` (R and t; K is kept) and `points` to minimise the reprojection
+// error of `observations`. Cameras in `fixedCameras` do not move (the gauge: at least one). When
+// `scaleCamera` >= 0, the largest component of its translation is held too (the scale of a model
+// known up to a similarity). Observations of points behind a camera are reported, not solved
+// (relume::Error naming the point when every observation is).
+BundleReport bundleAdjust(std::vector<Camera>& cameras, std::vector<glm::dvec3>& points,
+                          const std::vector<BundleObservation>& observations, const std::vector<int>& fixedCameras,
+                          int scaleCamera = -1, const BundleOptions& options = {});
+
 // ---- Cameras from point correspondences alone (when automatic matching fails) ----
 
 // A correspondence track: the same scene point clicked in several photos (pixel per photo index,
@@ -75,6 +105,7 @@ struct CameraSolution {
   std::vector<TriangulatedPoint> points;  // per track (X = 0 for tracks left out)
   std::vector<bool> triangulated;
   double rmsError = 0;  // pixels, over all observations used
+  BundleReport bundle;  // the final bundle adjustment (beyondRobust: clicks that look wrong)
 };
 // Poses every photo from tracks and intrinsics: relative pose of the pair sharing most tracks,
 // resection (PnP) of the others, multi-view triangulation, and a final bundle adjustment
