@@ -698,6 +698,10 @@
         <source>Inspector</source>
         <translation>Inspektor</translation>
     </message>
+    <message>
+        <source>Photos</source>
+        <translation>Fotos</translation>
+    </message>
 </context>
 <context>
     <name>relume::ObjectsPanel</name>
@@ -784,6 +788,219 @@
     <message>
         <source>%1: %2 triangles; the radiosity engine takes meshes of up to %3.</source>
         <translation>%1: %2 Dreiecke; die Radiosity-Engine nimmt Netze mit bis zu %3.</translation>
+    </message>
+</context>
+<context>
+    <name>relume::PhotosPanel</name>
+    <message>
+        <source>Import folder...</source>
+        <translation>Ordner importieren...</translation>
+    </message>
+    <message>
+        <source>Import photos...</source>
+        <translation>Fotos importieren...</translation>
+    </message>
+    <message>
+        <source>Merge brackets to HDR</source>
+        <translation>Reihen zu HDR zusammenführen</translation>
+    </message>
+    <message>
+        <source>Each bracket of exposures becomes one radiance image (Debevec and Malik), beside its middle exposure: one photo per viewpoint, what reconstruction reads</source>
+        <translation>Jede Belichtungsreihe wird ein Strahldichtebild (Debevec und Malik), neben ihrer mittleren Belichtung: ein Foto je Standpunkt, das die Rekonstruktion liest</translation>
+    </message>
+    <message>
+        <source>No photos yet: import a folder of photos or brackets.</source>
+        <translation>Noch keine Fotos: importieren Sie einen Ordner mit Fotos oder Belichtungsreihen.</translation>
+    </message>
+    <message>
+        <source>Photo</source>
+        <translation>Foto</translation>
+    </message>
+    <message>
+        <source>Size</source>
+        <translation>Größe</translation>
+    </message>
+    <message>
+        <source>Camera</source>
+        <translation>Kamera</translation>
+    </message>
+    <message>
+        <source>Focal</source>
+        <translation>Brennweite</translation>
+    </message>
+    <message>
+        <source>Exposure</source>
+        <translation>Belichtung</translation>
+    </message>
+    <message>
+        <source>f/</source>
+        <translation>f/</translation>
+    </message>
+    <message>
+        <source>ISO</source>
+        <translation>ISO</translation>
+    </message>
+    <message>
+        <source>Bracket</source>
+        <translation>Reihe</translation>
+    </message>
+    <message>
+        <source>Histogram of the selected photo</source>
+        <translation>Histogramm des gewählten Fotos</translation>
+    </message>
+    <message>
+        <source>Recovered response (no bracket merged yet)</source>
+        <translation>Ermittelte Kennlinie (noch keine Reihe zusammengeführt)</translation>
+    </message>
+    <message>
+        <source> m</source>
+        <translation> m</translation>
+    </message>
+    <message>
+        <source>Inner corners</source>
+        <translation>Innere Ecken</translation>
+    </message>
+    <message>
+        <source>square</source>
+        <translation>Feld</translation>
+    </message>
+    <message>
+        <source>Calibrate from the selected photos</source>
+        <translation>Aus den gewählten Fotos kalibrieren</translation>
+    </message>
+    <message>
+        <source>Photos of a flat checkerboard from several angles: focal length, principal point and lens distortion (OpenCV), written to the capture&apos;s intrinsics.json</source>
+        <translation>Fotos eines ebenen Schachbretts aus mehreren Winkeln: Brennweite, Hauptpunkt und Objektivverzeichnung (OpenCV), in die intrinsics.json der Aufnahme geschrieben</translation>
+    </message>
+    <message>
+        <source>Not calibrated.</source>
+        <translation>Nicht kalibriert.</translation>
+    </message>
+    <message>
+        <source>Histogram</source>
+        <translation>Histogramm</translation>
+    </message>
+    <message>
+        <source>Response curve</source>
+        <translation>Kennlinie</translation>
+    </message>
+    <message>
+        <source>Calibration</source>
+        <translation>Kalibrierung</translation>
+    </message>
+    <message>
+        <source>Import a folder of photos</source>
+        <translation>Einen Ordner mit Fotos importieren</translation>
+    </message>
+    <message>
+        <source>Import photos</source>
+        <translation>Fotos importieren</translation>
+    </message>
+    <message>
+        <source>Photos (*.jpg *.jpeg *.png *.tif *.tiff *.exr)</source>
+        <translation>Fotos (*.jpg *.jpeg *.png *.tif *.tiff *.exr)</translation>
+    </message>
+    <message>
+        <source>%1 holds no photos (PNG, JPEG, TIFF or EXR).</source>
+        <translation>%1 enthält keine Fotos (PNG, JPEG, TIFF oder EXR).</translation>
+    </message>
+    <message>
+        <source>Importing photos: %1</source>
+        <translation>Fotos werden importiert: %1</translation>
+    </message>
+    <message>
+        <source>Imported the photos; %1 could not be read (see the list).</source>
+        <translation>Fotos importiert; %1 nicht lesbar (siehe Liste).</translation>
+    </message>
+    <message>
+        <source>Imported the photos.</source>
+        <translation>Fotos importiert.</translation>
+    </message>
+    <message>
+        <source>cannot be read</source>
+        <translation>nicht lesbar</translation>
+    </message>
+    <message>
+        <source>, radiance</source>
+        <translation>, Strahldichte</translation>
+    </message>
+    <message>
+        <source>%1 mm</source>
+        <translation>%1 mm</translation>
+    </message>
+    <message>
+        <source>(%1 mm eq.)</source>
+        <translation>(%1 mm KB)</translation>
+    </message>
+    <message>
+        <source>%1 EV</source>
+        <translation>%1 LW</translation>
+    </message>
+    <message>
+        <source>%1: %2 of %3</source>
+        <translation>%1: %2 von %3</translation>
+    </message>
+    <message>
+        <source>%1 photos, %2 viewpoints, brackets of several exposures: %3%4. Capture folder: %5</source>
+        <translation>%1 Fotos, %2 Standpunkte, Belichtungsreihen: %3%4. Aufnahmeordner: %5</translation>
+    </message>
+    <message>
+        <source>; cannot be read: %1</source>
+        <translation>; nicht lesbar: %1</translation>
+    </message>
+    <message>
+        <source>Histogram of %1%2</source>
+        <translation>Histogramm von %1%2</translation>
+    </message>
+    <message>
+        <source> (as shown, exposed)</source>
+        <translation> (wie angezeigt, belichtet)</translation>
+    </message>
+    <message>
+        <source>Recovered response, %1 exposures</source>
+        <translation>Ermittelte Kennlinie, %1 Belichtungen</translation>
+    </message>
+    <message>
+        <source>pixel value</source>
+        <translation>Pixelwert</translation>
+    </message>
+    <message>
+        <source>exposure</source>
+        <translation>Belichtung</translation>
+    </message>
+    <message>
+        <source>No 8-bit photos to merge.</source>
+        <translation>Keine 8-Bit-Fotos zum Zusammenführen.</translation>
+    </message>
+    <message>
+        <source>Merging brackets to HDR</source>
+        <translation>Reihen werden zu HDR zusammengeführt</translation>
+    </message>
+    <message>
+        <source>Brackets merged to HDR: %1; viewpoints in %2: %3</source>
+        <translation>Zu HDR zusammengeführte Reihen: %1; Standpunkte in %2: %3</translation>
+    </message>
+    <message>
+        <source>Select 3 or more photos of the checkerboard first.</source>
+        <translation>Wählen Sie zuerst 3 oder mehr Fotos des Schachbretts.</translation>
+    </message>
+    <message>
+        <source>Calibrating the camera</source>
+        <translation>Kamera wird kalibriert</translation>
+    </message>
+    <message>
+        <source>Reprojection error %1 px over %2 photos.
+fx %3, fy %4, cx %5, cy %6 px; k1 %7, k2 %8, p1 %9, p2 %10.%11
+Written to %12</source>
+        <translation>Rückprojektionsfehler %1 px über %2 Fotos.
+fx %3, fy %4, cx %5, cy %6 px; k1 %7, k2 %8, p1 %9, p2 %10.%11
+Geschrieben nach %12</translation>
+    </message>
+    <message>
+        <source>
+No checkerboard found in: %1</source>
+        <translation>
+Kein Schachbrett gefunden in: %1</translation>
     </message>
 </context>
 <context>

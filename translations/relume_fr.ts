@@ -698,6 +698,10 @@
         <source>Inspector</source>
         <translation>Inspecteur</translation>
     </message>
+    <message>
+        <source>Photos</source>
+        <translation>Photos</translation>
+    </message>
 </context>
 <context>
     <name>relume::ObjectsPanel</name>
@@ -784,6 +788,219 @@
     <message>
         <source>%1: %2 triangles; the radiosity engine takes meshes of up to %3.</source>
         <translation>%1 : %2 triangles ; le moteur de radiosité accepte des maillages d&apos;au plus %3.</translation>
+    </message>
+</context>
+<context>
+    <name>relume::PhotosPanel</name>
+    <message>
+        <source>Import folder...</source>
+        <translation>Importer un dossier...</translation>
+    </message>
+    <message>
+        <source>Import photos...</source>
+        <translation>Importer des photos...</translation>
+    </message>
+    <message>
+        <source>Merge brackets to HDR</source>
+        <translation>Fusionner les séries en HDR</translation>
+    </message>
+    <message>
+        <source>Each bracket of exposures becomes one radiance image (Debevec and Malik), beside its middle exposure: one photo per viewpoint, what reconstruction reads</source>
+        <translation>Chaque série d&apos;expositions devient une image de radiance (Debevec et Malik), à côté de son exposition médiane : une photo par point de vue, ce que lit la reconstruction</translation>
+    </message>
+    <message>
+        <source>No photos yet: import a folder of photos or brackets.</source>
+        <translation>Pas encore de photos : importez un dossier de photos ou de séries.</translation>
+    </message>
+    <message>
+        <source>Photo</source>
+        <translation>Photo</translation>
+    </message>
+    <message>
+        <source>Size</source>
+        <translation>Taille</translation>
+    </message>
+    <message>
+        <source>Camera</source>
+        <translation>Appareil</translation>
+    </message>
+    <message>
+        <source>Focal</source>
+        <translation>Focale</translation>
+    </message>
+    <message>
+        <source>Exposure</source>
+        <translation>Exposition</translation>
+    </message>
+    <message>
+        <source>f/</source>
+        <translation>f/</translation>
+    </message>
+    <message>
+        <source>ISO</source>
+        <translation>ISO</translation>
+    </message>
+    <message>
+        <source>Bracket</source>
+        <translation>Série</translation>
+    </message>
+    <message>
+        <source>Histogram of the selected photo</source>
+        <translation>Histogramme de la photo choisie</translation>
+    </message>
+    <message>
+        <source>Recovered response (no bracket merged yet)</source>
+        <translation>Réponse retrouvée (aucune série fusionnée)</translation>
+    </message>
+    <message>
+        <source> m</source>
+        <translation> m</translation>
+    </message>
+    <message>
+        <source>Inner corners</source>
+        <translation>Coins intérieurs</translation>
+    </message>
+    <message>
+        <source>square</source>
+        <translation>case</translation>
+    </message>
+    <message>
+        <source>Calibrate from the selected photos</source>
+        <translation>Calibrer à partir des photos choisies</translation>
+    </message>
+    <message>
+        <source>Photos of a flat checkerboard from several angles: focal length, principal point and lens distortion (OpenCV), written to the capture&apos;s intrinsics.json</source>
+        <translation>Photos d&apos;un damier plan sous plusieurs angles : focale, point principal et distorsion de l&apos;objectif (OpenCV), écrits dans le fichier intrinsics.json de la prise de vue</translation>
+    </message>
+    <message>
+        <source>Not calibrated.</source>
+        <translation>Non calibré.</translation>
+    </message>
+    <message>
+        <source>Histogram</source>
+        <translation>Histogramme</translation>
+    </message>
+    <message>
+        <source>Response curve</source>
+        <translation>Courbe de réponse</translation>
+    </message>
+    <message>
+        <source>Calibration</source>
+        <translation>Calibration</translation>
+    </message>
+    <message>
+        <source>Import a folder of photos</source>
+        <translation>Importer un dossier de photos</translation>
+    </message>
+    <message>
+        <source>Import photos</source>
+        <translation>Importer des photos</translation>
+    </message>
+    <message>
+        <source>Photos (*.jpg *.jpeg *.png *.tif *.tiff *.exr)</source>
+        <translation>Photos (*.jpg *.jpeg *.png *.tif *.tiff *.exr)</translation>
+    </message>
+    <message>
+        <source>%1 holds no photos (PNG, JPEG, TIFF or EXR).</source>
+        <translation>%1 ne contient aucune photo (PNG, JPEG, TIFF ou EXR).</translation>
+    </message>
+    <message>
+        <source>Importing photos: %1</source>
+        <translation>Importation des photos : %1</translation>
+    </message>
+    <message>
+        <source>Imported the photos; %1 could not be read (see the list).</source>
+        <translation>Photos importées ; %1 illisibles (voir la liste).</translation>
+    </message>
+    <message>
+        <source>Imported the photos.</source>
+        <translation>Photos importées.</translation>
+    </message>
+    <message>
+        <source>cannot be read</source>
+        <translation>illisible</translation>
+    </message>
+    <message>
+        <source>, radiance</source>
+        <translation>, radiance</translation>
+    </message>
+    <message>
+        <source>%1 mm</source>
+        <translation>%1 mm</translation>
+    </message>
+    <message>
+        <source>(%1 mm eq.)</source>
+        <translation>(%1 mm éq.)</translation>
+    </message>
+    <message>
+        <source>%1 EV</source>
+        <translation>%1 IL</translation>
+    </message>
+    <message>
+        <source>%1: %2 of %3</source>
+        <translation>%1 : %2 sur %3</translation>
+    </message>
+    <message>
+        <source>%1 photos, %2 viewpoints, brackets of several exposures: %3%4. Capture folder: %5</source>
+        <translation>%1 photos, %2 points de vue, séries de plusieurs expositions : %3%4. Dossier de prise de vue : %5</translation>
+    </message>
+    <message>
+        <source>; cannot be read: %1</source>
+        <translation> ; illisibles : %1</translation>
+    </message>
+    <message>
+        <source>Histogram of %1%2</source>
+        <translation>Histogramme de %1%2</translation>
+    </message>
+    <message>
+        <source> (as shown, exposed)</source>
+        <translation> (tel qu&apos;affiché, exposé)</translation>
+    </message>
+    <message>
+        <source>Recovered response, %1 exposures</source>
+        <translation>Réponse retrouvée, %1 expositions</translation>
+    </message>
+    <message>
+        <source>pixel value</source>
+        <translation>valeur du pixel</translation>
+    </message>
+    <message>
+        <source>exposure</source>
+        <translation>exposition</translation>
+    </message>
+    <message>
+        <source>No 8-bit photos to merge.</source>
+        <translation>Aucune photo 8 bits à fusionner.</translation>
+    </message>
+    <message>
+        <source>Merging brackets to HDR</source>
+        <translation>Fusion des séries en HDR</translation>
+    </message>
+    <message>
+        <source>Brackets merged to HDR: %1; viewpoints in %2: %3</source>
+        <translation>Séries fusionnées en HDR : %1 ; points de vue dans %2 : %3</translation>
+    </message>
+    <message>
+        <source>Select 3 or more photos of the checkerboard first.</source>
+        <translation>Choisissez d&apos;abord au moins 3 photos du damier.</translation>
+    </message>
+    <message>
+        <source>Calibrating the camera</source>
+        <translation>Calibration de l&apos;appareil</translation>
+    </message>
+    <message>
+        <source>Reprojection error %1 px over %2 photos.
+fx %3, fy %4, cx %5, cy %6 px; k1 %7, k2 %8, p1 %9, p2 %10.%11
+Written to %12</source>
+        <translation>Erreur de reprojection %1 px sur %2 photos.
+fx %3, fy %4, cx %5, cy %6 px ; k1 %7, k2 %8, p1 %9, p2 %10.%11
+Écrit dans %12</translation>
+    </message>
+    <message>
+        <source>
+No checkerboard found in: %1</source>
+        <translation>
+Aucun damier trouvé dans : %1</translation>
     </message>
 </context>
 <context>

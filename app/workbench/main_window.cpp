@@ -37,6 +37,7 @@
 #include "lights_panel.h"
 #include "objects_panel.h"
 #include "inspector_panel.h"
+#include "photos_panel.h"
 #include "references_panel.h"
 #include "relume/viewport/viewport_widget.h"
 
@@ -85,6 +86,14 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   referencesDock->setWidget(references_);
   addDockWidget(Qt::RightDockWidgetArea, referencesDock);
   tabifyDockWidget(objectsDock, referencesDock);
+  // From photographs to a model: the photos of a capture, on the left.
+  photos_ = new PhotosPanel(jobs_, this);
+  auto* photosDock = new QDockWidget(tr("Photos"), this);
+  photosDock->setObjectName("PhotosDock");
+  photosDock->setWidget(photos_);
+  addDockWidget(Qt::LeftDockWidgetArea, photosDock);
+  photosDock->hide();
+  connect(photos_, &PhotosPanel::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
   // The inspector, below the viewport (hidden until asked for: View > Inspector).
   inspector_ = new InspectorPanel(doc_, jobs_, this);
   inspectorDock_ = new QDockWidget(tr("Inspector"), this);
@@ -209,7 +218,8 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
 
 // While a job runs, nothing edits the document (its result replaces or saves what it was given).
 void MainWindow::setEditing(bool on) {
-  for (QWidget* w : {static_cast<QWidget*>(lights_), static_cast<QWidget*>(objects_), static_cast<QWidget*>(references_)})
+  for (QWidget* w : {static_cast<QWidget*>(lights_), static_cast<QWidget*>(objects_), static_cast<QWidget*>(references_),
+                     static_cast<QWidget*>(photos_)})
     w->setEnabled(on);
   tool_->setEnabled(on);
   if (!on) tool_->setMode(EditTool::Mode::Select);

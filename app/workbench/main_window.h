@@ -19,6 +19,7 @@ class LightsPanel;
 class ObjectsPanel;
 class ReferencesPanel;
 class InspectorPanel;
+class PhotosPanel;
 class EditTool;
 class ViewportWidget;
 
@@ -43,6 +44,7 @@ class MainWindow : public QMainWindow {
   ObjectsPanel* objectsPanel() const { return objects_; }
   ReferencesPanel* referencesPanel() const { return references_; }
   InspectorPanel* inspectorPanel() const { return inspector_; }
+  PhotosPanel* photosPanel() const { return photos_; }
   QDockWidget* inspectorDock() const { return inspectorDock_; }
   EditTool* editTool() const { return tool_; }
   QString lastError() const { return lastError_; }
@@ -88,6 +90,7 @@ class MainWindow : public QMainWindow {
   ReferencesPanel* references_;
   QDockWidget* referencesDock_ = nullptr;
   InspectorPanel* inspector_ = nullptr;
+  PhotosPanel* photos_ = nullptr;
   QDockWidget* inspectorDock_ = nullptr;
   EditTool* tool_;
   QString selected_;

@@ -35,6 +35,11 @@
 #include "objects_panel.h"
 #include "references_panel.h"
 #include "inspector_panel.h"
+#include "photos_panel.h"
+#include "support/checkerboard.h"
+#include <QChartView>
+#include <QLabel>
+#include <QLineSeries>
 #include <QComboBox>
 #include <QTableWidget>
 #include <QTabWidget>
@@ -778,6 +783,173 @@ class WorkbenchTest : public QObject {
     const ImageRGB cpu = doc()->session()->render(photoCamera(), RelightMethod::Full);
     QVERIFY(psnrNoGain(gl, cpu) >= 35.0);
     window_->findChild<QDockWidget*>("LightsDock")->raise();
+  }
+
+  // The Photos panel: a folder with a bracket of three exposures (EXIF exposure times), two
+  // photos, four checkerboard photos and two files that are not photos imports the good ones into
+  // the capture, lists the bad ones with the reason, groups the bracket, loads thumbnails and
+  // histograms off the UI thread, merges the bracket to HDR with its response curve, and
+  // calibrates the camera from the checkerboards.
+  void photosImportedMergedAndCalibrated() {
+    auto* panel = window_->photosPanel();
+    auto* dock = window_->findChild<QDockWidget*>("PhotosDock");
+    dock->show();
+    const QString in = tmp_.path() + "/shoot", capture = tmp_.path() + "/capture";
+    QVERIFY(QDir().mkpath(in));
+    const std::string room = std::string(RELUME_SOURCE_DIR) + "/resources/sample_room/photos/";
+    const ImageRGB radiance = readImageLinear(room + "main.exr");
+    double mean = 0;
+    for (int y = 0; y < radiance.height; ++y)
+      for (int x = 0; x < radiance.width; ++x) mean += double(radiance.at(x, y).y);
+    mean /= double(radiance.width) * radiance.height;
+    const double times[] = {1.0 / 60, 1.0 / 15, 1.0 / 4};
+    for (int k = 0; k < 3; ++k) {
+      Image8 im;
+      im.width = radiance.width;
+      im.height = radiance.height;
+      im.pixels.resize(size_t(im.width) * im.height * 3);
+      const double gain = 0.18 / (mean * times[1]) * times[k];
+      for (int y = 0; y < im.height; ++y)
+        for (int x = 0; x < im.width; ++x)
+          for (int c = 0; c < 3; ++c)
+            im.pixels[(size_t(y) * im.width + x) * 3 + c] = (unsigned char)std::lround(
+                255.0 * linearToSrgb(float(std::clamp(double(radiance.at(x, y)[c]) * gain, 0.0, 1.0))));
+      recon::PhotoInfo exif;
+      exif.exposureTime = times[k];
+      exif.fNumber = 8;
+      exif.iso = 100;
+      exif.focalMm = 24;
+      exif.make = "Relume";
+      exif.model = "Test";
+      writeImage8((in + QString("/a%1.tif").arg(k)).toStdString(), im, recon::exifMetadata(exif));
+    }
+    QVERIFY(QFile::copy(QString::fromStdString(room + "view0.png"), in + "/view0.png"));
+    {  // a JPEG with its EXIF (OpenImageIO's TIFF writer keeps no ISO)
+      recon::PhotoInfo exif;
+      exif.fNumber = 5.6;
+      exif.iso = 400;
+      exif.focal35mm = 28;
+      exif.make = "Relume";
+      exif.model = "Test";
+      writeImage8((in + "/view1.jpg").toStdString(), readImage8(room + "view1.png"), recon::exifMetadata(exif));
+    }
+    const glm::dvec3 board(4 * 0.025, 2.5 * 0.025, 0);
+    const glm::dvec3 eyes[] = {{0.0, -0.1, -0.45}, {0.25, 0.1, -0.4}, {-0.1, 0.25, -0.42}, {0.3, -0.15, -0.5}};
+    for (int k = 0; k < 4; ++k)
+      writeImage8((in + QString("/board%1.png").arg(k)).toStdString(),
+                  test::renderCheckerboard(Camera::lookAt(board + eyes[k], board, 640, 480, 600), -0.12, 9, 6, 0.025));
+    {
+      QFile bad(in + "/broken.jpg");
+      QVERIFY(bad.open(QIODevice::WriteOnly));
+      bad.write("this is not a photo");
+      QFile png(in + "/view0.png"), cut(in + "/truncated.png");
+      QVERIFY(png.open(QIODevice::ReadOnly) && cut.open(QIODevice::WriteOnly));
+      cut.write(png.read(200));
+    }
+    panel->setCaptureFolder(capture);
+    // The import (a job) and the thumbnails and histograms (a thread pool) run off the UI thread:
+    // the event loop answers all through.
+    qint64 gap = 0;
+    {
+      QElapsedTimer wall, tick;
+      QTimer probe;
+      QObject::connect(&probe, &QTimer::timeout, [&] { gap = std::max(gap, tick.restart()); });
+      wall.start();
+      tick.start();
+      probe.start(10);
+      QVERIFY(panel->importFolder(in));
+      QVERIFY2(waitForJob(120000), "the import did not finish");
+      while (panel->thumbnailsPending() > 0 && wall.elapsed() < 60000) QTest::qWait(10);
+    }
+    QCOMPARE(panel->thumbnailsPending(), 0);
+    const auto& entries = panel->entries();
+    QCOMPARE(int(entries.size()), 11);
+    int bad = 0, bracket = -1;
+    for (const auto& e : entries) {
+      const QString name = QFileInfo(e.path).fileName();
+      if (name == "broken.jpg" || name == "truncated.png") {
+        ++bad;
+        QVERIFY2(e.problem.contains(name), qPrintable(e.problem));
+        continue;
+      }
+      QVERIFY2(e.problem.isEmpty(), qPrintable(name + ": " + e.problem));
+      QVERIFY2(QFileInfo(e.path).absolutePath() == QDir(capture + "/originals").absolutePath(), qPrintable(e.path));
+      QVERIFY(!e.thumbnail.isNull());
+      if (name.startsWith("a")) {
+        QCOMPARE(e.members, 3);
+        QVERIFY(bracket < 0 || e.bracket == bracket);
+        bracket = e.bracket;
+        QCOMPARE(e.info.fNumber, 8.0);
+        QCOMPARE(e.info.exposureTime > 0, true);
+      } else {
+        if (name == "view1.jpg") {
+          QCOMPARE(e.info.iso, 400.0);
+          QVERIFY(std::abs(e.info.fNumber - 5.6) < 1e-3);
+          QCOMPARE(e.info.focal35mm, 28.0);
+        }
+        QVERIFY(e.members <= 1);
+      }
+    }
+    QCOMPARE(bad, 2);
+    qInfo("photos: %zu listed, %d unreadable with a reason; longest event-loop gap while thumbnails loaded %lld ms",
+          entries.size(), bad, gap);
+    QVERIFY(gap < 100);
+    // The selected photo's histogram: three channels over every thumbnail pixel.
+    auto* list = panel->list();
+    for (int r = 0; r < list->topLevelItemCount(); ++r)
+      if (list->topLevelItem(r)->text(0) == "a1.tif") list->setCurrentItem(list->topLevelItem(r));
+    QTest::qWait(50);
+    auto* histogram = static_cast<QChartView*>(panel->histogramChart())->chart();
+    QCOMPARE(histogram->series().size(), 3);
+    saveShot(panel, "photos_panel");
+
+    // The bracket merged: a radiance image beside its middle exposure, and the recovered response.
+    QVERIFY(panel->mergeBrackets());
+    QVERIFY2(waitForJob(120000), "the merge did not finish");
+    QVERIFY(QFile::exists(capture + "/photos/a1.tif"));
+    QVERIFY(QFile::exists(capture + "/photos/a1.exr"));
+    QVERIFY(!QFile::exists(capture + "/photos/view0.exr"));
+    const ImageRGB merged = readImageLinear((capture + "/photos/a1.exr").toStdString());
+    QCOMPARE(merged.width, radiance.width);
+    // Relative radiance: its ratios between a dark and a bright region are the scene's.
+    auto regionMean = [](const ImageRGB& img, int x0, int y0) {
+      double m = 0;
+      for (int y = y0; y < y0 + 20; ++y)
+        for (int x = x0; x < x0 + 20; ++x) m += double(img.at(x, y).y);
+      return m / 400;
+    };
+    const double truthRatio = regionMean(radiance, 300, 60) / regionMean(radiance, 300, 420);
+    const double mergedRatio = regionMean(merged, 300, 60) / regionMean(merged, 300, 420);
+    qInfo("merged bracket: radiance ratio %.3f against the scene's %.3f", mergedRatio, truthRatio);
+    QVERIFY(std::abs(mergedRatio / truthRatio - 1) < 0.1);
+    auto* response = static_cast<QChartView*>(panel->responseChart())->chart();
+    QCOMPARE(response->series().size(), 3);
+    QVERIFY(static_cast<QLineSeries*>(response->series()[0])->count() > 200);
+    panel->findChild<QTabWidget*>()->setCurrentIndex(1);
+    QTest::qWait(50);
+    saveShot(panel, "photos_response");
+
+    // Calibration: too few photos is refused; the four checkerboards give the camera.
+    list->clearSelection();
+    QVERIFY(!panel->calibrateSelected());
+    QVERIFY(panel->calibrationLabel()->text().contains("3"));
+    for (int r = 0; r < list->topLevelItemCount(); ++r)
+      if (list->topLevelItem(r)->text(0).startsWith("board")) list->topLevelItem(r)->setSelected(true);
+    QVERIFY(panel->calibrateSelected());
+    QVERIFY2(waitForJob(120000), "the calibration did not finish");
+    QVERIFY(panel->intrinsics());
+    const auto& K = *panel->intrinsics();
+    qInfo("calibration from 4 boards: fx %.1f fy %.1f cx %.1f cy %.1f k1 %.3f, rms %.3f px", K.fx, K.fy, K.cx, K.cy, K.k1, K.rms);
+    QVERIFY(std::abs(K.fx - 600) < 10 && std::abs(K.cy - 240) < 6);
+    QVERIFY(K.rms < 0.5);
+    QVERIFY(QFile::exists(capture + "/intrinsics.json"));
+    QVERIFY(panel->calibrationLabel()->text().contains("Reprojection error"));
+    panel->findChild<QTabWidget*>()->setCurrentIndex(2);
+    QTest::qWait(50);
+    saveShot(panel, "photos_calibration");
+    saveShot(window_.get(), "main_window_photos");
+    panel->findChild<QTabWidget*>()->setCurrentIndex(0);
+    dock->hide();
   }
 
   // The inspector: the engine's elements in 3-D. A floor element picked by a click lists exactly

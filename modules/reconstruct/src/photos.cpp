@@ -234,6 +234,7 @@ ImageMetadata exifMetadata(const PhotoInfo& exif) {
   ImageMetadata m;
   if (exif.exposureTime > 0) m.floats.emplace_back("ExposureTime", float(exif.exposureTime));
   if (exif.fNumber > 0) m.floats.emplace_back("FNumber", float(exif.fNumber));
+  if (exif.iso > 0) m.ints.emplace_back("Exif:PhotographicSensitivity", int(exif.iso));
   if (exif.focalMm > 0) m.floats.emplace_back("Exif:FocalLength", float(exif.focalMm));
   if (exif.focal35mm > 0) m.ints.emplace_back("Exif:FocalLengthIn35mmFilm", int(exif.focal35mm));
   if (exif.hasExposureBias) m.floats.emplace_back("Exif:ExposureBiasValue", float(exif.exposureBias));
@@ -243,33 +244,46 @@ ImageMetadata exifMetadata(const PhotoInfo& exif) {
 }
 
 std::vector<std::vector<PhotoInfo>> mergeBracketFolder(const std::string& folder, const std::string& outFolder,
-                                                       Progress& progress) {
+                                                       Progress& progress, std::vector<MergedBracket>* merged) {
   std::vector<PhotoInfo> infos;
   for (const auto& f : listPhotos(folder))
     if (!isRadianceFile(f)) infos.push_back(readPhotoInfo(f));
   if (infos.empty()) throw Error(folder, "", "holds no 8-bit photos");
   const auto groups = groupBrackets(infos);
+  mergeBracketGroups(groups, outFolder, progress, merged);
+  return groups;
+}
+
+void mergeBracketGroups(const std::vector<std::vector<PhotoInfo>>& groups, const std::string& outFolder, Progress& progress,
+                        std::vector<MergedBracket>* merged) {
   std::error_code ec;
   fs::create_directories(outFolder, ec);
   if (ec) throw Error(outFolder, "", "cannot create the folder: " + ec.message());
   for (size_t g = 0; g < groups.size(); ++g) {
     Progress sub(progress, double(g) / groups.size(), double(g + 1) / groups.size());
     auto group = groups[g];
+    if (group.empty()) continue;
     std::sort(group.begin(), group.end(), [](const PhotoInfo& a, const PhotoInfo& b) {
       const auto t = [](const PhotoInfo& p) { return p.exposureTime > 0 ? p.exposureTime : exposureFromEv(p.exposureBias); };
       return t(a) < t(b);
     });
     const PhotoInfo& middle = group[group.size() / 2];
     const fs::path dst = fs::path(outFolder) / fs::path(middle.path).filename();
-    fs::copy_file(middle.path, dst, fs::copy_options::overwrite_existing, ec);
+    if (fs::absolute(middle.path) != fs::absolute(dst)) fs::copy_file(middle.path, dst, fs::copy_options::overwrite_existing, ec);
     if (ec) throw Error(dst.string(), "", "cannot copy the photo: " + ec.message());
-    if (group.size() < 2) continue;
-    std::vector<std::string> files;
-    for (const auto& p : group) files.push_back(p.path);
-    const HdrResult r = mergeBracket(files, {}, sub);
-    writeImage((fs::path(outFolder) / (fs::path(middle.path).stem().string() + ".exr")).string(), r.radiance);
+    MergedBracket m;
+    m.photo = dst.string();
+    if (group.size() >= 2) {
+      std::vector<std::string> files;
+      for (const auto& p : group) files.push_back(p.path);
+      HdrResult r = mergeBracket(files, {}, sub);
+      m.hdr = (fs::path(outFolder) / (fs::path(middle.path).stem().string() + ".exr")).string();
+      writeImage(m.hdr, r.radiance);
+      for (int c = 0; c < 3; ++c) m.response[c] = std::move(r.response[c]);
+      m.times = r.times;
+    }
+    if (merged) merged->push_back(std::move(m));
   }
-  return groups;
 }
 
 Intrinsics calibrateCheckerboard(const std::vector<std::string>& files, int cols, int rows, double square,

@@ -77,7 +77,17 @@ ImageMetadata exifMetadata(const PhotoInfo& exif);
 // A folder of bracketed photos to a folder of one photo per viewpoint: each bracket (see
 // groupBrackets) is merged into NAME.exr beside a copy of its middle exposure NAME.ext (what
 // COLMAP and the textures' 8-bit fallback use); single photos are copied. Returns the groups.
+// What merging one bracket gave: the photo kept for the viewpoint, its radiance image (empty for
+// a single photo), and the recovered response and exposure times.
+struct MergedBracket {
+  std::string photo, hdr;
+  std::vector<float> response[3];
+  std::vector<double> times;
+};
 std::vector<std::vector<PhotoInfo>> mergeBracketFolder(const std::string& folder, const std::string& outFolder,
-                                                       Progress& progress);
+                                                       Progress& progress, std::vector<MergedBracket>* merged = nullptr);
+// The same for photos already read and grouped (groupBrackets), wherever they are.
+void mergeBracketGroups(const std::vector<std::vector<PhotoInfo>>& groups, const std::string& outFolder, Progress& progress,
+                        std::vector<MergedBracket>* merged = nullptr);
 
 }  // namespace relume::recon
