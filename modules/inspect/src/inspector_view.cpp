@@ -1,15 +1,11 @@
-// VTK hosted in a Qt6 QOpenGLWidget (Debian's VTK Qt support is built for Qt5): a
-// vtkGenericOpenGLRenderWindow that uses the widget's context and renders into its framebuffer.
+// The inspector's view: elements, their values, a picked element and its links (VTK).
 #include "relume/inspect/inspector_view.h"
 
 #include <vtkActor.h>
-#include <vtkCamera.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCellPicker.h>
-#include <vtkCoordinate.h>
 #include <vtkDoubleArray.h>
-#include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkLookupTable.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -23,9 +19,6 @@
 #include <vtkTextProperty.h>
 #include <vtkVariant.h>
 
-#include <QElapsedTimer>
-#include <QMouseEvent>
-#include <QWheelEvent>
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
@@ -39,8 +32,6 @@ template <class T>
 using Ptr = vtkSmartPointer<T>;
 
 struct InspectorView::Vtk {
-  Ptr<vtkGenericOpenGLRenderWindow> window = Ptr<vtkGenericOpenGLRenderWindow>::New();
-  Ptr<vtkRenderer> renderer = Ptr<vtkRenderer>::New();
   Ptr<vtkPolyData> elements = Ptr<vtkPolyData>::New();
   Ptr<vtkPolyDataMapper> elementMapper = Ptr<vtkPolyDataMapper>::New();
   Ptr<vtkActor> elementActor = Ptr<vtkActor>::New();
@@ -55,16 +46,10 @@ struct InspectorView::Vtk {
   Ptr<vtkCellPicker> picker = Ptr<vtkCellPicker>::New();
   Ptr<vtkStaticCellLocator> locator;  // picks in a few microseconds instead of testing every cell
   std::vector<std::vector<glm::dvec3>> outlines;
-  bool initialized = false;
 };
 
-InspectorView::InspectorView(QWidget* parent) : QOpenGLWidget(parent), vtk_(std::make_unique<Vtk>()) {
+InspectorView::InspectorView(QWidget* parent) : VtkView(parent), vtk_(std::make_unique<Vtk>()) {
   auto& v = *vtk_;
-  v.window->AddRenderer(v.renderer);
-  v.window->SetMultiSamples(0);
-  v.renderer->SetBackground(0.16, 0.17, 0.19);
-  v.renderer->SetBackground2(0.30, 0.32, 0.36);
-  v.renderer->GradientBackgroundOn();
   v.elementMapper->SetInputData(v.elements);
   v.elementMapper->SetScalarModeToUseCellData();
   v.elementMapper->SetLookupTable(v.lut);
@@ -78,7 +63,7 @@ InspectorView::InspectorView(QWidget* parent) : QOpenGLWidget(parent), vtk_(std:
   // Elements face into the room: from outside, the near walls turn their backs and are culled
   // (the room opens like a doll's house).
   v.elementActor->GetProperty()->BackfaceCullingOn();
-  v.renderer->AddActor(v.elementActor);
+  renderer()->AddActor(v.elementActor);
 
   auto* selMapper = vtkPolyDataMapper::New();
   selMapper->SetInputData(v.selection);
@@ -88,7 +73,7 @@ InspectorView::InspectorView(QWidget* parent) : QOpenGLWidget(parent), vtk_(std:
   v.selectionActor->GetProperty()->SetLineWidth(4.0);
   v.selectionActor->GetProperty()->LightingOff();
   v.selectionActor->PickableOff();
-  v.renderer->AddActor(v.selectionActor);
+  renderer()->AddActor(v.selectionActor);
 
   v.linkMapper->SetInputData(v.links);
   v.linkMapper->SetScalarModeToUseCellData();
@@ -100,7 +85,7 @@ InspectorView::InspectorView(QWidget* parent) : QOpenGLWidget(parent), vtk_(std:
   v.linkLut->SetHueRange(0.66, 0.0);  // weak links blue, strong red
   v.linkLut->SetScaleToLog10();
   v.linkLut->Build();
-  v.renderer->AddActor(v.linkActor);
+  renderer()->AddActor(v.linkActor);
 
   v.bar->SetLookupTable(v.lut);
   v.bar->SetNumberOfLabels(5);
@@ -110,7 +95,7 @@ InspectorView::InspectorView(QWidget* parent) : QOpenGLWidget(parent), vtk_(std:
   v.bar->SetHeight(0.8);
   v.bar->GetTitleTextProperty()->SetFontSize(12);
   v.bar->GetLabelTextProperty()->SetFontSize(11);
-  v.renderer->AddViewProp(v.bar);
+  renderer()->AddViewProp(v.bar);
 
   v.picker->SetTolerance(0.0);
   v.picker->PickFromListOn();
@@ -119,38 +104,7 @@ InspectorView::InspectorView(QWidget* parent) : QOpenGLWidget(parent), vtk_(std:
   setMouseTracking(false);
 }
 
-InspectorView::~InspectorView() {
-  makeCurrent();
-  vtk_->window->Finalize();
-  doneCurrent();
-}
-
-void InspectorView::initializeGL() {
-  auto& w = *vtk_->window;
-  w.SetOwnContext(false);
-  w.OpenGLInitContext();
-  vtk_->initialized = true;
-}
-
-void InspectorView::resizeGL(int w, int h) {
-  const double r = devicePixelRatioF();
-  vtk_->window->SetSize(int(w * r), int(h * r));
-}
-
-void InspectorView::paintGL() {
-  QElapsedTimer t;
-  t.start();
-  auto& w = *vtk_->window;
-  const double r = devicePixelRatioF();
-  w.SetSize(int(width() * r), int(height() * r));
-  w.SetIsCurrent(true);
-  w.SetReadyForRendering(true);
-  w.SetFrameBlitModeToBlitToCurrent();
-  w.Render();
-  w.SetReadyForRendering(false);
-  lastFrameMs_ = double(t.nsecsElapsed()) * 1e-6;
-  emit frameDrawn(lastFrameMs_);
-}
+InspectorView::~InspectorView() = default;
 
 void InspectorView::setElements(const ElementMesh& mesh) {
   auto& v = *vtk_;
@@ -284,105 +238,26 @@ void InspectorView::setLinks(const std::vector<std::pair<glm::dvec3, glm::dvec3>
 }
 
 void InspectorView::resetCamera() {
-  auto& v = *vtk_;
   double b[6];
-  v.elements->GetBounds(b);
-  auto* cam = v.renderer->GetActiveCamera();
-  const glm::dvec3 centre(0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]));
-  const double size = std::max({b[1] - b[0], b[3] - b[2], b[5] - b[4], 1e-3});
-  cam->SetFocalPoint(centre.x, centre.y, centre.z);
-  // A view from a high corner, +z up: the room opened like a doll's house.
-  cam->SetPosition(centre.x - 0.9 * size, centre.y - 1.3 * size, centre.z + 1.1 * size);
-  cam->SetViewUp(0, 0, 1);
-  v.renderer->ResetCameraClippingRange();
+  vtk_->elements->GetBounds(b);
+  fitCamera({b[0], b[2], b[4]}, {b[1], b[3], b[5]});
   fitted_ = true;
-  update();
 }
 
 int InspectorView::elementAt(QPointF pos) {
   auto& v = *vtk_;
   if (v.outlines.empty()) return -1;
+  syncSize();
   const double r = devicePixelRatioF();
-  int size[2] = {int(width() * r), int(height() * r)};
-  v.window->SetSize(size);
-  v.renderer->ResetCameraClippingRange();
-  if (!v.picker->Pick(pos.x() * r, (height() - pos.y()) * r, 0.0, v.renderer)) return -1;
+  if (!v.picker->Pick(pos.x() * r, (height() - pos.y()) * r, 0.0, renderer())) return -1;
   const vtkIdType cell = v.picker->GetCellId();
   return cell >= 0 && size_t(cell) < v.outlines.size() ? int(cell) : -1;
 }
 
-bool InspectorView::widgetPosition(const glm::dvec3& world, QPointF& pos) {
-  auto& v = *vtk_;
-  const double r = devicePixelRatioF();
-  v.window->SetSize(int(width() * r), int(height() * r));
-  auto c = Ptr<vtkCoordinate>::New();
-  c->SetCoordinateSystemToWorld();
-  c->SetValue(world.x, world.y, world.z);
-  const double* d = c->GetComputedDoubleDisplayValue(v.renderer);
-  pos = QPointF(d[0] / r, height() - d[1] / r);
-  return pos.x() >= 0 && pos.y() >= 0 && pos.x() < width() && pos.y() < height();
-}
-
-void InspectorView::mousePressEvent(QMouseEvent* e) {
-  pressPos_ = lastPos_ = e->position();
-  dragged_ = false;
-}
-
-void InspectorView::mouseMoveEvent(QMouseEvent* e) {
-  const QPointF d = e->position() - lastPos_;
-  lastPos_ = e->position();
-  if ((e->position() - pressPos_).manhattanLength() > 3) dragged_ = true;
-  if (!dragged_) return;
-  auto* cam = vtk_->renderer->GetActiveCamera();
-  if (e->buttons() & Qt::LeftButton) {
-    orbit(-0.4 * d.x(), 0.4 * d.y());
-    return;
-  } else if (e->buttons() & (Qt::RightButton | Qt::MiddleButton)) {
-    double fp[3], pos[3], up[3];
-    cam->GetFocalPoint(fp);
-    cam->GetPosition(pos);
-    cam->GetViewUp(up);
-    const glm::dvec3 f(fp[0], fp[1], fp[2]), p(pos[0], pos[1], pos[2]), u(up[0], up[1], up[2]);
-    const glm::dvec3 dir = glm::normalize(f - p), right = glm::normalize(glm::cross(dir, u)), upv = glm::cross(right, dir);
-    const double scale = 2.0 * glm::length(f - p) * std::tan(cam->GetViewAngle() * std::numbers::pi / 360.0) / std::max(height(), 1);
-    const glm::dvec3 shift = (-d.x() * right + d.y() * upv) * scale;
-    cam->SetFocalPoint(f.x + shift.x, f.y + shift.y, f.z + shift.z);
-    cam->SetPosition(p.x + shift.x, p.y + shift.y, p.z + shift.z);
-  }
-  vtk_->renderer->ResetCameraClippingRange();
-  update();
-}
-
-void InspectorView::orbit(double azimuthDegrees, double elevationDegrees) {
-  auto* cam = vtk_->renderer->GetActiveCamera();
-  cam->Azimuth(azimuthDegrees);
-  // Not over the poles: the elevation stops 5 degrees short of straight up or down.
-  double fp[3], pos[3];
-  cam->GetFocalPoint(fp);
-  cam->GetPosition(pos);
-  const glm::dvec3 d = glm::normalize(glm::dvec3(pos[0] - fp[0], pos[1] - fp[1], pos[2] - fp[2]));
-  const double now = std::asin(std::clamp(d.z, -1.0, 1.0)) * 180.0 / std::numbers::pi;
-  cam->Elevation(std::clamp(now + elevationDegrees, -85.0, 85.0) - now);
-  cam->SetViewUp(0, 0, 1);
-  cam->OrthogonalizeViewUp();
-  vtk_->renderer->ResetCameraClippingRange();
-  update();
-}
-
-void InspectorView::mouseReleaseEvent(QMouseEvent* e) {
-  if (!dragged_ && e->button() == Qt::LeftButton) {
-    const int element = elementAt(e->position());
-    setSelected(element);
-    emit elementPicked(element);
-  }
-  dragged_ = false;
-}
-
-void InspectorView::wheelEvent(QWheelEvent* e) {
-  auto* cam = vtk_->renderer->GetActiveCamera();
-  cam->Dolly(std::pow(1.1, e->angleDelta().y() / 120.0));
-  vtk_->renderer->ResetCameraClippingRange();
-  update();
+void InspectorView::clicked(QPointF pos) {
+  const int element = elementAt(pos);
+  setSelected(element);
+  emit elementPicked(element);
 }
 
 }  // namespace relume::inspect

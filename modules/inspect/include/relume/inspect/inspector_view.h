@@ -1,10 +1,7 @@
 #pragma once
 // The inspector's 3-D view: the engine's leaf elements as polygons coloured by one value each
 // (with a colour bar), a picked element outlined, and its links drawn as lines coloured by F x V.
-// VTK renders into this Qt6 QOpenGLWidget (a vtkGenericOpenGLRenderWindow on the widget's
-// context); the mouse orbits (left), pans (right or middle), zooms (wheel), and a click without a
-// drag picks an element.
-#include <QOpenGLWidget>
+// A click without a drag picks an element (the rest of the mouse: VtkView).
 #include <QPointF>
 #include <QString>
 #include <glm/vec3.hpp>
@@ -12,11 +9,13 @@
 #include <utility>
 #include <vector>
 
+#include "relume/inspect/vtk_view.h"
+
 namespace relume::inspect {
 
 struct ElementMesh;
 
-class InspectorView : public QOpenGLWidget {
+class InspectorView : public VtkView {
   Q_OBJECT
  public:
   explicit InspectorView(QWidget* parent = nullptr);
@@ -36,35 +35,21 @@ class InspectorView : public QOpenGLWidget {
   // log scale from the smallest to the largest.
   void setLinks(const std::vector<std::pair<glm::dvec3, glm::dvec3>>& segments, const std::vector<double>& weights);
   void resetCamera();
-  // Turns the camera about its focal point (degrees; +z stays up), as a left drag does.
-  void orbit(double azimuthDegrees, double elevationDegrees);
 
-  // The element under a widget position (-1: none), and where a world point shows in the widget.
+  // The element under a widget position (-1: none).
   int elementAt(QPointF pos);
-  bool widgetPosition(const glm::dvec3& world, QPointF& pos);
-  double lastFrameMilliseconds() const { return lastFrameMs_; }
 
  signals:
   void elementPicked(int element);
-  void frameDrawn(double milliseconds);
 
  protected:
-  void initializeGL() override;
-  void paintGL() override;
-  void resizeGL(int w, int h) override;
-  void mousePressEvent(QMouseEvent* e) override;
-  void mouseMoveEvent(QMouseEvent* e) override;
-  void mouseReleaseEvent(QMouseEvent* e) override;
-  void wheelEvent(QWheelEvent* e) override;
+  void clicked(QPointF pos) override;
 
  private:
   struct Vtk;
   std::unique_ptr<Vtk> vtk_;
   int selected_ = -1;
   bool fitted_ = false;
-  QPointF pressPos_, lastPos_;
-  bool dragged_ = false;
-  double lastFrameMs_ = 0;
 };
 
 }  // namespace relume::inspect
