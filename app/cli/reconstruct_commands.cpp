@@ -76,12 +76,6 @@ Workspace openWorkspace(const QString& path, const QString& photosOption) {
   return w;
 }
 
-glm::dvec3 meanCentre(const ColmapModel& m) {
-  glm::dvec3 c(0.0);
-  for (const auto& [id, im] : m.images) c += im.center() / double(m.images.size());
-  return c;
-}
-
 const ColmapPoint& pointById(const ColmapModel& m, const QString& id, const std::string& option) {
   bool ok = false;
   const qint64 v = id.trimmed().toLongLong(&ok);
@@ -155,26 +149,13 @@ int reconstructCommand(const QStringList& args, Progress& progress) {
     for (const auto& s : run.leftOut) l += " " + s;
     std::fprintf(stderr, "warning: COLMAP could not register%s\n", l.c_str());
   }
-  QJsonArray reg, left;
-  for (const auto& s : run.registered) reg.append(QString::fromStdString(s));
-  for (const auto& s : run.leftOut) left.append(QString::fromStdString(s));
-  QJsonObject info{{"photos", QString::fromStdString(photos)},
-                   {"registered", reg},
-                   {"left_out", left},
-                   {"points", qint64(run.model.points.size())},
-                   {"metric", false},
-                   {"seconds", QJsonObject{{"features", run.secondsFeatures},
-                                           {"matching", run.secondsMatching},
-                                           {"mapping", run.secondsMapping}}}};
-  const QString infoPath = QDir(QString::fromStdString(ws)).filePath("workspace.json");
-  writeJsonAtomically(infoPath, info);  // first: a bad --scale below leaves a usable workspace
+  writeWorkspaceInfo(ws, photos, run, false);  // first: a bad --scale below leaves a usable workspace
   if (p.isSet("scale")) {
     const Similarity S = metricFromOptions(
-        p, [&](const QString& id, const std::string& o) { return pointById(run.model, id, o).xyz; }, meanCentre(run.model));
+        p, [&](const QString& id, const std::string& o) { return pointById(run.model, id, o).xyz; }, meanCameraCentre(run.model));
     transformModel(run.model, S);
     writeColmapText(run.model, run.modelFolder);
-    info["metric"] = true;
-    writeJsonAtomically(infoPath, info);
+    writeWorkspaceInfo(ws, photos, run, true);
   }
   std::fprintf(stderr, "reconstructed: %zu of %zu photos registered, %zu points -> %s\n", run.registered.size(),
                run.registered.size() + run.leftOut.size(), run.model.points.size(), run.modelFolder.c_str());
@@ -201,7 +182,7 @@ int alignCommand(const QStringList& args, Progress& progress) {
   ColmapModel model = readColmapModel(w.modelFolder);
   if (p.isSet("scale")) {
     const Similarity S = metricFromOptions(
-        p, [&](const QString& id, const std::string& o) { return pointById(model, id, o).xyz; }, meanCentre(model));
+        p, [&](const QString& id, const std::string& o) { return pointById(model, id, o).xyz; }, meanCameraCentre(model));
     transformModel(model, S);
     std::printf("metric frame: scale %.6g\n", S.s);
     if (p.isSet("output")) writeColmapText(model, str(p.value("output")));
@@ -385,7 +366,7 @@ int triangulateCommand(const QStringList& args, Progress& progress) {
             throw Error(str(p.value("clicks")), o, "'" + str(n) + "' is not a point clicked in two or more photos");
           return triangulateClickedPoint(clicks, it->first, model).X;
         },
-        meanCentre(model));
+        meanCameraCentre(model));
     transformModel(model, S);
   }
   progress.report(0.3, "triangulating " + std::to_string(clicks.points.size()) + " points");

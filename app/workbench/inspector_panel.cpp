@@ -107,6 +107,12 @@ InspectorPanel::InspectorPanel(Document* doc, JobRunner* jobs, QWidget* parent)
     emit pickedChanged();
   });
   auto reset = [this] {
+    // The elements of the old session go at once: nothing may read the new engine through them.
+    *all_ = {};
+    *shown_ = {};
+    shownIndex_.clear();
+    view_->setElements(*shown_);
+    links_->setRowCount(0);
     other_.reset();
     {
       const QSignalBlocker block(mesh_);
@@ -231,6 +237,9 @@ void InspectorPanel::pickNode(int node) {
 
 void InspectorPanel::pickAt(int surface, const glm::dvec3& point) {
   if (!session() || surface < 0 || size_t(surface) >= session()->engine().surfaces().size()) return;
+  // The other mesh's session numbers virtual lamps and objects its own way: only the room's
+  // polygons are the same surfaces in both.
+  if (session() != doc_->session() && size_t(surface) >= session()->realPolygonCount()) return;
   const auto& h = session()->engine();
   if (geometryStale_) refresh();
   pickNode(h.findLeaf(surface, h.toUV(surface, point)));

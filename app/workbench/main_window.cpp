@@ -38,6 +38,7 @@
 #include "objects_panel.h"
 #include "inspector_panel.h"
 #include "photos_panel.h"
+#include "reconstruction_panel.h"
 #include "references_panel.h"
 #include "relume/viewport/viewport_widget.h"
 
@@ -94,6 +95,14 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   addDockWidget(Qt::LeftDockWidgetArea, photosDock);
   photosDock->hide();
   connect(photos_, &PhotosPanel::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
+  reconstruction_ = new ReconstructionPanel(jobs_, photos_, this);
+  auto* reconstructionDock = new QDockWidget(tr("Reconstruction"), this);
+  reconstructionDock->setObjectName("ReconstructionDock");
+  reconstructionDock->setWidget(reconstruction_);
+  addDockWidget(Qt::LeftDockWidgetArea, reconstructionDock);
+  tabifyDockWidget(photosDock, reconstructionDock);
+  reconstructionDock->hide();
+  connect(reconstruction_, &ReconstructionPanel::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
   // The inspector, below the viewport (hidden until asked for: View > Inspector).
   inspector_ = new InspectorPanel(doc_, jobs_, this);
   inspectorDock_ = new QDockWidget(tr("Inspector"), this);
@@ -219,7 +228,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
 // While a job runs, nothing edits the document (its result replaces or saves what it was given).
 void MainWindow::setEditing(bool on) {
   for (QWidget* w : {static_cast<QWidget*>(lights_), static_cast<QWidget*>(objects_), static_cast<QWidget*>(references_),
-                     static_cast<QWidget*>(photos_)})
+                     static_cast<QWidget*>(photos_), static_cast<QWidget*>(reconstruction_)})
     w->setEnabled(on);
   tool_->setEnabled(on);
   if (!on) tool_->setMode(EditTool::Mode::Select);

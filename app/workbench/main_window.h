@@ -20,6 +20,7 @@ class ObjectsPanel;
 class ReferencesPanel;
 class InspectorPanel;
 class PhotosPanel;
+class ReconstructionPanel;
 class EditTool;
 class ViewportWidget;
 
@@ -45,6 +46,7 @@ class MainWindow : public QMainWindow {
   ReferencesPanel* referencesPanel() const { return references_; }
   InspectorPanel* inspectorPanel() const { return inspector_; }
   PhotosPanel* photosPanel() const { return photos_; }
+  ReconstructionPanel* reconstructionPanel() const { return reconstruction_; }
   QDockWidget* inspectorDock() const { return inspectorDock_; }
   EditTool* editTool() const { return tool_; }
   QString lastError() const { return lastError_; }
@@ -91,6 +93,7 @@ class MainWindow : public QMainWindow {
   QDockWidget* referencesDock_ = nullptr;
   InspectorPanel* inspector_ = nullptr;
   PhotosPanel* photos_ = nullptr;
+  ReconstructionPanel* reconstruction_ = nullptr;
   QDockWidget* inspectorDock_ = nullptr;
   EditTool* tool_;
   QString selected_;

@@ -19,6 +19,7 @@
 #include <QSplitter>
 #include <QStandardPaths>
 #include <QTabWidget>
+#include <QThread>
 #include <QThreadPool>
 #include <QTreeWidget>
 #include <QVBoxLayout>
@@ -71,11 +72,28 @@ QImage thumbnailOf(const QString& path) {
   QImage img = reader.read();
   if (img.isNull()) {  // a format Qt has no plugin for here (TIFF): OpenImageIO reads it
     const Image8 im = readImage8(path.toStdString());
-    QImage full(im.pixels.data(), im.width, im.height, im.width * 3, QImage::Format_RGB888);
-    img = full.scaled(QSize(im.width, im.height).scaled(kPreview, kPreview, Qt::KeepAspectRatio), Qt::IgnoreAspectRatio,
-                      Qt::SmoothTransformation);  // a deep copy: `im` goes away
+    const QImage full(im.pixels.data(), im.width, im.height, im.width * 3, QImage::Format_RGB888);
+    img = full.copy().scaled(QSize(im.width, im.height).scaled(kPreview, kPreview, Qt::KeepAspectRatio), Qt::IgnoreAspectRatio,
+                             Qt::SmoothTransformation);  // copied first: `im` goes away
   }
   return img.convertToFormat(QImage::Format_RGB888);
+}
+
+// Where a photo goes in the capture: its own name, unless another photo of that name (other
+// bytes) is there already; then NAME_2, NAME_3...
+QString captureName(const QString& folder, const QString& src) {
+  const QFileInfo in(src);
+  auto same = [&](const QString& a) {
+    QFile x(a), y(src);
+    if (x.size() != y.size() || !x.open(QIODevice::ReadOnly) || !y.open(QIODevice::ReadOnly)) return false;
+    while (!x.atEnd())
+      if (x.read(1 << 20) != y.read(1 << 20)) return false;
+    return true;
+  };
+  QString dst = folder + "/" + in.fileName();
+  for (int k = 2; QFile::exists(dst) && QFileInfo(dst).absoluteFilePath() != in.absoluteFilePath() && !same(dst); ++k)
+    dst = folder + "/" + in.completeBaseName() + "_" + QString::number(k) + (in.suffix().isEmpty() ? "" : "." + in.suffix());
+  return dst;
 }
 
 QChartView* newChartView(QWidget* parent, const QString& title) {
@@ -105,7 +123,8 @@ QString exposureText(double t) {
 
 }  // namespace
 
-PhotosPanel::PhotosPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jobs) {
+PhotosPanel::PhotosPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jobs), pool_(new QThreadPool(this)) {
+  pool_->setMaxThreadCount(std::max(1, QThread::idealThreadCount()));
   auto* layout = new QVBoxLayout(this);
   auto* row = new QHBoxLayout;
   importFolder_ = new QPushButton(tr("Import folder..."), this);
@@ -189,7 +208,11 @@ PhotosPanel::PhotosPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jo
   merge_->setEnabled(false);
 }
 
-PhotosPanel::~PhotosPanel() { ++generation_; }
+PhotosPanel::~PhotosPanel() {
+  ++generation_;
+  pool_->clear();        // thumbnails not started yet are dropped
+  pool_->waitForDone();  // those running end before the panel does
+}
 
 void PhotosPanel::setCaptureFolder(const QString& folder) { capture_ = QFileInfo(folder).absoluteFilePath(); }
 
@@ -203,7 +226,12 @@ QString PhotosPanel::ensureCapture() {
 
 bool PhotosPanel::importFolder(const QString& folder) {
   QStringList files;
-  for (const auto& f : recon::listPhotos(folder.toStdString())) files << QString::fromStdString(f);
+  try {
+    for (const auto& f : recon::listPhotos(folder.toStdString())) files << QString::fromStdString(f);
+  } catch (const std::exception& e) {
+    emit message(tr("Cannot read %1: %2").arg(folder, QString::fromStdString(e.what())));
+    return false;
+  }
   // Files of other kinds are not photos; but an unreadable photo (a .jpg that is not one) is
   // listed with its reason, as listPhotos keeps every photo extension.
   if (files.isEmpty()) {
@@ -226,20 +254,22 @@ bool PhotosPanel::importFiles(const QStringList& files) {
       e.path = files[i];
       try {
         e.info = recon::readPhotoInfo(files[i].toStdString());
-        const QString dst = originals + "/" + QFileInfo(files[i]).fileName();
+        const QString dst = captureName(originals, files[i]);
         if (QFileInfo(dst).absoluteFilePath() != QFileInfo(files[i]).absoluteFilePath()) {
-          QFile::remove(dst);
-          if (!QFile::copy(files[i], dst)) throw Error(dst.toStdString(), "", "cannot copy the photo into the capture");
+          // Copied beside it, then renamed over it: a failed copy leaves what was there.
+          const fs::path part = fs::path(dst.toStdString() + ".part");
+          fs::copy_file(files[i].toStdString(), part, fs::copy_options::overwrite_existing);
+          fs::rename(part, dst.toStdString());
         }
         e.path = dst;
         e.info.path = dst.toStdString();
-      } catch (const Error& err) {
+      } catch (const std::exception& err) {  // relume::Error, and the file system's and the readers' own
         e.problem = QString::fromStdString(err.what());
       }
       bool dup = false;
       for (auto& old : *all)
-        if (QFileInfo(old.path).fileName() == QFileInfo(e.path).fileName() && e.problem.isEmpty()) {
-          old = e;  // imported again: the new copy replaces it
+        if (e.problem.isEmpty() && QFileInfo(old.path).absoluteFilePath() == QFileInfo(e.path).absoluteFilePath()) {
+          old = e;  // the same photo imported again
           dup = true;
         }
       if (!dup) all->push_back(e);
@@ -336,7 +366,7 @@ void PhotosPanel::loadThumbnails() {
     if (!entries_[i].problem.isEmpty() || !entries_[i].thumbnail.isNull()) continue;
     ++pending_;
     const QString path = entries_[i].path;
-    QThreadPool::globalInstance()->start([self, gen, i, path] {
+    pool_->start([self, gen, i, path] {
       QImage thumb;
       try {
         thumb = thumbnailOf(path);
@@ -472,9 +502,12 @@ bool PhotosPanel::mergeBrackets() {
     auto merged = std::make_shared<std::vector<recon::MergedBracket>>();
     recon::mergeBracketGroups(groups, staging.toStdString(), progress, merged.get());
     QDir(out + ".previous").removeRecursively();
-    if (QDir(out).exists() && !QDir().rename(out, out + ".previous"))
-      throw Error(out.toStdString(), "", "cannot replace the merged photos");
-    if (!QDir().rename(staging, out)) throw Error(out.toStdString(), "", "cannot move the merged photos in place");
+    const bool had = QDir(out).exists();
+    if (had && !QDir().rename(out, out + ".previous")) throw Error(out.toStdString(), "", "cannot replace the merged photos");
+    if (!QDir().rename(staging, out)) {
+      if (had) QDir().rename(out + ".previous", out);  // the last merge stays
+      throw Error(out.toStdString(), "", "cannot move the merged photos in place");
+    }
     QDir(out + ".previous").removeRecursively();
     for (auto& m : *merged) {
       m.photo = (out + "/" + QFileInfo(QString::fromStdString(m.photo)).fileName()).toStdString();

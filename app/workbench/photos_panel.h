@@ -21,6 +21,7 @@ class QLabel;
 class QPushButton;
 class QSpinBox;
 class QTreeWidget;
+class QThreadPool;
 class QTreeWidgetItem;
 
 namespace relume {
@@ -89,6 +90,7 @@ class PhotosPanel : public QWidget {
   QPushButton *importFolder_, *importFiles_, *merge_, *calibrate_;
   QSpinBox *cols_, *rows_;
   QDoubleSpinBox* square_;
+  QThreadPool* pool_;  // thumbnails; waited for when the panel goes
   int pending_ = 0;
   unsigned generation_ = 0;  // thumbnails of an older list are dropped
 };

@@ -949,6 +949,20 @@ class WorkbenchTest : public QObject {
     saveShot(panel, "photos_calibration");
     saveShot(window_.get(), "main_window_photos");
     panel->findChild<QTabWidget*>()->setCurrentIndex(0);
+    // Another photo of the same name (other bytes) is kept beside the first, not over it.
+    {
+      const QString again = tmp_.path() + "/shoot2";
+      QVERIFY(QDir().mkpath(again));
+      QVERIFY(QFile::copy(QString::fromStdString(room + "view2.png"), again + "/view0.png"));
+      const size_t before = panel->entries().size();
+      QVERIFY(panel->importFolder(again));
+      QVERIFY2(waitForJob(120000), "the second import did not finish");
+      QCOMPARE(panel->entries().size(), before + 1);
+      QVERIFY(QFile::exists(capture + "/originals/view0.png") && QFile::exists(capture + "/originals/view0_2.png"));
+      QFile a(capture + "/originals/view0.png"), b(QString::fromStdString(room + "view0.png"));
+      QVERIFY(a.open(QIODevice::ReadOnly) && b.open(QIODevice::ReadOnly));
+      QVERIFY(a.readAll() == b.readAll());
+    }
     dock->hide();
   }
 
@@ -969,6 +983,15 @@ class WorkbenchTest : public QObject {
     const auto& h = doc()->session()->engine();
     QCOMPARE(panel->elements().node.size(), inspect::elementMesh(h).node.size());
     const int floor = doc()->scene().findPolygon("floor");
+    {  // With every polygon shown, a click on the floor picks the floor, not the culled ceiling above it.
+      panel->view()->resetCamera();
+      QTest::qWait(50);
+      const int floorNode = h.findLeaf(floor, h.toUV(floor, glm::dvec3(3.2, 2.3, 0.0)));
+      QPointF at;
+      QVERIFY(panel->view()->widgetPosition(inspect::nodeCentre(h, floorNode), at));
+      QTest::mouseClick(panel->view(), Qt::LeftButton, {}, at.toPoint());
+      QCOMPARE(panel->pickedNode(), floorNode);
+    }
     panel->polygonFilter()->setCurrentIndex(panel->polygonFilter()->findData(floor));
     QTest::qWait(50);
     for (int s : panel->elements().surface) QCOMPARE(s, floor);

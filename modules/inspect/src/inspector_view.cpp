@@ -4,7 +4,6 @@
 #include <vtkActor.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
-#include <vtkCellPicker.h>
 #include <vtkDoubleArray.h>
 #include <vtkLookupTable.h>
 #include <vtkPoints.h>
@@ -14,7 +13,6 @@
 #include <vtkRenderer.h>
 #include <vtkScalarBarActor.h>
 #include <vtkSmartPointer.h>
-#include <vtkStaticCellLocator.h>
 #include <vtkStringArray.h>
 #include <vtkTextProperty.h>
 #include <vtkVariant.h>
@@ -43,8 +41,7 @@ struct InspectorView::Vtk {
   Ptr<vtkPolyDataMapper> linkMapper = Ptr<vtkPolyDataMapper>::New();
   Ptr<vtkActor> linkActor = Ptr<vtkActor>::New();
   Ptr<vtkLookupTable> linkLut = Ptr<vtkLookupTable>::New();
-  Ptr<vtkCellPicker> picker = Ptr<vtkCellPicker>::New();
-  Ptr<vtkStaticCellLocator> locator;  // picks in a few microseconds instead of testing every cell
+  std::vector<glm::dvec3> normals;  // per element, the side it is drawn from
   std::vector<std::vector<glm::dvec3>> outlines;
 };
 
@@ -97,9 +94,6 @@ InspectorView::InspectorView(QWidget* parent) : VtkView(parent), vtk_(std::make_
   v.bar->GetLabelTextProperty()->SetFontSize(11);
   renderer()->AddViewProp(v.bar);
 
-  v.picker->SetTolerance(0.0);
-  v.picker->PickFromListOn();
-  v.picker->AddPickList(v.elementActor);
   setMinimumSize(240, 180);
   setMouseTracking(false);
 }
@@ -119,12 +113,11 @@ void InspectorView::setElements(const ElementMesh& mesh) {
   v.elements->SetPolys(polys);
   v.outlines = mesh.outline;
   v.elements->Modified();
-  v.picker->RemoveAllLocators();
-  v.locator = Ptr<vtkStaticCellLocator>::New();
-  if (!mesh.outline.empty()) {
-    v.locator->SetDataSet(v.elements);
-    v.locator->BuildLocator();
-    v.picker->AddLocator(v.locator);
+  v.normals.clear();
+  for (const auto& o : mesh.outline) {
+    glm::dvec3 n(0.0);  // Newell's normal, in the order the corners are drawn
+    for (size_t k = 0; k < o.size(); ++k) n += glm::cross(o[k], o[(k + 1) % o.size()]);
+    v.normals.push_back(glm::length(n) > 0 ? glm::normalize(n) : n);
   }
   setSelected(-1);
   if (!fitted_ && !mesh.outline.empty()) resetCamera();
@@ -245,13 +238,31 @@ void InspectorView::resetCamera() {
 }
 
 int InspectorView::elementAt(QPointF pos) {
+  // The nearest element the ray through the cursor meets on its drawn side: the culled backs of
+  // walls between the camera and the room are seen through, as they are on screen.
   auto& v = *vtk_;
   if (v.outlines.empty()) return -1;
-  syncSize();
-  const double r = devicePixelRatioF();
-  if (!v.picker->Pick(pos.x() * r, (height() - pos.y()) * r, 0.0, renderer())) return -1;
-  const vtkIdType cell = v.picker->GetCellId();
-  return cell >= 0 && size_t(cell) < v.outlines.size() ? int(cell) : -1;
+  glm::dvec3 o, d;
+  viewRay(pos, o, d);
+  int best = -1;
+  double bestT = 1e300;
+  for (size_t i = 0; i < v.outlines.size(); ++i) {
+    const glm::dvec3& n = v.normals[i];
+    const double dn = glm::dot(d, n);
+    if (dn >= 0) continue;  // seen from behind: culled
+    const auto& poly = v.outlines[i];
+    const double t = glm::dot(poly[0] - o, n) / dn;
+    if (t <= 0 || t >= bestT) continue;
+    const glm::dvec3 p = o + t * d;
+    bool inside = true;
+    for (size_t k = 0; k < poly.size() && inside; ++k)
+      inside = glm::dot(glm::cross(poly[(k + 1) % poly.size()] - poly[k], p - poly[k]), n) >= -1e-12;
+    if (inside) {
+      best = int(i);
+      bestT = t;
+    }
+  }
+  return best;
 }
 
 void InspectorView::clicked(QPointF pos) {

@@ -3,10 +3,12 @@
 #include <vtkCamera.h>
 #include <vtkCoordinate.h>
 #include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkOpenGLState.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
 
 #include <QElapsedTimer>
+#include <QOpenGLContext>
 #include <QMouseEvent>
 #include <QWheelEvent>
 #include <algorithm>
@@ -47,6 +49,13 @@ void VtkView::syncSize() {
 void VtkView::initializeGL() {
   vtk_->window->SetOwnContext(false);
   vtk_->window->OpenGLInitContext();
+  // A QOpenGLWidget gets a new context when it moves to another top-level window (a dock floated
+  // or docked again): VTK's buffers and shaders of the old one are released with it.
+  connect(context(), &QOpenGLContext::aboutToBeDestroyed, this, [this] {
+    makeCurrent();
+    vtk_->window->ReleaseGraphicsResources(vtk_->window);
+    doneCurrent();
+  }, Qt::UniqueConnection);
 }
 
 void VtkView::resizeGL(int w, int h) {
@@ -62,7 +71,13 @@ void VtkView::paintGL() {
   w.SetIsCurrent(true);
   w.SetReadyForRendering(true);
   w.SetFrameBlitModeToBlitToCurrent();
+  // Qt binds its own framebuffer and viewport before paintGL: VTK's cached GL state must not
+  // assume its previous values.
+  vtkOpenGLState* state = w.GetState();
+  state->Reset();
+  state->Push();
   w.Render();
+  state->Pop();
   w.SetReadyForRendering(false);
   lastFrameMs_ = double(t.nsecsElapsed()) * 1e-6;
   emit frameDrawn(lastFrameMs_);
@@ -104,6 +119,20 @@ bool VtkView::widgetPosition(const glm::dvec3& world, QPointF& pos) {
   const double r = devicePixelRatioF();
   pos = QPointF(d[0] / r, height() - d[1] / r);
   return pos.x() >= 0 && pos.y() >= 0 && pos.x() < width() && pos.y() < height();
+}
+
+void VtkView::viewRay(QPointF pos, glm::dvec3& origin, glm::dvec3& direction) {
+  syncSize();
+  const double r = devicePixelRatioF();
+  double p[2][4];
+  for (int k = 0; k < 2; ++k) {
+    vtk_->renderer->SetDisplayPoint(pos.x() * r, (height() - pos.y()) * r, double(k));
+    vtk_->renderer->DisplayToWorld();
+    vtk_->renderer->GetWorldPoint(p[k]);
+    for (int c = 0; c < 3; ++c) p[k][c] /= (p[k][3] != 0 ? p[k][3] : 1.0);
+  }
+  origin = {p[0][0], p[0][1], p[0][2]};
+  direction = glm::normalize(glm::dvec3(p[1][0], p[1][1], p[1][2]) - origin);
 }
 
 void VtkView::mousePressEvent(QMouseEvent* e) {

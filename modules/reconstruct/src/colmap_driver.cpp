@@ -1,6 +1,10 @@
 #include "relume/reconstruct/colmap_driver.h"
 
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
 #include <QProcess>
+#include <QSaveFile>
 #include <QSqlDatabase>
 #include <QSqlError>
 #include <QSqlQuery>
@@ -373,6 +377,24 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
   run.secondsMapping = mapSeconds;
 
   return run;
+}
+
+void writeWorkspaceInfo(const std::string& workspace, const std::string& photosDir, const ColmapRun& run, bool metric) {
+  QJsonArray reg, left;
+  for (const auto& s : run.registered) reg.append(QString::fromStdString(s));
+  for (const auto& s : run.leftOut) left.append(QString::fromStdString(s));
+  const QJsonObject info{{"photos", QString::fromStdString(photosDir)},
+                         {"registered", reg},
+                         {"left_out", left},
+                         {"points", qint64(run.model.points.size())},
+                         {"metric", metric},
+                         {"seconds", QJsonObject{{"features", run.secondsFeatures},
+                                                 {"matching", run.secondsMatching},
+                                                 {"mapping", run.secondsMapping}}}};
+  const std::string path = (fs::path(workspace) / "workspace.json").string();
+  QSaveFile f(QString::fromStdString(path));
+  if (!f.open(QIODevice::WriteOnly) || f.write(QJsonDocument(info).toJson()) < 0 || !f.commit())
+    throw Error(path, "", "cannot write: " + f.errorString().toStdString());
 }
 
 }  // namespace relume::recon

@@ -421,4 +421,20 @@ void transformModel(ColmapModel& m, const Similarity& S) {
   }
 }
 
+glm::dvec3 meanCameraCentre(const ColmapModel& model) {
+  glm::dvec3 c(0.0);
+  for (const auto& [id, im] : model.images) c += im.center() / double(model.images.size());
+  return c;
+}
+
+double meanReprojectionError(const ColmapModel& model) {
+  double sum = 0, n = 0;
+  for (const auto& [id, p] : model.points) {
+    if (p.error < 0) continue;
+    sum += p.error * double(p.track.size());
+    n += double(p.track.size());
+  }
+  return n > 0 ? sum / n : 0.0;
+}
+
 }  // namespace relume::recon

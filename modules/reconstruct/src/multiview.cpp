@@ -63,6 +63,7 @@ struct Reprojection {
     p[0] += pose[3];
     p[1] += pose[4];
     p[2] += pose[5];
+    if (p[2] <= T(1e-9)) return false;  // behind the camera: a step that goes there is refused
     r[0] = T(fx) * p[0] / p[2] + T(cx) - T(u);
     r[1] = T(fy) * p[1] / p[2] + T(cy) - T(v);
     return true;
@@ -520,15 +521,24 @@ BundleReport bundleAdjust(std::vector<Camera>& cameras, std::vector<glm::dvec3>&
   }
   std::vector<std::array<double, 3>> X(points.size());
   for (size_t k = 0; k < points.size(); ++k) X[k] = {points[k].x, points[k].y, points[k].z};
+  // Observations of points in front of their camera at the start: those solved and reported.
+  std::vector<uint8_t> inFront(observations.size(), 0);
+  for (size_t i = 0; i < observations.size(); ++i) {
+    const auto& o = observations[i];
+    const Camera& c = cameras[size_t(o.camera)];
+    inFront[i] = (c.R * points[size_t(o.point)] + c.t).z > 0;
+  }
   auto rms = [&]() {
     double se = 0;
     size_t n = 0;
     rep.beyondRobust = 0;
-    for (const auto& o : observations) {
+    for (size_t i = 0; i < observations.size(); ++i) {
+      if (!inFront[i]) continue;
+      const auto& o = observations[i];
       const auto& K = cameras[size_t(o.camera)].K;
       const Reprojection f{K[0][0], K[1][1], K[2][0], K[2][1], o.pixel.x, o.pixel.y};
       double r[2];
-      f(pose[size_t(o.camera)].data(), X[size_t(o.point)].data(), r);
+      if (!f(pose[size_t(o.camera)].data(), X[size_t(o.point)].data(), r)) continue;
       const double e2 = r[0] * r[0] + r[1] * r[1];
       if (!std::isfinite(e2)) continue;
       se += e2;
@@ -540,10 +550,10 @@ BundleReport bundleAdjust(std::vector<Camera>& cameras, std::vector<glm::dvec3>&
   rep.initialRms = rms();
   ceres::Problem problem;
   std::vector<uint8_t> used(cameras.size(), 0);
-  for (const auto& o : observations) {
-    const Camera& c = cameras[size_t(o.camera)];
-    if ((c.R * points[size_t(o.point)] + c.t).z <= 0) continue;  // behind it: left out
-    const auto& K = c.K;
+  for (size_t i = 0; i < observations.size(); ++i) {
+    if (!inFront[i]) continue;  // behind it: left out
+    const auto& o = observations[i];
+    const auto& K = cameras[size_t(o.camera)].K;
     ceres::LossFunction* loss = options.robustPixels > 0 ? new ceres::HuberLoss(options.robustPixels) : nullptr;
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Reprojection, 2, 6, 3>(
                                  new Reprojection{K[0][0], K[1][1], K[2][0], K[2][1], o.pixel.x, o.pixel.y}),
@@ -551,8 +561,13 @@ BundleReport bundleAdjust(std::vector<Camera>& cameras, std::vector<glm::dvec3>&
     used[size_t(o.camera)] = 1;
   }
   if (problem.NumResidualBlocks() == 0) throw Error("", "bundle adjustment", "no observation lies in front of its camera");
+  bool gauge = false;
   for (int i : fixedCameras)
-    if (i >= 0 && size_t(i) < cameras.size() && used[size_t(i)]) problem.SetParameterBlockConstant(pose[size_t(i)].data());
+    if (i >= 0 && size_t(i) < cameras.size() && used[size_t(i)]) {
+      problem.SetParameterBlockConstant(pose[size_t(i)].data());
+      gauge = true;
+    }
+  if (!gauge) throw Error("", "bundle adjustment", "the cameras held fixed see none of the points (nothing holds the frame)");
   if (scaleCamera >= 0 && size_t(scaleCamera) < cameras.size() && used[size_t(scaleCamera)] &&
       !problem.IsParameterBlockConstant(pose[size_t(scaleCamera)].data())) {
     int largest = 3;

@@ -811,7 +811,11 @@ std::vector<int> Preprocessor::redoReferences(const std::map<std::string, glm::d
   std::vector<int> changed;
   for (size_t s = 0; s < np; ++s)
     if (redo[s] && im.real[s]) changed.push_back(int(s));
-  if (changed.empty()) return changed;
+  if (changed.empty()) {  // the same choices per polygon (maybe listed in another order)
+    im.out.referenceOverride = im.out.options.referenceOverride = overrides;
+    im.out.referenceRegions = im.out.options.referenceRegions = regions;
+    return changed;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   im.stale = true;
   im.step2(redo, overrides, regions);

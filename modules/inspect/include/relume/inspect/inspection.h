@@ -46,7 +46,8 @@ enum class LampVisibilityClass : int8_t { None = -1, Visible = 0, Invisible = 1,
 std::vector<double> elementValues(const RelightSession& session, const ElementMesh& mesh, Quantity q, int lampSurface = -1);
 
 // The class of the light `lampSurface` sends to `node` along the engine's links (those arriving
-// at the node or an ancestor from an element of the lamp, or from a cluster): Visible when every
+// at the node or an ancestor from an element of the lamp; a relighting session pushes a lamp's
+// links down to the leaves, so none of its light comes through a cluster): Visible when every
 // such link is of type Visible, Invisible when every one is Invisible, Partial otherwise; None
 // when no link of the lamp reaches it.
 LampVisibilityClass lampVisibility(const radiosity::HierarchicalRadiosity& h, int node, int lampSurface);

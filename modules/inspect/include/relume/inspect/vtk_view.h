@@ -24,6 +24,8 @@ class VtkView : public QOpenGLWidget {
   void orbit(double azimuthDegrees, double elevationDegrees);
   // Where a world point shows in the widget (false: outside it).
   bool widgetPosition(const glm::dvec3& world, QPointF& pos);
+  // The ray through a widget position: from the near plane, unit direction.
+  void viewRay(QPointF pos, glm::dvec3& origin, glm::dvec3& direction);
   double lastFrameMilliseconds() const { return lastFrameMs_; }
 
  signals:

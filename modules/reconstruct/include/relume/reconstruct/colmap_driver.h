@@ -58,6 +58,11 @@ std::string findColmap(const std::string& preferred = "");
 ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, const ColmapOptions& options,
                     Progress& progress);
 
+// The workspace's description, workspace.json beside sparse/: the photos folder, the photos that
+// registered and those left out, the number of points, whether the model is in the metric frame,
+// COLMAP's times. Written atomically; `relume triangulate` and the workbench read it.
+void writeWorkspaceInfo(const std::string& workspace, const std::string& photosDir, const ColmapRun& run, bool metric);
+
 // Runs one COLMAP subcommand; progress lines are matched by `onLine`. Throws as runColmap does.
 void runColmapStep(const std::string& colmap, const std::vector<std::string>& args, const std::string& what,
                    Progress& progress, const std::function<void(const std::string&)>& onLine);

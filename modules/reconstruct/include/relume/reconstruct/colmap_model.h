@@ -101,5 +101,9 @@ struct Similarity {
 };
 // Moves points and cameras by a similarity (projections are unchanged).
 void transformModel(ColmapModel& model, const Similarity& S);
+// The mean of the registered cameras' centres.
+glm::dvec3 meanCameraCentre(const ColmapModel& model);
+// The mean reprojection error over every observation of every point (pixels; 0 with no points).
+double meanReprojectionError(const ColmapModel& model);
 
 }  // namespace relume::recon
