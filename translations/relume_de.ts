@@ -702,6 +702,10 @@
         <source>Photos</source>
         <translation>Fotos</translation>
     </message>
+    <message>
+        <source>Reconstruction</source>
+        <translation>Rekonstruktion</translation>
+    </message>
 </context>
 <context>
     <name>relume::ObjectsPanel</name>
@@ -1001,6 +1005,125 @@ Geschrieben nach %12</translation>
 No checkerboard found in: %1</source>
         <translation>
 Kein Schachbrett gefunden in: %1</translation>
+    </message>
+    <message>
+        <source>Cannot read %1: %2</source>
+        <translation>%1 nicht lesbar: %2</translation>
+    </message>
+</context>
+<context>
+    <name>relume::ReconstructionPanel</name>
+    <message>
+        <source>Choose...</source>
+        <translation>Wählen...</translation>
+    </message>
+    <message>
+        <source>Choose a folder</source>
+        <translation>Einen Ordner wählen</translation>
+    </message>
+    <message>
+        <source>Photos</source>
+        <translation>Fotos</translation>
+    </message>
+    <message>
+        <source>One photo per viewpoint (8-bit; the merged photos of the Photos panel)</source>
+        <translation>Ein Foto je Standpunkt (8 Bit; die zusammengeführten Fotos der Fotos-Leiste)</translation>
+    </message>
+    <message>
+        <source>Workspace</source>
+        <translation>Arbeitsordner</translation>
+    </message>
+    <message>
+        <source>Where COLMAP&apos;s database and the model go (sparse/, workspace.json)</source>
+        <translation>Wohin COLMAPs Datenbank und das Modell kommen (sparse/, workspace.json)</translation>
+    </message>
+    <message>
+        <source>Run COLMAP</source>
+        <translation>COLMAP starten</translation>
+    </message>
+    <message>
+        <source>Features, matching and mapping on the CPU, as a job (Cancel stops COLMAP and writes nothing)</source>
+        <translation>Merkmale, Zuordnung und Rekonstruktion auf der CPU, als Auftrag (Abbrechen beendet COLMAP und schreibt nichts)</translation>
+    </message>
+    <message>
+        <source>No reconstruction yet.</source>
+        <translation>Noch keine Rekonstruktion.</translation>
+    </message>
+    <message>
+        <source>Photo</source>
+        <translation>Foto</translation>
+    </message>
+    <message>
+        <source>Registered</source>
+        <translation>Registriert</translation>
+    </message>
+    <message>
+        <source>Pick 2 points</source>
+        <translation>2 Punkte wählen</translation>
+    </message>
+    <message>
+        <source>Click two points of the reconstruction whose distance you measured in the room</source>
+        <translation>Klicken Sie zwei Punkte der Rekonstruktion, deren Abstand Sie im Raum gemessen haben</translation>
+    </message>
+    <message>
+        <source> m</source>
+        <translation> m</translation>
+    </message>
+    <message>
+        <source>Their distance in the room</source>
+        <translation>Ihr Abstand im Raum</translation>
+    </message>
+    <message>
+        <source>Pick 3 floor points</source>
+        <translation>3 Bodenpunkte wählen</translation>
+    </message>
+    <message>
+        <source>Click three points on the floor: it becomes z = 0, +z up</source>
+        <translation>Klicken Sie drei Punkte auf dem Boden: er wird z = 0, +z nach oben</translation>
+    </message>
+    <message>
+        <source>Apply metric frame</source>
+        <translation>Metrischen Rahmen anwenden</translation>
+    </message>
+    <message>
+        <source>Choose the folder of photos first.</source>
+        <translation>Wählen Sie zuerst den Ordner der Fotos.</translation>
+    </message>
+    <message>
+        <source>Choose a workspace folder first.</source>
+        <translation>Wählen Sie zuerst einen Arbeitsordner.</translation>
+    </message>
+    <message>
+        <source>Reconstructing with COLMAP</source>
+        <translation>Rekonstruktion mit COLMAP</translation>
+    </message>
+    <message>
+        <source>yes</source>
+        <translation>ja</translation>
+    </message>
+    <message>
+        <source>no: no pose found</source>
+        <translation>nein: keine Pose gefunden</translation>
+    </message>
+    <message>
+        <source>%1 of %2 photos registered; %3 points; mean reprojection error %4 px. Model: %5</source>
+        <translation>%1 von %2 Fotos registriert; %3 Punkte; mittlerer Rückprojektionsfehler %4 px. Modell: %5</translation>
+    </message>
+    <message>
+        <source>Scale points: %1; floor points: %2%3</source>
+        <translation>Maßstabspunkte: %1; Bodenpunkte: %2%3</translation>
+    </message>
+    <message>
+        <source> (click points in the view)</source>
+        <translation> (Punkte in der Ansicht anklicken)</translation>
+    </message>
+    <message>
+        <source>Pick two points and their distance, and three floor points, first.</source>
+        <translation>Wählen Sie zuerst zwei Punkte mit ihrem Abstand und drei Bodenpunkte.</translation>
+    </message>
+    <message>
+        <source>The model is in metres now, the floor at z = 0.</source>
+        <translation>Das Modell ist jetzt in Metern, der Boden bei z = 0.</translation>
     </message>
 </context>
 <context>

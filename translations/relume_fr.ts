@@ -702,6 +702,10 @@
         <source>Photos</source>
         <translation>Photos</translation>
     </message>
+    <message>
+        <source>Reconstruction</source>
+        <translation>Reconstruction</translation>
+    </message>
 </context>
 <context>
     <name>relume::ObjectsPanel</name>
@@ -1001,6 +1005,125 @@ fx %3, fy %4, cx %5, cy %6 px ; k1 %7, k2 %8, p1 %9, p2 %10.%11
 No checkerboard found in: %1</source>
         <translation>
 Aucun damier trouvé dans : %1</translation>
+    </message>
+    <message>
+        <source>Cannot read %1: %2</source>
+        <translation>Impossible de lire %1 : %2</translation>
+    </message>
+</context>
+<context>
+    <name>relume::ReconstructionPanel</name>
+    <message>
+        <source>Choose...</source>
+        <translation>Choisir...</translation>
+    </message>
+    <message>
+        <source>Choose a folder</source>
+        <translation>Choisir un dossier</translation>
+    </message>
+    <message>
+        <source>Photos</source>
+        <translation>Photos</translation>
+    </message>
+    <message>
+        <source>One photo per viewpoint (8-bit; the merged photos of the Photos panel)</source>
+        <translation>Une photo par point de vue (8 bits ; les photos fusionnées du panneau Photos)</translation>
+    </message>
+    <message>
+        <source>Workspace</source>
+        <translation>Dossier de travail</translation>
+    </message>
+    <message>
+        <source>Where COLMAP&apos;s database and the model go (sparse/, workspace.json)</source>
+        <translation>Où vont la base de COLMAP et le modèle (sparse/, workspace.json)</translation>
+    </message>
+    <message>
+        <source>Run COLMAP</source>
+        <translation>Lancer COLMAP</translation>
+    </message>
+    <message>
+        <source>Features, matching and mapping on the CPU, as a job (Cancel stops COLMAP and writes nothing)</source>
+        <translation>Points d&apos;intérêt, appariement et reconstruction sur le processeur, en tâche de fond (Annuler arrête COLMAP et n&apos;écrit rien)</translation>
+    </message>
+    <message>
+        <source>No reconstruction yet.</source>
+        <translation>Pas encore de reconstruction.</translation>
+    </message>
+    <message>
+        <source>Photo</source>
+        <translation>Photo</translation>
+    </message>
+    <message>
+        <source>Registered</source>
+        <translation>Recalée</translation>
+    </message>
+    <message>
+        <source>Pick 2 points</source>
+        <translation>Choisir 2 points</translation>
+    </message>
+    <message>
+        <source>Click two points of the reconstruction whose distance you measured in the room</source>
+        <translation>Cliquez deux points de la reconstruction dont vous avez mesuré la distance dans la pièce</translation>
+    </message>
+    <message>
+        <source> m</source>
+        <translation> m</translation>
+    </message>
+    <message>
+        <source>Their distance in the room</source>
+        <translation>Leur distance dans la pièce</translation>
+    </message>
+    <message>
+        <source>Pick 3 floor points</source>
+        <translation>Choisir 3 points du sol</translation>
+    </message>
+    <message>
+        <source>Click three points on the floor: it becomes z = 0, +z up</source>
+        <translation>Cliquez trois points du sol : il devient z = 0, +z vers le haut</translation>
+    </message>
+    <message>
+        <source>Apply metric frame</source>
+        <translation>Appliquer le repère métrique</translation>
+    </message>
+    <message>
+        <source>Choose the folder of photos first.</source>
+        <translation>Choisissez d&apos;abord le dossier des photos.</translation>
+    </message>
+    <message>
+        <source>Choose a workspace folder first.</source>
+        <translation>Choisissez d&apos;abord un dossier de travail.</translation>
+    </message>
+    <message>
+        <source>Reconstructing with COLMAP</source>
+        <translation>Reconstruction avec COLMAP</translation>
+    </message>
+    <message>
+        <source>yes</source>
+        <translation>oui</translation>
+    </message>
+    <message>
+        <source>no: no pose found</source>
+        <translation>non : aucune pose trouvée</translation>
+    </message>
+    <message>
+        <source>%1 of %2 photos registered; %3 points; mean reprojection error %4 px. Model: %5</source>
+        <translation>%1 photos sur %2 recalées ; %3 points ; erreur de reprojection moyenne %4 px. Modèle : %5</translation>
+    </message>
+    <message>
+        <source>Scale points: %1; floor points: %2%3</source>
+        <translation>Points d&apos;échelle : %1 ; points du sol : %2%3</translation>
+    </message>
+    <message>
+        <source> (click points in the view)</source>
+        <translation> (cliquez des points dans la vue)</translation>
+    </message>
+    <message>
+        <source>Pick two points and their distance, and three floor points, first.</source>
+        <translation>Choisissez d&apos;abord deux points et leur distance, et trois points du sol.</translation>
+    </message>
+    <message>
+        <source>The model is in metres now, the floor at z = 0.</source>
+        <translation>Le modèle est maintenant en mètres, le sol à z = 0.</translation>
     </message>
 </context>
 <context>

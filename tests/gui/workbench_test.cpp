@@ -36,6 +36,10 @@
 #include "references_panel.h"
 #include "inspector_panel.h"
 #include "photos_panel.h"
+#include "reconstruction_panel.h"
+#include "relume/inspect/sparse_view.h"
+#include "relume/reconstruct/colmap_driver.h"
+#include <QLineEdit>
 #include "support/checkerboard.h"
 #include <QChartView>
 #include <QLabel>
@@ -963,6 +967,116 @@ class WorkbenchTest : public QObject {
       QVERIFY(a.open(QIODevice::ReadOnly) && b.open(QIODevice::ReadOnly));
       QVERIFY(a.readAll() == b.readAll());
     }
+    dock->hide();
+  }
+
+  // The Reconstruction panel: COLMAP on the sample room's photos registers every view; the
+  // metric frame from two picked points with a typed distance and three picked floor points puts
+  // the model in metres (on disk too); Cancel during feature extraction leaves no COLMAP process
+  // and no model.
+  void reconstructionFromThePanel() {
+    auto* panel = window_->reconstructionPanel();
+    auto* dock = window_->findChild<QDockWidget*>("ReconstructionDock");
+    dock->show();
+    dock->raise();
+    const QString photos = QString(RELUME_SOURCE_DIR) + "/resources/sample_room/photos", ws = tmp_.path() + "/ws";
+    panel->photosFolder()->setText(photos);
+    panel->workspace()->setText(ws);
+    QVERIFY(panel->run());
+    QVERIFY2(waitForJob(600000), "COLMAP did not finish");
+    QVERIFY2(panel->result(), qPrintable(window_->lastError()));
+    const auto& run = *panel->result();
+    const int pngs = int(QDir(photos).entryList({"*.png"}, QDir::Files).size());
+    qInfo("COLMAP from the panel: %zu of %d photos registered, %zu points, mean reprojection error %.2f px",
+          run.registered.size(), pngs, run.model.points.size(), recon::meanReprojectionError(run.model));
+    QCOMPARE(int(run.registered.size()), pngs);
+    QVERIFY(run.leftOut.empty());
+    QCOMPARE(panel->photosList()->topLevelItemCount(), pngs);
+    QCOMPARE(panel->view()->pointCount(), run.model.points.size());
+    QVERIFY(run.model.points.size() > 50);
+
+    // Points that a click in the view selects (visible, not hidden behind others' screen spots).
+    auto* view = panel->view();
+    std::vector<std::pair<long long, QPointF>> clickable;
+    {
+      std::vector<glm::dvec3> xyz;
+      std::vector<std::array<uint8_t, 3>> rgb;
+      std::vector<Camera> cams;
+      std::vector<long long> ids;
+      for (const auto& [id, p] : run.model.points) xyz.push_back(p.xyz), rgb.push_back(p.rgb), ids.push_back(id);
+      for (const auto& [id, im] : run.model.images) cams.push_back(run.model.camera(im));
+      view->setModel(xyz, rgb, cams);
+      QTest::qWait(50);
+      for (size_t i = 0; i < xyz.size(); ++i) {
+        QPointF at;
+        if (view->widgetPosition(xyz[i], at) && view->pointAt(at) == int(i)) clickable.emplace_back(ids[i], at);
+      }
+    }
+    QVERIFY(clickable.size() >= 5);
+    // The two farthest apart on screen for the scale; three spread ones for the floor.
+    size_t a = 0, b = 1;
+    for (size_t i = 0; i < clickable.size(); ++i)
+      for (size_t j = i + 1; j < clickable.size(); ++j)
+        if (QLineF(clickable[i].second, clickable[j].second).length() > QLineF(clickable[a].second, clickable[b].second).length())
+          a = i, b = j;
+    std::vector<size_t> floorPick;
+    for (size_t i = 0; i < clickable.size() && floorPick.size() < 3; ++i) {
+      if (i == a || i == b) continue;
+      bool spread = true;
+      for (size_t f : floorPick) spread = spread && QLineF(clickable[i].second, clickable[f].second).length() > 40;
+      if (spread) floorPick.push_back(i);
+    }
+    QCOMPARE(floorPick.size(), size_t(3));
+    panel->setPicking(ReconstructionPanel::Picking::Scale);
+    QTest::mouseClick(view, Qt::LeftButton, {}, clickable[a].second.toPoint());
+    QTest::mouseClick(view, Qt::LeftButton, {}, clickable[b].second.toPoint());
+    QCOMPARE(panel->scalePoints(), (std::vector<long long>{clickable[a].first, clickable[b].first}));
+    panel->distance()->setValue(2.5);
+    panel->setPicking(ReconstructionPanel::Picking::Floor);
+    for (size_t f : floorPick) QTest::mouseClick(view, Qt::LeftButton, {}, clickable[f].second.toPoint());
+    QCOMPARE(panel->floorPoints().size(), size_t(3));
+    QVERIFY(panel->applyMetricFrame());
+    const recon::ColmapModel onDisk = recon::readColmapModel(panel->result()->modelFolder);
+    const double d = glm::length(onDisk.points.at(clickable[a].first).xyz - onDisk.points.at(clickable[b].first).xyz);
+    double worstZ = 0;
+    for (long long id : panel->floorPoints()) worstZ = std::max(worstZ, std::abs(onDisk.points.at(id).xyz.z));
+    qInfo("metric frame: picked points %.6f m apart (typed 2.5), floor points within %.2e m of z = 0, cameras at z = %.2f",
+          d, worstZ, recon::meanCameraCentre(onDisk).z);
+    QVERIFY(std::abs(d - 2.5) < 1e-4);
+    QVERIFY(worstZ < 1e-4);
+    QVERIFY(recon::meanCameraCentre(onDisk).z > 0);
+    QVERIFY(readJson(ws + "/workspace.json")["metric"].toBool());
+    saveShot(panel, "reconstruction_panel");
+    saveShot(window_.get(), "main_window_reconstruction");
+
+    // Cancel while COLMAP extracts features: nothing is left running, and no model is written.
+    const QString ws2 = tmp_.path() + "/ws2";
+    panel->workspace()->setText(ws2);
+    bool extracting = false;
+    auto conn = connect(window_->jobs(), &JobRunner::progressed, this, [&](double, const QString& text) {
+      if (text.contains("feature")) extracting = true;
+    });
+    QVERIFY(panel->run());
+    QElapsedTimer t;
+    t.start();
+    while (!extracting && t.elapsed() < 60000) QTest::qWait(5);
+    QVERIFY(extracting);
+    QElapsedTimer stop;
+    stop.start();
+    window_->jobs()->cancel();
+    QVERIFY(waitForJob(30000));
+    disconnect(conn);
+    qInfo("Cancel during feature extraction: the job ended %lld ms after it", stop.elapsed());
+    QVERIFY(stop.elapsed() < 2000);
+    QVERIFY(!QFile::exists(ws2 + "/sparse/points3D.txt") && !QFile::exists(ws2 + "/sparse/cameras.txt"));
+    bool colmapAlive = false;
+    for (const QString& pid : QDir("/proc").entryList(QDir::Dirs)) {
+      QFile comm("/proc/" + pid + "/comm");
+      if (comm.open(QIODevice::ReadOnly) && comm.readAll().trimmed() == "colmap") colmapAlive = true;
+    }
+    QVERIFY(!colmapAlive);
+    // The panel still shows the first model.
+    QCOMPARE(panel->result()->registered.size(), size_t(pngs));
     dock->hide();
   }
 

@@ -40,7 +40,7 @@ void attach(vtkRenderer* r, vtkPolyData* data, vtkActor* actor) {
 SparseView::SparseView(QWidget* parent) : VtkView(parent), vtk_(std::make_unique<Vtk>()) {
   auto& v = *vtk_;
   attach(renderer(), v.points, v.pointActor);
-  v.pointActor->GetProperty()->SetPointSize(3.0);
+  v.pointActor->GetProperty()->SetPointSize(4.0);
   attach(renderer(), v.frusta, v.frustumActor);
   v.frustumActor->GetProperty()->SetColor(1.0, 0.55, 0.1);
   v.frustumActor->GetProperty()->SetLineWidth(1.5);
@@ -81,6 +81,17 @@ void SparseView::setModel(const std::vector<glm::dvec3>& xyz, const std::vector<
   v.points->SetVerts(verts);
   v.points->GetPointData()->SetScalars(rgb);
   v.points->Modified();
+  // The view frames the bulk of the points (2nd to 98th percentile per axis: a stray match far
+  // off does not shrink the room to a dot) and every camera.
+  if (xyz.size() >= 20) {
+    for (int a = 0; a < 3; ++a) {
+      std::vector<double> v;
+      for (const auto& p : xyz) v.push_back(p[a]);
+      std::sort(v.begin(), v.end());
+      lo[a] = v[v.size() * 2 / 100];
+      hi[a] = v[v.size() * 98 / 100];
+    }
+  }
   // Frusta: from each centre to the image corners at a tenth of the scene's size.
   for (const auto& c : cameras) {
     lo = glm::min(lo, c.center());
