@@ -830,20 +830,28 @@ std::function<std::function<void()>(Progress&)> Document::switchMeshWork(Session
   return [data, rebuild](Progress& progress) { return rebuild(*data, progress); };
 }
 
-// A new session on `data` (on the mesh given) with the same lamps, virtual lamps and objects,
-// swapped in by the continuation; the undo stack stays.
-std::function<std::function<void()>(const RelightData&, Progress&)> Document::rebuildWork(SessionMesh mesh) {
+// A session on `data` (on the mesh given) with the lamps, virtual lamps and objects as they are
+// now (copied here, built by the returned function on a worker thread).
+std::function<std::unique_ptr<RelightSession>(const RelightData&, Progress&)> Document::sessionWork(SessionMesh mesh) const {
   auto scene = std::make_shared<Scene>(scene_);
   std::vector<VirtualLamp> vlamps;
   std::vector<VirtualObject> objects;
   for (size_t i = 0; i < virtualLampCount(); ++i) vlamps.push_back(session_->virtualLamp(int(i)));
   for (size_t i = 0; i < objectCount(); ++i) objects.push_back(session_->object(int(i)));
   const std::vector<glm::dvec3> scales = lampScale_;
-  return [this, scene, vlamps, objects, scales, mesh](const RelightData& data, Progress& progress) -> std::function<void()> {
-    auto session = std::make_shared<std::unique_ptr<RelightSession>>();
-    *session = std::make_unique<RelightSession>(*scene, data, vlamps, objects, progress, mesh);
-    for (size_t l = 0; l < scales.size(); ++l) (*session)->setLampScale(int(l), scales[l]);
-    (*session)->update(progress);
+  return [scene, vlamps, objects, scales, mesh](const RelightData& data, Progress& progress) {
+    auto session = std::make_unique<RelightSession>(*scene, data, vlamps, objects, progress, mesh);
+    for (size_t l = 0; l < scales.size(); ++l) session->setLampScale(int(l), scales[l]);
+    session->update(progress);
+    return session;
+  };
+}
+
+// A new session on `data`, swapped in by the continuation; the undo stack stays.
+std::function<std::function<void()>(const RelightData&, Progress&)> Document::rebuildWork(SessionMesh mesh) {
+  auto build = sessionWork(mesh);
+  return [this, build, mesh](const RelightData& data, Progress& progress) -> std::function<void()> {
+    auto session = std::make_shared<std::unique_ptr<RelightSession>>(build(data, progress));
     return [this, session, mesh]() mutable {
       session_ = std::move(*session);
       if (mesh_ != mesh) unsavedNew_ = true;  // the project keeps the mesh chosen
@@ -855,18 +863,10 @@ std::function<std::function<void()>(const RelightData&, Progress&)> Document::re
 }
 
 std::function<std::unique_ptr<RelightSession>(Progress&)> Document::otherMeshSessionWork() const {
-  auto scene = std::make_shared<Scene>(scene_);
   auto data = std::make_shared<RelightData>(data_);
-  std::vector<VirtualLamp> vlamps;
-  std::vector<VirtualObject> objects;
-  for (size_t i = 0; i < virtualLampCount(); ++i) vlamps.push_back(session_->virtualLamp(int(i)));
-  for (size_t i = 0; i < objectCount(); ++i) objects.push_back(session_->object(int(i)));
-  const std::vector<glm::dvec3> scales = lampScale_;
-  const SessionMesh other = mesh_ == SessionMesh::Refined ? SessionMesh::Interactive : SessionMesh::Refined;
-  return [scene, data, vlamps, objects, scales, other](Progress& progress) {
-    auto session = std::make_unique<RelightSession>(*scene, *data, vlamps, objects, progress, other);
-    for (size_t l = 0; l < scales.size(); ++l) session->setLampScale(int(l), scales[l]);
-    session->update(progress);
+  auto build = sessionWork(mesh_ == SessionMesh::Refined ? SessionMesh::Interactive : SessionMesh::Refined);
+  return [data, build](Progress& progress) {
+    auto session = build(*data, progress);
     session->syncEngine(progress);
     return session;
   };

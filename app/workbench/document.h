@@ -176,6 +176,7 @@ class Document : public QObject {
   std::vector<ReferenceRegion> regions_;
   SessionMesh mesh_ = SessionMesh::Refined;
   std::function<std::function<void()>(const RelightData&, Progress&)> rebuildWork(SessionMesh mesh);
+  std::function<std::unique_ptr<RelightSession>(const RelightData&, Progress&)> sessionWork(SessionMesh mesh) const;
   struct Mount {
     glm::dvec3 point{0.0}, normal{0.0};
   };

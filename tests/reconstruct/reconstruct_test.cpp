@@ -364,29 +364,43 @@ TEST(MetricFrame, ScaleAndFloorGiveMetresWithZUp) {
 
 // ---------------------------------------------------------------- cameras from clicks
 
-TEST(Correspondences, CamerasFromThirtyClicksMatchTheTruth) {
-  // Five photos of a room corner region; 36 clicked points on floor, walls and a table.
+namespace {
+// Five photos of a room corner region and 36 clicked points on floor, walls and a table, clicked
+// with 0.5 px noise: the true cameras and the tracks.
+struct ClickedRoom {
   std::vector<Camera> truth;
+  std::vector<glm::dvec3> points;
+  std::vector<Track> tracks;
+};
+ClickedRoom clickedRoom() {
+  ClickedRoom r;
   for (int i = 0; i < 5; ++i)
-    truth.push_back(Camera::lookAt({0.6 + 0.7 * i, 0.5 + 0.3 * (i % 3), 1.4 + 0.15 * (i % 2)}, {2.0 + 0.2 * (i - 2), 4.0, 0.9}, 1600,
-                           1200, 1385));
-  std::vector<glm::dvec3> pts;
-  for (int i = 0; i < 12; ++i) pts.push_back({0.3 + 0.3 * i, 5.0, 0.2 + 0.18 * i});          // back wall
-  for (int i = 0; i < 12; ++i) pts.push_back({0.4 + 0.28 * i, 3.0 + 0.15 * (i % 4), 0.0});  // floor
-  for (int i = 0; i < 12; ++i) pts.push_back({1.5 + 0.1 * (i % 6), 3.6 + 0.2 * (i / 6), 0.75 + 0.02 * i});  // table
+    r.truth.push_back(Camera::lookAt({0.6 + 0.7 * i, 0.5 + 0.3 * (i % 3), 1.4 + 0.15 * (i % 2)}, {2.0 + 0.2 * (i - 2), 4.0, 0.9},
+                                     1600, 1200, 1385));
+  for (int i = 0; i < 12; ++i) r.points.push_back({0.3 + 0.3 * i, 5.0, 0.2 + 0.18 * i});          // back wall
+  for (int i = 0; i < 12; ++i) r.points.push_back({0.4 + 0.28 * i, 3.0 + 0.15 * (i % 4), 0.0});  // floor
+  for (int i = 0; i < 12; ++i) r.points.push_back({1.5 + 0.1 * (i % 6), 3.6 + 0.2 * (i / 6), 0.75 + 0.02 * i});  // table
   std::mt19937 rng(21);
   std::normal_distribution<double> N(0, 0.5);
-  std::vector<Track> tracks;
-  for (size_t k = 0; k < pts.size(); ++k) {
+  for (size_t k = 0; k < r.points.size(); ++k) {
     Track t;
     t.name = "p" + std::to_string(k);
     for (int i = 0; i < 5; ++i) {
       glm::dvec2 px;
-      if (truth[i].project(pts[k], px) && px.x > 0 && px.y > 0 && px.x < 1600 && px.y < 1200)
+      if (r.truth[i].project(r.points[k], px) && px.x > 0 && px.y > 0 && px.x < 1600 && px.y < 1200)
         t.clicks.emplace_back(i, px + glm::dvec2(N(rng), N(rng)));
     }
-    tracks.push_back(t);
+    r.tracks.push_back(t);
   }
+  return r;
+}
+}  // namespace
+
+TEST(Correspondences, CamerasFromThirtyClicksMatchTheTruth) {
+  const ClickedRoom room = clickedRoom();
+  const std::vector<Camera>& truth = room.truth;
+  const std::vector<glm::dvec3>& pts = room.points;
+  const std::vector<Track>& tracks = room.tracks;
   std::vector<Camera> intr = truth;
   const CameraSolution sol = solveCameras(intr, {"a", "b", "c", "d", "e"}, tracks);
   std::vector<glm::dvec3> est, tru;
@@ -409,27 +423,9 @@ TEST(Correspondences, CamerasFromThirtyClicksMatchTheTruth) {
 // A click 40 px off (a mis-click): the robust loss keeps the cameras where the other clicks put
 // them, and the bundle adjustment names it as beyond the robust scale.
 TEST(Correspondences, AMisclickDoesNotBendTheCameras) {
-  std::vector<Camera> truth;
-  for (int i = 0; i < 5; ++i)
-    truth.push_back(Camera::lookAt({0.6 + 0.7 * i, 0.5 + 0.3 * (i % 3), 1.4 + 0.15 * (i % 2)}, {2.0 + 0.2 * (i - 2), 4.0, 0.9}, 1600,
-                                   1200, 1385));
-  std::vector<glm::dvec3> pts;
-  for (int i = 0; i < 12; ++i) pts.push_back({0.3 + 0.3 * i, 5.0, 0.2 + 0.18 * i});
-  for (int i = 0; i < 12; ++i) pts.push_back({0.4 + 0.28 * i, 3.0 + 0.15 * (i % 4), 0.0});
-  for (int i = 0; i < 12; ++i) pts.push_back({1.5 + 0.1 * (i % 6), 3.6 + 0.2 * (i / 6), 0.75 + 0.02 * i});
-  std::mt19937 rng(21);
-  std::normal_distribution<double> N(0, 0.5);
-  std::vector<Track> tracks;
-  for (size_t k = 0; k < pts.size(); ++k) {
-    Track t;
-    t.name = "p" + std::to_string(k);
-    for (int i = 0; i < 5; ++i) {
-      glm::dvec2 px;
-      if (truth[i].project(pts[k], px) && px.x > 0 && px.y > 0 && px.x < 1600 && px.y < 1200)
-        t.clicks.emplace_back(i, px + glm::dvec2(N(rng), N(rng)));
-    }
-    tracks.push_back(t);
-  }
+  ClickedRoom room = clickedRoom();
+  const std::vector<Camera>& truth = room.truth;
+  std::vector<Track>& tracks = room.tracks;
   // Point 30 clicked 40 px to the right in its third photo.
   ASSERT_GE(tracks[30].clicks.size(), 3u);
   tracks[30].clicks[2].second.x += 40.0;
