@@ -1,6 +1,7 @@
 // relume reconstruct | align | triangulate | hdr-merge | calibrate: from photographs to a project.
 #include <QCommandLineParser>
 #include <QDir>
+#include <QFile>
 #include <QFileInfo>
 #include <QJsonArray>
 #include <QJsonDocument>
@@ -400,6 +401,10 @@ int triangulateCommand(const QStringList& args, Progress& progress) {
   const QJsonObject rep{{"points", pts}, {"plane_rms_m", planes}, {"seconds", report.seconds}};
   saveProject(scene, str(p.value("output")), progress, [&](const std::string& staging) {
     writeJsonAtomically(QDir(QString::fromStdString(staging)).filePath("triangulation.json"), rep);
+    // The clicks the polygons came from, as given: the project can be re-triangulated or edited.
+    const QString dst = QDir(QString::fromStdString(staging)).filePath("clicks.json");
+    QFile::remove(dst);
+    if (!QFile::copy(p.value("clicks"), dst)) throw Error(str(dst), "", "cannot copy the clicks into the project");
   });
   std::fprintf(stderr, "wrote %s\n", qPrintable(p.value("output")));
   return 0;
