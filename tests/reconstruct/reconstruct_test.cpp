@@ -4,6 +4,7 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -682,6 +683,7 @@ TEST(MatchProposals, EpipolarSearchFindsTheClickedPointInAnotherPhoto) {
   const Image8 ia = readImage8(dir + "/" + a->file);
   std::map<std::string, Image8> others;
   int tried = 0, found = 0, foundTop3 = 0, foundFree = 0;
+  std::vector<double> epipolarMs;
   for (const auto& [name, pt] : clicks.points) {
     glm::dvec2 pa(-1);
     for (const auto& [photo, px] : pt.clicks)
@@ -692,7 +694,9 @@ TEST(MatchProposals, EpipolarSearchFindsTheClickedPointInAnotherPhoto) {
       const Photo* b = room.findPhoto(photo);
       if (!others.count(photo)) others[photo] = readImage8(dir + "/" + b->file);
       ++tried;
+      const auto t0 = std::chrono::steady_clock::now();
       const auto m = proposeMatches(ia, pa, others[photo], &a->camera, &b->camera);
+      epipolarMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       found += !m.empty() && glm::length(m[0].pixel - pb) <= 2;
       bool inTop = false;
       for (const auto& q : m) inTop = inTop || glm::length(q.pixel - pb) <= 2;
@@ -702,12 +706,15 @@ TEST(MatchProposals, EpipolarSearchFindsTheClickedPointInAnotherPhoto) {
       foundFree += any;
     }
   }
-  std::printf("match proposals: %d of %d best on the epipolar line, %d among its 3; %d among 3 without cameras\n",
-              found, tried, foundTop3, foundFree);
+  std::sort(epipolarMs.begin(), epipolarMs.end());
+  std::printf("match proposals: %d of %d best on the epipolar line, %d among its 3; %d among 3 without cameras; "
+              "%.1f ms per photo (median, 640 x 480)\n",
+              found, tried, foundTop3, foundFree, epipolarMs.empty() ? 0.0 : epipolarMs[epipolarMs.size() / 2]);
   ASSERT_GE(tried, 10);
-  // Measured when written: 66 of 139 (47 %) best, 72 among three; 26 without cameras. Corners on
-  // occluding edges look different from each side, which no patch comparison fully follows.
-  EXPECT_GE(found, 0.4 * tried) << "best epipolar proposal within 2 px";
+  // Measured with a fronto-parallel sweep only: 66 of 139 (47 %) best, 72 among three; with the
+  // horizontal and vertical plane hypotheses: 93 (67 %), 105. Corners on occluding edges look
+  // different from each side, which no patch comparison fully follows.
+  EXPECT_GE(found, 0.6 * tried) << "best epipolar proposal within 2 px";
   EXPECT_GE(foundTop3, found);
   EXPECT_GT(found, 2 * foundFree) << "knowing the cameras (plane sweep on the epipolar line) helps";
 }

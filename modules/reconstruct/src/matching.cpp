@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "relume/geometry/error.h"
 
@@ -67,25 +68,75 @@ std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const 
       return (1 - fy) * ((1 - fx) * gb.at<float>(y0, x0) + fx * gb.at<float>(y0, x0 + 1)) +
              fy * ((1 - fx) * gb.at<float>(y0 + 1, x0) + fx * gb.at<float>(y0 + 1, x0 + 1));
     };
-    cv::Mat warped(patch.size(), CV_32F);
-    glm::dvec2 prev(-1e9);
-    for (double depth = 0.1; depth < 100; depth *= 1.002) {
-      glm::dvec2 p;
-      const glm::dvec3 centreRay = Rt * glm::dvec3((pa.x - ca->cx()) / ca->fx(), (pa.y - ca->cy()) / ca->fy(), 1.0);
-      if (!cb->project(o + centreRay * depth, p)) continue;
-      if (glm::length(p - prev) < 0.5) continue;
-      prev = p;
-      bool ok = true;
-      for (int dy = -half; dy <= half && ok; ++dy)
-        for (int dx = -half; dx <= half && ok; ++dx) {
-          const double px = ax + 0.5 + dx, py = ay + 0.5 + dy;
-          const glm::dvec3 X = o + Rt * glm::dvec3((px - ca->cx()) / ca->fx(), (py - ca->cy()) / ca->fy(), 1.0) * depth;
-          glm::dvec2 q;
-          if (!cb->project(X, q)) ok = false;
-          else warped.at<float>(dy + half, dx + half) = float(bilinear(q.x, q.y, ok));
-        }
-      if (ok) cands.push_back({p, ncc(patch, warped)});
+    // Plane hypotheses through each depth: parallel to a's image plane, horizontal (floors,
+    // table tops), and vertical at six azimuths (walls, fronts): a corner where two surfaces meet
+    // matches on the plane of the surface that fills most of its patch.
+    std::vector<glm::dvec3> normals{Rt * glm::dvec3(0, 0, 1),
+                                    glm::dvec3(0, 0, 1)};
+    for (int k = 0; k < 6; ++k) {
+      const double az = k * std::numbers::pi / 6;
+      normals.emplace_back(std::cos(az), std::sin(az), 0.0);
     }
+    std::vector<glm::dvec3> rays;  // world direction of each patch pixel's ray (z_cam = 1)
+    for (int dy = -half; dy <= half; ++dy)
+      for (int dx = -half; dx <= half; ++dx)
+        rays.push_back(Rt * glm::dvec3((ax + 0.5 + dx - ca->cx()) / ca->fx(), (ay + 0.5 + dy - ca->cy()) / ca->fy(), 1.0));
+    const glm::dvec3 centreRay = Rt * glm::dvec3((pa.x - ca->cx()) / ca->fx(), (pa.y - ca->cy()) / ca->fy(), 1.0);
+    // The depths along the ray whose points fall at least half a pixel apart in b.
+    std::vector<std::pair<glm::dvec3, glm::dvec2>> steps;
+    {
+      glm::dvec2 prev(-1e9);
+      for (double depth = 0.1; depth < 100; depth *= 1.002) {
+        glm::dvec2 p;
+        const glm::dvec3 X0 = o + centreRay * depth;
+        if (!cb->project(X0, p) || glm::length(p - prev) < 0.5) continue;
+        prev = p;
+        steps.emplace_back(X0, p);
+      }
+    }
+    // The best NCC over the plane hypotheses at a step, on every `stride`-th pixel of the patch.
+    auto score = [&](const glm::dvec3& X0, int stride) {
+      const int side = (2 * half) / stride + 1;
+      cv::Mat pa_(side, side, CV_32F), pb_(side, side, CV_32F);
+      double best = -2;
+      for (const auto& n : normals) {
+        const double h = glm::dot(n, X0 - o);
+        bool ok = true;
+        for (int r = 0; r < side && ok; ++r)
+          for (int c = 0; c < side && ok; ++c) {
+            const int i = (r * stride) * (2 * half + 1) + c * stride;
+            const double dn = glm::dot(n, rays[size_t(i)]);
+            // Seen at a grazing angle from a, the plane is no model of the patch.
+            if (std::abs(dn) < 0.2 * glm::length(rays[size_t(i)]) || h / dn <= 0) ok = false;
+            glm::dvec2 q;
+            if (ok && !cb->project(o + rays[size_t(i)] * (h / dn), q)) ok = false;
+            if (ok) {
+              pb_.at<float>(r, c) = float(bilinear(q.x, q.y, ok));
+              pa_.at<float>(r, c) = patch.at<float>(r * stride, c * stride);
+            }
+          }
+        if (ok) best = std::max(best, ncc(pa_, pb_));
+      }
+      return best;
+    };
+    // Coarse to fine: every step on a quarter of the patch's pixels, then the full patch around
+    // the 16 best local maxima (a point's proposals come from these).
+    std::vector<double> coarse(steps.size());
+    for (size_t k = 0; k < steps.size(); ++k) coarse[k] = score(steps[k].first, 2);
+    std::vector<size_t> peaks;
+    for (size_t k = 0; k < steps.size(); ++k)
+      if (coarse[k] > -2 && (k == 0 || coarse[k] >= coarse[k - 1]) && (k + 1 == steps.size() || coarse[k] >= coarse[k + 1]))
+        peaks.push_back(k);
+    std::sort(peaks.begin(), peaks.end(), [&](size_t x, size_t y) { return coarse[x] > coarse[y]; });
+    if (peaks.size() > 16) peaks.resize(16);
+    std::vector<uint8_t> done(steps.size(), 0);
+    for (size_t k : peaks)
+      for (size_t j = k >= 2 ? k - 2 : 0; j <= std::min(steps.size() - 1, k + 2); ++j) {
+        if (done[j]) continue;
+        done[j] = 1;
+        const double sc = score(steps[j].first, 1);
+        if (sc > -2) cands.push_back({steps[j].second, sc});
+      }
   } else {
     cv::Mat res;
     cv::matchTemplate(gb, patch, res, cv::TM_CCOEFF_NORMED);
