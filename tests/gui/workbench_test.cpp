@@ -36,6 +36,7 @@
 #include "references_panel.h"
 #include "inspector_panel.h"
 #include "photos_panel.h"
+#include "process_exit.h"
 #include "reconstruction_panel.h"
 #include "relume/inspect/sparse_view.h"
 #include "relume/reconstruct/colmap_driver.h"
@@ -1507,5 +1508,17 @@ class WorkbenchTest : public QObject {
   void cleanupTestCase() { window_.reset(); }
 };
 
-QTEST_MAIN(WorkbenchTest)
+// QTEST_MAIN's work, then the process ends as the workbench's does (see process_exit.h).
+int main(int argc, char** argv) {
+  int rc = 0;
+  {
+    QApplication app(argc, argv);
+    app.setAttribute(Qt::AA_Use96Dpi, true);
+    QTEST_DISABLE_KEYPAD_NAVIGATION
+    WorkbenchTest tc;
+    QTEST_SET_MAIN_SOURCE_PATH
+    rc = QTest::qExec(&tc, argc, argv);
+  }
+  relume::endProcess(rc);
+}
 #include "workbench_test.moc"
