@@ -18,6 +18,7 @@
 #include "relume/geometry/error.h"
 #include "relume/image/image.h"
 #include "relume/project/room_io.h"
+#include "relume/reconstruct/click_build.h"
 #include "relume/reconstruct/clicks.h"
 #include "relume/reconstruct/colmap_driver.h"
 #include "relume/reconstruct/colmap_model.h"
@@ -52,29 +53,6 @@ std::vector<double> numbers(const QString& text, const std::string& option) {
     v.push_back(x);
   }
   return v;
-}
-
-// WORKSPACE: a `relume reconstruct` workspace (sparse/ + workspace.json), or a COLMAP model
-// folder; the photos folder comes from --photos, the workspace, or a photos/ folder beside it.
-struct Workspace {
-  std::string modelFolder, photosDir;
-};
-Workspace openWorkspace(const QString& path, const QString& photosOption) {
-  Workspace w;
-  const QDir d(path);
-  if (!d.exists()) throw Error(str(path), "", "no such workspace or model folder");
-  if (d.exists("sparse/cameras.txt") || d.exists("sparse/cameras.bin")) w.modelFolder = str(d.filePath("sparse"));
-  else if (d.exists("cameras.txt") || d.exists("cameras.bin")) w.modelFolder = str(d.path());
-  if (!photosOption.isEmpty()) w.photosDir = str(photosOption);
-  else if (d.exists("workspace.json")) {
-    QFile f(d.filePath("workspace.json"));
-    if (f.open(QIODevice::ReadOnly)) w.photosDir = str(QJsonDocument::fromJson(f.readAll()).object()["photos"].toString());
-  }
-  if (w.photosDir.empty()) {
-    QDir up(d);
-    if (up.cdUp() && up.exists("photos")) w.photosDir = str(up.filePath("photos"));
-  }
-  return w;
 }
 
 const ColmapPoint& pointById(const ColmapModel& m, const QString& id, const std::string& option) {
@@ -136,7 +114,7 @@ int reconstructCommand(const QStringList& args, Progress& progress) {
     opt.cameraParams = numbers(mp[1], "--camera");
   }
   if (p.isSet("known-cameras")) {
-    const Workspace k = openWorkspace(p.value("known-cameras"), "");
+    const ClickWorkspace k = openClickWorkspace(str(p.value("known-cameras")));
     QDir kd(p.value("known-cameras"));
     if (!k.modelFolder.empty()) opt.knownCameras = k.modelFolder;
     else if (kd.exists("colmap/cameras.txt")) opt.knownCameras = str(kd.filePath("colmap"));
@@ -178,7 +156,7 @@ int alignCommand(const QStringList& args, Progress& progress) {
   parseOrThrow(p, args, 1, "relume align MODEL (--to REFERENCE | --scale P1,P2,M [--floor P1,P2,P3]) [-o DIR] [--json F]");
   if (p.isSet("to") == p.isSet("scale")) throw Error("", "command line", "give either --to REFERENCE or --scale P1,P2,METRES");
   if (p.isSet("floor") && !p.isSet("scale")) throw Error("", "--floor", "needs --scale too (the metric frame takes both)");
-  const Workspace w = openWorkspace(p.positionalArguments()[0], "");
+  const ClickWorkspace w = openClickWorkspace(str(p.positionalArguments()[0]));
   if (w.modelFolder.empty()) throw Error(str(p.positionalArguments()[0]), "", "holds no COLMAP model");
   ColmapModel model = readColmapModel(w.modelFolder);
   if (p.isSet("scale")) {
@@ -195,7 +173,7 @@ int alignCommand(const QStringList& args, Progress& progress) {
   const bool roomFolder = QFileInfo(to).isDir() && (QFileInfo(QDir(to).filePath("scene.json")).exists() ||
                                                      QFileInfo(QDir(to).filePath("project.json")).exists());
   if (QFileInfo(to).isDir() && !roomFolder) {
-    const Workspace rw = openWorkspace(to, "");
+    const ClickWorkspace rw = openClickWorkspace(str(to));
     if (rw.modelFolder.empty()) throw Error(str(to), "", "holds neither a COLMAP model nor a room");
     const ColmapModel r = readColmapModel(rw.modelFolder);
     for (const auto& [id, im] : r.images) ref[fs::path(im.name).stem().string()] = im.center();
@@ -249,163 +227,43 @@ int triangulateCommand(const QStringList& args, Progress& progress) {
   p.addOption({"floor", "Without a model: three or more floor point names (z = 0).", "P1,P2,P3"});
   parseOrThrow(p, args, 1, "relume triangulate WORKSPACE --clicks CLICKS.json -o PROJECT");
   if (!p.isSet("clicks") || !p.isSet("output")) throw Error("", "command line", "--clicks CLICKS.json and -o PROJECT are required");
-  const Workspace w = openWorkspace(p.positionalArguments()[0], p.value("photos"));
+  const ClickWorkspace w = openClickWorkspace(str(p.positionalArguments()[0]), str(p.value("photos")));
   if (w.photosDir.empty()) throw Error(str(p.positionalArguments()[0]), "", "the photos folder is unknown; pass --photos DIR");
-  Clicks clicks = readClicks(str(p.value("clicks")));
-  ColmapModel model;
-  if (!w.modelFolder.empty()) {
-    model = readColmapModel(w.modelFolder);
-  } else {
-    // TotalCalib: cameras from the clicked correspondences and known intrinsics.
-    progress.report(0.05, "solving the cameras from the clicks");
-    std::vector<std::string> photoNames;
-    std::map<std::string, int> index;
-    for (const auto& [n, pt] : clicks.points)
-      if (!pt.typed)
-        for (const auto& [photo, px] : pt.clicks)
-          if (!index.count(photo)) index[photo] = int(photoNames.size()), photoNames.push_back(photo);
-    if (photoNames.empty()) throw Error(str(p.value("clicks")), "points", "no point is clicked in photos");
-    std::map<std::string, std::string> photoFile;  // stem -> the 8-bit photo
-    for (const auto& f : listPhotos(w.photosDir))
-      if (!isRadianceFile(f)) photoFile[fs::path(f).stem().string()] = f;
-    for (const auto& name : photoNames)
-      if (!photoFile.count(name)) throw Error(w.photosDir, "", "has no photo named " + name + " (clicked in the clicks file)");
-    ColmapCamera cam;
-    cam.id = 1;
-    if (p.isSet("intrinsics")) {
-      const Intrinsics in = readIntrinsics(str(p.value("intrinsics")));
-      cam.model = "OPENCV";
-      cam.width = in.width;
-      cam.height = in.height;
-      cam.params = {in.fx, in.fy, in.cx, in.cy, in.k1, in.k2, in.p1, in.p2};
-    } else if (p.isSet("focal")) {
-      int wdt = 0, hgt = 0;
-      imageSize(photoFile.at(photoNames.front()), wdt, hgt);
-      cam.model = "PINHOLE";
-      cam.width = wdt;
-      cam.height = hgt;
-      const double f = p.value("focal").toDouble();
-      if (!(f > 0)) throw Error("", "--focal", "must be a positive number of pixels");
-      cam.params = {f, f, wdt / 2.0, hgt / 2.0};
-    } else {
-      // The focal length from the photos' EXIF (35 mm equivalent), principal point at the centre.
-      {
-        const std::string& f = photoFile.at(photoNames.front());
-        const PhotoInfo info = readPhotoInfo(f);
-        if (info.focalPixels() > 0) {
-          cam.model = "PINHOLE";
-          cam.width = info.width;
-          cam.height = info.height;
-          cam.params = {info.focalPixels(), info.focalPixels(), info.width / 2.0, info.height / 2.0};
-          std::fprintf(stderr, "focal length from EXIF (%s): %.1f px\n", f.c_str(), info.focalPixels());
-        }
-      }
-      if (cam.params.empty())
-        throw Error(str(p.positionalArguments()[0]), "",
-                    "holds no COLMAP model and the photos' EXIF gives no focal length: give --intrinsics or --focal to "
-                    "solve the cameras from the clicks");
-    }
-    std::vector<Track> tracks;
-    for (const auto& [n, pt] : clicks.points) {
-      if (pt.typed) continue;
-      Track t;
-      t.name = n;
-      for (const auto& [photo, px] : pt.clicks) {
-        const glm::dvec2 u = cam.undistort(px);
-        t.clicks.emplace_back(index[photo], glm::dvec2(cam.fx() * u.x + cam.cx(), cam.fy() * u.y + cam.cy()));
-      }
-      tracks.push_back(t);
-    }
-    Camera K;
-    K.K = cam.K();
-    K.width = cam.width;
-    K.height = cam.height;
-    const CameraSolution sol = solveCameras(std::vector<Camera>(photoNames.size(), K), photoNames, tracks);
-    model.cameras[1] = cam;
-    std::map<std::string, int> imageId;
-    for (size_t i = 0; i < photoNames.size(); ++i) {
-      if (!sol.posed[i]) {
-        std::fprintf(stderr, "warning: photo %s could not be posed from its clicks\n", photoNames[i].c_str());
-        continue;
-      }
-      ColmapImage im;
-      im.id = int(i + 1);
-      im.camera = 1;
-      im.name = fs::path(photoFile.at(photoNames[i])).filename().string();
-      im.setRotation(sol.cameras[i].R);
-      im.t = sol.cameras[i].t;
-      model.images[im.id] = im;
-    }
-    std::fprintf(stderr, "cameras solved from %zu clicked points: reprojection rms %.3f px\n", tracks.size(), sol.rmsError);
-    // Clicks in photos that could not be posed are left out (a point then needs two other clicks).
-    for (auto& [n, pt] : clicks.points) {
-      std::vector<std::pair<std::string, glm::dvec2>> kept;
-      for (const auto& c : pt.clicks)
-        if (index.count(c.first) && sol.posed[index[c.first]]) kept.push_back(c);
-      if (!pt.typed && kept.size() < 2)
-        throw Error(str(p.value("clicks")), "point " + n, "is clicked in fewer than two of the photos that could be posed");
-      pt.clicks = kept;
-    }
+  // The file as the workbench saves it too: work in progress is accepted, and left out.
+  const Clicks clicks = readClicks(str(p.value("clicks")), true);
+  ClickCameraOptions o;
+  o.intrinsicsFile = str(p.value("intrinsics"));
+  if (p.isSet("focal")) {
+    bool ok = false;
+    o.focal = p.value("focal").toDouble(&ok);
+    if (!ok || !(o.focal > 0)) throw Error("", "--focal", "must be a positive number of pixels");
   }
-  // The metric frame: control points (clicked and measured) when there are 3 or more; else, for
-  // cameras solved from clicks, --scale and --floor.
-  if (controlPoints(clicks).size() >= 3) {
-    const ControlFit f = fitControlPoints(clicks, model);
-    transformModel(model, f.S);
-    double worstCp = 0;
-    for (const auto& [n, r] : f.residuals) worstCp = std::max(worstCp, r);
-    std::fprintf(stderr, "metric frame from %zu control points: scale %.6g, largest residual %.4f m\n", f.residuals.size(),
-                 f.S.s, worstCp);
-  } else if (w.modelFolder.empty()) {
-    if (!p.isSet("scale"))
-      throw Error("", "--scale", "without a model the metric frame is needed: 3+ control points (clicked and \"xyz\") or --scale P1,P2,METRES [--floor P1,P2,P3]");
-    const Similarity S = metricFromOptions(
-        p,
-        [&](const QString& n, const std::string& o) {
-          const auto it = clicks.points.find(str(n.trimmed()));
-          if (it == clicks.points.end() || it->second.clicks.size() < 2)
-            throw Error(str(p.value("clicks")), o, "'" + str(n) + "' is not a point clicked in two or more photos");
-          return triangulateClickedPoint(clicks, it->first, model).X;
-        },
-        meanCameraCentre(model));
-    transformModel(model, S);
+  if (p.isSet("scale")) {
+    const QStringList sc = p.value("scale").split(',');
+    if (sc.size() != 3) throw Error("", "--scale", "expected P1,P2,METRES");
+    bool ok = false;
+    o.scaleMetres = sc[2].toDouble(&ok);
+    if (!ok || !(o.scaleMetres > 0)) throw Error("", "--scale", "'" + str(sc[2]) + "' is not a distance in metres");
+    o.scaleA = str(sc[0].trimmed());
+    o.scaleB = str(sc[1].trimmed());
   }
-  progress.report(0.3, "triangulating " + std::to_string(clicks.points.size()) + " points");
+  if (p.isSet("floor")) {
+    const QStringList fl = p.value("floor").split(',');
+    if (fl.size() < 3) throw Error("", "--floor", "expected three or more points P1,P2,P3");
+    for (const auto& f : fl) o.floor.push_back(str(f.trimmed()));
+  }
   QTemporaryDir tmp;
-  TriangulationReport report;
-  const Scene scene = sceneFromClicks(clicks, model, w.photosDir, str(tmp.path()) + "/undistorted", report);
+  const ClickBuild b = buildFromClicks(clicks, w, o, str(tmp.path()) + "/undistorted", progress);
+  for (const auto& n : b.notes) std::fprintf(stderr, "%s\n", n.c_str());
+  for (const auto& n : b.warnings) std::fprintf(stderr, "warning: %s\n", n.c_str());
   double worst = 0;
-  std::string worstName, weak;
-  QJsonObject pts;
-  for (const auto& [n, tp] : report.points) {
-    QJsonArray errs;
-    for (double e : tp.reprojectionError) errs.append(e);
-    QJsonObject o{{"xyz", QJsonArray{tp.X.x, tp.X.y, tp.X.z}}};
-    if (!tp.reprojectionError.empty()) {
-      o["reprojection_px"] = errs;
-      o["ray_angle_deg"] = tp.rayAngleDeg;
-      if (tp.rayAngleDeg < 10) weak += " " + n + QString(" (%1 deg)").arg(tp.rayAngleDeg, 0, 'f', 1).toStdString();
-    } else {
-      o["typed"] = true;
-    }
-    pts[QString::fromStdString(n)] = o;
+  std::string worstName;
+  for (const auto& [n, tp] : b.report.points)
     if (tp.maxError() > worst) worst = tp.maxError(), worstName = n;
-  }
-  if (!weak.empty())
-    std::fprintf(stderr, "warning: clicked in photos taken from nearly the same direction, so their depth is weak "
-                         "(click them in a photo further to the side):%s\n", weak.c_str());
-  QJsonObject planes;
-  for (const auto& [n, r] : report.planeRms) planes[QString::fromStdString(n)] = r;
   std::fprintf(stderr, "triangulated %zu points (largest reprojection error %.2f px, point %s), %zu polygons, %zu lamps\n",
-               report.points.size(), worst, worstName.c_str(), scene.polygons.size(), scene.lamps.size());
-  const QJsonObject rep{{"points", pts}, {"plane_rms_m", planes}, {"seconds", report.seconds}};
-  saveProject(scene, str(p.value("output")), progress, [&](const std::string& staging) {
-    writeJsonAtomically(QDir(QString::fromStdString(staging)).filePath("triangulation.json"), rep);
-    // The clicks the polygons came from, as given: the project can be re-triangulated or edited.
-    const QString dst = QDir(QString::fromStdString(staging)).filePath("clicks.json");
-    QFile::remove(dst);
-    if (!QFile::copy(p.value("clicks"), dst)) throw Error(str(dst), "", "cannot copy the clicks into the project");
-  });
+               b.report.points.size(), worst, worstName.c_str(), b.scene.polygons.size(), b.scene.lamps.size());
+  // The clicks the polygons came from are kept in the project: it can be re-triangulated or edited.
+  saveClickProject(b, clicks, str(p.value("output")), progress);
   std::fprintf(stderr, "wrote %s\n", qPrintable(p.value("output")));
   return 0;
 }

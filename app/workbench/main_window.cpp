@@ -25,6 +25,7 @@
 #include <QTime>
 #include <QTimer>
 #include <QStatusBar>
+#include <QUndoGroup>
 #include <QUndoStack>
 #include <cmath>
 #include <numbers>
@@ -36,6 +37,7 @@
 #include "edit_tool.h"
 #include "lights_panel.h"
 #include "objects_panel.h"
+#include "clicks_panel.h"
 #include "inspector_panel.h"
 #include "photos_panel.h"
 #include "reconstruction_panel.h"
@@ -111,6 +113,31 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   addDockWidget(Qt::BottomDockWidgetArea, inspectorDock_);
   inspectorDock_->hide();
   inspectorDock_->toggleViewAction()->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_I));
+  // Clicking corners into a model (TotalCalib-style), below the viewport beside the inspector.
+  clicks_ = new ClicksPanel(jobs_, photos_, this);
+  clicksDock_ = new QDockWidget(tr("Model from clicks"), this);
+  clicksDock_->setObjectName("ClicksDock");
+  clicksDock_->setWidget(clicks_);
+  addDockWidget(Qt::BottomDockWidgetArea, clicksDock_);
+  tabifyDockWidget(inspectorDock_, clicksDock_);
+  clicksDock_->hide();
+  clicksDock_->toggleViewAction()->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_M));
+  connect(clicks_, &ClicksPanel::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
+  // Built: the project opens (and is preprocessed) once the build job has ended.
+  connect(clicks_, &ClicksPanel::modelBuilt, this, [this](const QString& project) { openPath(project); }, Qt::QueuedConnection);
+  connect(clicksDock_, &QDockWidget::visibilityChanged, this, [this](bool on) {
+    if (on && !clicksDock_->isFloating() && clicksDock_->height() < height() / 2)
+      resizeDocks({clicksDock_}, {int(height() * 0.6)}, Qt::Vertical);
+  });
+  // Edit > Undo acts on the clicks while they have the focus, else on the document.
+  undoGroup_ = new QUndoGroup(this);
+  undoGroup_->addStack(doc_->undoStack());
+  undoGroup_->addStack(clicks_->undoStack());
+  undoGroup_->setActiveStack(doc_->undoStack());
+  connect(qApp, &QApplication::focusChanged, this, [this](QWidget*, QWidget* now) {
+    if (!now || now->window() != this) return;
+    undoGroup_->setActiveStack(clicks_->isAncestorOf(now) ? clicks_->undoStack() : doc_->undoStack());
+  });
   connect(inspector_, &InspectorPanel::pickedChanged, this, &MainWindow::updateOverlays);
   connect(inspectorDock_, &QDockWidget::visibilityChanged, this, &MainWindow::updateOverlays);
   connect(inspectorDock_, &QDockWidget::visibilityChanged, this, [this](bool on) {
@@ -228,12 +255,12 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
 // While a job runs, nothing edits the document (its result replaces or saves what it was given).
 void MainWindow::setEditing(bool on) {
   for (QWidget* w : {static_cast<QWidget*>(lights_), static_cast<QWidget*>(objects_), static_cast<QWidget*>(references_),
-                     static_cast<QWidget*>(photos_), static_cast<QWidget*>(reconstruction_)})
+                     static_cast<QWidget*>(photos_), static_cast<QWidget*>(reconstruction_), static_cast<QWidget*>(clicks_)})
     w->setEnabled(on);
   tool_->setEnabled(on);
   if (!on) tool_->setMode(EditTool::Mode::Select);
-  undoAction_->setEnabled(on && doc_->undoStack()->canUndo());
-  redoAction_->setEnabled(on && doc_->undoStack()->canRedo());
+  undoAction_->setEnabled(on && undoGroup_->canUndo());
+  redoAction_->setEnabled(on && undoGroup_->canRedo());
   for (QAction* a : lightingMenu_->actions()) a->setEnabled(on);
 }
 
@@ -401,9 +428,9 @@ void MainWindow::buildMenus() {
   quit->setShortcut(QKeySequence::Quit);
 
   QMenu* edit = menuBar()->addMenu(tr("&Edit"));
-  QAction* undo = undoAction_ = doc_->undoStack()->createUndoAction(this, tr("&Undo"));
+  QAction* undo = undoAction_ = undoGroup_->createUndoAction(this, tr("&Undo"));
   undo->setShortcut(QKeySequence::Undo);
-  QAction* redo = redoAction_ = doc_->undoStack()->createRedoAction(this, tr("&Redo"));
+  QAction* redo = redoAction_ = undoGroup_->createRedoAction(this, tr("&Redo"));
   redo->setShortcuts({QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z), QKeySequence::Redo});
   edit->addAction(undo);
   edit->addAction(redo);

@@ -10,6 +10,7 @@ class QProgressBar;
 class QPushButton;
 class QMenu;
 class QActionGroup;
+class QUndoGroup;
 
 namespace relume {
 
@@ -21,6 +22,7 @@ class ReferencesPanel;
 class InspectorPanel;
 class PhotosPanel;
 class ReconstructionPanel;
+class ClicksPanel;
 class EditTool;
 class ViewportWidget;
 
@@ -47,6 +49,8 @@ class MainWindow : public QMainWindow {
   InspectorPanel* inspectorPanel() const { return inspector_; }
   PhotosPanel* photosPanel() const { return photos_; }
   ReconstructionPanel* reconstructionPanel() const { return reconstruction_; }
+  ClicksPanel* clicksPanel() const { return clicks_; }
+  QDockWidget* clicksDock() const { return clicksDock_; }
   QDockWidget* inspectorDock() const { return inspectorDock_; }
   EditTool* editTool() const { return tool_; }
   QString lastError() const { return lastError_; }
@@ -95,6 +99,9 @@ class MainWindow : public QMainWindow {
   PhotosPanel* photos_ = nullptr;
   ReconstructionPanel* reconstruction_ = nullptr;
   QDockWidget* inspectorDock_ = nullptr;
+  ClicksPanel* clicks_ = nullptr;
+  QDockWidget* clicksDock_ = nullptr;
+  QUndoGroup* undoGroup_ = nullptr;
   EditTool* tool_;
   QString selected_;
   QLabel* statusView_;

@@ -109,7 +109,8 @@ void ReconstructionPanel::showEvent(QShowEvent* e) {
 
 bool ReconstructionPanel::run() {
   if (jobs_->busy()) return false;
-  const QString photos = QFileInfo(photosFolder_->text()).absoluteFilePath(), ws = workspace_->text();
+  const QString photos = QFileInfo(photosFolder_->text()).absoluteFilePath(),
+                ws = workspace_->text().isEmpty() ? QString() : QFileInfo(workspace_->text()).absoluteFilePath();
   if (photosFolder_->text().isEmpty() || !QDir(photos).exists()) {
     emit message(tr("Choose the folder of photos first."));
     return false;
@@ -120,9 +121,19 @@ bool ReconstructionPanel::run() {
   }
   return jobs_->start(tr("Reconstructing with COLMAP"), [this, photos, ws](Progress& progress) -> JobRunner::Continuation {
     auto r = std::make_shared<recon::ColmapRun>(recon::runColmap(photos.toStdString(), ws.toStdString(), recon::ColmapOptions{}, progress));
-    recon::writeWorkspaceInfo(ws.toStdString(), photos.toStdString(), *r, false);
-    return [this, r]() {
+    // The model is in sparse/ now: a workspace.json that cannot be written costs the photos
+    // folder's default only, so it is said, not made a failure of the whole run.
+    QString warning;
+    try {
+      recon::writeWorkspaceInfo(ws.toStdString(), photos.toStdString(), *r, false);
+    } catch (const Error& e) {
+      warning = QString::fromStdString(e.what());
+    }
+    return [this, r, ws, photos, warning]() {
       run_result_ = std::make_unique<recon::ColmapRun>(std::move(*r));
+      runWorkspace_ = ws;
+      runPhotos_ = photos;
+      if (!warning.isEmpty()) emit message(warning);
       scale_.clear();
       floor_.clear();
       showResult();
@@ -210,17 +221,23 @@ bool ReconstructionPanel::applyMetricFrame() {
     return false;
   }
   auto& r = *run_result_;
+  // The run's own workspace and photos (the fields may have been edited since), written as a
+  // whole: the model folder is swapped in, then workspace.json; a failure puts the old model back.
   try {
     auto at = [&](long long id) { return r.model.points.at(id).xyz; };
     const recon::Similarity S =
         recon::metricFrame(at(scale_[0]), at(scale_[1]), distance_->value(), {at(floor_[0]), at(floor_[1]), at(floor_[2])},
                            recon::meanCameraCentre(r.model));
-    recon::ColmapModel model = r.model;
-    recon::transformModel(model, S);
-    recon::writeColmapText(model, r.modelFolder);
-    r.model = std::move(model);
-    recon::writeWorkspaceInfo(workspace_->text().toStdString(), QFileInfo(photosFolder_->text()).absoluteFilePath().toStdString(),
-                              r, true);
+    recon::ColmapRun metric = r;
+    recon::transformModel(metric.model, S);
+    recon::replaceColmapText(metric.model, r.modelFolder);
+    try {
+      recon::writeWorkspaceInfo(runWorkspace_.toStdString(), runPhotos_.toStdString(), metric, true);
+    } catch (const Error&) {
+      recon::replaceColmapText(r.model, r.modelFolder);
+      throw;
+    }
+    r = std::move(metric);
   } catch (const Error& e) {
     emit message(QString::fromStdString(e.what()));
     return false;

@@ -73,6 +73,7 @@ class ReconstructionPanel : public QWidget {
   QDoubleSpinBox* distance_;
   inspect::SparseView* view_;
   std::unique_ptr<recon::ColmapRun> run_result_;
+  QString runWorkspace_, runPhotos_;  // the run's folders, absolute
   std::vector<long long> pointIds_;  // view point index -> model point id
   std::vector<long long> scale_, floor_;
   Picking picking_ = Picking::None;

@@ -35,6 +35,10 @@
 #include "objects_panel.h"
 #include "references_panel.h"
 #include "inspector_panel.h"
+#include "click_photo_view.h"
+#include "clicks_panel.h"
+#include "relume/project/room_io.h"
+#include "relume/reconstruct/click_build.h"
 #include "photos_panel.h"
 #include "process_exit.h"
 #include "reconstruction_panel.h"
@@ -67,6 +71,7 @@ using namespace relume;
 namespace {
 
 const QString kRoom = QStringLiteral(RELUME_SOURCE_DIR) + "/resources/sample_room";
+std::string str(const QString& s) { return s.toStdString(); }
 
 // PSNR of `img` against `ref` with no gain fitted, the peak at ref's 99.9th percentile.
 double psnrNoGain(const ImageRGB& img, const ImageRGB& ref) {
@@ -1466,6 +1471,218 @@ class WorkbenchTest : public QObject {
   }
 
   // The French UI shows French menus and panel titles.
+  // The Model panel: the sample room's corners clicked through the photo views at their
+  // clicks.json positions (at 300 %, so that a screen pixel's centre is the clicked pixel
+  // centre), measured points typed, polygons picked in order, then "Build model": the project
+  // reproduces what `relume triangulate` makes of the same clicks within 1 mm, and opens.
+  void modelFromClicks() {
+    const QString room = tmp_.path() + "/clickroom";
+    for (const QString sub : {"colmap", "photos"}) {
+      QVERIFY(QDir().mkpath(room + "/" + sub));
+      for (const QString& f : QDir(kRoom + "/" + sub).entryList(QDir::Files))
+        QVERIFY(QFile::copy(kRoom + "/" + sub + "/" + f, room + "/" + sub + "/" + f));
+    }
+    auto* panel = window_->clicksPanel();
+    window_->clicksDock()->show();
+    window_->clicksDock()->raise();
+    QTest::qWait(50);
+    // Bad input first: a folder without photos says so and opens nothing.
+    QVERIFY(QDir().mkpath(tmp_.path() + "/nophotos/ws"));
+    QVERIFY(!panel->load(tmp_.path() + "/nophotos/ws"));
+    QVERIFY2(panel->summary()->text().contains("photos"), qPrintable(panel->summary()->text()));
+    QVERIFY(!panel->isLoaded());
+
+    panel->workspaceEdit()->setText(room + "/colmap");
+    QVERIFY(panel->load(room + "/colmap"));
+    QVERIFY(panel->hasCameras());
+    QCOMPARE(panel->photoNames().size(), size_t(7));
+    const recon::Clicks truth = recon::readClicks(str(kRoom + "/clicks.json"));
+
+    auto clickView = [&](ClickPhotoView* view, const glm::dvec2& px) {
+      const QPointF p(px.x, px.y);
+      view->setZoom(3, QPointF(view->width() / 2.0, view->height() / 2.0));
+      view->centerOn(p);
+      const QPointF w = view->widgetPosition(p);
+      QCOMPARE(w, QPointF(w.toPoint()));  // a whole screen pixel: the click is exact
+      QTest::mouseClick(view, Qt::LeftButton, {}, w.toPoint());
+    };
+    // Distance from a pixel to the epipolar curve drawn in a view.
+    auto curveDistance = [](const QPolygonF& curve, const glm::dvec2& q) {
+      double best = 1e300;
+      for (int k = 0; k + 1 < curve.size(); ++k) {
+        const glm::dvec2 a(curve[k].x(), curve[k].y()), b(curve[k + 1].x(), curve[k + 1].y());
+        const double t = std::clamp(glm::dot(q - a, b - a) / std::max(1e-12, glm::dot(b - a, b - a)), 0.0, 1.0);
+        best = std::min(best, glm::length(q - (a + t * (b - a))));
+      }
+      return best;
+    };
+    std::map<std::string, std::string> nameOf;  // the file's point name -> the panel's
+    int proposalsTried = 0, proposalsFound = 0;
+    double worstEpipolar = 0;
+    bool shot = false;
+    for (const auto& [name, pt] : truth.points) {
+      if (pt.clicks.empty()) {  // a corner no photo shows: typed
+        QTest::mouseClick(panel->newPointButton(), Qt::LeftButton);
+        for (int a = 0; a < 3; ++a) panel->measuredEdit(a)->setValue((*pt.typed)[a]);
+        QTest::mouseClick(panel->measuredButton(), Qt::LeftButton);
+        nameOf[name] = str(panel->currentPoint());
+        continue;
+      }
+      QTest::mouseClick(panel->newPointButton(), Qt::LeftButton);
+      const auto& first = pt.clicks.front();
+      for (size_t k = 1; k < pt.clicks.size(); ++k) {
+        const auto& other = pt.clicks[k];
+        panel->showPhotos(QString::fromStdString(first.first), QString::fromStdString(other.first));
+        if (k == 1) clickView(panel->viewA(), first.second);
+        // Before the click in the second photo: its epipolar curve and the proposals.
+        panel->waitForProposals();
+        const double e = curveDistance(panel->viewB()->epipolar(), other.second);
+        worstEpipolar = std::max(worstEpipolar, e);
+        ++proposalsTried;
+        const auto& props = panel->viewB()->proposals();
+        if (!props.empty() && std::hypot(props[0].x() - other.second.x, props[0].y() - other.second.y) <= 2) ++proposalsFound;
+        if (getenv("DEBUG_PROPOSALS"))
+          qInfo("%s %s->%s: %s", name.c_str(), first.first.c_str(), other.first.c_str(),
+                props.empty() ? "none" : qPrintable(QString("%1 px").arg(std::hypot(props[0].x() - other.second.x, props[0].y() - other.second.y))));
+        if (!shot && props.size() >= 2 && name == "p9") {
+          shot = true;
+          panel->viewA()->fit();
+          panel->viewB()->fit();
+          QTest::qWait(50);
+          saveShot(panel, "clicks_panel_proposals");
+          clickView(panel->viewA(), first.second);  // back as it was for the click
+        }
+        clickView(panel->viewB(), other.second);
+      }
+      nameOf[name] = str(panel->currentPoint());
+      const auto& made = panel->clicks().points.at(nameOf[name]);
+      QCOMPARE(made.clicks.size(), pt.clicks.size());
+      for (const auto& [photo, px] : pt.clicks) {
+        bool same = false;
+        for (const auto& [p2, q] : made.clicks) same = same || (p2 == photo && glm::length(q - px) < 1e-9);
+        QVERIFY2(same, (name + " in " + photo).c_str());
+      }
+      if (pt.typed) {
+        for (int a = 0; a < 3; ++a) panel->measuredEdit(a)->setValue((*pt.typed)[a]);
+        QTest::mouseClick(panel->measuredButton(), Qt::LeftButton);
+      }
+    }
+    qInfo("Model panel: %zu points; epipolar curves within %.3f px of the true clicks; best proposal within 2 px for %d of %d",
+          panel->clicks().points.size(), worstEpipolar, proposalsFound, proposalsTried);
+    QCOMPARE(panel->clicks().points.size(), truth.points.size());
+    QVERIFY(worstEpipolar <= 1.5);
+    QVERIFY(proposalsFound >= proposalsTried / 2);
+    // Every clicked point shows its reprojection error (sub-pixel here: the clicks are exact).
+    for (const auto& [n, st] : panel->pointStates()) QVERIFY2(st.triangulated && st.maxError < 1, n.c_str());
+
+    // Polygons: corners picked in order in the list, the constraints and lamps ticked there.
+    auto* list = panel->pointsList();
+    auto* polys = panel->polygonsList();
+    for (const auto& poly : truth.polygons) {
+      list->clearSelection();
+      for (const auto& c : poly.corners) {
+        const auto items = list->findItems(QString::fromStdString(nameOf.at(c)), Qt::MatchExactly, 0);
+        QCOMPARE(items.size(), 1);
+        items[0]->setSelected(true);
+      }
+      QCOMPARE(panel->picked().size(), poly.corners.size());
+      panel->polygonNameEdit()->setText(QString::fromStdString(poly.name));
+      QTest::mouseClick(panel->polygonButton(), Qt::LeftButton);
+      const auto items = polys->findItems(QString::fromStdString(poly.name), Qt::MatchExactly, 0);
+      QCOMPARE(items.size(), 1);
+      if (poly.group != poly.name) items[0]->setText(2, QString::fromStdString(poly.group));
+      QTest::qWait(0);
+      if (!poly.lamp.empty()) {
+        auto* it = polys->findItems(QString::fromStdString(poly.name), Qt::MatchExactly, 0)[0];
+        it->setText(3, QString::fromStdString(poly.lamp));
+        QTest::qWait(0);
+        it = polys->findItems(QString::fromStdString(poly.name), Qt::MatchExactly, 0)[0];
+        it->setCheckState(3, Qt::Checked);
+        QTest::qWait(0);
+      }
+      if (poly.rectangle) {
+        polys->findItems(QString::fromStdString(poly.name), Qt::MatchExactly, 0)[0]->setCheckState(4, Qt::Checked);
+        QTest::qWait(0);
+      }
+      const recon::ClickPolygon& made = panel->clicks().polygons.back();
+      QCOMPARE(made.name, poly.name);
+      QCOMPARE(made.group, poly.group);
+      QCOMPARE(made.lamp, poly.lamp);
+      QCOMPARE(made.rectangle, poly.rectangle);
+    }
+    QCOMPARE(panel->clicks().polygons.size(), truth.polygons.size());
+    // Undo and redo: the last polygon's rectangle tick, then the polygon itself.
+    const size_t n = panel->clicks().polygons.size();
+    QTest::mouseClick(panel->undoButton(), Qt::LeftButton);
+    QVERIFY(!panel->clicks().polygons.back().rectangle);
+    QTest::mouseClick(panel->undoButton(), Qt::LeftButton);
+    QTest::mouseClick(panel->undoButton(), Qt::LeftButton);
+    QTest::mouseClick(panel->undoButton(), Qt::LeftButton);
+    QCOMPARE(panel->clicks().polygons.size(), n - 1);
+    for (int k = 0; k < 4; ++k) QTest::mouseClick(panel->redoButton(), Qt::LeftButton);
+    QCOMPARE(panel->clicks().polygons.size(), n);
+    QVERIFY(panel->clicks().polygons.back().rectangle);
+    // What the panel holds is on disk already (atomically, as every edit is made).
+    QCOMPARE(recon::clicksJson(recon::readClicks(str(panel->clicksFile()), true)), recon::clicksJson(panel->clicks()));
+
+    // A polygon on a point clicked once: Build says which point, and writes no project.
+    const QString badProject = tmp_.path() + "/bad.relume";
+    panel->showPhotos("main", "view1");
+    QTest::mouseClick(panel->newPointButton(), Qt::LeftButton);
+    clickView(panel->viewA(), glm::dvec2(320.5, 240.5));
+    const std::string once = str(panel->currentPoint());
+    panel->setPicked({once, nameOf.at("p0"), nameOf.at("p1")});
+    panel->polygonNameEdit()->setText("bad");
+    QTest::mouseClick(panel->polygonButton(), Qt::LeftButton);
+    QVERIFY(panel->build(badProject));
+    QVERIFY(waitForJob(60000));
+    QVERIFY2(window_->lastError().contains(QString::fromStdString(once)) && window_->lastError().contains("bad"),
+             qPrintable(window_->lastError()));
+    QVERIFY(!QFileInfo::exists(badProject));
+    QTest::mouseClick(panel->undoButton(), Qt::LeftButton);  // the polygon
+    QTest::mouseClick(panel->undoButton(), Qt::LeftButton);  // the point
+    QCOMPARE(panel->clicks().points.size(), truth.points.size());
+    QCOMPARE(panel->clicks().polygons.size(), truth.polygons.size());
+    panel->viewA()->fit();
+    panel->viewB()->fit();
+    QTest::qWait(50);
+    saveShot(panel, "clicks_panel");
+
+    // Build: the same scene as the library's path for `relume triangulate`, then it opens.
+    const QString project = tmp_.path() + "/clicked.relume";
+    panel->projectEdit()->setText(project);
+    QTest::mouseClick(panel->buildButton(), Qt::LeftButton);
+    QVERIFY(waitForJob(120000));
+    QTest::qWait(50);  // the queued open
+    QVERIFY(waitForJob(600000));
+    QVERIFY2(doc()->projectPath() == QFileInfo(project).absoluteFilePath(), qPrintable(window_->lastError()));
+    QTemporaryDir cliTmp;
+    const recon::ClickBuild cli = recon::buildFromClicks(truth, recon::openClickWorkspace(str(room + "/colmap")), {},
+                                                         str(cliTmp.path()), silentProgress());
+    const Scene built = readProject(str(project));
+    QCOMPARE(built.polygons.size(), cli.scene.polygons.size());
+    double worst = 0;
+    for (const auto& p : cli.scene.polygons) {
+      const Polygon* q = nullptr;
+      for (const auto& b : built.polygons)
+        if (b.name == p.name) q = &b;
+      QVERIFY2(q && q->vertices.size() == p.vertices.size(), p.name.c_str());
+      for (size_t k = 0; k < p.vertices.size(); ++k) worst = std::max(worst, glm::length(q->vertices[k] - p.vertices[k]));
+    }
+    qInfo("Build model: %zu polygons, largest corner distance to the library's triangulation %.3g m", built.polygons.size(), worst);
+    QVERIFY(worst <= 1e-3);
+    QCOMPARE(built.lamps.size(), cli.scene.lamps.size());
+    QVERIFY(QFileInfo::exists(project + "/clicks.json") && QFileInfo::exists(project + "/triangulation.json"));
+    QVERIFY(doc()->isOpen());
+    QCOMPARE(doc()->scene().polygons.size(), built.polygons.size());
+    saveShot(window_.get(), "main_window_clicks");
+    window_->clicksDock()->hide();
+    // The sample room again for what follows.
+    QVERIFY(window_->openPath(kRoom));
+    QVERIFY(waitForJob(600000));
+    QVERIFY(doc()->isOpen());
+  }
+
   void frenchInterface() {
     QTranslator fr;
     QVERIFY(fr.load(":/i18n/relume_fr.qm"));

@@ -397,6 +397,33 @@ ClickedRoom clickedRoom() {
 }
 }  // namespace
 
+TEST(MetricFrame, UpFromTheCamerasIgnoresTheirPitch) {
+  // Five photos around a room, each pitched down 25 degrees, none rolled: up is +z exactly, where
+  // the mean of the photos' up directions leans 25 degrees.
+  ColmapModel m;
+  const double pitch = 25 * std::numbers::pi / 180;
+  for (int k = 0; k < 5; ++k) {
+    const double a = 0.3 + 1.1 * k;
+    const glm::dvec3 f(std::cos(a), std::sin(a), 0), down(0, 0, -1), x(std::sin(a), -std::cos(a), 0);
+    const glm::dvec3 z = std::cos(pitch) * f + std::sin(pitch) * down, y = glm::cross(z, x);
+    ColmapImage im;
+    im.id = k + 1;
+    im.setRotation(glm::transpose(glm::dmat3(x, y, z)));
+    m.images[im.id] = im;
+  }
+  EXPECT_LT(glm::length(estimateUp(m) - glm::dvec3(0, 0, 1)), 1e-6);
+  // In any frame: the same model turned by a rotation gives the turned up.
+  Similarity S;
+  S.R = glm::dmat3(glm::dvec3(0.36, 0.48, -0.8), glm::dvec3(-0.8, 0.6, 0), glm::dvec3(0.48, 0.64, 0.6));
+  transformModel(m, S);
+  EXPECT_LT(glm::length(estimateUp(m) - S.R * glm::dvec3(0, 0, 1)), 1e-6);
+  // The sample room's cameras (metric, +z up): within 2 degrees.
+  const ColmapModel room = readColmapModel(std::string(RELUME_SOURCE_DIR) + "/resources/sample_room/colmap");
+  const double deg = std::acos(std::clamp(estimateUp(room).z, -1.0, 1.0)) * 180 / std::numbers::pi;
+  std::printf("sample room: up from the cameras %.2f degrees from +z\n", deg);
+  EXPECT_LT(deg, 2.0);
+}
+
 TEST(Correspondences, CamerasFromThirtyClicksMatchTheTruth) {
   const ClickedRoom room = clickedRoom();
   const std::vector<Camera>& truth = room.truth;
@@ -695,7 +722,7 @@ TEST(MatchProposals, EpipolarSearchFindsTheClickedPointInAnotherPhoto) {
       if (!others.count(photo)) others[photo] = readImage8(dir + "/" + b->file);
       ++tried;
       const auto t0 = std::chrono::steady_clock::now();
-      const auto m = proposeMatches(ia, pa, others[photo], &a->camera, &b->camera);
+      const auto m = proposeMatches(ia, pa, others[photo], &a->camera, &b->camera, 3, 7, glm::dvec3(0, 0, 1));  // metric: +z up
       epipolarMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       found += !m.empty() && glm::length(m[0].pixel - pb) <= 2;
       bool inTop = false;

@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <numbers>
 
@@ -254,9 +255,16 @@ int InspectorView::elementAt(QPointF pos) {
     const double t = glm::dot(poly[0] - o, n) / dn;
     if (t <= 0 || t >= bestT) continue;
     const glm::dvec3 p = o + t * d;
-    bool inside = true;
-    for (size_t k = 0; k < poly.size() && inside; ++k)
-      inside = glm::dot(glm::cross(poly[(k + 1) % poly.size()] - poly[k], p - poly[k]), n) >= -1e-12;
+    // Crossing-number test in the plane (the element's outline need not be convex): the axis
+    // along which the normal is largest is dropped.
+    const glm::dvec3 an = glm::abs(n);
+    const int drop = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
+    const int u = drop == 0 ? 1 : 0, w = drop == 2 ? 1 : 2;
+    bool inside = false;
+    for (size_t k = 0, j = poly.size() - 1; k < poly.size(); j = k++) {
+      const glm::dvec3 &a = poly[k], &b = poly[j];
+      if ((a[w] > p[w]) != (b[w] > p[w]) && p[u] < (b[u] - a[u]) * (p[w] - a[w]) / (b[w] - a[w]) + a[u]) inside = !inside;
+    }
     if (inside) {
       best = int(i);
       bestT = t;

@@ -33,6 +33,8 @@ VtkView::VtkView(QWidget* parent) : QOpenGLWidget(parent), vtk_(std::make_unique
 }
 
 VtkView::~VtkView() {
+  // The context outlives this widget's VTK objects only for a moment: no callback may reach them.
+  QObject::disconnect(contextGone_);
   makeCurrent();
   vtk_->window->Finalize();
   doneCurrent();
@@ -51,11 +53,14 @@ void VtkView::initializeGL() {
   vtk_->window->OpenGLInitContext();
   // A QOpenGLWidget gets a new context when it moves to another top-level window (a dock floated
   // or docked again): VTK's buffers and shaders of the old one are released with it.
-  connect(context(), &QOpenGLContext::aboutToBeDestroyed, this, [this] {
+  // (Qt refuses Qt::UniqueConnection for a lambda, so the one connection is kept and replaced.)
+  QObject::disconnect(contextGone_);
+  contextGone_ = connect(context(), &QOpenGLContext::aboutToBeDestroyed, this, [this] {
+    if (!vtk_) return;
     makeCurrent();
     vtk_->window->ReleaseGraphicsResources(vtk_->window);
     doneCurrent();
-  }, Qt::UniqueConnection);
+  });
 }
 
 void VtkView::resizeGL(int w, int h) {

@@ -543,6 +543,14 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
       throw;
     }
   }
+  // What the project was made from (the clicks and their triangulation) stays with it when a
+  // project is saved again, unless the caller wrote a new one.
+  if (!scene.baseDir.empty() && QFileInfo::exists(QString::fromStdString(scene.baseDir) + "/project.json"))
+    for (const char* name : {"clicks.json", "triangulation.json"}) {
+      const QString src = QString::fromStdString(scene.baseDir) + "/" + name, dst = staging + "/" + name;
+      if (QFileInfo::exists(src) && !QFileInfo::exists(dst) && !QFile::copy(src, dst))
+        abandon("cannot copy " + str(src) + " into the project");
+    }
   progress.poll();
   // Into place, crash-consistent: at every instant the user's path holds the old or the new
   // project, or (fallback only) the old one waits beside it where loadRoom finds it.

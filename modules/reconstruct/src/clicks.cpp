@@ -4,6 +4,7 @@
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
+#include <QSaveFile>
 #include <glm/geometric.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -30,7 +31,7 @@ glm::dvec3 vec3(const QJsonValue& v, const std::string& file, const std::string&
   return {a[0].toDouble(), a[1].toDouble(), a[2].toDouble()};
 }
 
-ClickPoint pointFrom(const QJsonObject& o, const std::string& name, const std::string& file) {
+ClickPoint pointFrom(const QJsonObject& o, const std::string& name, const std::string& file, bool draft) {
   ClickPoint p;
   p.name = name;
   for (auto it = o.begin(); it != o.end(); ++it) {
@@ -43,18 +44,23 @@ ClickPoint pointFrom(const QJsonObject& o, const std::string& name, const std::s
       throw Error(file, "point " + name + " in photo " + str(it.key()), "expected [x, y] pixel coordinates");
     p.clicks.emplace_back(str(it.key()), glm::dvec2(a[0].toDouble(), a[1].toDouble()));
   }
-  if (!p.typed && p.clicks.size() < 2)
+  if (!p.typed && p.clicks.size() < 2 && !draft)
     throw Error(file, "point " + name,
                 "is clicked in " + std::to_string(p.clicks.size()) + " photo(s); it needs two or more, or a typed \"xyz\"");
   return p;
 }
 }  // namespace
 
-Clicks readClicks(const std::string& path) {
+Clicks readClicks(const std::string& path, bool draft) {
   QFile f(QString::fromStdString(path));
   if (!f.open(QIODevice::ReadOnly)) throw Error(path, "", "cannot open the clicks file");
+  const QByteArray bytes = f.readAll();
+  return parseClicks(bytes.toStdString(), path, draft);
+}
+
+Clicks parseClicks(const std::string& bytes, const std::string& path, bool draft) {
   QJsonParseError err;
-  const QJsonDocument doc = QJsonDocument::fromJson(f.readAll(), &err);
+  const QJsonDocument doc = QJsonDocument::fromJson(QByteArray::fromStdString(bytes), &err);
   if (doc.isNull() || !doc.isObject())
     throw Error(path, "", "is not valid JSON: " + str(err.errorString()) + " at offset " + std::to_string(err.offset));
   const QJsonObject root = doc.object();
@@ -64,10 +70,10 @@ Clicks readClicks(const std::string& path) {
   const QJsonObject pts = root["points"].toObject();
   for (auto it = pts.begin(); it != pts.end(); ++it) {
     if (!it.value().isObject()) throw Error(path, "point " + str(it.key()), "expected an object of photo: [x, y]");
-    c.points[str(it.key())] = pointFrom(it.value().toObject(), str(it.key()), path);
+    c.points[str(it.key())] = pointFrom(it.value().toObject(), str(it.key()), path, draft);
   }
   const QJsonArray polys = root["polygons"].toArray();
-  if (polys.isEmpty()) throw Error(path, "polygons", "the file lists no polygons");
+  if (polys.isEmpty() && !draft) throw Error(path, "polygons", "the file lists no polygons");
   for (int i = 0; i < polys.size(); ++i) {
     const QJsonObject o = polys[i].toObject();
     ClickPolygon p;
@@ -90,7 +96,7 @@ Clicks readClicks(const std::string& path) {
         p.corners.push_back(n);
       } else if (corners[k].isObject()) {
         const std::string n = p.name + "#" + std::to_string(k);
-        c.points[n] = pointFrom(corners[k].toObject(), n, path);
+        c.points[n] = pointFrom(corners[k].toObject(), n, path, draft);
         p.corners.push_back(n);
       } else {
         throw Error(path, "polygon " + p.name + " corner " + std::to_string(k), "expected a point name or {photo: [x, y], ...}");
@@ -100,6 +106,41 @@ Clicks readClicks(const std::string& path) {
     c.polygons.push_back(std::move(p));
   }
   return c;
+}
+
+std::string clicksJson(const Clicks& c) {
+  QJsonObject root;
+  if (!c.main.empty()) root["main"] = QString::fromStdString(c.main);
+  QJsonObject pts;
+  for (const auto& [name, p] : c.points) {
+    QJsonObject o;
+    for (const auto& [photo, px] : p.clicks) o[QString::fromStdString(photo)] = QJsonArray{px.x, px.y};
+    if (p.typed) o["xyz"] = QJsonArray{p.typed->x, p.typed->y, p.typed->z};
+    pts[QString::fromStdString(name)] = o;
+  }
+  root["points"] = pts;
+  QJsonArray polys;
+  for (const auto& p : c.polygons) {
+    QJsonObject o{{"name", QString::fromStdString(p.name)}, {"group", QString::fromStdString(p.group)}};
+    if (!p.lamp.empty()) o["lamp"] = QString::fromStdString(p.lamp);
+    if (p.radiance) o["radiance_rgb"] = QJsonArray{p.radiance->x, p.radiance->y, p.radiance->z};
+    if (p.albedo) o["albedo"] = QJsonArray{p.albedo->x, p.albedo->y, p.albedo->z};
+    if (p.rectangle) o["rectangle"] = true;
+    if (!p.plane.empty()) o["plane"] = QString::fromStdString(p.plane);
+    QJsonArray corners;
+    for (const auto& k : p.corners) corners.append(QString::fromStdString(k));
+    o["corners"] = corners;
+    polys.append(o);
+  }
+  root["polygons"] = polys;
+  return QJsonDocument(root).toJson(QJsonDocument::Indented).toStdString();
+}
+
+void writeClicks(const Clicks& clicks, const std::string& path) {
+  QSaveFile f(QString::fromStdString(path));
+  const std::string bytes = clicksJson(clicks);
+  if (!f.open(QIODevice::WriteOnly) || f.write(bytes.data(), qint64(bytes.size())) < 0 || !f.commit())
+    throw Error(path, "", "cannot write the clicks: " + str(f.errorString()));
 }
 
 namespace {

@@ -57,6 +57,17 @@ void runColmapStep(const std::string& colmap, const std::vector<std::string>& ar
   proc.start(QString::fromStdString(colmap), qargs);
   if (!proc.waitForStarted(10000))
     throw Error(colmap, what, "could not be started: " + proc.errorString().toStdString());
+  // However this function is left (a progress report that throws Cancelled from onLine, too),
+  // COLMAP does not outlive it.
+  struct KillOnExit {
+    QProcess& p;
+    ~KillOnExit() {
+      if (p.state() != QProcess::NotRunning) {
+        p.kill();
+        p.waitForFinished(5000);
+      }
+    }
+  } killOnExit{proc};
   std::deque<std::string> tail;
   std::string pending;
   auto consume = [&]() {

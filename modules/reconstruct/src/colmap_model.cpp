@@ -3,6 +3,7 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -410,6 +411,32 @@ void writeColmapText(const ColmapModel& m, const std::string& folder) {
   writeAtomically(fs::path(folder) / "points3D.txt", ps.str());
 }
 
+void replaceColmapText(const ColmapModel& model, const std::string& folder) {
+  const fs::path dir = fs::path(folder).lexically_normal();
+  const fs::path target = dir.has_filename() ? dir : dir.parent_path();
+  const fs::path fresh = target.string() + ".new", old = target.string() + ".old";
+  std::error_code ec;
+  fs::remove_all(fresh, ec);
+  fs::remove_all(old, ec);
+  writeColmapText(model, fresh.string());
+  if (fs::exists(target)) {
+    fs::rename(target, old, ec);
+    if (ec) {
+      fs::remove_all(fresh, ec);
+      throw Error(target.string(), "", "cannot replace the model: " + ec.message());
+    }
+  }
+  fs::rename(fresh, target, ec);
+  if (ec) {
+    const std::string why = ec.message();
+    std::error_code back;
+    if (fs::exists(old)) fs::rename(old, target, back);
+    fs::remove_all(fresh, back);
+    throw Error(target.string(), "", "cannot replace the model: " + why);
+  }
+  fs::remove_all(old, ec);
+}
+
 void transformModel(ColmapModel& m, const Similarity& S) {
   for (auto& [id, p] : m.points) p.xyz = S.apply(p.xyz);
   const glm::dmat3 Rt = glm::transpose(S.R);
@@ -425,6 +452,29 @@ glm::dvec3 meanCameraCentre(const ColmapModel& model) {
   glm::dvec3 c(0.0);
   for (const auto& [id, im] : model.images) c += im.center() / double(model.images.size());
   return c;
+}
+
+glm::dvec3 estimateUp(const ColmapModel& model) {
+  glm::dmat3 M(0.0);
+  glm::dvec3 meanUp(0.0), firstX(0.0);
+  double spread = 0;  // the widest angle (as 1 - |cos|) between a camera's x axis and the first's
+  for (const auto& [id, im] : model.images) {
+    const glm::dmat3 Rt = glm::transpose(im.R());
+    const glm::dvec3 x = Rt * glm::dvec3(1, 0, 0);
+    meanUp -= Rt * glm::dvec3(0, 1, 0);
+    M += glm::outerProduct(x, x);
+    if (glm::length(firstX) == 0) firstX = x;
+    spread = std::max(spread, 1 - std::abs(glm::dot(x, firstX)));
+  }
+  if (glm::length(meanUp) < 1e-12) return glm::dvec3(0.0);
+  meanUp = glm::normalize(meanUp);
+  if (spread < 1 - std::cos(10.0 * 3.14159265358979323846 / 180)) return meanUp;
+  // The eigenvector of M's smallest eigenvalue: power iteration on trace(M) I - M.
+  const double tr = M[0][0] + M[1][1] + M[2][2];
+  const glm::dmat3 A = glm::dmat3(tr) - M;
+  glm::dvec3 v = meanUp;
+  for (int k = 0; k < 200; ++k) v = glm::normalize(A * v);
+  return glm::dot(v, meanUp) < 0 ? -v : v;
 }
 
 double meanReprojectionError(const ColmapModel& model) {

@@ -1,5 +1,6 @@
 #include "relume/reconstruct/matching.h"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 #include <opencv2/imgproc.hpp>
@@ -43,7 +44,7 @@ std::vector<MatchProposal> pickPeaks(std::vector<MatchProposal> c, int count, in
 }  // namespace
 
 std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const Image8& b, const Camera* ca,
-                                          const Camera* cb, int count, int radius) {
+                                          const Camera* cb, int count, int radius, const glm::dvec3& up) {
   const int half = 7;
   const cv::Mat ga = gray(a), gb = gray(b);
   const int ax = int(std::floor(pa.x)), ay = int(std::floor(pa.y));
@@ -71,11 +72,13 @@ std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const 
     // Plane hypotheses through each depth: parallel to a's image plane, horizontal (floors,
     // table tops), and vertical at six azimuths (walls, fronts): a corner where two surfaces meet
     // matches on the plane of the surface that fills most of its patch.
-    std::vector<glm::dvec3> normals{Rt * glm::dvec3(0, 0, 1),
-                                    glm::dvec3(0, 0, 1)};
+    const glm::dvec3 z = glm::length(up) > 0 ? glm::normalize(up) : -(Rt * glm::dvec3(0, 1, 0));
+    const glm::dvec3 x = glm::normalize(glm::abs(z.x) < 0.9 ? glm::cross(z, glm::dvec3(1, 0, 0)) : glm::cross(z, glm::dvec3(0, 1, 0)));
+    const glm::dvec3 y = glm::cross(z, x);
+    std::vector<glm::dvec3> normals{Rt * glm::dvec3(0, 0, 1), z};
     for (int k = 0; k < 6; ++k) {
       const double az = k * std::numbers::pi / 6;
-      normals.emplace_back(std::cos(az), std::sin(az), 0.0);
+      normals.push_back(std::cos(az) * x + std::sin(az) * y);
     }
     std::vector<glm::dvec3> rays;  // world direction of each patch pixel's ray (z_cam = 1)
     for (int dy = -half; dy <= half; ++dy)

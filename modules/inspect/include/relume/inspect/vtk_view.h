@@ -48,6 +48,7 @@ class VtkView : public QOpenGLWidget {
  private:
   struct Vtk;
   std::unique_ptr<Vtk> vtk_;
+  QMetaObject::Connection contextGone_;  // the current context's aboutToBeDestroyed
   QPointF pressPos_, lastPos_;
   bool dragged_ = false;
   double lastFrameMs_ = 0;

@@ -52,7 +52,14 @@ struct Clicks {
   std::vector<ClickPolygon> polygons;
 };
 
-Clicks readClicks(const std::string& path);
+// Reads a clicks file. `draft`: work in progress is accepted (points clicked in one photo only, no
+// polygons yet), as the workbench saves it; the triangulation then leaves such points out.
+Clicks readClicks(const std::string& path, bool draft = false);
+// The same from the file's bytes (`file` names it in errors).
+Clicks parseClicks(const std::string& bytes, const std::string& file, bool draft = false);
+// The clicks as JSON (every point named, corners by name), and written atomically.
+std::string clicksJson(const Clicks& clicks);
+void writeClicks(const Clicks& clicks, const std::string& path);
 
 // One clicked point triangulated with the model's cameras (distortion removed from the clicks).
 TriangulatedPoint triangulateClickedPoint(const Clicks& clicks, const std::string& name, const ColmapModel& model);

@@ -91,6 +91,9 @@ ColmapModel readColmapText(const std::string& folder);
 ColmapModel readColmapBinary(const std::string& folder);
 // Writes the three text files (each atomically), creating the folder.
 void writeColmapText(const ColmapModel& model, const std::string& folder);
+// Replaces the model folder as a whole: the new model is written beside it and swapped in, so
+// that a failure at any point leaves the old folder (and whatever else it held) as it was.
+void replaceColmapText(const ColmapModel& model, const std::string& folder);
 
 // X' = s R X + t.
 struct Similarity {
@@ -103,6 +106,12 @@ struct Similarity {
 void transformModel(ColmapModel& model, const Similarity& S);
 // The mean of the registered cameras' centres.
 glm::dvec3 meanCameraCentre(const ColmapModel& model);
+// The world's up in the model's frame, from the photos alone: people hold cameras without roll,
+// so every camera's x axis is horizontal and up is the direction most nearly perpendicular to all
+// of them (signed as the photos' up). The cameras' pitch, all downwards in a room, does not bias
+// it, as it does their mean up direction. When the x axes barely differ (every photo looks the
+// same way), the mean of the photos' up directions. Zero without images.
+glm::dvec3 estimateUp(const ColmapModel& model);
 // The mean reprojection error over every observation of every point (pixels; 0 with no points).
 double meanReprojectionError(const ColmapModel& model);
 

@@ -3,6 +3,7 @@
 // photo probably is in another — along the epipolar line when both cameras are known, else
 // anywhere — by normalised cross-correlation of the patch around the click.
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 #include <vector>
 
 #include "relume/geometry/camera.h"
@@ -16,8 +17,11 @@ struct MatchProposal {
 };
 
 // Best `count` proposals in `b` for pixel `pa` of `a`, best first, at least `radius` pixels apart.
-// With cameras (both non-null) only the epipolar line of `pa` is searched.
+// With cameras (both non-null) only the epipolar line of `pa` is searched, the patch taken on
+// planes through each depth: fronto-parallel, horizontal and vertical. `up` is the world's up
+// (+z in a metric frame); unknown (zero), the up of photo a's image is taken for it.
 std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const Image8& b, const Camera* ca,
-                                          const Camera* cb, int count = 3, int radius = 7);
+                                          const Camera* cb, int count = 3, int radius = 7,
+                                          const glm::dvec3& up = glm::dvec3(0.0));
 
 }  // namespace relume::recon
