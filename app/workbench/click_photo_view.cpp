@@ -1,5 +1,6 @@
 #include "click_photo_view.h"
 
+#include <QFontMetricsF>
 #include <QMouseEvent>
 #include <QPainter>
 #include <QPainterPath>
@@ -125,7 +126,17 @@ void ClickPhotoView::paintEvent(QPaintEvent*) {
     p.drawEllipse(c, kHit, kHit);
     p.drawText(c + QPointF(kHit + 2, -kHit), QString::number(i + 1));
   }
-  for (const Marker& m : markers_) {
+  // The current and picked points first, so that their labels win where labels would overlap
+  // (a crowded corner keeps its crosses; the names that do not fit are left out).
+  std::vector<const Marker*> order;
+  for (const Marker& m : markers_)
+    if (m.current || m.selected) order.push_back(&m);
+  for (const Marker& m : markers_)
+    if (!m.current && !m.selected) order.push_back(&m);
+  std::vector<QRectF> labels;
+  const QFontMetricsF fm(font());
+  for (const Marker* mp : order) {
+    const Marker& m = *mp;
     const QPointF c = W(m.pixel);
     const QColor col = m.current ? QColor(255, 235, 60) : m.selected ? QColor(90, 170, 255) : QColor(60, 230, 230);
     const double r = m.current ? 7 : 5;
@@ -136,8 +147,13 @@ void ClickPhotoView::paintEvent(QPaintEvent*) {
     p.drawLine(c - QPointF(r, 0), c + QPointF(r, 0));
     p.drawLine(c - QPointF(0, r), c + QPointF(0, r));
     if (m.selected) p.drawEllipse(c, r + 2, r + 2);
+    const QString text = m.name + (m.weak ? QStringLiteral(" !") : QString());
+    const QPointF at = c + QPointF(r + 2, r + 11);
+    const QRectF box = fm.boundingRect(text).translated(at);
+    if (std::any_of(labels.begin(), labels.end(), [&](const QRectF& b) { return b.intersects(box); })) continue;
+    labels.push_back(box);
     p.setPen(m.weak ? QColor(255, 110, 90) : col);
-    p.drawText(c + QPointF(r + 2, r + 11), m.name + (m.weak ? QStringLiteral(" !") : QString()));
+    p.drawText(at, text);
   }
   // The scale and the photo's name, top left.
   p.setPen(QColor(230, 230, 230));

@@ -246,6 +246,9 @@ ClicksPanel::ClicksPanel(JobRunner* jobs, PhotosPanel* photos, QWidget* parent)
   hint_ = new QLabel(this);
   hint_->setWordWrap(true);
   layout->addWidget(hint_);
+  counts_ = new QLabel(this);
+  counts_->setWordWrap(true);
+  layout->addWidget(counts_);
   {
     auto* row = new QHBoxLayout;
     row->addWidget(new QLabel(tr("Project"), this));
@@ -374,12 +377,7 @@ bool ClicksPanel::load(const QString& workspace, const QString& photos) {
     retriangulate();
     refreshLists();
     refreshViews();
-    summary_->setText(tr("%1 photos; cameras: %2; %3 points, %4 polygons. Clicks are saved in %5")
-                          .arg(names.size())
-                          .arg(model_ ? tr("from the reconstruction") : tr("none yet (solved from the clicks when building)"))
-                          .arg(clicks_.points.size())
-                          .arg(clicks_.polygons.size())
-                          .arg(QDir::toNativeSeparators(file)));
+    summary_->setText(tr("%1 photos from %2").arg(names.size()).arg(QDir::toNativeSeparators(photosDir_)));
     return true;
   } catch (const Error& e) {
     emit message(qs(e.what()));
@@ -725,6 +723,11 @@ void ClicksPanel::refreshLists() {
     if (std::find(picked_.begin(), picked_.end(), name) != picked_.end()) it->setSelected(true);
     if (name == current_) points_->setCurrentItem(it, 0, QItemSelectionModel::NoUpdate);
   }
+  counts_->setText(tr("%1 points, %2 polygons; %3. Saved in %4")
+                       .arg(clicks_.points.size())
+                       .arg(clicks_.polygons.size())
+                       .arg(model_ ? tr("cameras from the reconstruction") : tr("no cameras yet (solved from the clicks when building)"))
+                       .arg(QDir::toNativeSeparators(clicksFile_)));
   polygons_->clear();
   for (const auto& poly : clicks_.polygons) {
     QStringList corners;
@@ -790,6 +793,11 @@ void ClicksPanel::refreshViews() {
     views_[v]->setEpipolar(curve);
   }
   requestProposals();
+  refreshHint();
+}
+
+void ClicksPanel::refreshHint() {
+  const auto cur = clicks_.points.find(current_);
   QString hint;
   if (cur == clicks_.points.end())
     hint = tr("Click a corner in either photo to start a point. Ctrl+click points to pick polygon corners in order.");
@@ -888,6 +896,7 @@ void ClicksPanel::requestProposals() {
         self->shownGeneration_[v] = generation;
         self->proposals_[v] = found;
         self->views_[v]->setProposals(found);
+        self->refreshHint();
       }, Qt::QueuedConnection);
     });
   }

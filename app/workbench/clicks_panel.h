@@ -127,6 +127,7 @@ class ClicksPanel : public QWidget {
   void retriangulate();
   void refreshLists();
   void refreshViews();
+  void refreshHint();
   void requestProposals();
   std::shared_ptr<const Image8> matchImage(const std::string& photo);
   QImage displayImage(const std::string& photo);
@@ -142,7 +143,7 @@ class ClicksPanel : public QWidget {
   ClickPhotoView* views_[2];
   QTreeWidget *points_, *polygons_;
   QDoubleSpinBox *x_, *y_, *z_, *focal_;
-  QLabel *summary_, *hint_;
+  QLabel *summary_, *hint_, *counts_;
   QUndoStack undo_;
 
   QString workspaceDir_, photosDir_, clicksFile_;
