@@ -2,6 +2,404 @@
 <!DOCTYPE TS>
 <TS version="2.1" language="de_DE">
 <context>
+    <name>relume::ClickPhotoView</name>
+    <message>
+        <source>No photo</source>
+        <translation>Kein Foto</translation>
+    </message>
+</context>
+<context>
+    <name>relume::ClicksPanel</name>
+    <message>
+        <source>Workspace</source>
+        <translation>Arbeitsbereich</translation>
+    </message>
+    <message>
+        <source>A reconstruction workspace or COLMAP model folder (cameras), or a new folder: the clicks are kept there as clicks.json</source>
+        <translation>Ein Rekonstruktions-Arbeitsbereich oder COLMAP-Modellordner (Kameras) oder ein neuer Ordner: die Klicks werden dort als clicks.json gespeichert</translation>
+    </message>
+    <message>
+        <source>Choose...</source>
+        <translation>Wählen...</translation>
+    </message>
+    <message>
+        <source>Photos</source>
+        <translation>Fotos</translation>
+    </message>
+    <message>
+        <source>from the workspace</source>
+        <translation>aus dem Arbeitsbereich</translation>
+    </message>
+    <message>
+        <source>Open</source>
+        <translation>Öffnen</translation>
+    </message>
+    <message>
+        <source>Choose the workspace</source>
+        <translation>Arbeitsbereich wählen</translation>
+    </message>
+    <message>
+        <source>The photo to click corners in</source>
+        <translation>Das Foto, in dem Ecken geklickt werden</translation>
+    </message>
+    <message>
+        <source>A second photo: proposals for the corner appear here</source>
+        <translation>Ein zweites Foto: hier erscheinen Vorschläge für die Ecke</translation>
+    </message>
+    <message>
+        <source>Fit</source>
+        <translation>Einpassen</translation>
+    </message>
+    <message>
+        <source>1:1</source>
+        <translation>1:1</translation>
+    </message>
+    <message>
+        <source>The whole photo (F)</source>
+        <translation>Das ganze Foto (F)</translation>
+    </message>
+    <message>
+        <source>One photo pixel per screen pixel</source>
+        <translation>Ein Fotopixel pro Bildschirmpixel</translation>
+    </message>
+    <message>
+        <source>Point</source>
+        <translation>Punkt</translation>
+    </message>
+    <message>
+        <source>Clicked in</source>
+        <translation>Geklickt in</translation>
+    </message>
+    <message>
+        <source>Error</source>
+        <translation>Fehler</translation>
+    </message>
+    <message>
+        <source>Depth</source>
+        <translation>Tiefe</translation>
+    </message>
+    <message>
+        <source>New point</source>
+        <translation>Neuer Punkt</translation>
+    </message>
+    <message>
+        <source>The next click starts a new point (N)</source>
+        <translation>Der nächste Klick beginnt einen neuen Punkt (N)</translation>
+    </message>
+    <message>
+        <source>Delete</source>
+        <translation>Löschen</translation>
+    </message>
+    <message>
+        <source>Deletes the selected points (and the polygons left with fewer than 3 corners)</source>
+        <translation>Löscht die gewählten Punkte (und Polygone mit danach weniger als 3 Ecken)</translation>
+    </message>
+    <message>
+        <source>Merge</source>
+        <translation>Zusammenführen</translation>
+    </message>
+    <message>
+        <source>The second picked point&apos;s clicks go to the first; polygons follow</source>
+        <translation>Die Klicks des zweiten gewählten Punkts gehen an den ersten; Polygone folgen</translation>
+    </message>
+    <message>
+        <source>Pick two points to merge (Ctrl+click).</source>
+        <translation>Zwei Punkte zum Zusammenführen wählen (Strg+Klick).</translation>
+    </message>
+    <message>
+        <source> m</source>
+        <translation> m</translation>
+    </message>
+    <message>
+        <source>Measured</source>
+        <translation>Gemessen</translation>
+    </message>
+    <message>
+        <source>The current point&apos;s measured position (a control point when it is clicked too); with no point current, a new point only measured (a corner no photo shows)</source>
+        <translation>Die gemessene Position des aktuellen Punkts (ein Passpunkt, wenn er auch geklickt ist); ohne aktuellen Punkt ein neuer, nur gemessener Punkt (eine Ecke, die kein Foto zeigt)</translation>
+    </message>
+    <message>
+        <source>Clear</source>
+        <translation>Leeren</translation>
+    </message>
+    <message>
+        <source>Forget the current point&apos;s measured position</source>
+        <translation>Die gemessene Position des aktuellen Punkts vergessen</translation>
+    </message>
+    <message>
+        <source>Polygon</source>
+        <translation>Polygon</translation>
+    </message>
+    <message>
+        <source>Corners</source>
+        <translation>Ecken</translation>
+    </message>
+    <message>
+        <source>Group</source>
+        <translation>Gruppe</translation>
+    </message>
+    <message>
+        <source>Lamp</source>
+        <translation>Lampe</translation>
+    </message>
+    <message>
+        <source>Rectangle</source>
+        <translation>Rechteck</translation>
+    </message>
+    <message>
+        <source>Plane</source>
+        <translation>Ebene</translation>
+    </message>
+    <message>
+        <source>Double-click a name, group, lamp name or plane key to change it. Tick Lamp for a lamp (its name: the text, else the polygon&apos;s); polygons with the same plane key share one plane</source>
+        <translation>Doppelklick auf Name, Gruppe, Lampenname oder Ebenenschlüssel ändert ihn. Lampe ankreuzen für eine Lampe (ihr Name: der Text, sonst der des Polygons); Polygone mit gleichem Ebenenschlüssel teilen eine Ebene</translation>
+    </message>
+    <message>
+        <source>name (optional)</source>
+        <translation>Name (optional)</translation>
+    </message>
+    <message>
+        <source>The new polygon&apos;s name</source>
+        <translation>Der Name des neuen Polygons</translation>
+    </message>
+    <message>
+        <source>Polygon from picked</source>
+        <translation>Polygon aus gewählten</translation>
+    </message>
+    <message>
+        <source>A polygon through the picked points, in the order picked (P)</source>
+        <translation>Ein Polygon durch die gewählten Punkte, in der gewählten Reihenfolge (P)</translation>
+    </message>
+    <message>
+        <source>Delete polygon</source>
+        <translation>Polygon löschen</translation>
+    </message>
+    <message>
+        <source>Undo</source>
+        <translation>Rückgängig</translation>
+    </message>
+    <message>
+        <source>Redo</source>
+        <translation>Wiederholen</translation>
+    </message>
+    <message>
+        <source>Project</source>
+        <translation>Projekt</translation>
+    </message>
+    <message>
+        <source>The Relume project the model is written to</source>
+        <translation>Das Relume-Projekt, in das das Modell geschrieben wird</translation>
+    </message>
+    <message>
+        <source>Focal length</source>
+        <translation>Brennweite</translation>
+    </message>
+    <message>
+        <source> px</source>
+        <translation> px</translation>
+    </message>
+    <message>
+        <source>from EXIF / calibration</source>
+        <translation>aus EXIF / Kalibrierung</translation>
+    </message>
+    <message>
+        <source>Without a reconstruction: the camera&apos;s focal length in pixels (the Photos panel&apos;s calibration is used when there is one)</source>
+        <translation>Ohne Rekonstruktion: die Brennweite der Kamera in Pixeln (die Kalibrierung des Fotos-Panels wird verwendet, wenn vorhanden)</translation>
+    </message>
+    <message>
+        <source>Build model</source>
+        <translation>Modell bauen</translation>
+    </message>
+    <message>
+        <source>Triangulate the points, fit the polygons, write the project and preprocess it</source>
+        <translation>Punkte triangulieren, Polygone anpassen, Projekt schreiben und vorverarbeiten</translation>
+    </message>
+    <message>
+        <source>Open a workspace to click corners in its photos.</source>
+        <translation>Einen Arbeitsbereich öffnen, um Ecken in seinen Fotos zu klicken.</translation>
+    </message>
+    <message>
+        <source>Choose a workspace folder first.</source>
+        <translation>Zuerst einen Arbeitsbereich-Ordner wählen.</translation>
+    </message>
+    <message>
+        <source>Cannot create the folder %1.</source>
+        <translation>Der Ordner %1 kann nicht angelegt werden.</translation>
+    </message>
+    <message>
+        <source>%1 photos from %2</source>
+        <translation>%1 Fotos aus %2</translation>
+    </message>
+    <message>
+        <source>New point %1</source>
+        <translation>Neuer Punkt %1</translation>
+    </message>
+    <message>
+        <source>Click %1 in %2</source>
+        <translation>%1 in %2 klicken</translation>
+    </message>
+    <message>
+        <source>Accept the match of %1 in %2</source>
+        <translation>Zuordnung von %1 in %2 annehmen</translation>
+    </message>
+    <message>
+        <source>Move %1 in %2</source>
+        <translation>%1 in %2 verschieben</translation>
+    </message>
+    <message>
+        <source>Delete point %1</source>
+        <translation>Punkt %1 löschen</translation>
+    </message>
+    <message>
+        <source>Delete %1 points</source>
+        <translation>%1 Punkte löschen</translation>
+    </message>
+    <message>
+        <source>Merge %1 into %2</source>
+        <translation>%1 mit %2 zusammenführen</translation>
+    </message>
+    <message>
+        <source>Measure %1</source>
+        <translation>%1 messen</translation>
+    </message>
+    <message>
+        <source>Forget the measure of %1</source>
+        <translation>Messung von %1 vergessen</translation>
+    </message>
+    <message>
+        <source>New measured point %1</source>
+        <translation>Neuer gemessener Punkt %1</translation>
+    </message>
+    <message>
+        <source>Pick three or more corners in order first (Ctrl+click them, or select them in the list).</source>
+        <translation>Zuerst drei oder mehr Ecken der Reihe nach wählen (Strg+Klick oder in der Liste auswählen).</translation>
+    </message>
+    <message>
+        <source>There is a polygon called %1 already.</source>
+        <translation>Es gibt schon ein Polygon namens %1.</translation>
+    </message>
+    <message>
+        <source>New polygon %1</source>
+        <translation>Neues Polygon %1</translation>
+    </message>
+    <message>
+        <source>Delete polygon %1</source>
+        <translation>Polygon %1 löschen</translation>
+    </message>
+    <message>
+        <source>%1 is a lamp</source>
+        <translation>%1 ist eine Lampe</translation>
+    </message>
+    <message>
+        <source>%1 is not a lamp</source>
+        <translation>%1 ist keine Lampe</translation>
+    </message>
+    <message>
+        <source>A polygon needs a name of its own.</source>
+        <translation>Ein Polygon braucht einen eigenen Namen.</translation>
+    </message>
+    <message>
+        <source>Rename %1 to %2</source>
+        <translation>%1 in %2 umbenennen</translation>
+    </message>
+    <message>
+        <source>%1 in group %2</source>
+        <translation>%1 in Gruppe %2</translation>
+    </message>
+    <message>
+        <source>%1 is a rectangle</source>
+        <translation>%1 ist ein Rechteck</translation>
+    </message>
+    <message>
+        <source>%1 is not a rectangle</source>
+        <translation>%1 ist kein Rechteck</translation>
+    </message>
+    <message>
+        <source>%1 shares plane %2</source>
+        <translation>%1 teilt Ebene %2</translation>
+    </message>
+    <message>
+        <source>clicked in one photo: click it in another</source>
+        <translation>in einem Foto geklickt: in einem weiteren klicken</translation>
+    </message>
+    <message>
+        <source>no cameras yet</source>
+        <translation>noch keine Kameras</translation>
+    </message>
+    <message>
+        <source>measured (%1, %2, %3)</source>
+        <translation>gemessen (%1, %2, %3)</translation>
+    </message>
+    <message>
+        <source>%1 px</source>
+        <translation>%1 px</translation>
+    </message>
+    <message>
+        <source>weak (%1°)</source>
+        <translation>schwach (%1°)</translation>
+    </message>
+    <message>
+        <source>good (%1°)</source>
+        <translation>gut (%1°)</translation>
+    </message>
+    <message>
+        <source>Clicked in photos taken from nearly the same direction: click it in a photo further to the side</source>
+        <translation>In Fotos aus fast derselben Richtung geklickt: in einem Foto weiter seitlich klicken</translation>
+    </message>
+    <message>
+        <source>measured</source>
+        <translation>gemessen</translation>
+    </message>
+    <message>
+        <source>%1 points, %2 polygons; %3. Saved in %4</source>
+        <translation>%1 Punkte, %2 Polygone; %3. Gespeichert in %4</translation>
+    </message>
+    <message>
+        <source>cameras from the reconstruction</source>
+        <translation>Kameras aus der Rekonstruktion</translation>
+    </message>
+    <message>
+        <source>no cameras yet (solved from the clicks when building)</source>
+        <translation>noch keine Kameras (beim Bauen aus den Klicks bestimmt)</translation>
+    </message>
+    <message>
+        <source>Open a workspace: its photos appear here side by side.</source>
+        <translation>Einen Arbeitsbereich öffnen: seine Fotos erscheinen hier nebeneinander.</translation>
+    </message>
+    <message>
+        <source>Click a corner in either photo to start a point. Ctrl+click points to pick polygon corners in order.</source>
+        <translation>Eine Ecke in einem der Fotos klicken, um einen Punkt zu beginnen. Strg+Klick auf Punkte wählt Polygonecken der Reihe nach.</translation>
+    </message>
+    <message>
+        <source>Point %1: click it in the other photo, or accept a proposal (Enter for the best, 1-3, or double-click a ring). N starts a new point.</source>
+        <translation>Punkt %1: im anderen Foto klicken oder einen Vorschlag annehmen (Enter für den besten, 1-3 oder Doppelklick auf einen Ring). N beginnt einen neuen Punkt.</translation>
+    </message>
+    <message>
+        <source>Point %1: click it in the other photo; drag a cross to move it. N starts a new point.</source>
+        <translation>Punkt %1: im anderen Foto klicken; ein Kreuz ziehen, um es zu verschieben. N beginnt einen neuen Punkt.</translation>
+    </message>
+    <message>
+        <source>Open a workspace and click the corners first.</source>
+        <translation>Zuerst einen Arbeitsbereich öffnen und die Ecken klicken.</translation>
+    </message>
+    <message>
+        <source>Choose where the project goes first.</source>
+        <translation>Zuerst wählen, wohin das Projekt kommt.</translation>
+    </message>
+    <message>
+        <source>Building the model from the clicks</source>
+        <translation>Modell aus den Klicks bauen</translation>
+    </message>
+    <message>
+        <source>Warning: %1</source>
+        <translation>Warnung: %1</translation>
+    </message>
+    <message>
+        <source>%1 points (largest reprojection error %2 px), %3 polygons, %4 lamps: %5</source>
+        <translation>%1 Punkte (größter Rückprojektionsfehler %2 px), %3 Polygone, %4 Lampen: %5</translation>
+    </message>
+</context>
+<context>
     <name>relume::Document</name>
     <message>
         <source>lamp %1</source>
@@ -705,6 +1103,10 @@
     <message>
         <source>Reconstruction</source>
         <translation>Rekonstruktion</translation>
+    </message>
+    <message>
+        <source>Model from clicks</source>
+        <translation>Modell aus Klicks</translation>
     </message>
 </context>
 <context>

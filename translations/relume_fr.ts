@@ -2,6 +2,404 @@
 <!DOCTYPE TS>
 <TS version="2.1" language="fr_FR">
 <context>
+    <name>relume::ClickPhotoView</name>
+    <message>
+        <source>No photo</source>
+        <translation>Aucune photo</translation>
+    </message>
+</context>
+<context>
+    <name>relume::ClicksPanel</name>
+    <message>
+        <source>Workspace</source>
+        <translation>Espace de travail</translation>
+    </message>
+    <message>
+        <source>A reconstruction workspace or COLMAP model folder (cameras), or a new folder: the clicks are kept there as clicks.json</source>
+        <translation>Un espace de travail de reconstruction ou un dossier de modèle COLMAP (caméras), ou un nouveau dossier : les clics y sont gardés dans clicks.json</translation>
+    </message>
+    <message>
+        <source>Choose...</source>
+        <translation>Choisir...</translation>
+    </message>
+    <message>
+        <source>Photos</source>
+        <translation>Photos</translation>
+    </message>
+    <message>
+        <source>from the workspace</source>
+        <translation>de l&apos;espace de travail</translation>
+    </message>
+    <message>
+        <source>Open</source>
+        <translation>Ouvrir</translation>
+    </message>
+    <message>
+        <source>Choose the workspace</source>
+        <translation>Choisir l&apos;espace de travail</translation>
+    </message>
+    <message>
+        <source>The photo to click corners in</source>
+        <translation>La photo où cliquer les coins</translation>
+    </message>
+    <message>
+        <source>A second photo: proposals for the corner appear here</source>
+        <translation>Une seconde photo : les propositions pour le coin y apparaissent</translation>
+    </message>
+    <message>
+        <source>Fit</source>
+        <translation>Ajuster</translation>
+    </message>
+    <message>
+        <source>1:1</source>
+        <translation>1:1</translation>
+    </message>
+    <message>
+        <source>The whole photo (F)</source>
+        <translation>La photo entière (F)</translation>
+    </message>
+    <message>
+        <source>One photo pixel per screen pixel</source>
+        <translation>Un pixel de la photo par pixel d&apos;écran</translation>
+    </message>
+    <message>
+        <source>Point</source>
+        <translation>Point</translation>
+    </message>
+    <message>
+        <source>Clicked in</source>
+        <translation>Cliqué dans</translation>
+    </message>
+    <message>
+        <source>Error</source>
+        <translation>Erreur</translation>
+    </message>
+    <message>
+        <source>Depth</source>
+        <translation>Profondeur</translation>
+    </message>
+    <message>
+        <source>New point</source>
+        <translation>Nouveau point</translation>
+    </message>
+    <message>
+        <source>The next click starts a new point (N)</source>
+        <translation>Le prochain clic commence un nouveau point (N)</translation>
+    </message>
+    <message>
+        <source>Delete</source>
+        <translation>Supprimer</translation>
+    </message>
+    <message>
+        <source>Deletes the selected points (and the polygons left with fewer than 3 corners)</source>
+        <translation>Supprime les points sélectionnés (et les polygones laissés avec moins de 3 coins)</translation>
+    </message>
+    <message>
+        <source>Merge</source>
+        <translation>Fusionner</translation>
+    </message>
+    <message>
+        <source>The second picked point&apos;s clicks go to the first; polygons follow</source>
+        <translation>Les clics du second point choisi vont au premier ; les polygones suivent</translation>
+    </message>
+    <message>
+        <source>Pick two points to merge (Ctrl+click).</source>
+        <translation>Choisissez deux points à fusionner (Ctrl+clic).</translation>
+    </message>
+    <message>
+        <source> m</source>
+        <translation> m</translation>
+    </message>
+    <message>
+        <source>Measured</source>
+        <translation>Mesuré</translation>
+    </message>
+    <message>
+        <source>The current point&apos;s measured position (a control point when it is clicked too); with no point current, a new point only measured (a corner no photo shows)</source>
+        <translation>La position mesurée du point courant (un point de contrôle s&apos;il est aussi cliqué) ; sans point courant, un nouveau point seulement mesuré (un coin qu&apos;aucune photo ne montre)</translation>
+    </message>
+    <message>
+        <source>Clear</source>
+        <translation>Effacer</translation>
+    </message>
+    <message>
+        <source>Forget the current point&apos;s measured position</source>
+        <translation>Oublier la position mesurée du point courant</translation>
+    </message>
+    <message>
+        <source>Polygon</source>
+        <translation>Polygone</translation>
+    </message>
+    <message>
+        <source>Corners</source>
+        <translation>Coins</translation>
+    </message>
+    <message>
+        <source>Group</source>
+        <translation>Groupe</translation>
+    </message>
+    <message>
+        <source>Lamp</source>
+        <translation>Lampe</translation>
+    </message>
+    <message>
+        <source>Rectangle</source>
+        <translation>Rectangle</translation>
+    </message>
+    <message>
+        <source>Plane</source>
+        <translation>Plan</translation>
+    </message>
+    <message>
+        <source>Double-click a name, group, lamp name or plane key to change it. Tick Lamp for a lamp (its name: the text, else the polygon&apos;s); polygons with the same plane key share one plane</source>
+        <translation>Double-cliquez un nom, un groupe, un nom de lampe ou une clé de plan pour le changer. Cochez Lampe pour une lampe (son nom : le texte, sinon celui du polygone) ; les polygones de même clé de plan partagent un plan</translation>
+    </message>
+    <message>
+        <source>name (optional)</source>
+        <translation>nom (facultatif)</translation>
+    </message>
+    <message>
+        <source>The new polygon&apos;s name</source>
+        <translation>Le nom du nouveau polygone</translation>
+    </message>
+    <message>
+        <source>Polygon from picked</source>
+        <translation>Polygone des points choisis</translation>
+    </message>
+    <message>
+        <source>A polygon through the picked points, in the order picked (P)</source>
+        <translation>Un polygone par les points choisis, dans l&apos;ordre choisi (P)</translation>
+    </message>
+    <message>
+        <source>Delete polygon</source>
+        <translation>Supprimer le polygone</translation>
+    </message>
+    <message>
+        <source>Undo</source>
+        <translation>Annuler</translation>
+    </message>
+    <message>
+        <source>Redo</source>
+        <translation>Rétablir</translation>
+    </message>
+    <message>
+        <source>Project</source>
+        <translation>Projet</translation>
+    </message>
+    <message>
+        <source>The Relume project the model is written to</source>
+        <translation>Le projet Relume où le modèle est écrit</translation>
+    </message>
+    <message>
+        <source>Focal length</source>
+        <translation>Focale</translation>
+    </message>
+    <message>
+        <source> px</source>
+        <translation> px</translation>
+    </message>
+    <message>
+        <source>from EXIF / calibration</source>
+        <translation>EXIF / étalonnage</translation>
+    </message>
+    <message>
+        <source>Without a reconstruction: the camera&apos;s focal length in pixels (the Photos panel&apos;s calibration is used when there is one)</source>
+        <translation>Sans reconstruction : la focale de l&apos;appareil en pixels (l&apos;étalonnage du panneau Photos sert s&apos;il existe)</translation>
+    </message>
+    <message>
+        <source>Build model</source>
+        <translation>Construire le modèle</translation>
+    </message>
+    <message>
+        <source>Triangulate the points, fit the polygons, write the project and preprocess it</source>
+        <translation>Trianguler les points, ajuster les polygones, écrire le projet et le prétraiter</translation>
+    </message>
+    <message>
+        <source>Open a workspace to click corners in its photos.</source>
+        <translation>Ouvrez un espace de travail pour cliquer les coins dans ses photos.</translation>
+    </message>
+    <message>
+        <source>Choose a workspace folder first.</source>
+        <translation>Choisissez d&apos;abord un dossier d&apos;espace de travail.</translation>
+    </message>
+    <message>
+        <source>Cannot create the folder %1.</source>
+        <translation>Impossible de créer le dossier %1.</translation>
+    </message>
+    <message>
+        <source>%1 photos from %2</source>
+        <translation>%1 photos de %2</translation>
+    </message>
+    <message>
+        <source>New point %1</source>
+        <translation>Nouveau point %1</translation>
+    </message>
+    <message>
+        <source>Click %1 in %2</source>
+        <translation>Clic de %1 dans %2</translation>
+    </message>
+    <message>
+        <source>Accept the match of %1 in %2</source>
+        <translation>Accepter la correspondance de %1 dans %2</translation>
+    </message>
+    <message>
+        <source>Move %1 in %2</source>
+        <translation>Déplacer %1 dans %2</translation>
+    </message>
+    <message>
+        <source>Delete point %1</source>
+        <translation>Supprimer le point %1</translation>
+    </message>
+    <message>
+        <source>Delete %1 points</source>
+        <translation>Supprimer %1 points</translation>
+    </message>
+    <message>
+        <source>Merge %1 into %2</source>
+        <translation>Fusionner %1 dans %2</translation>
+    </message>
+    <message>
+        <source>Measure %1</source>
+        <translation>Mesurer %1</translation>
+    </message>
+    <message>
+        <source>Forget the measure of %1</source>
+        <translation>Oublier la mesure de %1</translation>
+    </message>
+    <message>
+        <source>New measured point %1</source>
+        <translation>Nouveau point mesuré %1</translation>
+    </message>
+    <message>
+        <source>Pick three or more corners in order first (Ctrl+click them, or select them in the list).</source>
+        <translation>Choisissez d&apos;abord trois coins ou plus dans l&apos;ordre (Ctrl+clic, ou sélection dans la liste).</translation>
+    </message>
+    <message>
+        <source>There is a polygon called %1 already.</source>
+        <translation>Un polygone nommé %1 existe déjà.</translation>
+    </message>
+    <message>
+        <source>New polygon %1</source>
+        <translation>Nouveau polygone %1</translation>
+    </message>
+    <message>
+        <source>Delete polygon %1</source>
+        <translation>Supprimer le polygone %1</translation>
+    </message>
+    <message>
+        <source>%1 is a lamp</source>
+        <translation>%1 est une lampe</translation>
+    </message>
+    <message>
+        <source>%1 is not a lamp</source>
+        <translation>%1 n&apos;est pas une lampe</translation>
+    </message>
+    <message>
+        <source>A polygon needs a name of its own.</source>
+        <translation>Un polygone a besoin de son propre nom.</translation>
+    </message>
+    <message>
+        <source>Rename %1 to %2</source>
+        <translation>Renommer %1 en %2</translation>
+    </message>
+    <message>
+        <source>%1 in group %2</source>
+        <translation>%1 dans le groupe %2</translation>
+    </message>
+    <message>
+        <source>%1 is a rectangle</source>
+        <translation>%1 est un rectangle</translation>
+    </message>
+    <message>
+        <source>%1 is not a rectangle</source>
+        <translation>%1 n&apos;est pas un rectangle</translation>
+    </message>
+    <message>
+        <source>%1 shares plane %2</source>
+        <translation>%1 partage le plan %2</translation>
+    </message>
+    <message>
+        <source>clicked in one photo: click it in another</source>
+        <translation>cliqué dans une photo : cliquez-le dans une autre</translation>
+    </message>
+    <message>
+        <source>no cameras yet</source>
+        <translation>pas encore de caméras</translation>
+    </message>
+    <message>
+        <source>measured (%1, %2, %3)</source>
+        <translation>mesuré (%1, %2, %3)</translation>
+    </message>
+    <message>
+        <source>%1 px</source>
+        <translation>%1 px</translation>
+    </message>
+    <message>
+        <source>weak (%1°)</source>
+        <translation>faible (%1°)</translation>
+    </message>
+    <message>
+        <source>good (%1°)</source>
+        <translation>bonne (%1°)</translation>
+    </message>
+    <message>
+        <source>Clicked in photos taken from nearly the same direction: click it in a photo further to the side</source>
+        <translation>Cliqué dans des photos prises presque de la même direction : cliquez-le dans une photo plus sur le côté</translation>
+    </message>
+    <message>
+        <source>measured</source>
+        <translation>mesuré</translation>
+    </message>
+    <message>
+        <source>%1 points, %2 polygons; %3. Saved in %4</source>
+        <translation>%1 points, %2 polygones ; %3. Enregistré dans %4</translation>
+    </message>
+    <message>
+        <source>cameras from the reconstruction</source>
+        <translation>caméras de la reconstruction</translation>
+    </message>
+    <message>
+        <source>no cameras yet (solved from the clicks when building)</source>
+        <translation>pas encore de caméras (résolues à partir des clics à la construction)</translation>
+    </message>
+    <message>
+        <source>Open a workspace: its photos appear here side by side.</source>
+        <translation>Ouvrez un espace de travail : ses photos apparaissent ici côte à côte.</translation>
+    </message>
+    <message>
+        <source>Click a corner in either photo to start a point. Ctrl+click points to pick polygon corners in order.</source>
+        <translation>Cliquez un coin dans l&apos;une des photos pour commencer un point. Ctrl+clic sur des points pour choisir les coins d&apos;un polygone dans l&apos;ordre.</translation>
+    </message>
+    <message>
+        <source>Point %1: click it in the other photo, or accept a proposal (Enter for the best, 1-3, or double-click a ring). N starts a new point.</source>
+        <translation>Point %1 : cliquez-le dans l&apos;autre photo, ou acceptez une proposition (Entrée pour la meilleure, 1-3, ou double-clic sur un anneau). N commence un nouveau point.</translation>
+    </message>
+    <message>
+        <source>Point %1: click it in the other photo; drag a cross to move it. N starts a new point.</source>
+        <translation>Point %1 : cliquez-le dans l&apos;autre photo ; faites glisser une croix pour la déplacer. N commence un nouveau point.</translation>
+    </message>
+    <message>
+        <source>Open a workspace and click the corners first.</source>
+        <translation>Ouvrez d&apos;abord un espace de travail et cliquez les coins.</translation>
+    </message>
+    <message>
+        <source>Choose where the project goes first.</source>
+        <translation>Choisissez d&apos;abord où va le projet.</translation>
+    </message>
+    <message>
+        <source>Building the model from the clicks</source>
+        <translation>Construction du modèle à partir des clics</translation>
+    </message>
+    <message>
+        <source>Warning: %1</source>
+        <translation>Attention : %1</translation>
+    </message>
+    <message>
+        <source>%1 points (largest reprojection error %2 px), %3 polygons, %4 lamps: %5</source>
+        <translation>%1 points (plus grande erreur de reprojection %2 px), %3 polygones, %4 lampes : %5</translation>
+    </message>
+</context>
+<context>
     <name>relume::Document</name>
     <message>
         <source>lamp %1</source>
@@ -705,6 +1103,10 @@
     <message>
         <source>Reconstruction</source>
         <translation>Reconstruction</translation>
+    </message>
+    <message>
+        <source>Model from clicks</source>
+        <translation>Modèle à partir des clics</translation>
     </message>
 </context>
 <context>
