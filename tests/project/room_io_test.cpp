@@ -163,6 +163,33 @@ TEST(Project, SaveAndReloadKeepTheRoomAndAFailedSaveKeepsTheOldProject) {
   EXPECT_FALSE(fs::exists(tmp.path / ".sample.relume.saving"));
 }
 
+TEST(Project, SavingAProjectAgainKeepsTheClicksItWasMadeFrom) {
+  // A project of `relume triangulate` holds clicks.json and triangulation.json: saving it again
+  // (the workbench's Save) must not drop them, and a caller that writes new ones wins.
+  TempDir tmp;
+  const std::string proj = (tmp.path / "clicked.relume").string();
+  saveProject(loadRoom(kSample), proj, silentProgress(), [](const std::string& staging) {
+    write(fs::path(staging) / "clicks.json", "{\"points\": {}, \"polygons\": []}");
+    write(fs::path(staging) / "triangulation.json", "{\"points\": {}}");
+  });
+  const Scene p = loadRoom(proj);
+  saveProject(p, proj);
+  auto text = [](const fs::path& f) {
+    std::ifstream in(f);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_EQ(text(fs::path(proj) / "clicks.json"), "{\"points\": {}, \"polygons\": []}");
+  EXPECT_EQ(text(fs::path(proj) / "triangulation.json"), "{\"points\": {}}");
+  saveProject(loadRoom(proj), proj, silentProgress(),
+              [](const std::string& staging) { write(fs::path(staging) / "clicks.json", "{}"); });
+  EXPECT_EQ(text(fs::path(proj) / "clicks.json"), "{}");
+  EXPECT_TRUE(fs::exists(fs::path(proj) / "triangulation.json"));
+  // Saved elsewhere ("Save As"), they go along.
+  const std::string other = (tmp.path / "copy.relume").string();
+  saveProject(loadRoom(proj), other);
+  EXPECT_EQ(text(fs::path(other) / "clicks.json"), "{}");
+}
+
 // A crash at any file-system step of a save (the process ends there) leaves the old or the new
 // project openable at the user's path: with the atomic directory exchange, and without it (the
 // fallback of two renames, where the next open puts the old project back).
