@@ -22,6 +22,7 @@
 #include "relume/reconstruct/clicks.h"
 #include "relume/reconstruct/colmap_driver.h"
 #include "relume/reconstruct/colmap_model.h"
+#include "relume/reconstruct/matching.h"
 #include "relume/reconstruct/multiview.h"
 #include "relume/reconstruct/photos.h"
 #include "relume/reconstruct/polygon_fit.h"
@@ -417,6 +418,82 @@ QJsonObject reconstructBench(const Scene& scene, int runs, Progress& progress) {
                                                                {"observations", qint64(obs.size())},
                                                                {"iterations", rep.iterations},
                                                                {"final_rms_px", rep.rms}};
+  }
+  // Match proposals in 12-megapixel photos: the room's photos resampled to 4000 x 3000 (their
+  // cameras with them), prepared once; a click in the main photo gets its proposals in all the
+  // others at once, as the Model panel asks for them.
+  if (const Photo* main = scene.findPhoto(scene.mainPhoto); main && !main->file.empty()) {
+    const int W = 4000, H = 3000;
+    std::vector<MatchImage> images;
+    std::vector<Camera> cams;
+    std::vector<double> prepMs;
+    size_t mainIndex = 0;
+    for (const auto& ph : scene.photos) {
+      if (ph.file.empty()) continue;
+      const Image8 small = readImage8((fs::path(scene.baseDir) / ph.file).string());
+      const Image8 big = resizeImage8(small, W, H);
+      const auto t0 = std::chrono::steady_clock::now();
+      images.push_back(prepareForMatching(big));
+      prepMs.push_back(1000 * seconds(t0));
+      Camera c = ph.camera;
+      const double sx = double(W) / small.width, sy = double(H) / small.height;
+      c.K[0][0] *= sx, c.K[2][0] *= sx, c.K[1][1] *= sy, c.K[2][1] *= sy;
+      c.width = W, c.height = H;
+      if (ph.name == main->name) mainIndex = cams.size();
+      cams.push_back(c);
+    }
+    // Clicks: polygon corners the main photo shows, away from its border.
+    std::vector<glm::dvec2> clicks;
+    for (const auto& poly : scene.polygons)
+      for (const auto& v : poly.vertices) {
+        glm::dvec2 px;
+        if (clicks.size() < 12 && cams[mainIndex].project(v, px) && px.x > 100 && px.y > 100 && px.x < W - 100 && px.y < H - 100)
+          clicks.push_back(px);
+      }
+    std::vector<const MatchImage*> others;
+    std::vector<const Camera*> otherCams;
+    for (size_t i = 0; i < images.size(); ++i)
+      if (i != mainIndex) others.push_back(&images[i]), otherCams.push_back(&cams[i]);
+    std::vector<double> ms;
+    for (int r = 0; r < std::max(1, runs / 3); ++r)
+      for (const auto& pa : clicks) {
+        const auto t0 = std::chrono::steady_clock::now();
+        (void)proposeMatchesInPhotos(images[mainIndex], pa, cams[mainIndex], others, otherCams, 3, 7, glm::dvec3(0, 0, 1));
+        ms.push_back(1000 * seconds(t0));
+      }
+    out["match_proposals_12mp"] = QJsonObject{{"photos", qint64(images.size())},
+                                              {"size", QString("%1x%2").arg(W).arg(H)},
+                                              {"clicks", qint64(ms.size())},
+                                              {"proposals_in_all_other_photos_median_ms", median(ms)},
+                                              {"prepare_per_photo_median_ms", median(prepMs)}};
+  }
+  // A dragged point: its triangulation again from three clicks and the refit of its polygon.
+  {
+    std::vector<Camera> cams;
+    for (int i = 0; i < 3; ++i) cams.push_back(Camera::lookAt({-0.8 + 0.8 * i, -3.0, 1.5}, {0, 0, 1.2}, 4000, 3000, 3500));
+    std::vector<std::vector<Observation>> corners;
+    for (int k = 0; k < 4; ++k) {
+      const glm::dvec3 X(0.3 * (k == 1 || k == 2), 0.05 * k, 0.8 + 0.25 * (k >= 2));
+      std::vector<Observation> obs;
+      for (auto& c : cams) {
+        glm::dvec2 px;
+        c.project(X, px);
+        obs.push_back({&c, "bench", px});
+      }
+      corners.push_back(obs);
+    }
+    std::vector<glm::dvec3> pts;
+    for (const auto& obs : corners) pts.push_back(triangulatePoint(obs, "bench point").X);
+    std::vector<double> ms;
+    for (int r = 0; r < std::max(runs, 5) * 20; ++r) {
+      corners[0][0].pixel.x += (r % 2 ? -0.7 : 0.7);  // the drag's step
+      const auto t0 = std::chrono::steady_clock::now();
+      pts[0] = triangulatePoint(corners[0], "dragged point").X;
+      PickedPolygons picked;
+      picked.add("dragged", "bench", false, pts, cams[1].center());
+      ms.push_back(1000 * seconds(t0));
+    }
+    out["dragged_point_triangulate_and_refit_median_ms"] = median(ms);
   }
   // COLMAP on the room's photos (skipped, and said so, when COLMAP is missing).
   const Photo* main = scene.findPhoto(scene.mainPhoto);

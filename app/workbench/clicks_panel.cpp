@@ -71,6 +71,8 @@ constexpr double kWeakAngleDeg = 10, kLargeErrorPx = 2;
 
 ClicksPanel::ClicksPanel(JobRunner* jobs, PhotosPanel* photos, QWidget* parent)
     : QWidget(parent), jobs_(jobs), photosPanel_(photos) {
+  pool_ = new QThreadPool(this);  // proposals; its own, so that waiting for them waits for nothing else
+  pool_->setMaxThreadCount(1);
   auto* layout = new QVBoxLayout(this);
   {
     auto* row = new QHBoxLayout;
@@ -828,20 +830,18 @@ QImage ClicksPanel::displayImage(const std::string& photo) {
   return img;
 }
 
-std::shared_ptr<const Image8> ClicksPanel::matchImage(const std::string& photo) {
-  const auto it = match_.find(photo);
-  if (it != match_.end()) return it->second;
-  const QImage img = displayImage(photo);
-  if (img.isNull()) return nullptr;
-  auto im = std::make_shared<Image8>();
-  im->width = img.width();
-  im->height = img.height();
-  im->pixels.resize(size_t(im->width) * im->height * 3);
-  for (int y = 0; y < im->height; ++y)
-    std::memcpy(im->pixels.data() + size_t(y) * im->width * 3, img.constScanLine(y), size_t(im->width) * 3);
-  match_[photo] = im;
+namespace {
+Image8 toImage8(const QImage& img) {
+  const QImage rgb = img.convertToFormat(QImage::Format_RGB888);
+  Image8 im;
+  im.width = rgb.width();
+  im.height = rgb.height();
+  im.pixels.resize(size_t(im.width) * im.height * 3);
+  for (int y = 0; y < im.height; ++y)
+    std::memcpy(im.pixels.data() + size_t(y) * im.width * 3, rgb.constScanLine(y), size_t(im.width) * 3);
   return im;
 }
+}  // namespace
 
 void ClicksPanel::requestProposals() {
   const auto cur = clicks_.points.find(current_);
@@ -864,8 +864,11 @@ void ClicksPanel::requestProposals() {
     proposalKey_[v] = key;
     proposals_[v].clear();
     views_[v]->setProposals({});
-    auto a = matchImage(from), b = matchImage(to);
-    if (!a || !b) continue;
+    // Photos are prepared for matching once, on the worker, and kept.
+    std::shared_ptr<const recon::MatchImage> a = match_.count(from) ? match_[from] : nullptr,
+                                              b = match_.count(to) ? match_[to] : nullptr;
+    const QImage qa = a ? QImage() : displayImage(from), qb = b ? QImage() : displayImage(to);
+    if ((!a && qa.isNull()) || (!b && qb.isNull())) continue;
     std::shared_ptr<Camera> ca, cb;
     if (model_) {
       const auto* ia = model_->findImage(from);
@@ -881,16 +884,20 @@ void ClicksPanel::requestProposals() {
     const unsigned generation = ++proposalGeneration_;
     QPointer<ClicksPanel> self(this);
     ++proposalsRunning_;
-    QThreadPool::globalInstance()->start([self, a, b, ca, cb, pa, up, v, key, generation] {
+    pool_->start([self, a, b, qa, qb, from, to, ca, cb, pa, up, v, key, generation]() mutable {
+      if (!a) a = std::make_shared<const recon::MatchImage>(recon::prepareForMatching(toImage8(qa)));
+      if (!b) b = std::make_shared<const recon::MatchImage>(recon::prepareForMatching(toImage8(qb)));
       std::vector<QPointF> found;
       try {
         for (const auto& m : recon::proposeMatches(*a, pa, *b, ca.get(), cb.get(), 3, 7, up)) found.emplace_back(m.pixel.x, m.pixel.y);
       } catch (const std::exception&) {
         // No proposal then: the user clicks it.
       }
-      QMetaObject::invokeMethod(qApp, [self, found, v, key, generation] {
+      QMetaObject::invokeMethod(qApp, [self, found, v, key, generation, a, b, from, to] {
         if (!self) return;
         --self->proposalsRunning_;
+        self->match_.emplace(from, a);
+        self->match_.emplace(to, b);
         // Only the latest request of this view counts (the user may have clicked on meanwhile).
         if (self->proposalKey_[v] != key || generation < self->shownGeneration_[v]) return;
         self->shownGeneration_[v] = generation;
@@ -903,7 +910,7 @@ void ClicksPanel::requestProposals() {
 }
 
 void ClicksPanel::waitForProposals() {
-  QThreadPool::globalInstance()->waitForDone();
+  pool_->waitForDone();
   QCoreApplication::sendPostedEvents(nullptr, QEvent::MetaCall);
 }
 

@@ -27,13 +27,16 @@ class QDoubleSpinBox;
 class QLabel;
 class QLineEdit;
 class QPushButton;
+class QThreadPool;
 class QTreeWidget;
 
 namespace relume {
+namespace recon {
+struct MatchImage;
+}
 
 class ClickPhotoView;
 class JobRunner;
-struct Image8;
 class PhotosPanel;
 
 class ClicksPanel : public QWidget {
@@ -129,7 +132,6 @@ class ClicksPanel : public QWidget {
   void refreshViews();
   void refreshHint();
   void requestProposals();
-  std::shared_ptr<const Image8> matchImage(const std::string& photo);
   QImage displayImage(const std::string& photo);
   bool cameraOf(const std::string& photo, recon::ColmapCamera& cc, glm::dmat3& R, glm::dvec3& t) const;
   QPolygonF epipolarCurve(const std::string& from, QPointF pixel, const std::string& to) const;
@@ -145,6 +147,7 @@ class ClicksPanel : public QWidget {
   QDoubleSpinBox *x_, *y_, *z_, *focal_;
   QLabel *summary_, *hint_, *counts_;
   QUndoStack undo_;
+  QThreadPool* pool_;
 
   QString workspaceDir_, photosDir_, clicksFile_;
   bool metricModel_ = false;
@@ -156,7 +159,7 @@ class ClicksPanel : public QWidget {
   std::vector<std::string> picked_;
   std::map<std::string, PointState> states_;
   std::map<std::string, QImage> display_;
-  std::map<std::string, std::shared_ptr<const Image8>> match_;
+  std::map<std::string, std::shared_ptr<const recon::MatchImage>> match_;  // prepared for proposals
   // Proposals per view, for the current point's click in the other view.
   std::vector<QPointF> proposals_[2];
   QString proposalKey_[2];

@@ -131,4 +131,30 @@ void writeImage8(const std::string& path, const Image8& image, const ImageMetada
   writeAtomically(path, spec, OIIO::TypeDesc::UINT8, image.pixels.data());
 }
 
+
+Image8 resizeImage8(const Image8& in, int width, int height) {
+  if (in.width < 1 || in.height < 1 || width < 1 || height < 1) throw Error("", "image", "cannot resize an empty image");
+  Image8 out;
+  out.width = width;
+  out.height = height;
+  out.pixels.resize(size_t(width) * height * 3);
+  const double sx = double(in.width) / width, sy = double(in.height) / height;
+  for (int y = 0; y < height; ++y) {
+    const double v = std::clamp((y + 0.5) * sy - 0.5, 0.0, in.height - 1.0);
+    const int y0 = std::min(int(v), std::max(0, in.height - 2)), y1 = std::min(y0 + 1, in.height - 1);
+    const double fy = v - y0;
+    for (int x = 0; x < width; ++x) {
+      const double u = std::clamp((x + 0.5) * sx - 0.5, 0.0, in.width - 1.0);
+      const int x0 = std::min(int(u), std::max(0, in.width - 2)), x1 = std::min(x0 + 1, in.width - 1);
+      const double fx = u - x0;
+      for (int c = 0; c < 3; ++c) {
+        auto at = [&](int xx, int yy) { return double(in.pixels[(size_t(yy) * in.width + xx) * 3 + c]); };
+        out.pixels[(size_t(y) * width + x) * 3 + c] =
+            (unsigned char)std::lround((1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x1, y0)) + fy * ((1 - fx) * at(x0, y1) + fx * at(x1, y1)));
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace relume

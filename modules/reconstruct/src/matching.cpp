@@ -5,15 +5,21 @@
 #include <glm/matrix.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <cstdint>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+
+#include <tbb/parallel_for.h>
 
 #include "relume/geometry/error.h"
 
 namespace relume::recon {
 
 namespace {
+constexpr int kMatchLevelSize = 1024;  // pixels across the coarsest level of a large photo
+
 cv::Mat gray(const Image8& im) {
   cv::Mat rgb(im.height, im.width, CV_8UC3, const_cast<unsigned char*>(im.pixels.data())), g, f;
   cv::cvtColor(rgb, g, cv::COLOR_RGB2GRAY);
@@ -41,18 +47,20 @@ std::vector<MatchProposal> pickPeaks(std::vector<MatchProposal> c, int count, in
   }
   return out;
 }
-}  // namespace
 
-std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const Image8& b, const Camera* ca,
-                                          const Camera* cb, int count, int radius, const glm::dvec3& up) {
+// Candidates along the epipolar line of `pa` (a's pixel) in b, one level of the photos' pyramids.
+// `window` > 0: only the depths whose projection lies within `window` pixels of `near`.
+std::vector<MatchProposal> sweep(const cv::Mat& ga, glm::dvec2 pa, const cv::Mat& gb, const Camera& cam_a, const Camera& cam_b,
+                                 const glm::dvec3& up, glm::dvec2 near, double window) {
   const int half = 7;
-  const cv::Mat ga = gray(a), gb = gray(b);
+  const Camera* ca = &cam_a;
+  const Camera* cb = &cam_b;
   const int ax = int(std::floor(pa.x)), ay = int(std::floor(pa.y));
-  if (ax - half < 0 || ay - half < 0 || ax + half >= a.width || ay + half >= a.height)
+  if (ax - half < 0 || ay - half < 0 || ax + half >= ga.cols || ay + half >= ga.rows)
     throw Error("", "click", "is too close to the photo's border to compare its surroundings");
   const cv::Mat patch = ga(cv::Rect(ax - half, ay - half, 2 * half + 1, 2 * half + 1));
   std::vector<MatchProposal> cands;
-  if (ca && cb) {
+  {
     // Plane sweep along the ray of pa: at each depth the patch is taken as a plane parallel to
     // a's image plane, its pixels projected into b and sampled there (scale and perspective
     // change between the photos are followed), scored by NCC.
@@ -61,7 +69,7 @@ std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const 
     auto bilinear = [&](double x, double y, bool& ok) {
       x -= 0.5, y -= 0.5;  // pixel centres at +0.5
       const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
-      if (x0 < 0 || y0 < 0 || x0 + 1 >= b.width || y0 + 1 >= b.height) {
+      if (x0 < 0 || y0 < 0 || x0 + 1 >= gb.cols || y0 + 1 >= gb.rows) {
         ok = false;
         return 0.0;
       }
@@ -93,6 +101,7 @@ std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const 
         glm::dvec2 p;
         const glm::dvec3 X0 = o + centreRay * depth;
         if (!cb->project(X0, p) || glm::length(p - prev) < 0.5) continue;
+        if (window > 0 && glm::length(p - near) > window) continue;
         prev = p;
         steps.emplace_back(X0, p);
       }
@@ -124,6 +133,13 @@ std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const 
     };
     // Coarse to fine: every step on a quarter of the patch's pixels, then the full patch around
     // the 16 best local maxima (a point's proposals come from these).
+    if (window > 0) {  // a few steps only: all with the full patch
+      for (const auto& st : steps) {
+        const double sc = score(st.first, 1);
+        if (sc > -2) cands.push_back({st.second, sc});
+      }
+      return cands;
+    }
     std::vector<double> coarse(steps.size());
     for (size_t k = 0; k < steps.size(); ++k) coarse[k] = score(steps[k].first, 2);
     std::vector<size_t> peaks;
@@ -140,22 +156,116 @@ std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const 
         const double sc = score(steps[j].first, 1);
         if (sc > -2) cands.push_back({steps[j].second, sc});
       }
-  } else {
-    cv::Mat res;
-    cv::matchTemplate(gb, patch, res, cv::TM_CCOEFF_NORMED);
-    for (int y = 0; y < res.rows; ++y)
-      for (int x = 0; x < res.cols; ++x) {
-        const float s = res.at<float>(y, x);
-        bool peak = true;
-        for (int dy = -1; dy <= 1 && peak; ++dy)
-          for (int dx = -1; dx <= 1 && peak; ++dx) {
-            const int xx = x + dx, yy = y + dy;
-            if ((dx || dy) && xx >= 0 && yy >= 0 && xx < res.cols && yy < res.rows && res.at<float>(yy, xx) > s) peak = false;
-          }
-        if (peak && s > 0.3f) cands.push_back({glm::dvec2(x + half + 0.5, y + half + 0.5), double(s)});
-      }
   }
-  return pickPeaks(std::move(cands), count, radius);
+  return cands;
+}
+
+// Candidates anywhere in b (no cameras): template matching of the patch around pa.
+std::vector<MatchProposal> searchAnywhere(const cv::Mat& ga, glm::dvec2 pa, const cv::Mat& gb) {
+  const int half = 7;
+  const int ax = int(std::floor(pa.x)), ay = int(std::floor(pa.y));
+  if (ax - half < 0 || ay - half < 0 || ax + half >= ga.cols || ay + half >= ga.rows)
+    throw Error("", "click", "is too close to the photo's border to compare its surroundings");
+  const cv::Mat patch = ga(cv::Rect(ax - half, ay - half, 2 * half + 1, 2 * half + 1));
+  std::vector<MatchProposal> cands;
+  cv::Mat res;
+  cv::matchTemplate(gb, patch, res, cv::TM_CCOEFF_NORMED);
+  for (int y = 0; y < res.rows; ++y)
+    for (int x = 0; x < res.cols; ++x) {
+      const float s = res.at<float>(y, x);
+      bool peak = true;
+      for (int dy = -1; dy <= 1 && peak; ++dy)
+        for (int dx = -1; dx <= 1 && peak; ++dx) {
+          const int xx = x + dx, yy = y + dy;
+          if ((dx || dy) && xx >= 0 && yy >= 0 && xx < res.cols && yy < res.rows && res.at<float>(yy, xx) > s) peak = false;
+        }
+      if (peak && s > 0.3f) cands.push_back({glm::dvec2(x + half + 0.5, y + half + 0.5), double(s)});
+    }
+  return cands;
+}
+
+// The camera of a pyramid level 2^-level as large (pixel centres stay at +0.5: x' = x / 2^level).
+Camera scaled(const Camera& c, int level) {
+  if (level == 0) return c;
+  Camera s = c;
+  const double f = std::ldexp(1.0, -level);
+  s.K[0][0] *= f;
+  s.K[1][1] *= f;
+  s.K[2][0] *= f;
+  s.K[2][1] *= f;
+  s.width = int(c.width * f);
+  s.height = int(c.height * f);
+  return s;
+}
+
+cv::Mat levelMat(const MatchImage& im, size_t level) {
+  return cv::Mat(im.heights[level], im.widths[level], CV_32F, const_cast<float*>(im.levels[level].data()));
+}
+}  // namespace
+
+MatchImage prepareForMatching(const Image8& image) {
+  MatchImage m;
+  m.width = image.width;
+  m.height = image.height;
+  cv::Mat g = gray(image);
+  for (;;) {
+    m.widths.push_back(g.cols);
+    m.heights.push_back(g.rows);
+    m.levels.emplace_back(reinterpret_cast<const float*>(g.data), reinterpret_cast<const float*>(g.data) + g.total());
+    if (std::max(g.cols, g.rows) <= kMatchLevelSize || g.cols < 64 || g.rows < 64) break;
+    cv::Mat h;
+    cv::resize(g, h, cv::Size(g.cols / 2, g.rows / 2), 0, 0, cv::INTER_AREA);  // 2x2 means: centres stay at +0.5
+    g = h;
+  }
+  return m;
+}
+
+std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const Image8& b, const Camera* ca,
+                                          const Camera* cb, int count, int radius, const glm::dvec3& up) {
+  return proposeMatches(prepareForMatching(a), pa, prepareForMatching(b), ca, cb, count, radius, up);
+}
+
+std::vector<MatchProposal> proposeMatches(const MatchImage& a, glm::dvec2 pa, const MatchImage& b, const Camera* ca,
+                                          const Camera* cb, int count, int radius, const glm::dvec3& up) {
+  if (a.levels.empty() || b.levels.empty()) throw Error("", "photo", "is empty");
+  if (!(ca && cb)) return pickPeaks(searchAnywhere(levelMat(a, 0), pa, levelMat(b, 0)), count, radius);
+  // Large photos: the sweep runs on the coarsest level (about 1000 pixels across, where a
+  // patch sees as much of the scene as at 640 x 480), each of its best peaks is then refined at
+  // full size among the depths that fall within a coarse pixel and a half of it.
+  const size_t level = std::min(a.levels.size(), b.levels.size()) - 1;
+  if (level == 0) return pickPeaks(sweep(levelMat(a, 0), pa, levelMat(b, 0), *ca, *cb, up, {}, 0), count, radius);
+  const double f = std::ldexp(1.0, -int(level));
+  std::vector<MatchProposal> coarse;
+  try {
+    coarse = pickPeaks(sweep(levelMat(a, level), pa * f, levelMat(b, level), scaled(*ca, int(level)), scaled(*cb, int(level)), up, {}, 0),
+                       2 * count, std::max(2, int(radius * f)));
+  } catch (const Error&) {
+    // Too near the border at the coarse level: the full-size sweep alone.
+    return pickPeaks(sweep(levelMat(a, 0), pa, levelMat(b, 0), *ca, *cb, up, {}, 0), count, radius);
+  }
+  std::vector<MatchProposal> fine;
+  for (const auto& c : coarse) {
+    const auto near = sweep(levelMat(a, 0), pa, levelMat(b, 0), *ca, *cb, up, c.pixel / f, 1.5 / f);
+    if (near.empty()) continue;
+    fine.push_back(*std::max_element(near.begin(), near.end(), [](const auto& x, const auto& y) { return x.score < y.score; }));
+  }
+  return pickPeaks(std::move(fine), count, radius);
+}
+
+std::vector<std::vector<MatchProposal>> proposeMatchesInPhotos(const MatchImage& a, glm::dvec2 pa, const Camera& ca,
+                                                               const std::vector<const MatchImage*>& photos,
+                                                               const std::vector<const Camera*>& cameras, int count,
+                                                               int radius, const glm::dvec3& up) {
+  if (photos.size() != cameras.size()) throw Error("", "photos", "one camera per photo is needed");
+  std::vector<std::vector<MatchProposal>> out(photos.size());
+  tbb::parallel_for(size_t(0), photos.size(), [&](size_t i) {
+    try {
+      out[i] = proposeMatches(a, pa, *photos[i], &ca, cameras[i], count, radius, up);
+    } catch (const Error&) {
+      out[i].clear();
+    }
+  });
+  return out;
 }
 
 }  // namespace relume::recon

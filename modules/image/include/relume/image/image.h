@@ -48,6 +48,9 @@ struct Image8 {
 };
 // Throws relume::Error naming the file when it is missing, unreadable, truncated or not 8-bit.
 Image8 readImage8(const std::string& path);
+// Bilinear resampling to width x height (pixel centres at +0.5 in both: the image keeps its
+// extent, so a point at x in the input lies at x * width / input width in the output).
+Image8 resizeImage8(const Image8& image, int width, int height);
 // Metadata to store with an image, by OpenImageIO's names ("ExposureTime", "Exif:...").
 struct ImageMetadata {
   std::vector<std::pair<std::string, float>> floats;

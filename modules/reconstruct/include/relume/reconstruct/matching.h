@@ -16,6 +16,15 @@ struct MatchProposal {
   double score = 0;  // NCC in [-1, 1]
 };
 
+// A photo prepared once for matching: its grey levels at full size and halved (2x2 means) until
+// 1024 pixels across or less. Proposals for many clicks reuse it instead of converting again.
+struct MatchImage {
+  int width = 0, height = 0;
+  std::vector<std::vector<float>> levels;  // row-major grey levels (0-255), level k 2^k times smaller
+  std::vector<int> widths, heights;
+};
+MatchImage prepareForMatching(const Image8& image);
+
 // Best `count` proposals in `b` for pixel `pa` of `a`, best first, at least `radius` pixels apart.
 // With cameras (both non-null) only the epipolar line of `pa` is searched, the patch taken on
 // planes through each depth: fronto-parallel, horizontal and vertical. `up` is the world's up
@@ -23,5 +32,16 @@ struct MatchProposal {
 std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const Image8& b, const Camera* ca,
                                           const Camera* cb, int count = 3, int radius = 7,
                                           const glm::dvec3& up = glm::dvec3(0.0));
+// The same on prepared photos. A large photo is swept on its coarsest level and the best peaks
+// are refined at full size.
+std::vector<MatchProposal> proposeMatches(const MatchImage& a, glm::dvec2 pa, const MatchImage& b, const Camera* ca,
+                                          const Camera* cb, int count = 3, int radius = 7,
+                                          const glm::dvec3& up = glm::dvec3(0.0));
+// One click's proposals in several photos at once (in parallel), per photo as above; a photo
+// where no proposal can be made (the click too near a border) gets none.
+std::vector<std::vector<MatchProposal>> proposeMatchesInPhotos(const MatchImage& a, glm::dvec2 pa, const Camera& ca,
+                                                               const std::vector<const MatchImage*>& photos,
+                                                               const std::vector<const Camera*>& cameras, int count = 3,
+                                                               int radius = 7, const glm::dvec3& up = glm::dvec3(0.0));
 
 }  // namespace relume::recon
