@@ -194,6 +194,14 @@ void ClickPhotoView::mousePressEvent(QMouseEvent* e) {
     return;
   }
   if (e->button() != Qt::LeftButton || image_.isNull()) return;
+  // A click on a proposal's ring accepts it (Shift: exactly where clicked, rings or not).
+  if (!(e->modifiers() & Qt::ShiftModifier)) {
+    const int k = proposalAt(e->position());
+    if (k >= 0) {
+      emit proposalActivated(k);
+      return;
+    }
+  }
   const int m = markerAt(e->position());
   if (m >= 0) {
     dragging_ = m;
@@ -237,11 +245,6 @@ void ClickPhotoView::mouseReleaseEvent(QMouseEvent* e) {
     }
     dragging_ = -1;
   }
-}
-
-void ClickPhotoView::mouseDoubleClickEvent(QMouseEvent* e) {
-  const int k = proposalAt(e->position());
-  if (k >= 0) emit proposalActivated(k);
 }
 
 }  // namespace relume

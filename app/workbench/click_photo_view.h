@@ -51,7 +51,7 @@ class ClickPhotoView : public QWidget {
   void clicked(QPointF pixel, Qt::KeyboardModifiers modifiers);
   void markerClicked(const QString& name, Qt::KeyboardModifiers modifiers);
   void markerDragged(const QString& name, QPointF pixel);  // at the end of a drag
-  void proposalActivated(int index);                        // a proposal ring double-clicked
+  void proposalActivated(int index);                        // a proposal's ring clicked
   void viewChanged();
 
  protected:
@@ -60,7 +60,6 @@ class ClickPhotoView : public QWidget {
   void mousePressEvent(QMouseEvent* e) override;
   void mouseMoveEvent(QMouseEvent* e) override;
   void mouseReleaseEvent(QMouseEvent* e) override;
-  void mouseDoubleClickEvent(QMouseEvent* e) override;
   void resizeEvent(QResizeEvent* e) override;
 
  private:

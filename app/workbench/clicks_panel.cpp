@@ -2,7 +2,9 @@
 
 #include <QCheckBox>
 #include <QComboBox>
+#include <QApplication>
 #include <QCoreApplication>
+#include <QStyledItemDelegate>
 #include <QDir>
 #include <QDoubleSpinBox>
 #include <QFileDialog>
@@ -73,6 +75,7 @@ ClicksPanel::ClicksPanel(JobRunner* jobs, PhotosPanel* photos, QWidget* parent)
     : QWidget(parent), jobs_(jobs), photosPanel_(photos) {
   pool_ = new QThreadPool(this);  // proposals; its own, so that waiting for them waits for nothing else
   pool_->setMaxThreadCount(1);
+  results_ = new QObject(this);  // the proposals' results are delivered to it
   auto* layout = new QVBoxLayout(this);
   {
     auto* row = new QHBoxLayout;
@@ -207,6 +210,13 @@ ClicksPanel::ClicksPanel(JobRunner* jobs, PhotosPanel* photos, QWidget* parent)
   polygons_->setToolTip(tr("Double-click a name, group, lamp name or plane key to change it. Tick Lamp for a lamp "
                            "(its name: the text, else the polygon's); polygons with the same plane key share one plane"));
   polygons_->setEditTriggers(QAbstractItemView::DoubleClicked | QAbstractItemView::EditKeyPressed);
+  // Corners come from picking and Rectangle is a tick: no text editor for them.
+  struct ReadOnly : QStyledItemDelegate {
+    using QStyledItemDelegate::QStyledItemDelegate;
+    QWidget* createEditor(QWidget*, const QStyleOptionViewItem&, const QModelIndex&) const override { return nullptr; }
+  };
+  polygons_->setItemDelegateForColumn(1, new ReadOnly(polygons_));
+  polygons_->setItemDelegateForColumn(4, new ReadOnly(polygons_));
   polygons_->setRootIsDecorated(false);
   polygons_->header()->setSectionResizeMode(QHeaderView::ResizeToContents);
   sl->addWidget(polygons_, 2);
@@ -266,6 +276,28 @@ ClicksPanel::ClicksPanel(JobRunner* jobs, PhotosPanel* photos, QWidget* parent)
     focal_->setToolTip(tr("Without a reconstruction: the camera's focal length in pixels (the Photos panel's "
                           "calibration is used when there is one)"));
     row->addWidget(focal_);
+    row->addWidget(new QLabel(tr("Scale"), this));
+    scaleA_ = new QLineEdit(this);
+    scaleB_ = new QLineEdit(this);
+    scaleA_->setPlaceholderText(tr("point"));
+    scaleB_->setPlaceholderText(tr("point"));
+    scaleA_->setMaximumWidth(70);
+    scaleB_->setMaximumWidth(70);
+    scaleMetres_ = new QDoubleSpinBox(this);
+    scaleMetres_->setRange(0, 1000);
+    scaleMetres_->setDecimals(3);
+    scaleMetres_->setSuffix(tr(" m"));
+    floor_ = new QLineEdit(this);
+    floor_->setPlaceholderText(tr("floor points"));
+    floor_->setMaximumWidth(140);
+    for (QWidget* w : {static_cast<QWidget*>(scaleA_), static_cast<QWidget*>(scaleB_), static_cast<QWidget*>(scaleMetres_),
+                       static_cast<QWidget*>(floor_)})
+      w->setToolTip(tr("Without a reconstruction and without three measured clicked points: two points, their "
+                       "distance, and three or more floor points (names, comma-separated) set the metric frame"));
+    row->addWidget(scaleA_);
+    row->addWidget(scaleB_);
+    row->addWidget(scaleMetres_);
+    row->addWidget(floor_);
     build_ = new QPushButton(tr("Build model"), this);
     build_->setToolTip(tr("Triangulate the points, fit the polygons, write the project and preprocess it"));
     row->addWidget(build_);
@@ -307,7 +339,7 @@ ClicksPanel::ClicksPanel(JobRunner* jobs, PhotosPanel* photos, QWidget* parent)
   refreshViews();
 }
 
-ClicksPanel::~ClicksPanel() { waitForProposals(); }
+ClicksPanel::~ClicksPanel() { pool_->waitForDone(); }  // results still queued go with results_
 
 void ClicksPanel::showEvent(QShowEvent* e) {
   QWidget::showEvent(e);
@@ -360,12 +392,18 @@ bool ClicksPanel::load(const QString& workspace, const QString& photos) {
     metricModel_ = metric;
     display_.clear();
     match_.clear();
+    for (int v = 0; v < 2; ++v) {
+      views_[v]->setImage(QImage(), QString());
+      proposals_[v].clear();
+      proposalKey_[v].clear();
+    }
     clicks_ = c;
     current_.clear();
     picked_.clear();
     undo_.clear();
     workspace_->setText(ws);
-    if (project_->text().isEmpty()) project_->setText(QDir(ws).filePath("model.relume"));
+    // The project beside the workspace, unless the user chose one for this workspace.
+    if (project_->text().isEmpty() || project_->text() == autoProject_) project_->setText(autoProject_ = QDir(ws).filePath("model.relume"));
     {
       const QSignalBlocker a(photoBox_[0]), b(photoBox_[1]);
       for (int v = 0; v < 2; ++v) {
@@ -414,10 +452,11 @@ void ClicksPanel::setPicked(const std::vector<std::string>& names) {
 }
 
 std::string ClicksPanel::newPointName() const {
-  // p<N> with N above every number used so far: a deleted point's name is not given again.
+  // p<N> with N above every number in use (names of up to nine digits).
   int top = -1;
   for (const auto& [n, p] : clicks_.points)
-    if (n.size() > 1 && n[0] == 'p' && std::all_of(n.begin() + 1, n.end(), ::isdigit)) top = std::max(top, std::stoi(n.substr(1)));
+    if (n.size() > 1 && n.size() < 10 && n[0] == 'p' && std::all_of(n.begin() + 1, n.end(), ::isdigit))
+      top = std::max(top, std::stoi(n.substr(1)));
   return "p" + std::to_string(top + 1);
 }
 
@@ -597,6 +636,7 @@ bool ClicksPanel::renamePolygon(const QString& name, const QString& wanted) {
     for (auto& p : c.polygons)
       if (p.name == ss(name)) {
         if (p.group == p.name) p.group = to;
+        if (p.lamp == p.name) p.lamp = to;
         p.name = to;
       }
   });
@@ -804,8 +844,8 @@ void ClicksPanel::refreshHint() {
   if (cur == clicks_.points.end())
     hint = tr("Click a corner in either photo to start a point. Ctrl+click points to pick polygon corners in order.");
   else if (proposals_[0].size() + proposals_[1].size() > 0)
-    hint = tr("Point %1: click it in the other photo, or accept a proposal (Enter for the best, 1-3, or double-click "
-              "a ring). N starts a new point.").arg(qs(current_));
+    hint = tr("Point %1: click a ring to accept that proposal (Enter: the best; 1-3), or click the corner where it "
+              "is (Shift+click: exactly there, even on a ring). N starts a new point.").arg(qs(current_));
   else
     hint = tr("Point %1: click it in the other photo; drag a cross to move it. N starts a new point.").arg(qs(current_));
   hint_->setText(hint);
@@ -883,8 +923,9 @@ void ClicksPanel::requestProposals() {
     const glm::dvec3 up = metricModel_ || !model_ ? glm::dvec3(0, 0, 1) : recon::estimateUp(*model_);
     const unsigned generation = ++proposalGeneration_;
     QPointer<ClicksPanel> self(this);
+    QPointer<QObject> sink(results_);
     ++proposalsRunning_;
-    pool_->start([self, a, b, qa, qb, from, to, ca, cb, pa, up, v, key, generation]() mutable {
+    pool_->start([self, sink, a, b, qa, qb, from, to, ca, cb, pa, up, v, key, generation]() mutable {
       if (!a) a = std::make_shared<const recon::MatchImage>(recon::prepareForMatching(toImage8(qa)));
       if (!b) b = std::make_shared<const recon::MatchImage>(recon::prepareForMatching(toImage8(qb)));
       std::vector<QPointF> found;
@@ -893,7 +934,7 @@ void ClicksPanel::requestProposals() {
       } catch (const std::exception&) {
         // No proposal then: the user clicks it.
       }
-      QMetaObject::invokeMethod(qApp, [self, found, v, key, generation, a, b, from, to] {
+      QMetaObject::invokeMethod(sink, [self, found, v, key, generation, a, b, from, to] {
         if (!self) return;
         --self->proposalsRunning_;
         self->match_.emplace(from, a);
@@ -911,10 +952,27 @@ void ClicksPanel::requestProposals() {
 
 void ClicksPanel::waitForProposals() {
   pool_->waitForDone();
-  QCoreApplication::sendPostedEvents(nullptr, QEvent::MetaCall);
+  QCoreApplication::sendPostedEvents(results_, QEvent::MetaCall);  // their results only
 }
 
 void ClicksPanel::keyPressEvent(QKeyEvent* e) {
+  // Line edits, spin boxes and lists pass keys they do not use on to here: only keys typed over
+  // the photos (or the panel itself) are the panel's shortcuts; Delete in a list deletes its selection.
+  QWidget* from = QApplication::focusWidget();
+  if (e->key() == Qt::Key_Delete && from && (from == points_ || points_->isAncestorOf(from))) {
+    QStringList names;
+    for (auto* it : points_->selectedItems()) names << it->text(0);
+    deletePoints(names);
+    return;
+  }
+  if (e->key() == Qt::Key_Delete && from && (from == polygons_ || polygons_->isAncestorOf(from))) {
+    if (auto* it = polygons_->currentItem()) deletePolygon(it->text(0));
+    return;
+  }
+  if (from && from != this && !qobject_cast<ClickPhotoView*>(from)) {
+    QWidget::keyPressEvent(e);
+    return;
+  }
   const auto cur = clicks_.points.find(current_);
   const int view = cur != clicks_.points.end() && !proposals_[1].empty() ? 1 : 0;  // where proposals show
   switch (e->key()) {
@@ -969,6 +1027,10 @@ bool ClicksPanel::build(const QString& projectPath) {
   if (o.focal == 0 && photosPanel_ && !photosPanel_->captureFolder().isEmpty() &&
       QFileInfo::exists(photosPanel_->captureFolder() + "/intrinsics.json"))
     o.intrinsicsFile = ss(photosPanel_->captureFolder() + "/intrinsics.json");
+  o.scaleA = ss(scaleA_->text().trimmed());
+  o.scaleB = ss(scaleB_->text().trimmed());
+  o.scaleMetres = scaleMetres_->value();
+  for (const QString& f : floor_->text().split(',', Qt::SkipEmptyParts)) o.floor.push_back(ss(f.trimmed()));
   const recon::Clicks clicks = clicks_;
   return jobs_->start(tr("Building the model from the clicks"), [this, clicks, w, o, project](Progress& progress) -> JobRunner::Continuation {
     QTemporaryDir tmp;

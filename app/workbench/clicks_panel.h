@@ -139,7 +139,8 @@ class ClicksPanel : public QWidget {
 
   JobRunner* jobs_;
   PhotosPanel* photosPanel_;
-  QLineEdit *workspace_, *photos_, *project_, *polygonName_;
+  QLineEdit *workspace_, *photos_, *project_, *polygonName_, *scaleA_, *scaleB_, *floor_;
+  QDoubleSpinBox* scaleMetres_;
   QPushButton *load_, *build_, *measured_, *makePolygon_, *undoButton_, *redoButton_, *newPoint_;
   QComboBox* photoBox_[2];
   ClickPhotoView* views_[2];
@@ -148,6 +149,8 @@ class ClicksPanel : public QWidget {
   QLabel *summary_, *hint_, *counts_;
   QUndoStack undo_;
   QThreadPool* pool_;
+  QObject* results_;     // receives the workers' results (flushed alone by waitForProposals)
+  QString autoProject_;  // the project path the panel proposed (replaced when another workspace opens)
 
   QString workspaceDir_, photosDir_, clicksFile_;
   bool metricModel_ = false;

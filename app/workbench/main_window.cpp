@@ -135,8 +135,10 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   undoGroup_->addStack(clicks_->undoStack());
   undoGroup_->setActiveStack(doc_->undoStack());
   connect(qApp, &QApplication::focusChanged, this, [this](QWidget*, QWidget* now) {
-    if (!now || now->window() != this) return;
-    undoGroup_->setActiveStack(clicks_->isAncestorOf(now) ? clicks_->undoStack() : doc_->undoStack());
+    // While a job runs Undo stays off (setEditing); a floating Model dock is a window of its own.
+    if (!now || jobs_->busy()) return;
+    if (clicks_->isAncestorOf(now)) undoGroup_->setActiveStack(clicks_->undoStack());
+    else if (now->window() == this) undoGroup_->setActiveStack(doc_->undoStack());
   });
   connect(inspector_, &InspectorPanel::pickedChanged, this, &MainWindow::updateOverlays);
   connect(inspectorDock_, &QDockWidget::visibilityChanged, this, &MainWindow::updateOverlays);

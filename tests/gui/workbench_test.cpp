@@ -1517,7 +1517,7 @@ class WorkbenchTest : public QObject {
       view->centerOn(p);
       const QPointF w = view->widgetPosition(p);
       QCOMPARE(w, QPointF(w.toPoint()));  // a whole screen pixel: the click is exact
-      QTest::mouseClick(view, Qt::LeftButton, {}, w.toPoint());
+      QTest::mouseClick(view, Qt::LeftButton, Qt::ShiftModifier, w.toPoint());  // exactly there, rings or not
     };
     // Distance from a pixel to the epipolar curve drawn in a view.
     auto curveDistance = [](const QPolygonF& curve, const glm::dvec2& q) {
@@ -1532,7 +1532,7 @@ class WorkbenchTest : public QObject {
     std::map<std::string, std::string> nameOf;  // the file's point name -> the panel's
     int proposalsTried = 0, proposalsFound = 0;
     double worstEpipolar = 0;
-    bool shot = false;
+    bool shot = false, acceptTested = false;
     for (const auto& [name, pt] : truth.points) {
       if (pt.clicks.empty()) {  // a corner no photo shows: typed
         QTest::mouseClick(panel->newPointButton(), Qt::LeftButton);
@@ -1564,6 +1564,21 @@ class WorkbenchTest : public QObject {
           QTest::qWait(50);
           saveShot(panel, "clicks_panel_proposals");
           clickView(panel->viewA(), first.second);  // back as it was for the click
+        }
+        if (!acceptTested && !props.empty()) {
+          // A click on the best proposal's ring accepts it (one undo step), at the proposal.
+          acceptTested = true;
+          const QPointF ring = props[0];
+          const std::vector<QPointF> before = props;
+          panel->viewB()->centerOn(ring);
+          QTest::mouseClick(panel->viewB(), Qt::LeftButton, {}, panel->viewB()->widgetPosition(ring).toPoint() + QPoint(3, 0));
+          bool accepted = false;
+          for (const auto& [p2, q] : panel->clicks().points.at(str(panel->currentPoint())).clicks)
+            accepted = accepted || (p2 == other.first && std::hypot(q.x - ring.x(), q.y - ring.y()) < 1e-9);
+          QVERIFY(accepted);
+          QTest::mouseClick(panel->undoButton(), Qt::LeftButton);
+          panel->waitForProposals();
+          QVERIFY(panel->viewB()->proposals() == before);  // undone: the point waits for its match again
         }
         clickView(panel->viewB(), other.second);
       }

@@ -96,6 +96,7 @@ Clicks parseClicks(const std::string& bytes, const std::string& path, bool draft
         p.corners.push_back(n);
       } else if (corners[k].isObject()) {
         const std::string n = p.name + "#" + std::to_string(k);
+        if (c.points.count(n)) throw Error(path, "polygon " + p.name + " corner " + std::to_string(k), "a point is already called '" + n + "'");
         c.points[n] = pointFrom(corners[k].toObject(), n, path, draft);
         p.corners.push_back(n);
       } else {

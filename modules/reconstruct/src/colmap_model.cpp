@@ -416,6 +416,8 @@ void replaceColmapText(const ColmapModel& model, const std::string& folder) {
   const fs::path target = dir.has_filename() ? dir : dir.parent_path();
   const fs::path fresh = target.string() + ".new", old = target.string() + ".old";
   std::error_code ec;
+  // An earlier replacement that stopped between its two renames left the model only in .old.
+  if (!fs::exists(target) && fs::exists(old)) fs::rename(old, target, ec);
   fs::remove_all(fresh, ec);
   fs::remove_all(old, ec);
   writeColmapText(model, fresh.string());

@@ -179,7 +179,8 @@ std::vector<MatchProposal> searchAnywhere(const cv::Mat& ga, glm::dvec2 pa, cons
           const int xx = x + dx, yy = y + dy;
           if ((dx || dy) && xx >= 0 && yy >= 0 && xx < res.cols && yy < res.rows && res.at<float>(yy, xx) > s) peak = false;
         }
-      if (peak && s > 0.3f) cands.push_back({glm::dvec2(x + half + 0.5, y + half + 0.5), double(s)});
+      // The patch's top-left pixel at (x, y): the click's place within its pixel carries over.
+      if (peak && s > 0.3f) cands.push_back({glm::dvec2(x + half + 0.5, y + half + 0.5) + (pa - glm::dvec2(ax + 0.5, ay + 0.5)), double(s)});
     }
   return cands;
 }
@@ -213,8 +214,9 @@ MatchImage prepareForMatching(const Image8& image) {
     m.heights.push_back(g.rows);
     m.levels.emplace_back(reinterpret_cast<const float*>(g.data), reinterpret_cast<const float*>(g.data) + g.total());
     if (std::max(g.cols, g.rows) <= kMatchLevelSize || g.cols < 64 || g.rows < 64) break;
+    // 2x2 means of the even part (an odd last row or column is left out): x' = x / 2 exactly.
     cv::Mat h;
-    cv::resize(g, h, cv::Size(g.cols / 2, g.rows / 2), 0, 0, cv::INTER_AREA);  // 2x2 means: centres stay at +0.5
+    cv::resize(g(cv::Rect(0, 0, g.cols & ~1, g.rows & ~1)), h, cv::Size(g.cols / 2, g.rows / 2), 0, 0, cv::INTER_AREA);
     g = h;
   }
   return m;
