@@ -18,7 +18,7 @@
 namespace relume::recon {
 
 namespace {
-constexpr int kMatchLevelSize = 1024;  // pixels across the coarsest level of a large photo
+constexpr int kMatchLevelSize = 800;  // pixels across the coarsest level of a large photo
 
 cv::Mat gray(const Image8& im) {
   cv::Mat rgb(im.height, im.width, CV_8UC3, const_cast<unsigned char*>(im.pixels.data())), g, f;
@@ -231,7 +231,7 @@ std::vector<MatchProposal> proposeMatches(const MatchImage& a, glm::dvec2 pa, co
                                           const Camera* cb, int count, int radius, const glm::dvec3& up) {
   if (a.levels.empty() || b.levels.empty()) throw Error("", "photo", "is empty");
   if (!(ca && cb)) return pickPeaks(searchAnywhere(levelMat(a, 0), pa, levelMat(b, 0)), count, radius);
-  // Large photos: the sweep runs on the coarsest level (about 1000 pixels across, where a
+  // Large photos: the sweep runs on the coarsest level (400-800 pixels across, where a
   // patch sees as much of the scene as at 640 x 480), each of its best peaks is then refined at
   // full size among the depths that fall within a coarse pixel and a half of it.
   const size_t level = std::min(a.levels.size(), b.levels.size()) - 1;

@@ -17,7 +17,7 @@ struct MatchProposal {
 };
 
 // A photo prepared once for matching: its grey levels at full size and halved (2x2 means) until
-// 1024 pixels across or less. Proposals for many clicks reuse it instead of converting again.
+// 800 pixels across or less. Proposals for many clicks reuse it instead of converting again.
 struct MatchImage {
   int width = 0, height = 0;
   std::vector<std::vector<float>> levels;  // row-major grey levels (0-255), level k 2^k times smaller
