@@ -371,10 +371,6 @@
         <translation>Eine Ecke in einem der Fotos klicken, um einen Punkt zu beginnen. Strg+Klick auf Punkte wählt Polygonecken der Reihe nach.</translation>
     </message>
     <message>
-        <source>Point %1: click it in the other photo, or accept a proposal (Enter for the best, 1-3, or double-click a ring). N starts a new point.</source>
-        <translation>Punkt %1: im anderen Foto klicken oder einen Vorschlag annehmen (Enter für den besten, 1-3 oder Doppelklick auf einen Ring). N beginnt einen neuen Punkt.</translation>
-    </message>
-    <message>
         <source>Point %1: click it in the other photo; drag a cross to move it. N starts a new point.</source>
         <translation>Punkt %1: im anderen Foto klicken; ein Kreuz ziehen, um es zu verschieben. N beginnt einen neuen Punkt.</translation>
     </message>
@@ -397,6 +393,26 @@
     <message>
         <source>%1 points (largest reprojection error %2 px), %3 polygons, %4 lamps: %5</source>
         <translation>%1 Punkte (größter Rückprojektionsfehler %2 px), %3 Polygone, %4 Lampen: %5</translation>
+    </message>
+    <message>
+        <source>Scale</source>
+        <translation>Maßstab</translation>
+    </message>
+    <message>
+        <source>point</source>
+        <translation>Punkt</translation>
+    </message>
+    <message>
+        <source>floor points</source>
+        <translation>Bodenpunkte</translation>
+    </message>
+    <message>
+        <source>Without a reconstruction and without three measured clicked points: two points, their distance, and three or more floor points (names, comma-separated) set the metric frame</source>
+        <translation>Ohne Rekonstruktion und ohne drei gemessene geklickte Punkte: zwei Punkte, ihr Abstand und drei oder mehr Bodenpunkte (Namen, durch Kommas getrennt) legen das metrische System fest</translation>
+    </message>
+    <message>
+        <source>Point %1: click a ring to accept that proposal (Enter: the best; 1-3), or click the corner where it is (Shift+click: exactly there, even on a ring). N starts a new point.</source>
+        <translation>Punkt %1: einen Ring klicken, um diesen Vorschlag anzunehmen (Enter: den besten; 1-3), oder die Ecke dort klicken, wo sie ist (Umschalt+Klick: genau dort, auch auf einem Ring). N beginnt einen neuen Punkt.</translation>
     </message>
 </context>
 <context>
@@ -1526,6 +1542,22 @@ Kein Schachbrett gefunden in: %1</translation>
     <message>
         <source>The model is in metres now, the floor at z = 0.</source>
         <translation>Das Modell ist jetzt in Metern, der Boden bei z = 0.</translation>
+    </message>
+    <message>
+        <source>Align to known cameras...</source>
+        <translation>An bekannten Kameras ausrichten...</translation>
+    </message>
+    <message>
+        <source>Put the model in the frame of known cameras: a room, a project, or another reconstruction whose photos have the same names (their camera centres are matched)</source>
+        <translation>Das Modell in das System bekannter Kameras bringen: ein Raum, ein Projekt oder eine andere Rekonstruktion mit gleich benannten Fotos (ihre Kamerazentren werden zugeordnet)</translation>
+    </message>
+    <message>
+        <source>The room, project or reconstruction with the known cameras</source>
+        <translation>Der Raum, das Projekt oder die Rekonstruktion mit den bekannten Kameras</translation>
+    </message>
+    <message>
+        <source>Aligned to the %1 known cameras: camera centres %2 m apart (median), %3 m at most.</source>
+        <translation>An den %1 bekannten Kameras ausgerichtet: Kamerazentren %2 m entfernt (Median), höchstens %3 m.</translation>
     </message>
 </context>
 <context>

@@ -371,10 +371,6 @@
         <translation>Cliquez un coin dans l&apos;une des photos pour commencer un point. Ctrl+clic sur des points pour choisir les coins d&apos;un polygone dans l&apos;ordre.</translation>
     </message>
     <message>
-        <source>Point %1: click it in the other photo, or accept a proposal (Enter for the best, 1-3, or double-click a ring). N starts a new point.</source>
-        <translation>Point %1 : cliquez-le dans l&apos;autre photo, ou acceptez une proposition (Entrée pour la meilleure, 1-3, ou double-clic sur un anneau). N commence un nouveau point.</translation>
-    </message>
-    <message>
         <source>Point %1: click it in the other photo; drag a cross to move it. N starts a new point.</source>
         <translation>Point %1 : cliquez-le dans l&apos;autre photo ; faites glisser une croix pour la déplacer. N commence un nouveau point.</translation>
     </message>
@@ -397,6 +393,26 @@
     <message>
         <source>%1 points (largest reprojection error %2 px), %3 polygons, %4 lamps: %5</source>
         <translation>%1 points (plus grande erreur de reprojection %2 px), %3 polygones, %4 lampes : %5</translation>
+    </message>
+    <message>
+        <source>Scale</source>
+        <translation>Échelle</translation>
+    </message>
+    <message>
+        <source>point</source>
+        <translation>point</translation>
+    </message>
+    <message>
+        <source>floor points</source>
+        <translation>points du sol</translation>
+    </message>
+    <message>
+        <source>Without a reconstruction and without three measured clicked points: two points, their distance, and three or more floor points (names, comma-separated) set the metric frame</source>
+        <translation>Sans reconstruction ni trois points cliqués mesurés : deux points, leur distance, et trois points du sol ou plus (noms séparés par des virgules) fixent le repère métrique</translation>
+    </message>
+    <message>
+        <source>Point %1: click a ring to accept that proposal (Enter: the best; 1-3), or click the corner where it is (Shift+click: exactly there, even on a ring). N starts a new point.</source>
+        <translation>Point %1 : cliquez un anneau pour accepter cette proposition (Entrée : la meilleure ; 1-3), ou cliquez le coin là où il est (Maj+clic : exactement là, même sur un anneau). N commence un nouveau point.</translation>
     </message>
 </context>
 <context>
@@ -1526,6 +1542,22 @@ Aucun damier trouvé dans : %1</translation>
     <message>
         <source>The model is in metres now, the floor at z = 0.</source>
         <translation>Le modèle est maintenant en mètres, le sol à z = 0.</translation>
+    </message>
+    <message>
+        <source>Align to known cameras...</source>
+        <translation>Aligner sur des caméras connues...</translation>
+    </message>
+    <message>
+        <source>Put the model in the frame of known cameras: a room, a project, or another reconstruction whose photos have the same names (their camera centres are matched)</source>
+        <translation>Placer le modèle dans le repère de caméras connues : une pièce, un projet ou une autre reconstruction dont les photos ont les mêmes noms (leurs centres de caméra sont appariés)</translation>
+    </message>
+    <message>
+        <source>The room, project or reconstruction with the known cameras</source>
+        <translation>La pièce, le projet ou la reconstruction aux caméras connues</translation>
+    </message>
+    <message>
+        <source>Aligned to the %1 known cameras: camera centres %2 m apart (median), %3 m at most.</source>
+        <translation>Aligné sur les %1 caméras connues : centres de caméra à %2 m (médiane), %3 m au plus.</translation>
     </message>
 </context>
 <context>

@@ -168,32 +168,11 @@ int alignCommand(const QStringList& args, Progress& progress) {
     if (p.isSet("output")) writeColmapText(model, str(p.value("output")));
     return 0;
   }
-  // Reference camera centres by photo name.
-  std::map<std::string, glm::dvec3> ref;
   const QString to = p.value("to");
-  const bool roomFolder = QFileInfo(to).isDir() && (QFileInfo(QDir(to).filePath("scene.json")).exists() ||
-                                                     QFileInfo(QDir(to).filePath("project.json")).exists());
-  if (QFileInfo(to).isDir() && !roomFolder) {
-    const ClickWorkspace rw = openClickWorkspace(str(to));
-    if (rw.modelFolder.empty()) throw Error(str(to), "", "holds neither a COLMAP model nor a room");
-    const ColmapModel r = readColmapModel(rw.modelFolder);
-    for (const auto& [id, im] : r.images) ref[fs::path(im.name).stem().string()] = im.center();
-  } else {
-    const Scene s = loadRoom(str(to));
-    for (const auto& ph : s.photos) ref[ph.name] = ph.camera.center();
-  }
-  std::vector<glm::dvec3> est, tru;
-  std::vector<std::string> names;
-  for (const auto& [id, im] : model.images) {
-    const auto it = ref.find(fs::path(im.name).stem().string());
-    if (it == ref.end()) continue;
-    est.push_back(im.center());
-    tru.push_back(it->second);
-    names.push_back(fs::path(im.name).stem().string());
-  }
-  if (est.size() < 3) throw Error(str(to), "", "shares " + std::to_string(est.size()) + " photo name(s) with the model; alignment needs 3 or more");
-  progress.report(0, "aligning " + std::to_string(est.size()) + " cameras");
-  const CenterAlignment a = alignCenters(est, tru);
+  progress.report(0, "aligning the cameras");
+  const KnownCameraAlignment k = alignToKnownCameras(model, str(to));
+  const CenterAlignment& a = k.fit;
+  const std::vector<std::string>& names = k.photos;
   QJsonObject per;
   for (size_t i = 0; i < names.size(); ++i) {
     per[QString::fromStdString(names[i])] = a.errors[i];

@@ -18,6 +18,7 @@
 #include "photos_panel.h"
 #include "relume/geometry/error.h"
 #include "relume/inspect/sparse_view.h"
+#include "relume/reconstruct/click_build.h"
 #include "relume/reconstruct/colmap_driver.h"
 #include "relume/reconstruct/multiview.h"
 
@@ -78,10 +79,14 @@ ReconstructionPanel::ReconstructionPanel(JobRunner* jobs, PhotosPanel* photos, Q
   pickFloor_->setCheckable(true);
   pickFloor_->setToolTip(tr("Click three points on the floor: it becomes z = 0, +z up"));
   apply_ = new QPushButton(tr("Apply metric frame"), this);
+  align_ = new QPushButton(tr("Align to known cameras..."), this);
+  align_->setToolTip(tr("Put the model in the frame of known cameras: a room, a project, or another reconstruction "
+                        "whose photos have the same names (their camera centres are matched)"));
   metric->addWidget(pickScale_);
   metric->addWidget(distance_);
   metric->addWidget(pickFloor_);
   metric->addWidget(apply_);
+  metric->addWidget(align_);
   layout->addLayout(metric);
   picks_ = new QLabel(this);
   picks_->setWordWrap(true);
@@ -91,6 +96,10 @@ ReconstructionPanel::ReconstructionPanel(JobRunner* jobs, PhotosPanel* photos, Q
   connect(pickScale_, &QPushButton::toggled, this, [this](bool on) { setPicking(on ? Picking::Scale : Picking::None); });
   connect(pickFloor_, &QPushButton::toggled, this, [this](bool on) { setPicking(on ? Picking::Floor : Picking::None); });
   connect(apply_, &QPushButton::clicked, this, [this] { applyMetricFrame(); });
+  connect(align_, &QPushButton::clicked, this, [this] {
+    const QString d = QFileDialog::getExistingDirectory(this, tr("The room, project or reconstruction with the known cameras"));
+    if (!d.isEmpty()) alignToKnownCameras(d);
+  });
   connect(view_, &inspect::SparseView::pointPicked, this, [this](int p) { pointPicked(p); });
   refreshPicks();
 }
@@ -212,7 +221,43 @@ void ReconstructionPanel::refreshPicks() {
   const bool have = run_result_ != nullptr;
   pickScale_->setEnabled(have);
   pickFloor_->setEnabled(have);
+  align_->setEnabled(have);
   apply_->setEnabled(have && scale_.size() == 2 && floor_.size() == 3);
+}
+
+void ReconstructionPanel::moveModel(const recon::Similarity& S) {
+  auto& r = *run_result_;
+  recon::ColmapRun moved = r;
+  recon::transformModel(moved.model, S);
+  recon::replaceColmapText(moved.model, r.modelFolder);
+  try {
+    recon::writeWorkspaceInfo(runWorkspace_.toStdString(), runPhotos_.toStdString(), moved, true);
+  } catch (const Error&) {
+    recon::replaceColmapText(r.model, r.modelFolder);
+    throw;
+  }
+  r = std::move(moved);
+}
+
+bool ReconstructionPanel::alignToKnownCameras(const QString& reference) {
+  if (!run_result_ || jobs_->busy()) return false;
+  recon::KnownCameraAlignment k;
+  try {
+    k = recon::alignToKnownCameras(run_result_->model, reference.toStdString());
+    moveModel(k.fit.S);
+  } catch (const Error& e) {
+    emit message(QString::fromStdString(e.what()));
+    return false;
+  }
+  lastAlignment_ = k.fit;
+  scale_.clear();
+  floor_.clear();
+  showResult();
+  emit message(tr("Aligned to the %1 known cameras: camera centres %2 m apart (median), %3 m at most.")
+                   .arg(k.photos.size())
+                   .arg(k.fit.median, 0, 'f', 4)
+                   .arg(k.fit.max, 0, 'f', 4));
+  return true;
 }
 
 bool ReconstructionPanel::applyMetricFrame() {
@@ -228,16 +273,7 @@ bool ReconstructionPanel::applyMetricFrame() {
     const recon::Similarity S =
         recon::metricFrame(at(scale_[0]), at(scale_[1]), distance_->value(), {at(floor_[0]), at(floor_[1]), at(floor_[2])},
                            recon::meanCameraCentre(r.model));
-    recon::ColmapRun metric = r;
-    recon::transformModel(metric.model, S);
-    recon::replaceColmapText(metric.model, r.modelFolder);
-    try {
-      recon::writeWorkspaceInfo(runWorkspace_.toStdString(), runPhotos_.toStdString(), metric, true);
-    } catch (const Error&) {
-      recon::replaceColmapText(r.model, r.modelFolder);
-      throw;
-    }
-    r = std::move(metric);
+    moveModel(S);
   } catch (const Error& e) {
     emit message(QString::fromStdString(e.what()));
     return false;

@@ -10,6 +10,8 @@
 #include <memory>
 #include <vector>
 
+#include "relume/reconstruct/multiview.h"
+
 class QDoubleSpinBox;
 class QLabel;
 class QLineEdit;
@@ -52,6 +54,11 @@ class ReconstructionPanel : public QWidget {
   // Puts the model in the metric frame from the picked points and the typed distance, and
   // rewrites the workspace (atomically); false with the reason shown when they are not enough.
   bool applyMetricFrame();
+  // Puts the model in the frame of known cameras (a room, project or reconstruction whose photos
+  // have the same names), rewriting the workspace as a whole; false with the reason shown.
+  bool alignToKnownCameras(const QString& reference);
+  // The camera-centre fit of the last alignment (errors in metres).
+  const recon::CenterAlignment& lastAlignment() const { return lastAlignment_; }
 
  signals:
   void message(const QString& text);
@@ -63,11 +70,13 @@ class ReconstructionPanel : public QWidget {
   void showResult();
   void pointPicked(int point);
   void refreshPicks();
+  void moveModel(const recon::Similarity& S);  // applied and written (model folder, workspace.json)
 
   JobRunner* jobs_;
   PhotosPanel* photos_;
   QLineEdit *photosFolder_, *workspace_;
-  QPushButton *run_, *pickScale_, *pickFloor_, *apply_;
+  QPushButton *run_, *pickScale_, *pickFloor_, *apply_, *align_;
+  recon::CenterAlignment lastAlignment_;
   QTreeWidget* list_;
   QLabel *summary_, *picks_;
   QDoubleSpinBox* distance_;

@@ -1067,6 +1067,21 @@ class WorkbenchTest : public QObject {
     QVERIFY(readJson(ws + "/workspace.json")["metric"].toBool());
     saveShot(panel, "reconstruction_panel");
     saveShot(window_.get(), "main_window_reconstruction");
+    // Or in the frame of known cameras (the sample room's): every camera centre within 2 cm.
+    QVERIFY(!panel->alignToKnownCameras(tmp_.path()));  // no model, no room: refused, nothing written
+    QVERIFY(panel->alignToKnownCameras(kRoom));
+    const recon::ColmapModel aligned = recon::readColmapModel(panel->result()->modelFolder);
+    const Scene sample = loadRoom(str(kRoom));
+    double worstCentre = 0;
+    for (const auto& [id, im] : aligned.images) {
+      const Photo* ph = sample.findPhoto(QFileInfo(QString::fromStdString(im.name)).completeBaseName().toStdString());
+      QVERIFY(ph);
+      worstCentre = std::max(worstCentre, glm::length(im.center() - ph->camera.center()));
+    }
+    qInfo("aligned to the sample room's cameras: centres within %.4f m (the fit says %.4f m at most)", worstCentre,
+          panel->lastAlignment().max);
+    QVERIFY(worstCentre <= 0.02);
+    QVERIFY(readJson(ws + "/workspace.json")["metric"].toBool());
 
     // Cancel while COLMAP extracts features: nothing is left running, and no model is written.
     const QString ws2 = tmp_.path() + "/ws2";

@@ -211,6 +211,34 @@ ClickBuild buildFromClicks(const Clicks& input, const ClickWorkspace& w, const C
   return out;
 }
 
+KnownCameraAlignment alignToKnownCameras(const ColmapModel& model, const std::string& reference) {
+  std::map<std::string, glm::dvec3> ref;  // camera centres by photo name
+  const QDir d(QString::fromStdString(reference));
+  const bool room = d.exists() && (d.exists("scene.json") || d.exists("project.json"));
+  if (d.exists() && !room) {
+    const ClickWorkspace rw = openClickWorkspace(reference);
+    if (rw.modelFolder.empty()) throw Error(reference, "", "holds neither a COLMAP model nor a room");
+    const ColmapModel r = readColmapModel(rw.modelFolder);
+    for (const auto& [id, im] : r.images) ref[fs::path(im.name).stem().string()] = im.center();
+  } else {
+    const Scene s = loadRoom(reference);
+    for (const auto& ph : s.photos) ref[ph.name] = ph.camera.center();
+  }
+  std::vector<glm::dvec3> est, tru;
+  KnownCameraAlignment out;
+  for (const auto& [id, im] : model.images) {
+    const auto it = ref.find(fs::path(im.name).stem().string());
+    if (it == ref.end()) continue;
+    est.push_back(im.center());
+    tru.push_back(it->second);
+    out.photos.push_back(it->first);
+  }
+  if (est.size() < 3)
+    throw Error(reference, "", "shares " + std::to_string(est.size()) + " photo name(s) with the model; alignment needs 3 or more");
+  out.fit = alignCenters(est, tru);
+  return out;
+}
+
 void saveClickProject(const ClickBuild& b, const Clicks& clicks, const std::string& folder, Progress& progress) {
   QJsonObject pts;
   for (const auto& [n, tp] : b.report.points) {

@@ -11,6 +11,7 @@
 #include "relume/geometry/scene.h"
 #include "relume/reconstruct/clicks.h"
 #include "relume/reconstruct/colmap_model.h"
+#include "relume/reconstruct/multiview.h"
 
 namespace relume::recon {
 
@@ -48,6 +49,15 @@ struct ClickBuild {
 // clicks file and the point, polygon or option at fault.
 ClickBuild buildFromClicks(const Clicks& clicks, const ClickWorkspace& workspace, const ClickCameraOptions& options,
                            const std::string& undistortDir, Progress& progress);
+
+// The similarity that takes the model's camera centres onto those of the photos with the same
+// names in `reference` (a COLMAP model folder or workspace, or a room bundle or project): a
+// reconstruction put in the frame of known cameras. Throws relume::Error with fewer than 3 shared.
+struct KnownCameraAlignment {
+  CenterAlignment fit;              // S, per-camera errors (metres), median and largest
+  std::vector<std::string> photos;  // the shared photos, in the order of fit.errors
+};
+KnownCameraAlignment alignToKnownCameras(const ColmapModel& model, const std::string& reference);
 
 // Writes the built model as a Relume project (atomically, as saveProject), with the clicks it
 // came from (clicks.json, as `clicks` holds them) and the triangulation report (triangulation.json:
