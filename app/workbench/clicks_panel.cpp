@@ -909,13 +909,18 @@ void ClicksPanel::requestProposals() {
                                               b = match_.count(to) ? match_[to] : nullptr;
     const QImage qa = a ? QImage() : displayImage(from), qb = b ? QImage() : displayImage(to);
     if ((!a && qa.isNull()) || (!b && qb.isNull())) continue;
+    // With cameras: the sweep's pinhole cameras, and the photos resampled to them (the lens
+    // distortion removed), the click taken there and the proposals brought back.
     std::shared_ptr<Camera> ca, cb;
+    std::shared_ptr<recon::ColmapCamera> la, lb;
     if (model_) {
       const auto* ia = model_->findImage(from);
       const auto* ib = model_->findImage(to);
-      if (ia && ib) {
+      if (ia && ib && model_->cameras.count(ia->camera) && model_->cameras.count(ib->camera)) {
         ca = std::make_shared<Camera>(model_->camera(*ia));
         cb = std::make_shared<Camera>(model_->camera(*ib));
+        la = std::make_shared<recon::ColmapCamera>(model_->cameras.at(ia->camera));
+        lb = std::make_shared<recon::ColmapCamera>(model_->cameras.at(ib->camera));
       }
     }
     const glm::dvec2 pa = c->second;
@@ -925,20 +930,24 @@ void ClicksPanel::requestProposals() {
     QPointer<ClicksPanel> self(this);
     QPointer<QObject> sink(results_);
     ++proposalsRunning_;
-    pool_->start([self, sink, a, b, qa, qb, from, to, ca, cb, pa, up, v, key, generation]() mutable {
-      if (!a) a = std::make_shared<const recon::MatchImage>(recon::prepareForMatching(toImage8(qa)));
-      if (!b) b = std::make_shared<const recon::MatchImage>(recon::prepareForMatching(toImage8(qb)));
+    pool_->start([self, sink, a, b, qa, qb, from, to, ca, cb, la, lb, pa, up, v, key, generation]() mutable {
       std::vector<QPointF> found;
       try {
-        for (const auto& m : recon::proposeMatches(*a, pa, *b, ca.get(), cb.get(), 3, 7, up)) found.emplace_back(m.pixel.x, m.pixel.y);
+        if (!a) a = std::make_shared<const recon::MatchImage>(la ? recon::prepareForMatching(toImage8(qa), *la) : recon::prepareForMatching(toImage8(qa)));
+        if (!b) b = std::make_shared<const recon::MatchImage>(lb ? recon::prepareForMatching(toImage8(qb), *lb) : recon::prepareForMatching(toImage8(qb)));
+        const glm::dvec2 at = la ? recon::pinholePixel(*la, pa) : pa;
+        for (const auto& m : recon::proposeMatches(*a, at, *b, ca.get(), cb.get(), 3, 7, up)) {
+          const glm::dvec2 q = lb ? recon::distortedPixel(*lb, m.pixel) : m.pixel;
+          found.emplace_back(q.x, q.y);
+        }
       } catch (const std::exception&) {
-        // No proposal then: the user clicks it.
+        // No proposal then (a click at the border, a photo of another size): the user clicks it.
       }
       QMetaObject::invokeMethod(sink, [self, found, v, key, generation, a, b, from, to] {
         if (!self) return;
         --self->proposalsRunning_;
-        self->match_.emplace(from, a);
-        self->match_.emplace(to, b);
+        if (a) self->match_.emplace(from, a);
+        if (b) self->match_.emplace(to, b);
         // Only the latest request of this view counts (the user may have clicked on meanwhile).
         if (self->proposalKey_[v] != key || generation < self->shownGeneration_[v]) return;
         self->shownGeneration_[v] = generation;
@@ -1038,7 +1047,10 @@ bool ClicksPanel::build(const QString& projectPath) {
     recon::saveClickProject(*b, clicks, ss(project), progress);
     return [this, b, project]() {
       // Cameras solved from the clicks serve the clicking from now on (errors, epipolar lines).
-      if (!model_) model_ = std::make_unique<recon::ColmapModel>(b->model);
+      if (!model_) {
+        model_ = std::make_unique<recon::ColmapModel>(b->model);
+        match_.clear();  // prepared without cameras: again, with their distortion removed
+      }
       QStringList lines;
       for (const auto& n : b->notes) lines << qs(n);
       for (const auto& n : b->warnings) lines << tr("Warning: %1").arg(qs(n));

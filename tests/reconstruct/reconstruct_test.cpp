@@ -796,6 +796,72 @@ TEST(MatchProposals, LargePhotosAreSweptCoarseAndRefinedAtFullSize) {
   EXPECT_GE(found, 0.6 * tried);
 }
 
+TEST(MatchProposals, LensDistortionIsTakenOutOfThePhotos) {
+  // The sample room photographed through a barrel-distorting lens (COLMAP's SIMPLE_RADIAL, k =
+  // -0.2): prepared with their camera, the photos are swept as pinholes and the proposals come back
+  // in the distorted photo, as often on the corners as without a lens; taken as pinholes, they
+  // are not.
+  const std::string dir = std::string(RELUME_SOURCE_DIR) + "/resources/sample_room";
+  const Scene room = loadRoom(dir);
+  const Clicks clicks = readClicks(dir + "/clicks.json");
+  auto lens = [](const Camera& c) {
+    ColmapCamera l;
+    l.model = "SIMPLE_RADIAL";
+    l.width = c.width, l.height = c.height;
+    l.params = {c.fx(), c.cx(), c.cy(), -0.2};
+    return l;
+  };
+  auto through = [](const Image8& in, const ColmapCamera& l) {  // what the lens makes of a pinhole photo
+    Image8 out = in;
+    for (int y = 0; y < in.height; ++y)
+      for (int x = 0; x < in.width; ++x) {
+        const glm::dvec2 p = pinholePixel(l, glm::dvec2(x + 0.5, y + 0.5)) - 0.5;
+        const int x0 = std::clamp(int(std::floor(p.x)), 0, in.width - 2), y0 = std::clamp(int(std::floor(p.y)), 0, in.height - 2);
+        const double fx = std::clamp(p.x - x0, 0.0, 1.0), fy = std::clamp(p.y - y0, 0.0, 1.0);
+        for (int c = 0; c < 3; ++c) {
+          auto at = [&](int xx, int yy) { return double(in.pixels[(size_t(yy) * in.width + xx) * 3 + c]); };
+          out.pixels[(size_t(y) * in.width + x) * 3 + c] = (unsigned char)std::lround(
+              (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1)));
+        }
+      }
+    return out;
+  };
+  const Photo* a = room.findPhoto("main");
+  const ColmapCamera la = lens(a->camera);
+  const Image8 da = through(readImage8(dir + "/" + a->file), la);
+  const MatchImage undistortedA = prepareForMatching(da, la), rawA = prepareForMatching(da);
+  std::map<std::string, std::pair<MatchImage, MatchImage>> others;
+  int tried = 0, found = 0, foundRaw = 0;
+  for (const auto& [name, pt] : clicks.points) {
+    glm::dvec2 pa(-1);
+    for (const auto& [photo, px] : pt.clicks)
+      if (photo == "main") pa = distortedPixel(la, px);
+    if (pa.x < 10 || pa.y < 10 || pa.x > 630 || pa.y > 470) continue;
+    for (const auto& [photo, px] : pt.clicks) {
+      if (photo == "main") continue;
+      const Photo* b = room.findPhoto(photo);
+      const ColmapCamera lb = lens(b->camera);
+      if (!others.count(photo)) {
+        const Image8 db = through(readImage8(dir + "/" + b->file), lb);
+        others.emplace(photo, std::make_pair(prepareForMatching(db, lb), prepareForMatching(db)));
+      }
+      const glm::dvec2 pb = distortedPixel(lb, px);
+      if (pb.x < 0 || pb.y < 0 || pb.x > 640 || pb.y > 480) continue;
+      ++tried;
+      const auto m = proposeMatches(undistortedA, pinholePixel(la, pa), others.at(photo).first, &a->camera, &b->camera, 3, 7,
+                                    glm::dvec3(0, 0, 1));
+      found += !m.empty() && glm::length(distortedPixel(lb, m[0].pixel) - pb) <= 2;
+      const auto r = proposeMatches(rawA, pa, others.at(photo).second, &a->camera, &b->camera, 3, 7, glm::dvec3(0, 0, 1));
+      foundRaw += !r.empty() && glm::length(r[0].pixel - pb) <= 2;
+    }
+  }
+  std::printf("match proposals through a lens (k = -0.2): %d of %d best within 2 px with the distortion taken out, %d taken "
+              "as pinholes\n", found, tried, foundRaw);
+  ASSERT_GE(tried, 10);
+  EXPECT_GE(found, 0.6 * tried);
+  EXPECT_GT(found, foundRaw + tried / 10);
+}
+
 // ---------------------------------------------------------------- photo import
 
 TEST(PhotoImport, ExifBracketsAreGroupedAndMergedPerViewpoint) {

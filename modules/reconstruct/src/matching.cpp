@@ -204,11 +204,43 @@ cv::Mat levelMat(const MatchImage& im, size_t level) {
 }
 }  // namespace
 
-MatchImage prepareForMatching(const Image8& image) {
+namespace {
+MatchImage pyramid(cv::Mat g);
+}
+
+MatchImage prepareForMatching(const Image8& image) { return pyramid(gray(image)); }
+
+MatchImage prepareForMatching(const Image8& image, const ColmapCamera& cam) {
+  if (!cam.hasDistortion()) return prepareForMatching(image);
+  if (cam.width != image.width || cam.height != image.height)
+    throw Error("", "photo", "is " + std::to_string(image.width) + "x" + std::to_string(image.height) + " but its camera is " +
+                                 std::to_string(cam.width) + "x" + std::to_string(cam.height));
+  cv::Mat mapx(image.height, image.width, CV_32F), mapy(image.height, image.width, CV_32F);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const glm::dvec2 d = distortedPixel(cam, glm::dvec2(x + 0.5, y + 0.5));
+      mapx.at<float>(y, x) = float(d.x - 0.5);
+      mapy.at<float>(y, x) = float(d.y - 0.5);
+    }
+  cv::Mat out;
+  cv::remap(gray(image), out, mapx, mapy, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  return pyramid(out);
+}
+
+glm::dvec2 pinholePixel(const ColmapCamera& cam, glm::dvec2 distorted) {
+  const glm::dvec2 n = cam.undistort(distorted);
+  return {cam.fx() * n.x + cam.cx(), cam.fy() * n.y + cam.cy()};
+}
+
+glm::dvec2 distortedPixel(const ColmapCamera& cam, glm::dvec2 pinhole) {
+  return cam.distort(glm::dvec2((pinhole.x - cam.cx()) / cam.fx(), (pinhole.y - cam.cy()) / cam.fy()));
+}
+
+namespace {
+MatchImage pyramid(cv::Mat g) {
   MatchImage m;
-  m.width = image.width;
-  m.height = image.height;
-  cv::Mat g = gray(image);
+  m.width = g.cols;
+  m.height = g.rows;
   for (;;) {
     m.widths.push_back(g.cols);
     m.heights.push_back(g.rows);
@@ -221,6 +253,7 @@ MatchImage prepareForMatching(const Image8& image) {
   }
   return m;
 }
+}  // namespace
 
 std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const Image8& b, const Camera* ca,
                                           const Camera* cb, int count, int radius, const glm::dvec3& up) {

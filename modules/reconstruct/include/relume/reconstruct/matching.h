@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "relume/geometry/camera.h"
+#include "relume/reconstruct/colmap_model.h"
 #include "relume/reconstruct/photos.h"
 
 namespace relume::recon {
@@ -24,6 +25,12 @@ struct MatchImage {
   std::vector<int> widths, heights;
 };
 MatchImage prepareForMatching(const Image8& image);
+// The same resampled to the camera's pinhole (its lens distortion removed), so that the sweep's
+// pinhole cameras (ColmapModel::camera) fit the photo: clicks go in through pinholePixel and
+// proposals come back through distortedPixel. A camera without distortion changes nothing.
+MatchImage prepareForMatching(const Image8& image, const ColmapCamera& camera);
+glm::dvec2 pinholePixel(const ColmapCamera& camera, glm::dvec2 distortedPixel);
+glm::dvec2 distortedPixel(const ColmapCamera& camera, glm::dvec2 pinholePixel);
 
 // Best `count` proposals in `b` for pixel `pa` of `a`, best first, at least `radius` pixels apart.
 // With cameras (both non-null) only the epipolar line of `pa` is searched, the patch taken on
