@@ -414,6 +414,18 @@
         <source>Point %1: click a ring to accept that proposal (Enter: the best; 1-3), or click the corner where it is (Shift+click: exactly there, even on a ring). N starts a new point.</source>
         <translation>Punkt %1: einen Ring klicken, um diesen Vorschlag anzunehmen (Enter: den besten; 1-3), oder die Ecke dort klicken, wo sie ist (Umschalt+Klick: genau dort, auch auf einem Ring). N beginnt einen neuen Punkt.</translation>
     </message>
+    <message>
+        <source>Points and polygons</source>
+        <translation>Punkte und Polygone</translation>
+    </message>
+    <message>
+        <source>The points and polygons in 3-D with the cameras (drag to orbit, wheel to zoom)</source>
+        <translation>Die Punkte und Polygone in 3-D mit den Kameras (Ziehen zum Drehen, Mausrad zum Zoomen)</translation>
+    </message>
+    <message>
+        <source>3-D</source>
+        <translation>3-D</translation>
+    </message>
 </context>
 <context>
     <name>relume::Document</name>

@@ -414,6 +414,18 @@
         <source>Point %1: click a ring to accept that proposal (Enter: the best; 1-3), or click the corner where it is (Shift+click: exactly there, even on a ring). N starts a new point.</source>
         <translation>Point %1 : cliquez un anneau pour accepter cette proposition (Entrée : la meilleure ; 1-3), ou cliquez le coin là où il est (Maj+clic : exactement là, même sur un anneau). N commence un nouveau point.</translation>
     </message>
+    <message>
+        <source>Points and polygons</source>
+        <translation>Points et polygones</translation>
+    </message>
+    <message>
+        <source>The points and polygons in 3-D with the cameras (drag to orbit, wheel to zoom)</source>
+        <translation>Les points et les polygones en 3-D avec les caméras (glisser pour tourner, molette pour zoomer)</translation>
+    </message>
+    <message>
+        <source>3-D</source>
+        <translation>3-D</translation>
+    </message>
 </context>
 <context>
     <name>relume::Document</name>

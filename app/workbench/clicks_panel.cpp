@@ -21,6 +21,7 @@
 #include <QPointer>
 #include <QPushButton>
 #include <QSplitter>
+#include <QTabWidget>
 #include <QTemporaryDir>
 #include <QThreadPool>
 #include <QTreeWidget>
@@ -37,6 +38,7 @@
 #include "photos_panel.h"
 #include "relume/geometry/error.h"
 #include "relume/image/image.h"
+#include "relume/inspect/sparse_view.h"
 #include "relume/reconstruct/click_build.h"
 #include "relume/reconstruct/matching.h"
 #include "relume/reconstruct/photos.h"
@@ -142,7 +144,13 @@ ClicksPanel::ClicksPanel(JobRunner* jobs, PhotosPanel* photos, QWidget* parent)
     connect(views_[v], &ClickPhotoView::proposalActivated, this, [this, v](int k) { acceptProposal(v, k); });
   }
 
-  auto* side = new QWidget(split);
+  tabs_ = new QTabWidget(split);
+  auto* side = new QWidget(tabs_);
+  tabs_->addTab(side, tr("Points and polygons"));
+  view3d_ = new inspect::SparseView(tabs_);
+  view3d_->setToolTip(tr("The points and polygons in 3-D with the cameras (drag to orbit, wheel to zoom)"));
+  tabs_->addTab(view3d_, tr("3-D"));
+  connect(tabs_, &QTabWidget::currentChanged, this, [this] { refresh3d(); });
   auto* sl = new QVBoxLayout(side);
   sl->setContentsMargins(0, 0, 0, 0);
   points_ = new QTreeWidget(side);
@@ -249,7 +257,7 @@ ClicksPanel::ClicksPanel(JobRunner* jobs, PhotosPanel* photos, QWidget* parent)
     undo->setEnabled(false);
     redo->setEnabled(false);
   }
-  split->addWidget(side);
+  split->addWidget(tabs_);
   split->setStretchFactor(0, 3);
   split->setStretchFactor(1, 3);
   split->setStretchFactor(2, 2);
@@ -398,6 +406,7 @@ bool ClicksPanel::load(const QString& workspace, const QString& photos) {
       proposalKey_[v].clear();
     }
     clicks_ = c;
+    fittedCameras_ = size_t(-1);
     current_.clear();
     picked_.clear();
     undo_.clear();
@@ -836,6 +845,44 @@ void ClicksPanel::refreshViews() {
   }
   requestProposals();
   refreshHint();
+  refresh3d();
+}
+
+void ClicksPanel::refresh3d() {
+  if (tabs_->currentWidget() != view3d_ || !isLoaded()) return;
+  std::vector<glm::dvec3> xyz;
+  std::vector<std::array<uint8_t, 3>> rgb;
+  std::vector<int> marked;
+  for (const auto& [name, st] : states_) {
+    if (!st.triangulated) continue;
+    if (name == current_ || std::find(picked_.begin(), picked_.end(), name) != picked_.end()) marked.push_back(int(xyz.size()));
+    xyz.push_back(st.X);
+    rgb.push_back({235, 235, 235});
+  }
+  std::vector<Camera> cams;
+  if (model_)
+    for (const auto& [id, im] : model_->images) cams.push_back(model_->camera(im));
+  // Fitted when the cameras change (a workspace opened, cameras solved); kept while clicking.
+  const bool fit = cams.size() != fittedCameras_ || xyz.empty() != fittedEmpty_;
+  fittedCameras_ = cams.size();
+  fittedEmpty_ = xyz.empty();
+  view3d_->setModel(xyz, rgb, cams, fit);
+  view3d_->setMarked(marked);
+  std::vector<std::vector<glm::dvec3>> polys;
+  std::vector<bool> lamps;
+  for (const auto& poly : clicks_.polygons) {
+    std::vector<glm::dvec3> q;
+    for (const auto& c : poly.corners) {
+      const auto s = states_.find(c);
+      if (s == states_.end() || !s->second.triangulated) break;
+      q.push_back(s->second.X);
+    }
+    if (q.size() == poly.corners.size()) {
+      polys.push_back(q);
+      lamps.push_back(!poly.lamp.empty());
+    }
+  }
+  view3d_->setPolygons(polys, lamps);
 }
 
 void ClicksPanel::refreshHint() {

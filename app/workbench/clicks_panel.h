@@ -27,12 +27,16 @@ class QDoubleSpinBox;
 class QLabel;
 class QLineEdit;
 class QPushButton;
+class QTabWidget;
 class QThreadPool;
 class QTreeWidget;
 
 namespace relume {
 namespace recon {
 struct MatchImage;
+}
+namespace inspect {
+class SparseView;
 }
 
 class ClickPhotoView;
@@ -105,6 +109,8 @@ class ClicksPanel : public QWidget {
   QTreeWidget* polygonsList() const { return polygons_; }
   QLabel* summary() const { return summary_; }
   QLineEdit* polygonNameEdit() const { return polygonName_; }
+  QTabWidget* tabs() const { return tabs_; }
+  inspect::SparseView* view3d() const { return view3d_; }
   QPushButton* buildButton() const { return build_; }
   QPushButton* measuredButton() const { return measured_; }
   QPushButton* polygonButton() const { return makePolygon_; }
@@ -131,6 +137,7 @@ class ClicksPanel : public QWidget {
   void refreshLists();
   void refreshViews();
   void refreshHint();
+  void refresh3d();
   void requestProposals();
   QImage displayImage(const std::string& photo);
   bool cameraOf(const std::string& photo, recon::ColmapCamera& cc, glm::dmat3& R, glm::dvec3& t) const;
@@ -145,6 +152,10 @@ class ClicksPanel : public QWidget {
   QComboBox* photoBox_[2];
   ClickPhotoView* views_[2];
   QTreeWidget *points_, *polygons_;
+  QTabWidget* tabs_;
+  inspect::SparseView* view3d_;
+  size_t fittedCameras_ = size_t(-1);
+  bool fittedEmpty_ = true;
   QDoubleSpinBox *x_, *y_, *z_, *focal_;
   QLabel *summary_, *hint_, *counts_;
   QUndoStack undo_;

@@ -44,6 +44,7 @@
 #include "process_exit.h"
 #include "reconstruction_panel.h"
 #include "relume/inspect/sparse_view.h"
+#include <QTabWidget>
 #include "relume/reconstruct/colmap_driver.h"
 #include <QLineEdit>
 #include "support/checkerboard.h"
@@ -1665,6 +1666,30 @@ class WorkbenchTest : public QObject {
     for (int k = 0; k < 4; ++k) QTest::mouseClick(panel->redoButton(), Qt::LeftButton);
     QCOMPARE(panel->clicks().polygons.size(), n);
     QVERIFY(panel->clicks().polygons.back().rectangle);
+    // The 3-D tab: every point and every polygon with the cameras, drawn (green faces on the
+    // dark background).
+    panel->tabs()->setCurrentWidget(reinterpret_cast<QWidget*>(panel->view3d()));
+    QTest::qWait(100);
+    QCOMPARE(panel->view3d()->pointCount(), truth.points.size());
+    QCOMPARE(panel->view3d()->polygonCount(), truth.polygons.size());
+    {
+      const QImage img = panel->view3d()->grabFramebuffer();
+      int green = 0, yellow = 0, magenta = 0;
+      for (int y = 0; y < img.height(); y += 2)
+        for (int x = 0; x < img.width(); x += 2) {
+          const QColor c = img.pixelColor(x, y);
+          green += c.green() > c.red() + 30 && c.green() > c.blue() + 30;
+          yellow += c.red() > 150 && c.green() > 120 && c.blue() < c.green() - 80 && std::abs(c.red() - c.green()) < 60;
+          magenta += c.red() > c.green() + 60 && c.blue() > c.green() + 60;
+        }
+      qInfo("3-D tab: %d of %d sampled pixels green (the polygons), %d yellow (lamps), %d magenta",
+            green, (img.width() / 2) * (img.height() / 2), yellow, magenta);
+      QVERIFY(green > img.width() * img.height() / 4 / 50);
+      QVERIFY(yellow > 0);      // the sample room's lamps, drawn in the lamp colour
+      QCOMPARE(magenta, 0);     // overlapping translucent faces keep their colours
+    }
+    saveShot(panel, "clicks_panel_3d");
+    panel->tabs()->setCurrentIndex(0);
     // What the panel holds is on disk already (atomically, as every edit is made).
     QCOMPARE(recon::clicksJson(recon::readClicks(str(panel->clicksFile()), true)), recon::clicksJson(panel->clicks()));
 

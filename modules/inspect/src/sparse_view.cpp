@@ -23,8 +23,14 @@ using Ptr = vtkSmartPointer<T>;
 struct SparseView::Vtk {
   Ptr<vtkPolyData> points = Ptr<vtkPolyData>::New(), frusta = Ptr<vtkPolyData>::New(), marked = Ptr<vtkPolyData>::New();
   Ptr<vtkActor> pointActor = Ptr<vtkActor>::New(), frustumActor = Ptr<vtkActor>::New(), markedActor = Ptr<vtkActor>::New();
+  // Polygons: [0] surfaces, [1] lamps; faces and outlines each.
+  Ptr<vtkPolyData> polys[2] = {Ptr<vtkPolyData>::New(), Ptr<vtkPolyData>::New()},
+                   outlines[2] = {Ptr<vtkPolyData>::New(), Ptr<vtkPolyData>::New()};
+  Ptr<vtkActor> polyActor[2] = {Ptr<vtkActor>::New(), Ptr<vtkActor>::New()},
+                outlineActor[2] = {Ptr<vtkActor>::New(), Ptr<vtkActor>::New()};
   Ptr<vtkPointPicker> picker = Ptr<vtkPointPicker>::New();
   std::vector<glm::dvec3> xyz;
+  size_t polygonCount = 0;
 };
 
 namespace {
@@ -49,6 +55,22 @@ SparseView::SparseView(QWidget* parent) : VtkView(parent), vtk_(std::make_unique
   v.markedActor->GetProperty()->SetColor(1.0, 0.95, 0.2);
   v.markedActor->GetProperty()->SetPointSize(11.0);
   v.markedActor->PickableOff();
+  for (int k = 0; k < 2; ++k) {
+    const double r = k ? 1.0 : 0.31, g = k ? 0.78 : 0.86, b = k ? 0.16 : 0.47;  // surfaces green, lamps yellow
+    attach(renderer(), v.polys[k], v.polyActor[k]);
+    v.polyActor[k]->GetProperty()->SetColor(r, g, b);
+    v.polyActor[k]->GetProperty()->SetOpacity(k ? 0.8 : 0.3);
+    v.polyActor[k]->PickableOff();
+    attach(renderer(), v.outlines[k], v.outlineActor[k]);
+    v.outlineActor[k]->GetProperty()->SetColor(r, g, b);
+    v.outlineActor[k]->GetProperty()->SetLineWidth(2.0);
+    v.outlineActor[k]->PickableOff();
+  }
+  // Translucent faces over one another: depth peeling (the default order-independent pass
+  // draws overlapping layers in false colours on Mesa).
+  renderer()->SetUseDepthPeeling(1);
+  renderer()->SetMaximumNumberOfPeels(6);
+  renderer()->SetOcclusionRatio(0.0);
   v.picker->SetTolerance(0.008);
   v.picker->PickFromListOn();
   v.picker->AddPickList(v.pointActor);
@@ -59,7 +81,7 @@ SparseView::~SparseView() = default;
 size_t SparseView::pointCount() const { return vtk_->xyz.size(); }
 
 void SparseView::setModel(const std::vector<glm::dvec3>& xyz, const std::vector<std::array<uint8_t, 3>>& colours,
-                          const std::vector<Camera>& cameras) {
+                          const std::vector<Camera>& cameras, bool fit) {
   auto& v = *vtk_;
   v.xyz = xyz;
   auto pts = Ptr<vtkPoints>::New();
@@ -120,7 +142,7 @@ void SparseView::setModel(const std::vector<glm::dvec3>& xyz, const std::vector<
   v.frusta->SetLines(lines);
   v.frusta->Modified();
   setMarked({});
-  if (!xyz.empty() || !cameras.empty()) fitCamera(lo, hi);
+  if (fit && (!xyz.empty() || !cameras.empty())) fitCamera(lo, hi);
   update();
 }
 
@@ -137,6 +159,36 @@ void SparseView::setMarked(const std::vector<int>& marked) {
   v.marked->SetPoints(pts);
   v.marked->SetVerts(verts);
   v.marked->Modified();
+  update();
+}
+
+size_t SparseView::polygonCount() const { return vtk_->polygonCount; }
+
+void SparseView::setPolygons(const std::vector<std::vector<glm::dvec3>>& polygons, const std::vector<bool>& lamps) {
+  auto& v = *vtk_;
+  v.polygonCount = 0;
+  for (int k = 0; k < 2; ++k) {
+    auto pts = Ptr<vtkPoints>::New();
+    auto faces = Ptr<vtkCellArray>::New(), lines = Ptr<vtkCellArray>::New();
+    for (size_t i = 0; i < polygons.size(); ++i) {
+      const auto& poly = polygons[i];
+      if (poly.size() < 3 || (i < lamps.size() && lamps[i]) != bool(k)) continue;
+      ++v.polygonCount;
+      std::vector<vtkIdType> ids;
+      for (const auto& p : poly) ids.push_back(pts->InsertNextPoint(p.x, p.y, p.z));
+      faces->InsertNextCell(vtkIdType(ids.size()), ids.data());
+      lines->InsertNextCell(vtkIdType(ids.size() + 1));
+      for (size_t j = 0; j <= ids.size(); ++j) lines->InsertCellPoint(ids[j % ids.size()]);
+    }
+    v.polys[k]->Initialize();
+    v.polys[k]->SetPoints(pts);
+    v.polys[k]->SetPolys(faces);
+    v.polys[k]->Modified();
+    v.outlines[k]->Initialize();
+    v.outlines[k]->SetPoints(pts);
+    v.outlines[k]->SetLines(lines);
+    v.outlines[k]->Modified();
+  }
   update();
 }
 
