@@ -917,18 +917,6 @@ QImage ClicksPanel::displayImage(const std::string& photo) {
   return img;
 }
 
-namespace {
-Image8 toImage8(const QImage& img) {
-  const QImage rgb = img.convertToFormat(QImage::Format_RGB888);
-  Image8 im;
-  im.width = rgb.width();
-  im.height = rgb.height();
-  im.pixels.resize(size_t(im.width) * im.height * 3);
-  for (int y = 0; y < im.height; ++y)
-    std::memcpy(im.pixels.data() + size_t(y) * im.width * 3, rgb.constScanLine(y), size_t(im.width) * 3);
-  return im;
-}
-}  // namespace
 
 void ClicksPanel::requestProposals() {
   const auto cur = clicks_.points.find(current_);
@@ -951,24 +939,42 @@ void ClicksPanel::requestProposals() {
     proposalKey_[v] = key;
     proposals_[v].clear();
     views_[v]->setProposals({});
-    // Photos are prepared for matching once, on the worker, and kept.
-    std::shared_ptr<const recon::MatchImage> a = match_.count(from) ? match_[from] : nullptr,
-                                              b = match_.count(to) ? match_[to] : nullptr;
-    const QImage qa = a ? QImage() : displayImage(from), qb = b ? QImage() : displayImage(to);
-    if ((!a && qa.isNull()) || (!b && qb.isNull())) continue;
-    // With cameras: the sweep's pinhole cameras, and the photos resampled to them (the lens
-    // distortion removed), the click taken there and the proposals brought back.
-    std::shared_ptr<Camera> ca, cb;
-    std::shared_ptr<recon::ColmapCamera> la, lb;
-    if (model_) {
-      const auto* ia = model_->findImage(from);
-      const auto* ib = model_->findImage(to);
-      if (ia && ib && model_->cameras.count(ia->camera) && model_->cameras.count(ib->camera)) {
-        ca = std::make_shared<Camera>(model_->camera(*ia));
-        cb = std::make_shared<Camera>(model_->camera(*ib));
-        la = std::make_shared<recon::ColmapCamera>(model_->cameras.at(ia->camera));
-        lb = std::make_shared<recon::ColmapCamera>(model_->cameras.at(ib->camera));
-      }
+    // With cameras the click is looked for in every photo that has one at once (a depth must look
+    // right in all of them), on the planes of the polygons built so far too; the photos are
+    // resampled to the sweep's pinhole cameras (the lens distortion removed), the click taken
+    // there and the proposals brought back. Each photo is prepared for matching once, on the
+    // worker, and kept.
+    struct Source {
+      std::string name;
+      std::shared_ptr<const recon::MatchImage> image;  // prepared already, else read from `file`
+      QString file;
+      std::shared_ptr<recon::ColmapCamera> lens;
+      std::shared_ptr<Camera> camera;
+    };
+    auto source = [&](const std::string& name) {
+      Source src{name, match_.count(name) ? match_[name] : nullptr, photoFiles_.count(name) ? photoFiles_[name] : QString(), nullptr, nullptr};
+      if (model_)
+        if (const auto* im = model_->findImage(name); im && model_->cameras.count(im->camera)) {
+          src.camera = std::make_shared<Camera>(model_->camera(*im));
+          src.lens = std::make_shared<recon::ColmapCamera>(model_->cameras.at(im->camera));
+        }
+      return src;
+    };
+    Source a = source(from);
+    std::vector<Source> targets{source(to)};  // [0]: the photo shown
+    const bool cameras = a.camera && targets[0].camera;
+    if (cameras)
+      for (const auto& name : photoNames())
+        if (name != from && name != to && source(name).camera) targets.push_back(source(name));
+    bool readable = a.image || !a.file.isEmpty();
+    for (const auto& t : targets) readable = readable && (t.image || !t.file.isEmpty());
+    if (!readable) continue;
+    std::vector<recon::Plane> planes;
+    if (cameras) {
+      std::map<std::string, glm::dvec3> positions;
+      for (const auto& [name, st] : states_)
+        if (st.triangulated) positions[name] = st.X;
+      planes = recon::polygonPlanes(clicks_, positions, current_);
     }
     const glm::dvec2 pa = c->second;
     // The world's up: +z in a metric frame, else as the photos' orientations tell it.
@@ -977,24 +983,49 @@ void ClicksPanel::requestProposals() {
     QPointer<ClicksPanel> self(this);
     QPointer<QObject> sink(results_);
     ++proposalsRunning_;
-    pool_->start([self, sink, a, b, qa, qb, from, to, ca, cb, la, lb, pa, up, v, key, generation]() mutable {
+    pool_->start([self, sink, a, targets, cameras, planes, pa, up, v, key, generation]() mutable {
       std::vector<QPointF> found;
+      std::vector<Source> prepared;
+      auto prepare = [&](Source& src) {
+        if (src.image) return;
+        const Image8 im = readImage8(ss(src.file));
+        src.image = std::make_shared<const recon::MatchImage>(src.lens ? recon::prepareForMatching(im, *src.lens)
+                                                                       : recon::prepareForMatching(im));
+        prepared.push_back(src);
+      };
       try {
-        if (!a) a = std::make_shared<const recon::MatchImage>(la ? recon::prepareForMatching(toImage8(qa), *la) : recon::prepareForMatching(toImage8(qa)));
-        if (!b) b = std::make_shared<const recon::MatchImage>(lb ? recon::prepareForMatching(toImage8(qb), *lb) : recon::prepareForMatching(toImage8(qb)));
-        const glm::dvec2 at = la ? recon::pinholePixel(*la, pa) : pa;
-        for (const auto& m : recon::proposeMatches(*a, at, *b, ca.get(), cb.get(), 3, 7, up)) {
-          const glm::dvec2 q = lb ? recon::distortedPixel(*lb, m.pixel) : m.pixel;
+        prepare(a);
+        prepare(targets[0]);
+        const glm::dvec2 at = cameras ? recon::pinholePixel(*a.lens, pa) : pa;
+        std::vector<recon::MatchProposal> shown;
+        if (cameras) {
+          std::vector<const recon::MatchImage*> images;
+          std::vector<const Camera*> cams;
+          for (auto& t : targets) {
+            try {
+              prepare(t);
+            } catch (const std::exception&) {
+              if (&t != &targets[0]) continue;  // an unreadable photo besides the one shown: left out
+              throw;
+            }
+            images.push_back(t.image.get());
+            cams.push_back(t.camera.get());
+          }
+          shown = recon::proposeMatchesInPhotos(*a.image, at, *a.camera, images, cams, 3, 7, up, planes)[0];
+        } else {
+          shown = recon::proposeMatches(*a.image, at, *targets[0].image, nullptr, nullptr, 3, 7, up);
+        }
+        for (const auto& m : shown) {
+          const glm::dvec2 q = cameras ? recon::distortedPixel(*targets[0].lens, m.pixel) : m.pixel;
           found.emplace_back(q.x, q.y);
         }
       } catch (const std::exception&) {
         // No proposal then (a click at the border, a photo of another size): the user clicks it.
       }
-      QMetaObject::invokeMethod(sink, [self, found, v, key, generation, a, b, from, to] {
+      QMetaObject::invokeMethod(sink, [self, found, v, key, generation, prepared] {
         if (!self) return;
         --self->proposalsRunning_;
-        if (a) self->match_.emplace(from, a);
-        if (b) self->match_.emplace(to, b);
+        for (const auto& p : prepared) self->match_.emplace(p.name, p.image);
         // Only the latest request of this view counts (the user may have clicked on meanwhile).
         if (self->proposalKey_[v] != key || generation < self->shownGeneration_[v]) return;
         self->shownGeneration_[v] = generation;

@@ -1615,7 +1615,7 @@ class WorkbenchTest : public QObject {
           panel->clicks().points.size(), worstEpipolar, proposalsFound, proposalsTried);
     QCOMPARE(panel->clicks().points.size(), truth.points.size());
     QVERIFY(worstEpipolar <= 1.5);
-    QVERIFY(proposalsFound >= proposalsTried / 2);
+    QVERIFY(proposalsFound * 10 >= proposalsTried * 7);  // the issue asks for 70 %
     // Every clicked point shows its reprojection error (sub-pixel here: the clicks are exact).
     for (const auto& [n, st] : panel->pointStates()) QVERIFY2(st.triangulated && st.maxError < 1, n.c_str());
 

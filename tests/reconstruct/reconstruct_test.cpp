@@ -747,6 +747,65 @@ TEST(MatchProposals, EpipolarSearchFindsTheClickedPointInAnotherPhoto) {
 }
 
 
+TEST(MatchProposals, AllPhotosAtOnceAndThePlanesOfPolygonsAlreadyBuilt) {
+  // Every clicked corner of the sample room that the main photo shows, its proposals in the other
+  // photos that show it: one photo at a time; in all six photos at once (a depth is scored in
+  // every photo); and at once with the planes of the polygons built from the other points (as a
+  // user models the room polygon by polygon: the corner itself is left out of every fit).
+  const std::string dir = std::string(RELUME_SOURCE_DIR) + "/resources/sample_room";
+  const Scene room = loadRoom(dir);
+  const Clicks clicks = readClicks(dir + "/clicks.json");
+  std::map<std::string, glm::dvec3> positions;
+  for (const auto& [name, pt] : clicks.points) {
+    std::vector<Observation> obs;
+    for (const auto& [photo, px] : pt.clicks) obs.push_back({&room.findPhoto(photo)->camera, photo, px});
+    if (obs.size() >= 2) positions[name] = triangulatePoint(obs, name).X;
+  }
+  const Photo* a = room.findPhoto("main");
+  const MatchImage ia = prepareForMatching(readImage8(dir + "/" + a->file));
+  std::vector<std::string> names;
+  std::vector<MatchImage> images;
+  for (const auto& p : room.photos)
+    if (p.name != "main") {
+      names.push_back(p.name);
+      images.push_back(prepareForMatching(readImage8(dir + "/" + p.file)));
+    }
+  std::vector<const MatchImage*> others;
+  std::vector<const Camera*> cams;
+  for (size_t j = 0; j < names.size(); ++j) {
+    others.push_back(&images[j]);
+    cams.push_back(&room.findPhoto(names[j])->camera);
+  }
+  int tried = 0, single = 0, together = 0, withPlanes = 0;
+  for (const auto& [name, pt] : clicks.points) {
+    glm::dvec2 pa(-1);
+    for (const auto& [photo, px] : pt.clicks)
+      if (photo == "main") pa = px;
+    if (pa.x < 10 || pa.y < 10 || pa.x > ia.width - 10 || pa.y > ia.height - 10) continue;
+    const auto all = proposeMatchesInPhotos(ia, pa, a->camera, others, cams, 3, 7, glm::dvec3(0, 0, 1));
+    const auto allPlanes =
+        proposeMatchesInPhotos(ia, pa, a->camera, others, cams, 3, 7, glm::dvec3(0, 0, 1), polygonPlanes(clicks, positions, name));
+    for (const auto& [photo, pb] : pt.clicks) {
+      if (photo == "main") continue;
+      const size_t j = size_t(std::find(names.begin(), names.end(), photo) - names.begin());
+      ASSERT_LT(j, names.size());
+      ++tried;
+      const auto m = proposeMatches(ia, pa, images[j], &a->camera, cams[j], 3, 7, glm::dvec3(0, 0, 1));
+      auto hit = [&](const std::vector<MatchProposal>& v) { return !v.empty() && glm::length(v[0].pixel - pb) <= 2; };
+      single += hit(m);
+      together += hit(all[j]);
+      withPlanes += hit(allPlanes[j]);
+      if (getenv("DEBUG_PROPOSALS") && !hit(allPlanes[j]))
+        std::printf("miss %s in %s: %.1f px\n", name.c_str(), photo.c_str(), allPlanes[j].empty() ? -1.0 : glm::length(allPlanes[j][0].pixel - pb));
+    }
+  }
+  std::printf("match proposals, best within 2 px: %d of %d one photo at a time, %d in all photos at once, %d also on the "
+              "planes of built polygons\n", single, tried, together, withPlanes);
+  ASSERT_GE(tried, 10);
+  EXPECT_GE(together, single);
+  EXPECT_GE(withPlanes, 0.7 * tried);
+}
+
 TEST(MatchProposals, LargePhotosAreSweptCoarseAndRefinedAtFullSize) {
   // The sample room's photos at 4x (2560 x 1920, bilinear): proposals are swept on the 640 x 480
   // level and refined at full size; they land within 8 px (2 px at the original size) about as

@@ -205,6 +205,25 @@ TriangulatedPoint triangulateClickedPoint(const Clicks& clicks, const std::strin
   return triangulateClicked(clicks, clicks.points.at(name), model, camerasById(model));
 }
 
+std::vector<Plane> polygonPlanes(const Clicks& clicks, const std::map<std::string, glm::dvec3>& positions,
+                                 const std::string& leaveOut) {
+  std::vector<Plane> out;
+  for (const auto& poly : clicks.polygons) {
+    std::vector<glm::dvec3> pts;
+    for (const auto& c : poly.corners) {
+      const auto it = positions.find(c);
+      if (c != leaveOut && it != positions.end()) pts.push_back(it->second);
+    }
+    if (pts.size() < 3) continue;
+    try {
+      out.push_back(fitPlane(pts, poly.name));
+    } catch (const Error&) {
+      // Collinear corners: no plane to offer.
+    }
+  }
+  return out;
+}
+
 std::vector<std::string> controlPoints(const Clicks& clicks) {
   std::vector<std::string> r;
   for (const auto& [name, p] : clicks.points)

@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <functional>
 
 #include <tbb/parallel_for.h>
 
@@ -48,24 +50,62 @@ std::vector<MatchProposal> pickPeaks(std::vector<MatchProposal> c, int count, in
   return out;
 }
 
-// Candidates along the epipolar line of `pa` (a's pixel) in b, one level of the photos' pyramids.
-// `window` > 0: only the depths whose projection lies within `window` pixels of `near`.
-std::vector<MatchProposal> sweep(const cv::Mat& ga, glm::dvec2 pa, const cv::Mat& gb, const Camera& cam_a, const Camera& cam_b,
-                                 const glm::dvec3& up, glm::dvec2 near, double window) {
-  const int half = 7;
-  const Camera* ca = &cam_a;
-  const Camera* cb = &cam_b;
-  const int ax = int(std::floor(pa.x)), ay = int(std::floor(pa.y));
-  if (ax - half < 0 || ay - half < 0 || ax + half >= ga.cols || ay + half >= ga.rows)
-    throw Error("", "click", "is too close to the photo's border to compare its surroundings");
-  const cv::Mat patch = ga(cv::Rect(ax - half, ay - half, 2 * half + 1, 2 * half + 1));
-  std::vector<MatchProposal> cands;
-  {
-    // Plane sweep along the ray of pa: at each depth the patch is taken as a plane parallel to
-    // a's image plane, its pixels projected into b and sampled there (scale and perspective
-    // change between the photos are followed), scored by NCC.
-    const glm::dvec3 o = ca->center();
-    const glm::dmat3 Rt = glm::transpose(ca->R);
+// The patch around a click and the planes it may lie on, placed at a depth along the click's ray
+// and compared with another photo (a plane sweep: Collins 1996; the patch taken on a plane through
+// the depth, so that scale and perspective change between the photos are followed).
+struct ClickRay {
+  static constexpr int half = 7;
+  cv::Mat patch;
+  glm::dvec3 o{0.0}, centre{0.0};        // camera a's centre; the click's ray (z_cam = 1)
+  std::vector<glm::dvec3> rays, normals;  // each patch pixel's ray; the plane hypotheses
+  std::vector<double> onPlanes;           // where the ray meets the planes of built polygons
+
+  ClickRay(const cv::Mat& ga, glm::dvec2 pa, const Camera& ca, const glm::dvec3& up, const std::vector<Plane>& planes) {
+    const int ax = int(std::floor(pa.x)), ay = int(std::floor(pa.y));
+    if (ax - half < 0 || ay - half < 0 || ax + half >= ga.cols || ay + half >= ga.rows)
+      throw Error("", "click", "is too close to the photo's border to compare its surroundings");
+    patch = ga(cv::Rect(ax - half, ay - half, 2 * half + 1, 2 * half + 1));
+    o = ca.center();
+    const glm::dmat3 Rt = glm::transpose(ca.R);
+    // Plane hypotheses through each depth: parallel to a's image plane, horizontal (floors,
+    // table tops), and vertical at six azimuths (walls, fronts): a corner where two surfaces meet
+    // matches on the plane of the surface that fills most of its patch.
+    const glm::dvec3 z = glm::length(up) > 0 ? glm::normalize(up) : -(Rt * glm::dvec3(0, 1, 0));
+    const glm::dvec3 x = glm::normalize(glm::abs(z.x) < 0.9 ? glm::cross(z, glm::dvec3(1, 0, 0)) : glm::cross(z, glm::dvec3(0, 1, 0)));
+    const glm::dvec3 y = glm::cross(z, x);
+    normals = {Rt * glm::dvec3(0, 0, 1), z};
+    for (int k = 0; k < 6; ++k) {
+      const double az = k * std::numbers::pi / 6;
+      normals.push_back(std::cos(az) * x + std::sin(az) * y);
+    }
+    // The planes of polygons already built: their orientations join the hypotheses (a room's
+    // surfaces are seldom at the six azimuths), unless one is within about 2.5 degrees already.
+    for (const auto& pl : planes) {
+      const glm::dvec3 n = glm::normalize(pl.normal);
+      bool known = false;
+      for (const auto& m : normals) known = known || std::abs(glm::dot(n, m)) > 0.999;
+      if (!known) normals.push_back(n);
+    }
+    for (int dy = -half; dy <= half; ++dy)
+      for (int dx = -half; dx <= half; ++dx)
+        rays.push_back(Rt * glm::dvec3((ax + 0.5 + dx - ca.cx()) / ca.fx(), (ay + 0.5 + dy - ca.cy()) / ca.fy(), 1.0));
+    centre = Rt * glm::dvec3((pa.x - ca.cx()) / ca.fx(), (pa.y - ca.cy()) / ca.fy(), 1.0);
+    // The clicked corner may lie on a built plane: exactly where the ray meets it.
+    for (const auto& pl : planes) {
+      const double dn = glm::dot(pl.normal, centre);
+      if (std::abs(dn) < 1e-9) continue;
+      const double t = glm::dot(pl.normal, pl.point - o) / dn;
+      if (t > kNear && t < kFar) onPlanes.push_back(t);
+    }
+    std::sort(onPlanes.begin(), onPlanes.end());
+  }
+  static constexpr double kNear = 0.1, kFar = 100;  // depths swept, in the cameras' units
+
+  glm::dvec3 at(double t) const { return o + centre * t; }
+
+  // The best NCC over the plane hypotheses with the patch at depth t, seen in photo gb through
+  // camera cb, on every `stride`-th pixel of the patch; -2 where no hypothesis can be placed.
+  double score(double t, const cv::Mat& gb, const Camera& cb, int stride) const {
     auto bilinear = [&](double x, double y, bool& ok) {
       x -= 0.5, y -= 0.5;  // pixel centres at +0.5
       const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
@@ -77,87 +117,148 @@ std::vector<MatchProposal> sweep(const cv::Mat& ga, glm::dvec2 pa, const cv::Mat
       return (1 - fy) * ((1 - fx) * gb.at<float>(y0, x0) + fx * gb.at<float>(y0, x0 + 1)) +
              fy * ((1 - fx) * gb.at<float>(y0 + 1, x0) + fx * gb.at<float>(y0 + 1, x0 + 1));
     };
-    // Plane hypotheses through each depth: parallel to a's image plane, horizontal (floors,
-    // table tops), and vertical at six azimuths (walls, fronts): a corner where two surfaces meet
-    // matches on the plane of the surface that fills most of its patch.
-    const glm::dvec3 z = glm::length(up) > 0 ? glm::normalize(up) : -(Rt * glm::dvec3(0, 1, 0));
-    const glm::dvec3 x = glm::normalize(glm::abs(z.x) < 0.9 ? glm::cross(z, glm::dvec3(1, 0, 0)) : glm::cross(z, glm::dvec3(0, 1, 0)));
-    const glm::dvec3 y = glm::cross(z, x);
-    std::vector<glm::dvec3> normals{Rt * glm::dvec3(0, 0, 1), z};
-    for (int k = 0; k < 6; ++k) {
-      const double az = k * std::numbers::pi / 6;
-      normals.push_back(std::cos(az) * x + std::sin(az) * y);
-    }
-    std::vector<glm::dvec3> rays;  // world direction of each patch pixel's ray (z_cam = 1)
-    for (int dy = -half; dy <= half; ++dy)
-      for (int dx = -half; dx <= half; ++dx)
-        rays.push_back(Rt * glm::dvec3((ax + 0.5 + dx - ca->cx()) / ca->fx(), (ay + 0.5 + dy - ca->cy()) / ca->fy(), 1.0));
-    const glm::dvec3 centreRay = Rt * glm::dvec3((pa.x - ca->cx()) / ca->fx(), (pa.y - ca->cy()) / ca->fy(), 1.0);
-    // The depths along the ray whose points fall at least half a pixel apart in b.
-    std::vector<std::pair<glm::dvec3, glm::dvec2>> steps;
-    {
-      glm::dvec2 prev(-1e9);
-      for (double depth = 0.1; depth < 100; depth *= 1.002) {
-        glm::dvec2 p;
-        const glm::dvec3 X0 = o + centreRay * depth;
-        if (!cb->project(X0, p) || glm::length(p - prev) < 0.5) continue;
-        if (window > 0 && glm::length(p - near) > window) continue;
-        prev = p;
-        steps.emplace_back(X0, p);
-      }
-    }
-    // The best NCC over the plane hypotheses at a step, on every `stride`-th pixel of the patch.
-    auto score = [&](const glm::dvec3& X0, int stride) {
-      const int side = (2 * half) / stride + 1;
-      cv::Mat pa_(side, side, CV_32F), pb_(side, side, CV_32F);
-      double best = -2;
-      for (const auto& n : normals) {
-        const double h = glm::dot(n, X0 - o);
-        bool ok = true;
-        for (int r = 0; r < side && ok; ++r)
-          for (int c = 0; c < side && ok; ++c) {
-            const int i = (r * stride) * (2 * half + 1) + c * stride;
-            const double dn = glm::dot(n, rays[size_t(i)]);
-            // Seen at a grazing angle from a, the plane is no model of the patch.
-            if (std::abs(dn) < 0.2 * glm::length(rays[size_t(i)]) || h / dn <= 0) ok = false;
-            glm::dvec2 q;
-            if (ok && !cb->project(o + rays[size_t(i)] * (h / dn), q)) ok = false;
-            if (ok) {
-              pb_.at<float>(r, c) = float(bilinear(q.x, q.y, ok));
-              pa_.at<float>(r, c) = patch.at<float>(r * stride, c * stride);
-            }
+    const glm::dvec3 X0 = at(t);
+    const int side = (2 * half) / stride + 1;
+    cv::Mat pa_(side, side, CV_32F), pb_(side, side, CV_32F);
+    double best = -2;
+    for (const auto& n : normals) {
+      const double h = glm::dot(n, X0 - o);
+      bool ok = true;
+      for (int r = 0; r < side && ok; ++r)
+        for (int c = 0; c < side && ok; ++c) {
+          const int i = (r * stride) * (2 * half + 1) + c * stride;
+          const double dn = glm::dot(n, rays[size_t(i)]);
+          // Seen at a grazing angle from a, the plane is no model of the patch.
+          if (std::abs(dn) < 0.2 * glm::length(rays[size_t(i)]) || h / dn <= 0) ok = false;
+          glm::dvec2 q;
+          if (ok && !cb.project(o + rays[size_t(i)] * (h / dn), q)) ok = false;
+          if (ok) {
+            pb_.at<float>(r, c) = float(bilinear(q.x, q.y, ok));
+            pa_.at<float>(r, c) = patch.at<float>(r * stride, c * stride);
           }
-        if (ok) best = std::max(best, ncc(pa_, pb_));
-      }
-      return best;
-    };
-    // Coarse to fine: every step on a quarter of the patch's pixels, then the full patch around
-    // the 16 best local maxima (a point's proposals come from these).
-    if (window > 0) {  // a few steps only: all with the full patch
-      for (const auto& st : steps) {
-        const double sc = score(st.first, 1);
-        if (sc > -2) cands.push_back({st.second, sc});
-      }
-      return cands;
+        }
+      if (ok) best = std::max(best, ncc(pa_, pb_));
     }
-    std::vector<double> coarse(steps.size());
-    for (size_t k = 0; k < steps.size(); ++k) coarse[k] = score(steps[k].first, 2);
-    std::vector<size_t> peaks;
-    for (size_t k = 0; k < steps.size(); ++k)
-      if (coarse[k] > -2 && (k == 0 || coarse[k] >= coarse[k - 1]) && (k + 1 == steps.size() || coarse[k] >= coarse[k + 1]))
-        peaks.push_back(k);
-    std::sort(peaks.begin(), peaks.end(), [&](size_t x, size_t y) { return coarse[x] > coarse[y]; });
-    if (peaks.size() > 16) peaks.resize(16);
-    std::vector<uint8_t> done(steps.size(), 0);
-    for (size_t k : peaks)
-      for (size_t j = k >= 2 ? k - 2 : 0; j <= std::min(steps.size() - 1, k + 2); ++j) {
-        if (done[j]) continue;
-        done[j] = 1;
-        const double sc = score(steps[j].first, 1);
-        if (sc > -2) cands.push_back({steps[j].second, sc});
-      }
+    return best;
   }
-  return cands;
+};
+
+// One photo the click is looked for in: its grey levels and camera (at the level swept).
+struct SweepPhoto {
+  cv::Mat grey;
+  Camera camera;
+};
+
+// The photos' scores of one depth as one: the mean of the better half (rounded up) of the photos
+// where the patch could be placed, so that photos where the point is hidden do not outvote those
+// that see it (Kang, Szeliski and Chai 2001's view selection); -2 where none could.
+double combined(std::vector<double> s) {
+  s.erase(std::remove(s.begin(), s.end(), -2.0), s.end());
+  if (s.empty()) return -2;
+  const size_t m = (s.size() + 1) / 2;
+  std::partial_sort(s.begin(), s.begin() + long(m), s.end(), std::greater<>());
+  double sum = 0;
+  for (size_t k = 0; k < m; ++k) sum += s[k];
+  return sum / double(m);
+}
+
+struct DepthScore {
+  double t = 0, score = -2;
+};
+
+// Depths along the click's ray scored in every photo at once (multi-baseline stereo: Okutomi and
+// Kanade 1993 — a wrong depth may look right in one photo, seldom in all). The depths are those
+// at which the point moves at least half a pixel in one of the photos, and those on built planes.
+// `window` > 0: only the depths whose projection into photos[0] lies within `window` of `near`,
+// each scored on the full patch; else every depth on a quarter of the patch, then the full patch
+// around the 16 best local maxima.
+std::vector<DepthScore> sweepDepths(const ClickRay& ray, const std::vector<SweepPhoto>& photos, glm::dvec2 near, double window) {
+  std::vector<double> steps;
+  {
+    std::vector<glm::dvec2> prev(photos.size(), glm::dvec2(-1e9));
+    size_t next = 0;
+    auto add = [&](double t, bool exact) {
+      bool moved = exact, seen = false;
+      std::vector<glm::dvec2> p(photos.size());
+      for (size_t j = 0; j < photos.size(); ++j) {
+        if (!photos[j].camera.project(ray.at(t), p[j])) continue;
+        seen = true;
+        moved = moved || glm::length(p[j] - prev[j]) >= 0.5;
+      }
+      if (!seen || !moved) return;
+      if (window > 0 && !(photos[0].camera.project(ray.at(t), p[0]) && glm::length(p[0] - near) <= window)) return;
+      for (size_t j = 0; j < photos.size(); ++j)
+        if (photos[j].camera.project(ray.at(t), p[j])) prev[j] = p[j];
+      steps.push_back(t);
+    };
+    for (double t = ClickRay::kNear; t < ClickRay::kFar; t *= 1.002) {
+      while (next < ray.onPlanes.size() && ray.onPlanes[next] <= t) add(ray.onPlanes[next++], true);
+      add(t, false);
+    }
+  }
+  auto scoreAt = [&](double t, int stride) {
+    std::vector<double> s(photos.size());
+    for (size_t j = 0; j < photos.size(); ++j) s[j] = ray.score(t, photos[j].grey, photos[j].camera, stride);
+    return combined(std::move(s));
+  };
+  std::vector<DepthScore> out;
+  if (window > 0) {  // a few steps only: all with the full patch
+    for (double t : steps) out.push_back({t, scoreAt(t, 1)});
+    return out;
+  }
+  // Each photo scored where the point has moved half a pixel in it since its last score (the
+  // steps are as fine as the photo with the widest baseline needs), its score held in between.
+  std::vector<std::vector<double>> per(photos.size(), std::vector<double>(steps.size(), -2.0));
+  tbb::parallel_for(size_t(0), photos.size(), [&](size_t j) {
+    glm::dvec2 last(-1e9);
+    double held = -2;
+    for (size_t k = 0; k < steps.size(); ++k) {
+      glm::dvec2 p;
+      if (!photos[j].camera.project(ray.at(steps[k]), p)) {
+        last = glm::dvec2(-1e9);
+        continue;
+      }
+      if (glm::length(p - last) >= 0.5 || std::binary_search(ray.onPlanes.begin(), ray.onPlanes.end(), steps[k])) {
+        held = ray.score(steps[k], photos[j].grey, photos[j].camera, 2);
+        last = p;
+      }
+      per[j][k] = held;
+    }
+  });
+  std::vector<double> coarse(steps.size());
+  for (size_t k = 0; k < steps.size(); ++k) {
+    std::vector<double> s(photos.size());
+    for (size_t j = 0; j < photos.size(); ++j) s[j] = per[j][k];
+    coarse[k] = combined(std::move(s));
+  }
+  std::vector<size_t> peaks;
+  for (size_t k = 0; k < steps.size(); ++k)
+    if (coarse[k] > -2 && (k == 0 || coarse[k] >= coarse[k - 1]) && (k + 1 == steps.size() || coarse[k] >= coarse[k + 1]))
+      peaks.push_back(k);
+  std::sort(peaks.begin(), peaks.end(), [&](size_t x, size_t y) { return coarse[x] > coarse[y]; });
+  if (peaks.size() > 16) peaks.resize(16);
+  std::vector<size_t> fine;
+  std::vector<uint8_t> done(steps.size(), 0);
+  for (size_t k : peaks)
+    for (size_t j = k >= 2 ? k - 2 : 0; j <= std::min(steps.size() - 1, k + 2); ++j)
+      if (!done[j]) {
+        done[j] = 1;
+        fine.push_back(j);
+      }
+  out.resize(fine.size());
+  tbb::parallel_for(size_t(0), fine.size(), [&](size_t i) { out[i] = {steps[fine[i]], scoreAt(steps[fine[i]], 1)}; });
+  return out;
+}
+
+// The scored depths as proposals in one photo.
+std::vector<MatchProposal> inPhoto(const ClickRay& ray, const std::vector<DepthScore>& depths, const Camera& camera) {
+  std::vector<MatchProposal> out;
+  for (const auto& d : depths) {
+    glm::dvec2 p;
+    if (d.score > -2 && camera.project(ray.at(d.t), p) && p.x >= 0 && p.y >= 0 && p.x <= camera.width && p.y <= camera.height)
+      out.push_back({p, d.score});
+  }
+  return out;
 }
 
 // Candidates anywhere in b (no cameras): template matching of the patch around pa.
@@ -256,51 +357,83 @@ MatchImage pyramid(cv::Mat g) {
 }  // namespace
 
 std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const Image8& b, const Camera* ca,
-                                          const Camera* cb, int count, int radius, const glm::dvec3& up) {
-  return proposeMatches(prepareForMatching(a), pa, prepareForMatching(b), ca, cb, count, radius, up);
+                                          const Camera* cb, int count, int radius, const glm::dvec3& up,
+                                          const std::vector<Plane>& planes) {
+  return proposeMatches(prepareForMatching(a), pa, prepareForMatching(b), ca, cb, count, radius, up, planes);
 }
 
+namespace {
+// Proposals in every photo from one sweep over them all (each photo's proposals ranked by the
+// photos' combined score). Large photos: the sweep runs on the coarsest level (400-800 pixels
+// across, where a patch sees as much of the scene as at 640 x 480); each photo's best peaks are
+// then placed at full size, among the depths within a coarse pixel and a half of each.
+std::vector<std::vector<MatchProposal>> sweepInPhotos(const MatchImage& a, glm::dvec2 pa, const Camera& ca,
+                                                      const std::vector<const MatchImage*>& photos,
+                                                      const std::vector<const Camera*>& cameras, int count, int radius,
+                                                      const glm::dvec3& up, const std::vector<Plane>& planes) {
+  size_t level = a.levels.size() - 1;
+  for (const auto* p : photos) level = std::min(level, p->levels.size() - 1);
+  auto at = [&](size_t lv) {
+    std::vector<SweepPhoto> sp;
+    for (size_t j = 0; j < photos.size(); ++j) sp.push_back({levelMat(*photos[j], lv), scaled(*cameras[j], int(lv))});
+    return sp;
+  };
+  std::vector<std::vector<MatchProposal>> out(photos.size());
+  auto full = [&] {
+    const ClickRay ray(levelMat(a, 0), pa, ca, up, planes);
+    const auto depths = sweepDepths(ray, at(0), {}, 0);
+    for (size_t j = 0; j < photos.size(); ++j) out[j] = pickPeaks(inPhoto(ray, depths, *cameras[j]), count, radius);
+    return out;
+  };
+  if (level == 0) return full();
+  const double f = std::ldexp(1.0, -int(level));
+  std::optional<ClickRay> coarseRay;
+  try {
+    coarseRay.emplace(levelMat(a, level), pa * f, scaled(ca, int(level)), up, planes);
+  } catch (const Error&) {
+    return full();  // too near the border at the coarse level: the full-size sweep alone
+  }
+  const auto depths = sweepDepths(*coarseRay, at(level), {}, 0);
+  const ClickRay ray(levelMat(a, 0), pa, ca, up, planes);
+  tbb::parallel_for(size_t(0), photos.size(), [&](size_t j) {
+    const Camera cj = scaled(*cameras[j], int(level));
+    const SweepPhoto photo{levelMat(*photos[j], 0), *cameras[j]};
+    std::vector<MatchProposal> fine;
+    for (const auto& c : pickPeaks(inPhoto(*coarseRay, depths, cj), 2 * count, std::max(2, int(radius * f)))) {
+      const auto near = sweepDepths(ray, {photo}, c.pixel / f, 1.5 / f);
+      if (near.empty()) continue;
+      const auto best = *std::max_element(near.begin(), near.end(), [](const auto& x, const auto& y) { return x.score < y.score; });
+      glm::dvec2 p;
+      if (best.score > -2 && cameras[j]->project(ray.at(best.t), p)) fine.push_back({p, c.score});  // ranked as swept
+    }
+    out[j] = pickPeaks(std::move(fine), count, radius);
+  });
+  return out;
+}
+}  // namespace
+
 std::vector<MatchProposal> proposeMatches(const MatchImage& a, glm::dvec2 pa, const MatchImage& b, const Camera* ca,
-                                          const Camera* cb, int count, int radius, const glm::dvec3& up) {
+                                          const Camera* cb, int count, int radius, const glm::dvec3& up,
+                                          const std::vector<Plane>& planes) {
   if (a.levels.empty() || b.levels.empty()) throw Error("", "photo", "is empty");
   if (!(ca && cb)) return pickPeaks(searchAnywhere(levelMat(a, 0), pa, levelMat(b, 0)), count, radius);
-  // Large photos: the sweep runs on the coarsest level (400-800 pixels across, where a
-  // patch sees as much of the scene as at 640 x 480), each of its best peaks is then refined at
-  // full size among the depths that fall within a coarse pixel and a half of it.
-  const size_t level = std::min(a.levels.size(), b.levels.size()) - 1;
-  if (level == 0) return pickPeaks(sweep(levelMat(a, 0), pa, levelMat(b, 0), *ca, *cb, up, {}, 0), count, radius);
-  const double f = std::ldexp(1.0, -int(level));
-  std::vector<MatchProposal> coarse;
-  try {
-    coarse = pickPeaks(sweep(levelMat(a, level), pa * f, levelMat(b, level), scaled(*ca, int(level)), scaled(*cb, int(level)), up, {}, 0),
-                       2 * count, std::max(2, int(radius * f)));
-  } catch (const Error&) {
-    // Too near the border at the coarse level: the full-size sweep alone.
-    return pickPeaks(sweep(levelMat(a, 0), pa, levelMat(b, 0), *ca, *cb, up, {}, 0), count, radius);
-  }
-  std::vector<MatchProposal> fine;
-  for (const auto& c : coarse) {
-    const auto near = sweep(levelMat(a, 0), pa, levelMat(b, 0), *ca, *cb, up, c.pixel / f, 1.5 / f);
-    if (near.empty()) continue;
-    fine.push_back(*std::max_element(near.begin(), near.end(), [](const auto& x, const auto& y) { return x.score < y.score; }));
-  }
-  return pickPeaks(std::move(fine), count, radius);
+  return sweepInPhotos(a, pa, *ca, {&b}, {cb}, count, radius, up, planes)[0];
 }
 
 std::vector<std::vector<MatchProposal>> proposeMatchesInPhotos(const MatchImage& a, glm::dvec2 pa, const Camera& ca,
                                                                const std::vector<const MatchImage*>& photos,
                                                                const std::vector<const Camera*>& cameras, int count,
-                                                               int radius, const glm::dvec3& up) {
+                                                               int radius, const glm::dvec3& up,
+                                                               const std::vector<Plane>& planes) {
   if (photos.size() != cameras.size()) throw Error("", "photos", "one camera per photo is needed");
-  std::vector<std::vector<MatchProposal>> out(photos.size());
-  tbb::parallel_for(size_t(0), photos.size(), [&](size_t i) {
-    try {
-      out[i] = proposeMatches(a, pa, *photos[i], &ca, cameras[i], count, radius, up);
-    } catch (const Error&) {
-      out[i].clear();
-    }
-  });
-  return out;
+  if (a.levels.empty()) throw Error("", "photo", "is empty");
+  for (size_t j = 0; j < photos.size(); ++j)
+    if (!photos[j] || photos[j]->levels.empty() || !cameras[j]) throw Error("", "photo " + std::to_string(j), "is empty or has no camera");
+  try {
+    return sweepInPhotos(a, pa, ca, photos, cameras, count, radius, up, planes);
+  } catch (const Error&) {
+    return std::vector<std::vector<MatchProposal>>(photos.size());  // the click too near a border
+  }
 }
 
 }  // namespace relume::recon

@@ -26,6 +26,7 @@
 #include "relume/geometry/scene.h"
 #include "relume/reconstruct/colmap_model.h"
 #include "relume/reconstruct/multiview.h"
+#include "relume/reconstruct/polygon_fit.h"
 
 namespace relume::recon {
 
@@ -63,6 +64,12 @@ void writeClicks(const Clicks& clicks, const std::string& path);
 
 // One clicked point triangulated with the model's cameras (distortion removed from the clicks).
 TriangulatedPoint triangulateClickedPoint(const Clicks& clicks, const std::string& name, const ColmapModel& model);
+
+// The planes of the polygons built so far, for match proposals on them: per polygon with three
+// or more corners at known `positions` (other than `leaveOut`, the point being matched, whose old
+// place must not vote), the least-squares plane through them; collinear corners give none.
+std::vector<Plane> polygonPlanes(const Clicks& clicks, const std::map<std::string, glm::dvec3>& positions,
+                                 const std::string& leaveOut = "");
 
 // Points clicked in two or more photos and also measured ("xyz"): their names.
 std::vector<std::string> controlPoints(const Clicks& clicks);

@@ -9,6 +9,7 @@
 #include "relume/geometry/camera.h"
 #include "relume/reconstruct/colmap_model.h"
 #include "relume/reconstruct/photos.h"
+#include "relume/reconstruct/polygon_fit.h"
 
 namespace relume::recon {
 
@@ -35,20 +36,23 @@ glm::dvec2 distortedPixel(const ColmapCamera& camera, glm::dvec2 pinholePixel);
 // Best `count` proposals in `b` for pixel `pa` of `a`, best first, at least `radius` pixels apart.
 // With cameras (both non-null) only the epipolar line of `pa` is searched, the patch taken on
 // planes through each depth: fronto-parallel, horizontal and vertical. `up` is the world's up
-// (+z in a metric frame); unknown (zero), the up of photo a's image is taken for it.
+// (+z in a metric frame); unknown (zero), the up of photo a's image is taken for it. `planes`: the
+// planes of polygons already built (in the cameras' frame): their orientations are
+// tried as well, and the depths where the click's ray meets them.
 std::vector<MatchProposal> proposeMatches(const Image8& a, glm::dvec2 pa, const Image8& b, const Camera* ca,
                                           const Camera* cb, int count = 3, int radius = 7,
-                                          const glm::dvec3& up = glm::dvec3(0.0));
+                                          const glm::dvec3& up = glm::dvec3(0.0), const std::vector<Plane>& planes = {});
 // The same on prepared photos. A large photo is swept on its coarsest level and the best peaks
 // are refined at full size.
 std::vector<MatchProposal> proposeMatches(const MatchImage& a, glm::dvec2 pa, const MatchImage& b, const Camera* ca,
                                           const Camera* cb, int count = 3, int radius = 7,
-                                          const glm::dvec3& up = glm::dvec3(0.0));
+                                          const glm::dvec3& up = glm::dvec3(0.0), const std::vector<Plane>& planes = {});
 // One click's proposals in several photos at once (in parallel), per photo as above; a photo
 // where no proposal can be made (the click too near a border) gets none.
 std::vector<std::vector<MatchProposal>> proposeMatchesInPhotos(const MatchImage& a, glm::dvec2 pa, const Camera& ca,
                                                                const std::vector<const MatchImage*>& photos,
                                                                const std::vector<const Camera*>& cameras, int count = 3,
-                                                               int radius = 7, const glm::dvec3& up = glm::dvec3(0.0));
+                                                               int radius = 7, const glm::dvec3& up = glm::dvec3(0.0),
+                                                               const std::vector<Plane>& planes = {});
 
 }  // namespace relume::recon
