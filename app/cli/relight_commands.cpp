@@ -47,6 +47,10 @@ void addRelightOptions(QCommandLineParser& p) {
   p.addOption({"reference", "Step 2 (reference patches): weighted (default), paper, or off (T_final = T_inter).", "MODE"});
   p.addOption({"equal-lamps", "Every lamp the same emittance (Eq. 2), no per-lamp least squares."});
   p.addOption({"lamps-from-equations", "Estimate lamps by Eq. 2 / least squares even when the HDR photos show them."});
+  p.addOption({"no-inverse-gi",
+               "Estimate reflectances and lamps as the paper does (from rho-hat, unshadowed elements only) instead of "
+               "by inverse global illumination (measured indirect light, shadows, joint fit)."});
+  p.addOption({"no-shared-materials", "Polygons no photo shows take the room's mean reflectance, not their material's."});
   p.addOption({"eps", "Radiosity refinement threshold.", "X"});
   p.addOption({"reference-patch", "POLYGON=U,V: the polygon's default reference patch (plane coordinates, metres).", "P=U,V"});
   p.addOption({"reference-region",
@@ -79,6 +83,8 @@ RelightOptions relightOptions(const QCommandLineParser& p) {
   }
   o.lampLeastSquares = !p.isSet("equal-lamps");
   o.lampsFromPhoto = !p.isSet("lamps-from-equations");
+  o.inverseGlobalIllumination = !p.isSet("no-inverse-gi");
+  o.sharedMaterials = !p.isSet("no-shared-materials");
   for (const QString& r : p.values("reference-patch")) {
     const int eq = r.indexOf('=');
     if (eq <= 0) throw Error("", "--reference-patch " + str(r), "expected POLYGON=U,V");
@@ -113,6 +119,18 @@ void printEstimates(const RelightData& d) {
     std::fprintf(stderr, "  %-6s equal (Eq. 2) %.2f %.2f %.2f  least squares %.2f %.2f %.2f  photographed %.2f %.2f %.2f\n",
                  l.name.c_str(), l.equal.x, l.equal.y, l.equal.z, l.leastSquares.x, l.leastSquares.y, l.leastSquares.z,
                  l.photographed.x, l.photographed.y, l.photographed.z);
+  if (e.jointFitElements > 0) {
+    std::fprintf(stderr,
+                 "inverse global illumination: %zu elements, mean reflectance %.3f, %.0f %% of the indirect light measured "
+                 "in the photo\n",
+                 e.jointFitElements, e.meanReflectanceRecovered, 100 * e.indirectMeasuredShare);
+    for (const auto& l : e.lamps)
+      std::fprintf(stderr, "  %-6s joint fit %.2f %.2f %.2f (+- %.1f %%)%s  used %.2f %.2f %.2f\n", l.name.c_str(), l.jointFit.x,
+                   l.jointFit.y, l.jointFit.z, 100 * l.uncertainty, l.twoSided ? " per face" : "", l.used.x, l.used.y, l.used.z);
+  }
+  for (const auto& n : e.unseenByMaterial) std::fprintf(stderr, "  %s: no photo shows it; its material's reflectance\n", n.c_str());
+  for (const auto& n : e.unseenWithoutMaterial)
+    std::fprintf(stderr, "  %s: no photo shows it and no photographed polygon shares its material; the room's mean reflectance\n", n.c_str());
   std::fprintf(stderr,
                "texture-based refinement: %zu -> %zu elements (%zu subdivided, %zu cancelled); %zu occluded elements, "
                "%zu on the frontier, %zu corrected from the frontier, %zu from the polygon's default reference, %zu from painted "
@@ -129,9 +147,20 @@ QJsonObject estimatesJson(const RelightData& d) {
                              {"equal", rgbJson(l.equal)},
                              {"least_squares", rgbJson(l.leastSquares)},
                              {"photographed", rgbJson(l.photographed)},
-                             {"used", rgbJson(l.used)}});
+                             {"used", rgbJson(l.used)},
+                             {"joint_fit", rgbJson(l.jointFit)},
+                             {"uncertainty", l.uncertainty},
+                             {"two_sided", l.twoSided}});
+  QJsonArray byMaterial, without;
+  for (const auto& n : e.unseenByMaterial) byMaterial.append(QString::fromStdString(n));
+  for (const auto& n : e.unseenWithoutMaterial) without.append(QString::fromStdString(n));
   return {{"mean_reflectance_given", e.meanReflectanceGiven},
           {"mean_reflectance_refined", e.meanReflectanceRefined},
+          {"mean_reflectance_recovered", e.meanReflectanceRecovered},
+          {"joint_fit_elements", double(e.jointFitElements)},
+          {"indirect_measured_share", e.indirectMeasuredShare},
+          {"unseen_polygons_by_material", byMaterial},
+          {"unseen_polygons_without_material", without},
           {"lamp_model", QString::fromStdString(e.lampModel)},
           {"lamp_model_reason", QString::fromStdString(e.lampModelReason)},
           {"lamps", lamps},
@@ -159,7 +188,7 @@ std::vector<glm::dvec3> lampScales(const Scene& scene, const std::map<std::strin
 void virtualsOf(const Variant& v, std::vector<VirtualLamp>& lamps, std::vector<VirtualObject>& objects) {
   for (size_t i = 0; i < v.virtualLamps.size(); ++i)
     lamps.push_back({v.virtualLamps[i].name.empty() ? "virtual_lamp_" + std::to_string(i) : v.virtualLamps[i].name,
-                     v.virtualLampPolygons[i], v.virtualLamps[i].radiance});
+                     v.virtualLampPolygons[i], v.virtualLamps[i].radiance, v.virtualLamps[i].twoSided});
   for (const auto& b : v.virtualObjects) {
     const std::string name = b.name.empty() ? "virtual_object_" + std::to_string(objects.size()) : b.name;
     if (b.mesh.empty()) objects.push_back(boxObject(name, b.boxMin, b.boxMax, b.albedo));
@@ -448,11 +477,14 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
                "bundle's photos' truth images.",
                "ROOM"});
   addRelightOptions(p);
+  p.addOption({"oracle-lamps", "ORACLE, for telling estimation from rendering error: the bundle's true lamp radiances are used "
+                               "instead of the estimates."});
   parseOrThrow(p, args, 1, "relume evaluate BUNDLE --out DIR [--geometry PROJECT]");
   if (!p.isSet("out")) throw Error("", "command line", "--out DIR is required");
   const QString outDir = p.value("out");
   if (!QDir().mkpath(outDir)) throw Error(str(outDir), "", "cannot create the folder");
-  const RelightOptions opt = relightOptions(p);
+  RelightOptions opt = relightOptions(p);
+  opt.oracleLamps = p.isSet("oracle-lamps");
   Scene scene = loadRoom(str(p.positionalArguments()[0]));
   if (p.isSet("geometry")) {
     const Scene g = loadRoom(str(p.value("geometry")));
@@ -469,12 +501,45 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
     }
     scene.mainPhoto = g.mainPhoto;
   }
-  // What a real user does not have is removed before anything else sees the scene.
+  // What a real user does not have is removed before anything else sees the scene (kept apart
+  // to judge the estimates with).
+  const Scene truthScene = scene;
   for (auto& poly : scene.polygons) poly.albedo = glm::dvec3(0.5);
-  for (auto& l : scene.lamps) l.radiance = glm::dvec3(0.0);
+  if (!opt.oracleLamps)
+    for (auto& l : scene.lamps) l.radiance = glm::dvec3(0.0);
   ProgressScope pre(progress, 0.0, 0.5);
   const RelightData data = preprocessRoom(scene, opt, pre);
   printEstimates(data);
+  QJsonArray reflectances;
+  {
+    // Recovered reflectance per photographed polygon (mean of its reflectance map over the texels
+    // a photo shows) against the bundle's albedo, and each lamp against its true exitance.
+    for (size_t i = 0; i < scene.polygons.size(); ++i) {
+      const auto& t = data.textures[i];
+      if (scene.polygons[i].kind != PolygonKind::Real || t.albedo.size() != t.source.size()) continue;
+      glm::dvec3 sum(0.0);
+      size_t n = 0;
+      for (size_t k = 0; k < t.source.size(); ++k)
+        if (t.source[k] == TexelSource::MainPhoto || t.source[k] == TexelSource::OtherPhoto) {
+          sum += glm::dvec3(t.albedo[k]);
+          ++n;
+        }
+      if (n == 0) continue;
+      const glm::dvec3 m = sum / double(n), truth = truthScene.polygons[i].albedo;
+      reflectances.append(QJsonObject{{"polygon", QString::fromStdString(scene.polygons[i].name)},
+                                      {"recovered", rgbJson(m)},
+                                      {"truth", rgbJson(truth)}});
+      if (polygonArea(scene.polygons[i].vertices) >= 1.0)
+        std::fprintf(stderr, "  reflectance %-12s %.3f (truth %.3f)\n", scene.polygons[i].name.c_str(), (m.x + m.y + m.z) / 3,
+                     (truth.x + truth.y + truth.z) / 3);
+    }
+    for (size_t l = 0; l < scene.lamps.size(); ++l) {
+      const double t = std::numbers::pi * (truthScene.lamps[l].radiance.x + truthScene.lamps[l].radiance.y + truthScene.lamps[l].radiance.z) / 3;
+      const auto& u = data.lampExitance[l];
+      std::fprintf(stderr, "  lamp %-6s exitance %.1f, truth %.1f (%+.1f %%)\n", scene.lamps[l].name.c_str(), (u.x + u.y + u.z) / 3, t,
+                   100 * ((u.x + u.y + u.z) / 3 / t - 1));
+    }
+  }
   const Photo& main = photoNamedian(scene, data.photo);
   if (main.hdr.empty()) throw Error(scene.sourceFile, "photo " + main.name, "has no linear (EXR) version to compare against");
   const ImageRGB photo = readImageLinear(resolve(scene, main.hdr));
@@ -488,6 +553,7 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
     return QJsonObject{{"psnr_all", a.psnr}, {"psnr_shadow", s.psnr}, {"gain_all", rgbJson(a.gain)}, {"gain_shadow", rgbJson(s.gain)}};
   };
   QJsonObject report{{"bundle", QString::fromStdString(scene.baseDir)},
+                     {"reflectances", reflectances},
                      {"estimates", estimatesJson(data)},
                      {"mask_pixels", QJsonObject{{"all", double(std::count(masks.all.begin(), masks.all.end(), 1))},
                                                   {"shadow", double(std::count(masks.shadow.begin(), masks.shadow.end(), 1))}}}};

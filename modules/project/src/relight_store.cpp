@@ -42,6 +42,8 @@ QJsonObject optionsJson(const RelightOptions& o) {
           {"blocked_indirect", o.blockedIndirect},
           {"lamp_least_squares", o.lampLeastSquares},
           {"lamps_from_photo", o.lampsFromPhoto},
+          {"inverse_global_illumination", o.inverseGlobalIllumination},
+          {"shared_materials", o.sharedMaterials},
           {"reference_correction", o.reference == RelightOptions::Reference::Off     ? "off"
                                    : o.reference == RelightOptions::Reference::Paper ? "paper"
                                                                                      : "weighted"},
@@ -142,7 +144,10 @@ void saveRelightProject(const Scene& sceneIn, const RelightData& data, const std
                                {"exitance_equal", vec(l.equal)},
                                {"exitance_least_squares", vec(l.leastSquares)},
                                {"exitance_photographed", vec(l.photographed)},
-                               {"exitance_used", vec(l.used)}});
+                               {"exitance_used", vec(l.used)},
+                               {"exitance_joint_fit", vec(l.jointFit)},
+                               {"uncertainty", l.uncertainty},
+                               {"two_sided", l.twoSided}});
     QJsonObject refs, overrides;
     for (const auto& [k, v] : data.referencePatch) refs[QString::fromStdString(k)] = vec(v);
     for (const auto& [k, v] : data.referenceOverride) overrides[QString::fromStdString(k)] = vec(v);
@@ -156,6 +161,9 @@ void saveRelightProject(const Scene& sceneIn, const RelightData& data, const std
                      {"estimates",
                       QJsonObject{{"mean_reflectance_given", e.meanReflectanceGiven},
                                   {"mean_reflectance_refined", e.meanReflectanceRefined},
+                                  {"mean_reflectance_recovered", e.meanReflectanceRecovered},
+                                  {"joint_fit_elements", double(e.jointFitElements)},
+                                  {"indirect_measured_share", e.indirectMeasuredShare},
                                   {"reflectance_rounds", e.reflectanceRounds},
                                   {"lamp_model", QString::fromStdString(e.lampModel)},
                                   {"lamp_model_reason", QString::fromStdString(e.lampModelReason)},
@@ -214,6 +222,8 @@ RelightData readRelightData(const Scene& scene) {
   op.blockedIndirect = o["blocked_indirect"].toBool(op.blockedIndirect);
   op.lampLeastSquares = o["lamp_least_squares"].toBool(op.lampLeastSquares);
   op.lampsFromPhoto = o["lamps_from_photo"].toBool(op.lampsFromPhoto);
+  op.inverseGlobalIllumination = o["inverse_global_illumination"].toBool(op.inverseGlobalIllumination);
+  op.sharedMaterials = o["shared_materials"].toBool(op.sharedMaterials);
   {
     const QString r = o["reference_correction"].toString("weighted");
     op.reference = r == "off" ? RelightOptions::Reference::Off
@@ -231,11 +241,15 @@ RelightData readRelightData(const Scene& scene) {
   const QJsonObject est = root["estimates"].toObject();
   d.estimates.meanReflectanceGiven = est["mean_reflectance_given"].toDouble();
   d.estimates.meanReflectanceRefined = est["mean_reflectance_refined"].toDouble();
+  d.estimates.meanReflectanceRecovered = est["mean_reflectance_recovered"].toDouble();
+  d.estimates.jointFitElements = size_t(est["joint_fit_elements"].toDouble());
+  d.estimates.indirectMeasuredShare = est["indirect_measured_share"].toDouble();
   d.estimates.lampModel = est["lamp_model"].toString().toStdString();
   for (const auto& lv : est["lamps"].toArray()) {
     const QJsonObject lo = lv.toObject();
     d.estimates.lamps.push_back({lo["name"].toString().toStdString(), v3(lo["exitance_equal"]),
-                                 v3(lo["exitance_least_squares"]), v3(lo["exitance_photographed"]), v3(lo["exitance_used"])});
+                                 v3(lo["exitance_least_squares"]), v3(lo["exitance_photographed"]), v3(lo["exitance_used"]),
+                                 v3(lo["exitance_joint_fit"]), lo["uncertainty"].toDouble(), lo["two_sided"].toBool()});
   }
   for (const auto& l : scene.lamps) {
     bool found = false;

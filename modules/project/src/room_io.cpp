@@ -101,7 +101,16 @@ bool sameVertices(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3
   return true;
 }
 
-// Lamps: {name, polygon (a polygon name or its vertex list), radiance_rgb | color * strength}.
+// "two_sided": true | false (absent: one face).
+bool twoSidedOf(const QJsonObject& lo, const JsonReader& jr, const std::string& where) {
+  const QJsonValue v = lo["two_sided"];
+  if (v.isUndefined() || v.isNull()) return false;
+  if (!v.isBool()) jr.fail(where, "two_sided must be true or false");
+  return v.toBool();
+}
+
+// Lamps: {name, polygon (a polygon name or its vertex list), radiance_rgb | color * strength,
+// two_sided}.
 void readLamps(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
   for (const auto& lv : arr) {
     const QJsonObject lo = lv.toObject();
@@ -113,6 +122,7 @@ void readLamps(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
     else if (lo.contains("color") && lo.contains("strength"))
       lamp.radiance = jr.vec3(lo["color"], where, "color") * jr.number(lo["strength"], where, "strength");
     else jr.fail(where, "needs radiance_rgb (or color and strength)");
+    lamp.twoSided = twoSidedOf(lo, jr, where);
     const QJsonValue pv = lo["polygon"];
     if (pv.isString()) {
       lamp.polygon = scene.findPolygon(str(pv.toString()));
@@ -183,6 +193,7 @@ void readVariants(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
       Lamp l;
       l.name = str(lo["name"].toString());
       l.radiance = jr.vec3(lo["radiance_rgb"], where, "virtual_lights radiance_rgb");
+      l.twoSided = twoSidedOf(lo, jr, where);
       v.virtualLamps.push_back(l);
       v.virtualLampPolygons.push_back(jr.vertices(lo["polygon"], where));
     }
@@ -497,7 +508,8 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
   for (const auto& l : scene.lamps)
     lamps.append(QJsonObject{{"name", QString::fromStdString(l.name)},
                              {"polygon", QString::fromStdString(scene.polygons[l.polygon].name)},
-                             {"radiance_rgb", toJson(l.radiance)}});
+                             {"radiance_rgb", toJson(l.radiance)},
+                             {"two_sided", l.twoSided}});
   root["lamps"] = lamps;
   QJsonArray photos;
   int done = 0;

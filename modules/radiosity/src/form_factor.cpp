@@ -38,6 +38,14 @@ double pointToPolygonFormFactor(const glm::dvec3& p, const glm::dvec3& n,
   return std::abs(sum) / (2.0 * std::numbers::pi);
 }
 
+double emitterFormFactor(const glm::dvec3& p, const glm::dvec3& n, const std::vector<glm::dvec3>& poly,
+                         bool twoSided) {
+  if (!twoSided || poly.size() < 3 || glm::dot(areaVector(poly), p - poly[0]) > 0.0)
+    return pointToPolygonFormFactor(p, n, poly);
+  // Seen from behind: the back face, i.e. the same polygon wound the other way.
+  return pointToPolygonFormFactor(p, n, std::vector<glm::dvec3>(poly.rbegin(), poly.rend()));
+}
+
 void gaussLegendre01(int order, std::vector<double>& nodes, std::vector<double>& weights) {
   order = std::clamp(order, 1, 8);
   nodes.assign(order, 0.0);

@@ -74,7 +74,10 @@ std::vector<Surface> surfacesFromScene(const Scene& scene) {
     const int lamp = scene.lampOfPolygon(int(i));
     if (p.kind == PolygonKind::Light || lamp >= 0) {
       s.reflectance = glm::dvec3(0.0);  // lamp polygons reflect nothing
-      if (lamp >= 0) s.exitance = kPi * scene.lamps[lamp].radiance;
+      if (lamp >= 0) {
+        s.exitance = kPi * scene.lamps[lamp].radiance;
+        s.twoSided = scene.lamps[lamp].twoSided;
+      }
     } else if (p.kind == PolygonKind::Window) {
       s.reflectance = glm::dvec3(0.0);  // an opening absorbs everything that leaves the room
     } else {
@@ -411,8 +414,9 @@ struct Kernel {
       if (R.surface == S.surface) return 0.0;  // planar polygons do not see themselves
       const PlaneFrame& fr = im.frames[R.surface];
       const PlaneFrame& fs = im.frames[S.surface];
+      const bool twoSided = h.surfaces()[S.surface].twoSided;
       if (behind(S, fr.toWorld({R.u0, R.v0}), fr.normal) ||
-          behind(R, fs.toWorld({S.u0, S.v0}), fs.normal))
+          (behind(R, fs.toWorld({S.u0, S.v0}), fs.normal) && (!twoSided || behind(R, fs.toWorld({S.u0, S.v0}), -fs.normal))))
         return 0.0;
       const auto src = worldPolygon(s);
       std::vector<glm::dvec3> pts;
@@ -420,12 +424,23 @@ struct Kernel {
       quadrature(r, pts, wts, s);
       double f = 0, fmin = 1e300, fmax = 0;
       for (size_t i = 0; i < pts.size(); ++i) {
-        const double fi = pointToPolygonFormFactor(pts[i], fr.normal, src);
+        const double fi = emitterFormFactor(pts[i], fr.normal, src, twoSided);
         f += wts[i] * fi;
         fmin = std::min(fmin, fi);
         fmax = std::max(fmax, fi);
       }
       variation = float(pts.size() > 1 ? fmax - fmin : f);
+      // A source close in front of a large receiver (a lamp 2 cm below a ceiling) lights a patch
+      // the receiver's points can miss altogether: then the kernel's peak (straight above the
+      // source) bounds the error, so that the oracle refines the receiver there.
+      const glm::dvec3 sc(S.center);
+      const double dPlane = glm::dot(sc - fr.toWorld({R.u0, R.v0}), fr.normal);
+      if (dPlane > 1e-6 && dPlane < 0.5 * R.radius) {
+        const glm::dvec2 uv = fr.toUV(sc);
+        const double m = S.radius;
+        if (uv.x > R.u0 - m && uv.x < R.u1 + m && uv.y > R.v0 - m && uv.y < R.v1 + m)
+          variation = std::max(variation, float(std::min(1.0, S.area / (kPi * dPlane * dPlane))));
+      }
       return f;
     }
     // With a cluster at either end the kernel is an isotropic estimate; the oracle gets its bound
@@ -446,10 +461,12 @@ struct Kernel {
       }
     } else if (!S.isCluster()) {  // cluster <- element (isotropic receiver: mean cosine 1/4)
       const PlaneFrame& fs = im.frames[S.surface];
-      if (behind(R, glm::dvec3(S.center), fs.normal)) return 0.0;
+      const bool twoSided = h.surfaces()[S.surface].twoSided;
+      if (!twoSided && behind(R, glm::dvec3(S.center), fs.normal)) return 0.0;
       const glm::dvec3 d = glm::dvec3(R.center) - glm::dvec3(S.center);
       const double d2 = glm::dot(d, d);
-      const double cs = std::max(0.0, glm::dot(d, fs.normal) / std::sqrt(d2));
+      const double c = glm::dot(d, fs.normal) / std::sqrt(d2);
+      const double cs = twoSided ? std::abs(c) : std::max(0.0, c);
       f = S.area * cs / (4.0 * kPi * d2);
       bound = S.area * cs / (kPi * d2);
     } else {
@@ -462,10 +479,12 @@ struct Kernel {
   }
 
   // N stratified, jittered sample points on a node's surfaces (lifted off them along the normal).
-  void samplePoints(int id, int count, Rng& rng, std::vector<glm::vec3>& out,
-                    std::vector<glm::vec3>& normals) const {
+  // `surfaces` (when given): each point's surface (-1 for a cluster's centre).
+  void samplePoints(int id, int count, Rng& rng, std::vector<glm::vec3>& out, std::vector<glm::vec3>& normals,
+                    std::vector<int>* surfaces = nullptr) const {
     out.clear();
     normals.clear();
+    if (surfaces) surfaces->clear();
     const auto& n = nodes[id];
     const int g = std::max(1, int(std::ceil(std::sqrt(double(count)))));
     // Strata visited in a random order so that the pairing of two nodes' points decorrelates.
@@ -478,6 +497,7 @@ struct Kernel {
       if (!n.isCluster()) {
         out.push_back(pointOnElement(id, a, b, rng));
         normals.push_back(glm::vec3(im.frames[n.surface].normal));
+        if (surfaces) surfaces->push_back(n.surface);
       } else {
         // Surface chosen by area with the first coordinate, point on it with the second + fresh.
         const int begin = im.rangeBegin[id], cnt = im.rangeCount[id];
@@ -496,10 +516,12 @@ struct Kernel {
         if (s < 0) {
           out.push_back(n.center);
           normals.emplace_back(0.f, 0.f, 1.f);
+          if (surfaces) surfaces->push_back(-1);
           continue;
         }
         out.push_back(pointOnSurface(s, b, rng.uniform()));
         normals.push_back(glm::vec3(im.frames[s].normal));
+        if (surfaces) surfaces->push_back(s);
       }
     }
   }
@@ -537,11 +559,17 @@ struct Kernel {
   float visibility(int r, int s, int rays, uint32_t seed) const {
     Rng rng((uint64_t(uint32_t(r)) << 32 | uint32_t(s)) * 0x2545F4914F6CDD1Dull + seed);
     thread_local std::vector<glm::vec3> a, b, na, nb, fa, fb;
+    thread_local std::vector<int> sb;
     samplePoints(r, rays, rng, a, na);
-    samplePoints(s, rays, rng, b, nb);
+    samplePoints(s, rays, rng, b, nb, &sb);
     fa.clear();
     fb.clear();
     for (size_t i = 0; i < a.size(); ++i) {
+      // A two-sided emitter's point seen from behind: its back face's point (lifted the other way).
+      if (sb[i] >= 0 && h.surfaces()[sb[i]].twoSided && glm::dot(b[i] - a[i], nb[i]) >= 0.f) {
+        b[i] -= 2.f * kNormalOffset * nb[i];
+        nb[i] = -nb[i];
+      }
       const glm::vec3 d = b[i] - a[i];
       if (glm::dot(d, na[i]) > 0.f && glm::dot(d, nb[i]) < 0.f) {
         fa.push_back(a[i]);
@@ -751,10 +779,12 @@ double HierarchicalRadiosity::pushPull() {
     }
     B_[n] = b;
     if (N.parent >= 0) {
+      // A cluster's radiosity is its power over its area: a two-sided emitter gives it both faces'.
+      const float w = N.surface >= 0 && nodes_[N.parent].isCluster() && surfaces_[N.surface].twoSided ? 2.f : 1.f;
       float* a = &acc[3 * size_t(N.parent)];
-      a[0] += N.area * b.x;
-      a[1] += N.area * b.y;
-      a[2] += N.area * b.z;
+      a[0] += w * N.area * b.x;
+      a[1] += w * N.area * b.y;
+      a[2] += w * N.area * b.z;
     }
   }
   const double mean = sumA > 0 ? sumB / sumA : 0.0;
@@ -801,7 +831,7 @@ SolveStats HierarchicalRadiosity::solve(Progress& progress) {
   for (size_t s = 0; s < surfaces_.size(); ++s) {
     const double a = im.surfaceArea[s];
     const auto& e = surfaces_[s].exitance;
-    power += a * std::max({e.x, e.y, e.z});
+    power += (surfaces_[s].twoSided ? 2 : 1) * a * std::max({e.x, e.y, e.z});
     if (!isEmitter(int(s))) area += a;
   }
   im.eRef = area > 0 && power > 0 ? power / area : 1.0;

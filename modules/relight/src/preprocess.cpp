@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 #include <numbers>
 
+#include "inverse_gi.h"
 #include "relight_common.h"
 #include "view_cast.h"
 #include "relume/geometry/error.h"
@@ -48,33 +49,6 @@ double photoExposure(const Scene& scene, const Photo& ph) {
     den += b * b;
   }
   return den > 0 ? num / den : 1.0;
-}
-
-// Small dense solve (Gaussian elimination with partial pivoting); false when singular.
-bool solveDense(std::vector<std::vector<double>> A, std::vector<double> b, std::vector<double>& x) {
-  const size_t n = b.size();
-  double scale = 0;
-  for (size_t i = 0; i < n; ++i) scale = std::max(scale, std::abs(A[i][i]));
-  for (size_t c = 0; c < n; ++c) {
-    size_t p = c;
-    for (size_t r = c + 1; r < n; ++r)
-      if (std::abs(A[r][c]) > std::abs(A[p][c])) p = r;
-    if (std::abs(A[p][c]) <= 1e-9 * scale) return false;
-    std::swap(A[p], A[c]);
-    std::swap(b[p], b[c]);
-    for (size_t r = c + 1; r < n; ++r) {
-      const double f = A[r][c] / A[c][c];
-      for (size_t k = c; k < n; ++k) A[r][k] -= f * A[c][k];
-      b[r] -= f * b[c];
-    }
-  }
-  x.assign(n, 0);
-  for (size_t c = n; c-- > 0;) {
-    double s = b[c];
-    for (size_t k = c + 1; k < n; ++k) s -= A[c][k] * x[k];
-    x[c] = s / A[c][c];
-  }
-  return true;
 }
 
 struct Leaf {
@@ -136,13 +110,14 @@ struct Preprocessor::Impl {
   std::vector<uint8_t> how;                       // per leaf: where its reference came from
   std::vector<glm::vec3> factor;                  // per node: Eq. 9's modulation
   glm::dvec3 meanRho{0.0};
+  std::vector<glm::dvec3> unseenRho;              // per polygon no photo shows: its material's, else meanRho
   bool stale = false;                             // a redo did not finish: redo every polygon next
 
   struct Choices {
     std::vector<std::pair<int, int>> defaultRef, regionRef;  // (polygon, leaf)
   };
   glm::dvec3 rhoAt(int surface, const glm::dvec3& radiance, const glm::dvec3& irradiance) const {
-    return observed[surface] ? clampRho(kPi * radiance / glm::max(irradiance, glm::dvec3(1e-12))) : meanRho;
+    return observed[surface] ? clampRho(kPi * radiance / glm::max(irradiance, glm::dvec3(1e-12))) : unseenRho[surface];
   }
   void run(Progress& progress);
   Choices resolve(const std::map<std::string, glm::dvec2>& overrides, const std::vector<ReferenceRegion>& regions) const;
@@ -210,7 +185,7 @@ void Preprocessor::Impl::run(Progress& progress) {
       seenArea += seen * a;
     }
   }
-  for (int s : lampSurfaces) lampArea += polygonArea(scene.polygons[s].vertices);
+  for (const auto& l : scene.lamps) lampArea += (l.twoSided ? 2 : 1) * polygonArea(scene.polygons[l.polygon].vertices);
   if (seenArea <= 0 || grey(imageMean) <= 0)
     throw Error(scene.sourceFile, "photo " + photo.name, "shows no lit real surface to estimate reflectances from");
   imageMean /= seenArea;
@@ -246,6 +221,7 @@ void Preprocessor::Impl::run(Progress& progress) {
   for (size_t i = 0; i < np; ++i)
     observed[i] = tex[i].photographed();
   meanRho = clampRho(rhoHat * imageMean / grey(imageMean));
+  unseenRho.assign(np, meanRho);
   auto eq1 = [&](double rh) {
     std::vector<glm::dvec3> r(np, glm::dvec3(0.0));
     for (size_t i = 0; i < np; ++i)
@@ -255,17 +231,35 @@ void Preprocessor::Impl::run(Progress& progress) {
   auto rhoOf = [this](int surface, const glm::dvec3& radiance, const glm::dvec3& irradiance) {
     return rhoAt(surface, radiance, irradiance);
   };
+  // The room's mean reflectance over the elements the photo shows, and per polygon no photo shows
+  // the mean over the photographed polygons of its material (polygons that share a material
+  // share its reflectance), else the room's.
   auto updateMeanRho = [&](const HierarchicalRadiosity& hr, const std::vector<Leaf>& ls) {
     glm::dvec3 sum(0.0);
     double area = 0;
+    std::map<std::string, std::pair<glm::dvec3, double>> byMaterial;
     for (const auto& L : ls)
       if (observed[L.surface] && L.seen >= 0.5) {
-        sum += L.area * rhoOf(L.surface, L.tex, glm::dvec3(hr.irradiance(L.node)));
+        const glm::dvec3 r = rhoOf(L.surface, L.tex, glm::dvec3(hr.irradiance(L.node)));
+        sum += L.area * r;
         area += L.area;
+        if (const std::string& m = scene.polygons[L.surface].material; !m.empty()) {
+          byMaterial[m].first += L.area * r;
+          byMaterial[m].second += L.area;
+        }
       }
     if (area > 0) meanRho = sum / area;
+    out.estimates.unseenByMaterial.clear();
+    out.estimates.unseenWithoutMaterial.clear();
+    for (size_t i = 0; i < np; ++i) {
+      if (!real[i] || observed[i]) continue;
+      const auto it = byMaterial.find(scene.polygons[i].material);
+      const bool shared = o.sharedMaterials && it != byMaterial.end() && it->second.second > 0;
+      unseenRho[i] = shared ? it->second.first / it->second.second : meanRho;
+      (shared ? out.estimates.unseenByMaterial : out.estimates.unseenWithoutMaterial).push_back(scene.polygons[i].name);
+    }
   };
-  auto eq2 = [&](double rh) {  // energy balance with uniform reflectance, every lamp the same
+  auto eq2 = [&](double rh) {  // energy balance with uniform reflectance, every lamp the same (per face)
     return (1 - rh) / rh * imageMean * realArea / lampArea;
   };
   std::vector<glm::dvec3> lampScale(nlamps, glm::dvec3(1.0));
@@ -331,7 +325,8 @@ void Preprocessor::Impl::run(Progress& progress) {
         const auto& N = h.nodes()[leaves[k].node];
         const glm::dvec3 n = glm::normalize(polygonNormal(scene.polygons[N.surface].vertices));
         for (size_t l = 0; l < nlamps; ++l)
-          F[k][l] = radiosity::pointToPolygonFormFactor(glm::dvec3(N.center), n, scene.polygons[lampSurfaces[l]].vertices);
+          F[k][l] = radiosity::emitterFormFactor(glm::dvec3(N.center), n, scene.polygons[lampSurfaces[l]].vertices,
+                                                 scene.lamps[l].twoSided);
       }
     });
     return F;
@@ -501,9 +496,146 @@ void Preprocessor::Impl::run(Progress& progress) {
       }
     }
   }
+  // Inverse global illumination (Yu et al. 1999): the lamps and reflectances again, jointly, from
+  // every element the photo shows, its indirect light gathered from what the photos show.
+  std::vector<glm::dvec3> jointExitance(nlamps, glm::dvec3(0.0));
+  std::vector<double> jointError(nlamps, 0.0);
+  if (o.inverseGlobalIllumination) {
+    progress.report(0.5, "inverse global illumination: reflectances and lamps");
+    const auto& nodes = h.nodes();
+    const size_t nn = nodes.size();
+    // Per leaf and lamp the visible direct form factor (unit exitance), the point factor averaged
+    // on 3 x 3 Gauss points of the element, times the lamp's visibility; and its spread.
+    const LampVisibility vis(h, lampSurfaces);
+    std::vector<std::vector<double>> G(leaves.size(), std::vector<double>(nlamps, 0.0)), spread = G;
+    std::vector<double> photographed(leaves.size(), 0.0);
+    std::vector<double> gx, gw;
+    radiosity::gaussLegendre01(3, gx, gw);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 32), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t k = r.begin(); k < r.end(); ++k) {
+        const auto& N = nodes[leaves[k].node];
+        const auto& verts = scene.polygons[N.surface].vertices;
+        const glm::dvec3 n = glm::normalize(polygonNormal(verts));
+        std::vector<glm::dvec2> uvPoly;
+        for (const auto& v : verts) uvPoly.push_back(h.toUV(N.surface, v));
+        std::vector<glm::dvec3> pts;
+        for (double a : gx)
+          for (double b : gx) {
+            const glm::dvec2 uv(N.u0 + a * (N.u1 - N.u0), N.v0 + b * (N.v1 - N.v0));
+            if (insideConvex2D(uvPoly, uv, 1e-9)) pts.push_back(h.toWorld(N.surface, uv));
+          }
+        if (pts.empty()) pts.push_back(glm::dvec3(N.center));
+        const auto v = vis.at(N.surface, rectOf(N));
+        for (size_t l = 0; l < nlamps; ++l) {
+          double sum = 0, lo = 1e300, hi = 0;
+          for (const auto& p : pts) {
+            const double f = radiosity::emitterFormFactor(p, n, scene.polygons[lampSurfaces[l]].vertices, scene.lamps[l].twoSided);
+            sum += f;
+            lo = std::min(lo, f);
+            hi = std::max(hi, f);
+          }
+          G[k][l] = sum / double(pts.size()) * v[l];
+          spread[k][l] = (hi - lo) * v[l];
+        }
+        const auto& t = tex[N.surface];
+        t.mean(t.original, {N.u0, N.v0}, {N.u1, N.v1}, nullptr, &photographed[k]);
+      }
+    });
+    std::vector<int> leafOf(nn, -1);
+    for (size_t k = 0; k < leaves.size(); ++k) leafOf[leaves[k].node] = int(k);
+    std::vector<std::optional<glm::dvec3>> fixed(nlamps);
+    if (o.lampsFromPhoto)
+      for (size_t l = 0; l < nlamps; ++l)
+        if (isMeasured[l]) fixed[l] = measured[l];
+    std::vector<glm::dvec3> e = out.lampExitance;
+    JointFitResult fit;
+    std::vector<JointFitRow> rows;
+    double measuredShare = 0;
+    for (int round = 0; round < 3; ++round) {
+      progress.report(0.5 + 0.01 * round, "inverse global illumination, round " + std::to_string(round + 1));
+      radiometricReflectances(e, 2);
+      // Radiosity per node: a leaf the photos show has its photographed value, the others the
+      // simulation's; lamps none (their light is G's). Pulled up by area as the engine does.
+      std::vector<glm::dvec3> Bph(nn, glm::dvec3(0.0)), Bsim(nn, glm::dvec3(0.0));
+      for (size_t i = nn; i-- > 0;) {
+        const auto& N = nodes[i];
+        if (N.isLeaf()) {
+          const int k = leafOf[i];
+          if (k >= 0 && observed[N.surface] && photographed[size_t(k)] >= 0.5) Bph[i] = kPi * leaves[size_t(k)].tex;
+          else if (N.surface >= 0 && !h.isEmitter(N.surface)) Bsim[i] = glm::dvec3(h.radiosity(int(i)));
+        } else if (N.area > 0) {
+          Bph[i] /= double(N.area);
+          Bsim[i] /= double(N.area);
+        }
+        if (N.parent >= 0) {
+          Bph[size_t(N.parent)] += double(N.area) * Bph[i];
+          Bsim[size_t(N.parent)] += double(N.area) * Bsim[i];
+        }
+      }
+      // Gather over the links (a node receives what arrives at it and at its ancestors).
+      std::vector<glm::dvec3> Eph(nn, glm::dvec3(0.0)), Esim(nn, glm::dvec3(0.0));
+      for (const auto& l : h.links()) {
+        if (l.receiver == l.source || l.formFactor <= 0.f || h.sourceIsEmitter(l.source)) continue;
+        const double k = double(l.formFactor) * double(l.visibility);
+        Eph[size_t(l.receiver)] += k * Bph[size_t(l.source)];
+        Esim[size_t(l.receiver)] += k * Bsim[size_t(l.source)];
+      }
+      for (size_t i = 1; i < nn; ++i) {
+        Eph[i] += Eph[size_t(nodes[i].parent)];
+        Esim[i] += Esim[size_t(nodes[i].parent)];
+      }
+      rows.clear();
+      double shareSum = 0, shareArea = 0;
+      for (size_t k = 0; k < leaves.size(); ++k) {
+        const Leaf& L = leaves[k];
+        if (!observed[L.surface] || L.seen < 0.8) continue;
+        const glm::dvec3 I = Eph[size_t(L.node)] + Esim[size_t(L.node)];
+        double direct = 0, var = 0;
+        for (size_t l = 0; l < nlamps; ++l) {
+          direct += G[k][l] * grey(e[l]);
+          var += spread[k][l] * grey(e[l]);
+        }
+        // An element whose direct light varies strongly across it (beside a lamp) is no sample
+        // of one irradiance: left out.
+        if (var > 0.5 * (direct + grey(I))) continue;
+        rows.push_back({L.surface, L.area, kPi * L.tex, G[k], I});
+        if (grey(I) > 0) {
+          shareSum += L.area * grey(Eph[size_t(L.node)]) / grey(I);
+          shareArea += L.area;
+        }
+      }
+      measuredShare = shareArea > 0 ? shareSum / shareArea : 0;
+      fit = jointFit(rows, np, e, fixed);
+      if (!fit.ok) break;
+      e = fit.exitance;
+    }
+    if (fit.ok) {
+      out.lampExitance = e;
+      jointExitance = e;
+      jointError = fit.uncertainty;
+      rhoHat = std::clamp(fit.meanReflectance, 0.02, 0.95);
+      out.estimates.meanReflectanceRecovered = fit.meanReflectance;
+      out.estimates.jointFitElements = rows.size();
+      out.estimates.indirectMeasuredShare = measuredShare;
+      out.estimates.lampModel = nMeasured > 0 && o.lampsFromPhoto ? "photographed+inverse-global-illumination" : "inverse-global-illumination";
+      out.estimates.lampModelReason = nMeasured > 0 && o.lampsFromPhoto
+                                          ? "lamps the HDR photo shows measured, the others fitted with the room's reflectances"
+                                          : "lamps and reflectances fitted jointly; measured indirect light sets the scale";
+    } else {
+      out.estimates.lampModelReason += " (inverse global illumination not used: " + fit.reason + ")";
+    }
+  }
+  if (o.oracleLamps) {
+    for (size_t l = 0; l < nlamps; ++l) out.lampExitance[l] = kPi * scene.lamps[l].radiance;
+    out.estimates.lampModel = "oracle";
+    out.estimates.lampModelReason = "the scene's true lamps (evaluation only)";
+  }
   for (size_t l = 0; l < nlamps; ++l) {
     LampEstimate le;
     le.name = scene.lamps[l].name;
+    le.jointFit = jointExitance[l];
+    le.uncertainty = jointError[l];
+    le.twoSided = scene.lamps[l].twoSided;
     le.equal = eq2(rhoHat);
     le.leastSquares = lsUsed ? eq2(rhoHat) * lampScale[l] : glm::dvec3(0.0);
     le.photographed = measured[l];
@@ -734,7 +866,7 @@ void Preprocessor::Impl::finalPass(Progress& progress) {
   });
   for (size_t s = 0; s < np; ++s) {
     if (real[s] && !observed[s]) {  // nothing seen: the mean reflectance, lit by the solution
-      std::fill(tex[s].albedo.begin(), tex[s].albedo.end(), glm::vec3(meanRho));
+      std::fill(tex[s].albedo.begin(), tex[s].albedo.end(), glm::vec3(unseenRho[s]));
       const auto& t = tex[s];
       for (int y = 0; y < t.height; ++y)
         for (int x = 0; x < t.width; ++x) {
@@ -742,7 +874,7 @@ void Preprocessor::Impl::finalPass(Progress& progress) {
           const glm::dvec2 uv = t.uvOf(x + 0.5, y + 0.5);
           const int leaf = h.findLeaf(int(s), uv);
           const glm::vec3 u = interpolateCorners(h.nodes()[leaf], cU[leaf], uv);
-          tex[s].original[t.index(x, y)] = tex[s].unoccluded[t.index(x, y)] = glm::vec3(meanRho) * u / float(kPi);
+          tex[s].original[t.index(x, y)] = tex[s].unoccluded[t.index(x, y)] = glm::vec3(unseenRho[s]) * u / float(kPi);
         }
       fillSmoothly(tex[s], tex[s].original, true);
       fillSmoothly(tex[s], tex[s].unoccluded, true);

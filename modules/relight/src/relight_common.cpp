@@ -96,7 +96,9 @@ std::vector<float> LampVisibility::at(int surface, const glm::vec4& rect) const 
       for (int k = 0; k < kPairsPerPoint; ++k) {
         const glm::dvec3& a = lp[(i * kPairsPerPoint + k) % lp.size()];
         const glm::dvec3 d = a - p;
-        if (glm::dot(d, n) <= 0 || glm::dot(d, normals_[l]) >= 0) continue;
+        // A two-sided lamp lights both half-spaces of its plane.
+        const bool twoSided = h_.surfaces()[lamps_[l]].twoSided;
+        if (glm::dot(d, n) <= 0 || (!twoSided && glm::dot(d, normals_[l]) >= 0)) continue;
         segs.push_back({glm::vec3(p), glm::vec3(a)});
         owner.push_back(int(l));
       }
@@ -264,7 +266,10 @@ std::vector<radiosity::Surface> engineSurfaces(const Scene& scene, const std::ve
     if (p.kind == PolygonKind::Real || p.kind == PolygonKind::Virtual) s.reflectance = reflectance[i];
     out.push_back(s);
   }
-  for (size_t l = 0; l < scene.lamps.size(); ++l) out[scene.lamps[l].polygon].exitance = lampExitance[l];
+  for (size_t l = 0; l < scene.lamps.size(); ++l) {
+    out[scene.lamps[l].polygon].exitance = lampExitance[l];
+    out[scene.lamps[l].polygon].twoSided = scene.lamps[l].twoSided;
+  }
   return out;
 }
 

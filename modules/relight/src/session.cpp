@@ -349,6 +349,7 @@ RelightSession::RelightSession(const Scene& scene, const RelightData& data, std:
     s.name = v.name;
     s.vertices = v.polygon;
     s.exitance = std::numbers::pi * v.radiance;
+    s.twoSided = v.twoSided;
     im.vlampSurfaces.push_back(int(surfaces.size()));
     im.vlampExitance.push_back(s.exitance);
     surfaces.push_back(s);
@@ -489,6 +490,7 @@ int RelightSession::addVirtualLamp(const VirtualLamp& lamp, Progress& progress) 
   s.name = lamp.name;
   s.vertices = lamp.polygon;
   s.exitance = std::numbers::pi * lamp.radiance;
+  s.twoSided = lamp.twoSided;
   const int id = im.h->addSurfaces({s}, progress).at(0);
   im.vlampSurfaces.push_back(id);
   im.vlampExitance.push_back(s.exitance);

@@ -145,13 +145,14 @@ glm::vec3 PolygonTexture::sample(const std::vector<glm::vec3>& layer, glm::dvec2
          (1 - fx) * fy * layer[index(x0, y1)] + fx * fy * layer[index(x1, y1)];
 }
 
-glm::vec3 PolygonTexture::mean(const std::vector<glm::vec3>& layer, glm::dvec2 lo, glm::dvec2 hi, double* seen) const {
+glm::vec3 PolygonTexture::mean(const std::vector<glm::vec3>& layer, glm::dvec2 lo, glm::dvec2 hi, double* seen,
+                               double* photographed) const {
   const int x0 = std::max(0, int(std::ceil((lo.x - origin.x) / texel - 0.5)));
   const int x1 = std::min(width - 1, int(std::floor((hi.x - origin.x) / texel - 0.5)));
   const int y0 = std::max(0, int(std::ceil((lo.y - origin.y) / texel - 0.5)));
   const int y1 = std::min(height - 1, int(std::floor((hi.y - origin.y) / texel - 0.5)));
   glm::dvec3 sum(0.0);
-  size_t n = 0, fromMain = 0;
+  size_t n = 0, fromMain = 0, fromAny = 0;
   for (int y = y0; y <= y1; ++y)
     for (int x = x0; x <= x1; ++x) {
       const size_t i = index(x, y);
@@ -159,6 +160,7 @@ glm::vec3 PolygonTexture::mean(const std::vector<glm::vec3>& layer, glm::dvec2 l
       sum += glm::dvec3(layer[i]);
       ++n;
       fromMain += source[i] == TexelSource::MainPhoto;
+      fromAny += source[i] == TexelSource::MainPhoto || source[i] == TexelSource::OtherPhoto;
     }
   if (n == 0) {
     const glm::dvec2 c = 0.5 * (lo + hi);
@@ -167,9 +169,16 @@ glm::vec3 PolygonTexture::mean(const std::vector<glm::vec3>& layer, glm::dvec2 l
       const int y = std::clamp(int((c.y - origin.y) / texel), 0, height - 1);
       *seen = source[index(x, y)] == TexelSource::MainPhoto ? 1.0 : 0.0;
     }
+    if (photographed) {
+      const int x = std::clamp(int((c.x - origin.x) / texel), 0, width - 1);
+      const int y = std::clamp(int((c.y - origin.y) / texel), 0, height - 1);
+      const TexelSource src = source[index(x, y)];
+      *photographed = src == TexelSource::MainPhoto || src == TexelSource::OtherPhoto ? 1.0 : 0.0;
+    }
     return sample(layer, c);
   }
   if (seen) *seen = double(fromMain) / double(n);
+  if (photographed) *photographed = double(fromAny) / double(n);
   return glm::vec3(sum / double(n));
 }
 

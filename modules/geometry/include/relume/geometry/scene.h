@@ -15,6 +15,9 @@ struct Lamp {
   std::string name;
   int polygon = -1;         // index into Scene::polygons (a polygon of kind Light)
   glm::dvec3 radiance{0.0};  // emitted radiance, linear RGB; exitance = pi * radiance
+  // Emits from both faces (an emissive panel seen from above and below, as Cycles mesh lamps
+  // do), the same radiance per face; otherwise from the face its normal points to only.
+  bool twoSided = false;
 };
 
 struct Photo {

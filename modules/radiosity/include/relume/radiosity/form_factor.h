@@ -11,6 +11,10 @@ namespace relume::radiosity {
 double pointToPolygonFormFactor(const glm::dvec3& p, const glm::dvec3& n,
                                 const std::vector<glm::dvec3>& poly);
 
+// The same from an emitter: a two-sided one is seen from either side (its face towards p).
+double emitterFormFactor(const glm::dvec3& p, const glm::dvec3& n, const std::vector<glm::dvec3>& poly,
+                         bool twoSided);
+
 // F_{A->B}: fraction of the energy leaving polygon A (diffusely) that arrives at polygon B, with
 // no occlusion: the mean over A of the point-to-polygon factor, using an order x order
 // Gauss-Legendre rule on each triangle-fan quadrilateral of A (order 1..8).

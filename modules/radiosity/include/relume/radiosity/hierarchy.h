@@ -49,6 +49,7 @@ struct Surface {
   std::vector<glm::dvec3> vertices;  // convex, planar, counter-clockwise around the normal
   glm::dvec3 reflectance{0.0};       // diffuse albedo, RGB
   glm::dvec3 exitance{0.0};          // emitted radiosity W/m^2 (pi x radiance), RGB
+  bool twoSided = false;             // an emitter that emits `exitance` from both faces
 };
 
 // Polygons, albedos and lamps of a scene (lamp polygons reflect nothing).

@@ -42,6 +42,18 @@ struct RelightOptions {
   bool blockedIndirect = false;
   bool lampLeastSquares = true;      // per-lamp emittances by least squares when well posed
   bool lampsFromPhoto = true;        // lamps the HDR photos show: their measured radiance wins
+  // Inverse global illumination (Yu, Debevec, Malik, Hawkins 1999) for the estimates: every
+  // element the photo shows is lit by its lamps (direct, with per-lamp visibility) and by the
+  // photographed radiance of what it sees; reflectances and lamp exitances are solved jointly
+  // over shadowed and unshadowed elements alike, and the measured indirect light fixes the
+  // absolute scale (rho-hat only a fallback). Off: the paper's estimate from rho-hat (§4).
+  bool inverseGlobalIllumination = true;
+  // Polygons no photo shows take the reflectance of the photographed polygons of their material
+  // (OBJ usemtl, scene.json material, a clicked polygon's group); off: the room's mean.
+  bool sharedMaterials = true;
+  // Evaluation only (an oracle, never a user's setting): the scene's lamp radiances are the truth
+  // and are used as the lamps' exitances instead of any estimate.
+  bool oracleLamps = false;
   // §4.3 (step 2). Paper: every occluded element takes its reference's reflectance. Weighted:
   // the two estimates of the unoccluded colour are combined by inverse variance — step 1's error
   // grows with the blocked fraction b as b / (1 - b) (the blocked light is an estimate; what is
@@ -63,6 +75,7 @@ struct VirtualLamp {
   std::string name;
   std::vector<glm::dvec3> polygon;
   glm::dvec3 radiance{0.0};
+  bool twoSided = false;  // emits from both faces (the same radiance on each)
 };
 // A virtual object: a closed set of outward-facing convex polygons with one albedo.
 struct VirtualObject {
@@ -85,6 +98,9 @@ struct LampEstimate {
   glm::dvec3 leastSquares{0.0};  // per-lamp fit over unshadowed texels (0 when not solved)
   glm::dvec3 photographed{0.0};  // pi x the median radiance of its texels in the HDR photos
   glm::dvec3 used{0.0};
+  glm::dvec3 jointFit{0.0};      // inverse global illumination (0 when not solved)
+  double uncertainty = 0;        // relative standard error of the joint fit (0 when not solved)
+  bool twoSided = false;         // exitances per face
 };
 
 struct RelightEstimates {
@@ -93,6 +109,15 @@ struct RelightEstimates {
   std::string lampModel;  // "equal", "least-squares" or "photographed"
   std::string lampModelReason;
   std::vector<LampEstimate> lamps;  // in scene lamp order
+  // Inverse global illumination: the mean reflectance it recovered over the photographed
+  // elements (0 when not solved), the elements used, and the photographed share of each
+  // element's indirect light (area mean).
+  double meanReflectanceRecovered = 0;
+  size_t jointFitElements = 0;
+  double indirectMeasuredShare = 0;
+  // Real polygons no photo shows: those that took their material's reflectance, and those with
+  // no photographed polygon of their material (or no material), which took the room's mean.
+  std::vector<std::string> unseenByMaterial, unseenWithoutMaterial;
   size_t leavesBeforeTextureRefinement = 0, leavesAfter = 0, texturesSubdivided = 0, subdivisionsCancelled = 0;
   size_t occludedLeaves = 0, frontierLeaves = 0, referencedByFrontier = 0, referencedByDefault = 0,
          referencedByRegion = 0;

@@ -45,7 +45,9 @@ struct PolygonTexture {
   glm::vec3 sample(const std::vector<glm::vec3>& layer, glm::dvec2 uv) const;
   // Mean of a layer over the texels whose centres lie in the rectangle and in the polygon (or the
   // value at its centre when none does); `seen` receives the fraction seen by the main photo.
-  glm::vec3 mean(const std::vector<glm::vec3>& layer, glm::dvec2 lo, glm::dvec2 hi, double* seen = nullptr) const;
+  // `photographed`: the fraction seen by any photo (main or other).
+  glm::vec3 mean(const std::vector<glm::vec3>& layer, glm::dvec2 lo, glm::dvec2 hi, double* seen = nullptr,
+                 double* photographed = nullptr) const;
 };
 
 struct DewarpStats {
