@@ -517,15 +517,9 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
     for (size_t i = 0; i < scene.polygons.size(); ++i) {
       const auto& t = data.textures[i];
       if (scene.polygons[i].kind != PolygonKind::Real || t.albedo.size() != t.source.size()) continue;
-      glm::dvec3 sum(0.0);
       size_t n = 0;
-      for (size_t k = 0; k < t.source.size(); ++k)
-        if (t.source[k] == TexelSource::MainPhoto || t.source[k] == TexelSource::OtherPhoto) {
-          sum += glm::dvec3(t.albedo[k]);
-          ++n;
-        }
+      const glm::dvec3 m = t.photographedMean(t.albedo, &n), truth = truthScene.polygons[i].albedo;
       if (n == 0) continue;
-      const glm::dvec3 m = sum / double(n), truth = truthScene.polygons[i].albedo;
       reflectances.append(QJsonObject{{"polygon", QString::fromStdString(scene.polygons[i].name)},
                                       {"recovered", rgbJson(m)},
                                       {"truth", rgbJson(truth)}});

@@ -123,15 +123,10 @@ Errors estimateErrors(const SyntheticRoom& room, const RelightOptions& o) {
   for (size_t i = 0; i < s.polygons.size(); ++i) {
     const auto& t = d.textures[i];
     if (s.polygons[i].kind != PolygonKind::Real) continue;
-    glm::dvec3 sum(0.0);
     size_t n = 0;
-    for (size_t k = 0; k < t.source.size(); ++k)
-      if (t.source[k] == TexelSource::MainPhoto || t.source[k] == TexelSource::OtherPhoto) {
-        sum += glm::dvec3(t.albedo[k]);
-        ++n;
-      }
+    const glm::dvec3 m = t.photographedMean(t.albedo, &n);
     if (n < 200 || polygonArea(s.polygons[i].vertices) < 1.0) continue;  // the room's surfaces, not the crate's faces
-    const double err = std::abs(grey(sum / double(n)) / grey(room.scene.polygons[i].albedo) - 1);
+    const double err = std::abs(grey(m) / grey(room.scene.polygons[i].albedo) - 1);
     if (err > e.worstPolygon) e.worstPolygon = err, e.polygon = s.polygons[i].name;
   }
   return e;

@@ -145,6 +145,18 @@ glm::vec3 PolygonTexture::sample(const std::vector<glm::vec3>& layer, glm::dvec2
          (1 - fx) * fy * layer[index(x0, y1)] + fx * fy * layer[index(x1, y1)];
 }
 
+glm::dvec3 PolygonTexture::photographedMean(const std::vector<glm::vec3>& layer, size_t* count) const {
+  glm::dvec3 sum(0.0);
+  size_t n = 0;
+  for (size_t k = 0; k < source.size() && k < layer.size(); ++k)
+    if (source[k] == TexelSource::MainPhoto || source[k] == TexelSource::OtherPhoto) {
+      sum += glm::dvec3(layer[k]);
+      ++n;
+    }
+  if (count) *count = n;
+  return n > 0 ? sum / double(n) : glm::dvec3(0.0);
+}
+
 glm::vec3 PolygonTexture::mean(const std::vector<glm::vec3>& layer, glm::dvec2 lo, glm::dvec2 hi, double* seen,
                                double* photographed) const {
   const int x0 = std::max(0, int(std::ceil((lo.x - origin.x) / texel - 0.5)));
@@ -164,17 +176,11 @@ glm::vec3 PolygonTexture::mean(const std::vector<glm::vec3>& layer, glm::dvec2 l
     }
   if (n == 0) {
     const glm::dvec2 c = 0.5 * (lo + hi);
-    if (seen) {
-      const int x = std::clamp(int((c.x - origin.x) / texel), 0, width - 1);
-      const int y = std::clamp(int((c.y - origin.y) / texel), 0, height - 1);
-      *seen = source[index(x, y)] == TexelSource::MainPhoto ? 1.0 : 0.0;
-    }
-    if (photographed) {
-      const int x = std::clamp(int((c.x - origin.x) / texel), 0, width - 1);
-      const int y = std::clamp(int((c.y - origin.y) / texel), 0, height - 1);
-      const TexelSource src = source[index(x, y)];
-      *photographed = src == TexelSource::MainPhoto || src == TexelSource::OtherPhoto ? 1.0 : 0.0;
-    }
+    const int x = std::clamp(int((c.x - origin.x) / texel), 0, width - 1);
+    const int y = std::clamp(int((c.y - origin.y) / texel), 0, height - 1);
+    const TexelSource src = source[index(x, y)];
+    if (seen) *seen = src == TexelSource::MainPhoto ? 1.0 : 0.0;
+    if (photographed) *photographed = src == TexelSource::MainPhoto || src == TexelSource::OtherPhoto ? 1.0 : 0.0;
     return sample(layer, c);
   }
   if (seen) *seen = double(fromMain) / double(n);

@@ -48,6 +48,9 @@ struct PolygonTexture {
   // `photographed`: the fraction seen by any photo (main or other).
   glm::vec3 mean(const std::vector<glm::vec3>& layer, glm::dvec2 lo, glm::dvec2 hi, double* seen = nullptr,
                  double* photographed = nullptr) const;
+  // Mean of a layer over the texels some photo shows (main or other); `count` gets their number
+  // (0: none, and the mean is 0).
+  glm::dvec3 photographedMean(const std::vector<glm::vec3>& layer, size_t* count = nullptr) const;
 };
 
 struct DewarpStats {
