@@ -4,6 +4,7 @@
 
 #include <QApplication>
 #include <QElapsedTimer>
+#include <QDir>
 #include <QFile>
 #include <QFileInfo>
 #include <QJsonArray>
@@ -12,6 +13,11 @@
 #include <QOpenGLWidget>
 #include <QSaveFile>
 #include <QThread>
+#include <QTemporaryDir>
+#include <QTimer>
+#include <QImageWriter>
+#include <QRandomGenerator>
+#include <filesystem>
 #include <algorithm>
 #include <cstdio>
 #include <functional>
@@ -23,6 +29,7 @@
 #include "relume/inspect/inspector_view.h"
 #include "job_runner.h"
 #include "main_window.h"
+#include "photos_panel.h"
 #include "relume/viewport/gl_renderer.h"
 #include "relume/viewport/viewport_widget.h"
 
@@ -247,19 +254,111 @@ QJsonObject benchRoom(const QString& room, int runs) {
                      {"peak_rss_mib", peakRssMiB()}};
 }
 
+// Importing `count` photos of width x height pixels (JPEG) into the Photos panel and loading their
+// thumbnails: how long it takes, and how well the window answers meanwhile — a 2 ms timer on the
+// UI thread records every gap between its ticks (the longest one is the longest time an event,
+// a click or a repaint, waited).
+QJsonObject benchPhotos(int count, int width, int height) {
+  QTemporaryDir dir;
+  if (!dir.isValid()) throw std::runtime_error("cannot make a temporary folder");
+  const QString src = dir.path() + "/src";
+  QDir().mkpath(src);
+  {
+    // A photo-like image: smooth shading with sensor noise (what keeps a JPEG from being trivial).
+    QImage img(width, height, QImage::Format_RGB888);
+    QRandomGenerator rng(7);
+    for (int y = 0; y < height; ++y) {
+      uchar* row = img.scanLine(y);
+      for (int x = 0; x < width; ++x) {
+        const int n = int(rng.bounded(17)) - 8;
+        row[3 * x + 0] = uchar(std::clamp(40 + 160 * x / width + n, 0, 255));
+        row[3 * x + 1] = uchar(std::clamp(60 + 120 * y / height + n, 0, 255));
+        row[3 * x + 2] = uchar(std::clamp(90 + 60 * (x + y) / (width + height) + n, 0, 255));
+      }
+    }
+    QImageWriter wr(src + "/photo_000.jpg");
+    wr.setQuality(90);
+    if (!wr.write(img)) throw std::runtime_error("cannot write a benchmark photo: " + wr.errorString().toStdString());
+  }
+  for (int i = 1; i < count; ++i)
+    std::filesystem::copy_file((src + "/photo_000.jpg").toStdString(),
+                               (src + QString("/photo_%1.jpg").arg(i, 3, 10, QChar('0'))).toStdString());
+  const double fileMiB = double(QFileInfo(src + "/photo_000.jpg").size()) / (1024.0 * 1024.0);
+
+  JobRunner jobs;
+  PhotosPanel panel(&jobs);
+  panel.resize(900, 700);
+  panel.show();
+  panel.setCaptureFolder(dir.path() + "/capture");
+  QApplication::processEvents();
+
+  std::vector<double> gaps;
+  QElapsedTimer tick;
+  QTimer timer;
+  timer.setTimerType(Qt::PreciseTimer);
+  QObject::connect(&timer, &QTimer::timeout, &timer, [&] {
+    gaps.push_back(double(tick.nsecsElapsed()) * 1e-6);
+    tick.restart();
+  });
+  bool imported = false, loaded = false;
+  QObject::connect(&jobs, &JobRunner::finished, &jobs, [&](bool, bool, const QString&) { imported = true; });
+  QObject::connect(&panel, &PhotosPanel::thumbnailsLoaded, &panel, [&] { loaded = true; });
+  QElapsedTimer wall;
+  wall.start();
+  tick.start();
+  timer.start(2);
+  if (!panel.importFolder(src)) throw std::runtime_error("the Photos panel did not start importing");
+  double importSeconds = 0;
+  while (!(loaded && imported) && wall.elapsed() < 600000) {
+    QApplication::processEvents(QEventLoop::AllEvents, 5);
+    if (imported && importSeconds == 0) importSeconds = double(wall.nsecsElapsed()) * 1e-9;
+  }
+  timer.stop();
+  const double allSeconds = double(wall.nsecsElapsed()) * 1e-9;
+  if (!loaded) throw std::runtime_error("the thumbnails did not load within 10 minutes");
+  int thumbs = 0;
+  for (const auto& e : panel.entries()) thumbs += !e.thumbnail.isNull();
+  std::vector<double> sorted = gaps;
+  std::sort(sorted.begin(), sorted.end());
+  const double longest = sorted.empty() ? 0 : sorted.back();
+  const double p99 = sorted.empty() ? 0 : sorted[std::min(sorted.size() - 1, size_t(0.99 * double(sorted.size())))];
+  int over100 = 0;
+  for (double g : gaps) over100 += g > 100.0;
+  std::fprintf(stderr,
+               "bench: %d photos of %dx%d (%.1f MiB each): imported in %.1f s, %d thumbnails in %.1f s; UI thread's "
+               "longest wait %.1f ms (99th percentile %.1f ms, median %.1f ms, %d over 100 ms)\n",
+               count, width, height, fileMiB, importSeconds, thumbs, allSeconds, longest, p99, median(gaps), over100);
+  return QJsonObject{{"photos", count},
+                     {"width", width},
+                     {"height", height},
+                     {"file_mib", fileMiB},
+                     {"import_seconds", importSeconds},
+                     {"thumbnails", thumbs},
+                     {"all_thumbnails_seconds", allSeconds},
+                     {"ui_longest_wait_ms", longest},
+                     {"ui_wait_p99_ms", p99},
+                     {"ui_wait_median_ms", median(gaps)},
+                     {"ui_waits_over_100_ms", over100}};
+}
+
 }  // namespace
 
-int runWorkbenchBench(const QString& out, const QStringList& rooms, int runs) {
+int runWorkbenchBench(const QString& out, const QStringList& rooms, int runs, int photos, QSize photoSize) {
   QJsonArray results;
+  QJsonObject photoResult;
   try {
     for (const QString& r : rooms) results.append(benchRoom(r, runs));
+    if (photos > 0) photoResult = benchPhotos(photos, photoSize.width(), photoSize.height());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "relume-workbench --bench: %s\n", e.what());
     return 1;
   }
+  QJsonObject all{{"runs", runs}, {"rooms", results}};
+  if (photos > 0) all["photos"] = photoResult;
+  all["peak_rss_mib"] = peakRssMiB();
   QSaveFile f(out);
   if (!f.open(QIODevice::WriteOnly) ||
-      f.write(QJsonDocument(QJsonObject{{"runs", runs}, {"rooms", results}, {"peak_rss_mib", peakRssMiB()}}).toJson()) < 0 ||
+      f.write(QJsonDocument(all).toJson()) < 0 ||
       !f.commit()) {
     std::fprintf(stderr, "relume-workbench --bench: cannot write %s\n", qPrintable(out));
     return 1;

@@ -3,6 +3,7 @@
 #include <QCommandLineParser>
 #include <QSurfaceFormat>
 #include <QTimer>
+#include <cstdio>
 
 #include "bench.h"
 #include "i18n.h"
@@ -25,9 +26,19 @@ int main(int argc, char** argv) {
     parser.addPositionalArgument("ROOM", "A room bundle folder, a Relume project, or an OBJ with its JSON.", "[ROOM...]");
     parser.addOption({"bench", "Measure the workbench on the rooms given and write JSON to FILE.", "FILE"});
     parser.addOption({"runs", "Repetitions for --bench (default 9).", "N", "9"});
+    parser.addOption({"bench-photos", "Photos imported by --bench (default 100; 0: none).", "N", "100"});
+    parser.addOption({"bench-photo-size", "Their size, WIDTHxHEIGHT (default 6000x4000, 24 megapixels).", "WxH", "6000x4000"});
     parser.process(app);
     if (parser.isSet("bench")) {
-      rc = relume::runWorkbenchBench(parser.value("bench"), parser.positionalArguments(), parser.value("runs").toInt());
+      const QStringList wh = parser.value("bench-photo-size").split('x');
+      const QSize size = wh.size() == 2 ? QSize(wh[0].toInt(), wh[1].toInt()) : QSize();
+      if (size.width() <= 0 || size.height() <= 0) {
+        std::fprintf(stderr, "relume-workbench: --bench-photo-size %s is not WIDTHxHEIGHT\n",
+                     qPrintable(parser.value("bench-photo-size")));
+        relume::endProcess(2);
+      }
+      rc = relume::runWorkbenchBench(parser.value("bench"), parser.positionalArguments(), parser.value("runs").toInt(),
+                                     parser.value("bench-photos").toInt(), size);
     } else {
       relume::MainWindow window;
       window.show();
