@@ -111,8 +111,8 @@ RelightOptions relightOptions(const QCommandLineParser& p) {
 
 void printEstimates(const RelightData& d) {
   const auto& e = d.estimates;
-  std::fprintf(stderr, "mean reflectance: given %.3f, refined %.3f (%d rounds)\n", e.meanReflectanceGiven,
-               e.meanReflectanceRefined, e.reflectanceRounds);
+  std::fprintf(stderr, "mean reflectance: given %.3f; with Eq. 2's lamps the computed ones average %.3f, so those lamps were scaled by %.3f (%d rounds)\n",
+               e.meanReflectanceGiven, e.meanReflectanceRefined, e.eq2Scale, e.reflectanceRounds);
   std::fprintf(stderr, "lamp emittances (exitance, RGB) — using %s%s%s:\n", e.lampModel.c_str(),
                e.lampModelReason.empty() ? "" : ": ", e.lampModelReason.c_str());
   for (const auto& l : e.lamps)
@@ -156,6 +156,7 @@ QJsonObject estimatesJson(const RelightData& d) {
   for (const auto& n : e.unseenWithoutMaterial) without.append(QString::fromStdString(n));
   return {{"mean_reflectance_given", e.meanReflectanceGiven},
           {"mean_reflectance_refined", e.meanReflectanceRefined},
+          {"eq2_scale", e.eq2Scale},
           {"mean_reflectance_recovered", e.meanReflectanceRecovered},
           {"joint_fit_elements", double(e.jointFitElements)},
           {"indirect_measured_share", e.indirectMeasuredShare},

@@ -515,7 +515,8 @@ class WorkbenchTest : public QObject {
     const ImageRGB after = vp->renderLinear(cam, ViewMode::Relit);
     const auto umbraAfter = umbra(floorPts);
     // Floor the camera sees at both places of the box, that lost or gained a lamp.
-    std::vector<glm::dvec3> entered, left;
+    // And floor the box's shadow neither reached nor left, away from both places: as it was.
+    std::vector<glm::dvec3> entered, left, unchanged;
     const auto seenAfter = visibleFloor(0.1, 1.6, 2.6, 4.6);
     auto seen = [&](const glm::dvec3& p) {
       return std::any_of(seenAfter.begin(), seenAfter.end(), [&](const glm::dvec3& q) { return glm::length(p - q) < 1e-9; });
@@ -524,13 +525,21 @@ class WorkbenchTest : public QObject {
       if (!seen(floorPts[i])) continue;
       if (umbraAfter[i] > umbraBefore[i]) entered.push_back(floorPts[i]);
       if (umbraAfter[i] < umbraBefore[i]) left.push_back(floorPts[i]);
+      if (umbraAfter[i] == umbraBefore[i] && umbraAfter[i] == 0 &&
+          glm::length(glm::dvec2(floorPts[i]) - glm::dvec2(c0)) > 0.6 && glm::length(glm::dvec2(floorPts[i]) - glm::dvec2(c1)) > 0.6)
+        unchanged.push_back(floorPts[i]);
     }
     const double darker = meanAt(after, entered) / meanAt(before, entered), brighter = meanAt(after, left) / meanAt(before, left);
-    qInfo("shadow moved: floor losing a lamp to the box x%.2f (%zu points), regaining one x%.2f (%zu points)", darker,
-          entered.size(), brighter, left.size());
-    QVERIFY(!entered.empty() && !left.empty());
-    QVERIFY(darker < 0.9);
-    QVERIFY(brighter > 1.1);
+    const double same = meanAt(after, unchanged) / meanAt(before, unchanged);
+    qInfo("shadow moved: floor losing a lamp to the box x%.3f (%zu points), regaining one x%.3f (%zu points); floor away "
+          "from it x%.3f (%zu points)",
+          darker, entered.size(), brighter, left.size(), same, unchanged.size());
+    QVERIFY(!entered.empty() && !left.empty() && !unchanged.empty());
+    // A lamp's direct light is 10-40 % of the floor's where the box now hides it (three lamps, and
+    // light from the walls): the change must stand well clear of the floor that kept its lamps.
+    QVERIFY(std::abs(same - 1.0) < 0.01);
+    QVERIFY(darker < 0.95);
+    QVERIFY(brighter > 1.05);
     window_->findChild<QDockWidget*>("ObjectsDock")->raise();
     QTest::qWait(200);
     vp->grabFramebuffer();  // a fresh frame for the window shot

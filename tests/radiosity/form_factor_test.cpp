@@ -111,3 +111,48 @@ TEST(FormFactor, HierarchicalLinksReproduceAnalyticExchange) {
     EXPECT_NEAR(A1 * g.surfaceIrradiance(1).x, A0 * E, 0.01 * A0 * E);
   }
 }
+
+TEST(FormFactor, ElementAverageOfASmallLampCloseBelowALargeElement) {
+  // A 12 cm two-sided lamp 2 cm below a 2 x 2 m ceiling element, off its centre: by reciprocity
+  // the element's mean factor is A_lamp F_lamp->element / A_element, and F_lamp->element (the
+  // lamp's upper face to the big square) is smooth over the lamp. Fixed quadrature points on the
+  // element would all miss the 12 cm patch that receives nearly all the light.
+  const auto ceiling = quad({0, 0, 1.0}, {0, 2, 0}, {2, 0, 0});  // facing down
+  const glm::dvec3 n = polygonNormal(ceiling);
+  for (const glm::dvec2 c : {glm::dvec2(0.7, 1.3), glm::dvec2(0.1, 0.1)}) {
+    const auto lamp = quad({c.x - 0.06, c.y - 0.06, 0.98}, {0, 0.12, 0}, {0.12, 0, 0});  // faces down
+    const std::vector<glm::dvec3> upper(lamp.rbegin(), lamp.rend());
+    const double expected = 0.0144 * polygonToPolygonFormFactor(upper, ceiling, 8) / 4.0;
+    const auto f = emitterFormFactorOverElement({0, 0, 1.0}, {1, 0, 0}, {0, 1, 0}, n, {}, {0, 0}, {2, 2}, lamp, true);
+    EXPECT_NEAR(f.mean, expected, 0.01 * expected) << "lamp at " << c.x << ", " << c.y;
+    EXPECT_GT(f.maximum, 0.5);  // straight above the lamp
+    EXPECT_LT(f.minimum, 0.01 * f.maximum);
+  }
+}
+
+TEST(FormFactor, ElementAverageOfOpposedSquaresIsHowells) {
+  for (double c : {0.05, 0.3, 1.0}) {
+    const auto emitter = quad({0, 0, c}, {0, 0.5, 0}, {0.5, 0, 0});  // facing down, over the element
+    const auto f = emitterFormFactorOverElement({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {}, {0, 0}, {0.5, 0.5}, emitter, false);
+    EXPECT_NEAR(f.mean, parallelRectangles(0.5, 0.5, c), 0.005 * parallelRectangles(0.5, 0.5, c)) << "distance " << c;
+  }
+}
+
+TEST(FormFactor, ElementAverageOverAClippedElementMatchesAFineGrid) {
+  // A triangle (plane coordinates) inside the element's rectangle, a lamp 10 cm above one corner.
+  const std::vector<glm::dvec2> tri{{0, 0}, {1, 0}, {0, 1}};
+  const auto lamp = quad({-0.1, -0.1, 0.1}, {0, 0.2, 0}, {0.2, 0, 0});
+  double sum = 0;
+  int count = 0;
+  const int N = 600;
+  for (int i = 0; i < N; ++i)
+    for (int j = 0; j < N; ++j) {
+      const glm::dvec2 uv((i + 0.5) / N, (j + 0.5) / N);
+      if (!insideConvex2D(tri, uv)) continue;
+      sum += emitterFormFactor({uv.x, uv.y, 0}, {0, 0, 1}, lamp, false);
+      ++count;
+    }
+  const double expected = sum / count;
+  const auto f = emitterFormFactorOverElement({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, tri, {0, 0}, {1, 1}, lamp, false);
+  EXPECT_NEAR(f.mean, expected, 0.01 * expected);
+}

@@ -254,3 +254,4 @@ TEST(Hierarchy, ALampCloseBelowALargeCeilingLightsIt) {
     EXPECT_LT(received, 1.005 * emitted) << "gap " << gap;
   }
 }
+

@@ -305,7 +305,7 @@ TEST(Relight, RedoingStepTwoForOnePolygonGivesTheWholePreprocess) {
   const PlaneFrame f = PlaneFrame::of(scene.polygons[floorIndex].vertices);
   const std::map<std::string, glm::dvec2> overrides{{"floor", f.toUV(glm::dvec3(3.5, 1.0, 0.0))}};
   const std::vector<ReferenceRegion> regions{
-      {"floor", {glm::dvec3(f.toUV(glm::dvec3(1.8, 2.7, 0.0)), 0.3)}, f.toUV(glm::dvec3(0.6, 1.2, 0.0))}};
+      {"floor", {glm::dvec3(f.toUV(glm::dvec3(1.8, 2.7, 0.0)), 0.5)}, f.toUV(glm::dvec3(0.6, 1.43, 0.0))}};
   RelightOptions o;
   o.referenceOverride = overrides;
   o.referenceRegions = regions;

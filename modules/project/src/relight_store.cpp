@@ -161,6 +161,7 @@ void saveRelightProject(const Scene& sceneIn, const RelightData& data, const std
                      {"estimates",
                       QJsonObject{{"mean_reflectance_given", e.meanReflectanceGiven},
                                   {"mean_reflectance_refined", e.meanReflectanceRefined},
+                                  {"eq2_scale", e.eq2Scale},
                                   {"mean_reflectance_recovered", e.meanReflectanceRecovered},
                                   {"joint_fit_elements", double(e.jointFitElements)},
                                   {"indirect_measured_share", e.indirectMeasuredShare},
@@ -241,6 +242,7 @@ RelightData readRelightData(const Scene& scene) {
   const QJsonObject est = root["estimates"].toObject();
   d.estimates.meanReflectanceGiven = est["mean_reflectance_given"].toDouble();
   d.estimates.meanReflectanceRefined = est["mean_reflectance_refined"].toDouble();
+  d.estimates.eq2Scale = est["eq2_scale"].toDouble(1.0);
   d.estimates.meanReflectanceRecovered = est["mean_reflectance_recovered"].toDouble();
   d.estimates.jointFitElements = size_t(est["joint_fit_elements"].toDouble());
   d.estimates.indirectMeasuredShare = est["indirect_measured_share"].toDouble();

@@ -46,6 +46,70 @@ double emitterFormFactor(const glm::dvec3& p, const glm::dvec3& n, const std::ve
   return pointToPolygonFormFactor(p, n, std::vector<glm::dvec3>(poly.rbegin(), poly.rend()));
 }
 
+ElementFactor emitterFormFactorOverElement(const glm::dvec3& origin, const glm::dvec3& du, const glm::dvec3& dv,
+                                           const glm::dvec3& n, const std::vector<glm::dvec2>& uvPolygon,
+                                           glm::dvec2 uv0, glm::dvec2 uv1, const std::vector<glm::dvec3>& emitter,
+                                           bool twoSided, double tolerance, int maxDepth) {
+  glm::dvec3 centre(0.0);
+  double radius = 0;
+  for (const auto& v : emitter) centre += v / double(emitter.size());
+  for (const auto& v : emitter) radius = std::max(radius, glm::length(v - centre));
+  // 2 x 2 Gauss points per cell.
+  constexpr double g0 = 0.5 - 0.5 / 1.7320508075688772, g1 = 0.5 + 0.5 / 1.7320508075688772;
+  ElementFactor out;
+  out.minimum = 1e300;
+  double integral = 0, inside = 0;
+  auto cell = [&](auto&& self, glm::dvec2 a, glm::dvec2 b, int depth) -> void {
+    double f[4], fmin = 1e300, fmax = 0;
+    bool in[4];
+    int count = 0;
+    for (int k = 0; k < 4; ++k) {
+      const glm::dvec2 uv(a.x + ((k & 1) ? g1 : g0) * (b.x - a.x), a.y + ((k & 2) ? g1 : g0) * (b.y - a.y));
+      in[k] = uvPolygon.size() < 3 || insideConvex2D(uvPolygon, uv, 1e-9);
+      f[k] = in[k] ? emitterFormFactor(origin + uv.x * du + uv.y * dv, n, emitter, twoSided) : 0.0;
+      if (!in[k]) continue;
+      ++count;
+      fmin = std::min(fmin, f[k]);
+      fmax = std::max(fmax, f[k]);
+    }
+    if (depth < maxDepth) {
+      const double size = std::max((b.x - a.x) * glm::length(du), (b.y - a.y) * glm::length(dv));
+      const glm::dvec3 mid = origin + 0.5 * (a.x + b.x) * du + 0.5 * (a.y + b.y) * dv;
+      const glm::dvec3 d = centre - mid;
+      const double ahead = glm::dot(d, n);
+      const double lateral = glm::length(d - ahead * n);
+      const bool nearPeak = ahead > 0 && ahead < size && lateral < 0.75 * size + radius;
+      const bool partial = count > 0 && count < 4 && depth < 3;  // the polygon's edge crosses the cell
+      if ((count > 0 && fmax - fmin > tolerance * fmax && fmax > 1e-6) || nearPeak || partial) {
+        const glm::dvec2 m = 0.5 * (a + b);
+        self(self, a, m, depth + 1);
+        self(self, {m.x, a.y}, {b.x, m.y}, depth + 1);
+        self(self, {a.x, m.y}, {m.x, b.y}, depth + 1);
+        self(self, m, b, depth + 1);
+        return;
+      }
+    }
+    const double w = 0.25 * (b.x - a.x) * (b.y - a.y);
+    for (int k = 0; k < 4; ++k)
+      if (in[k]) {
+        integral += w * f[k];
+        inside += w;
+      }
+    if (count > 0) {
+      out.minimum = std::min(out.minimum, fmin);
+      out.maximum = std::max(out.maximum, fmax);
+    }
+  };
+  cell(cell, uv0, uv1, 0);
+  if (inside <= 0) {  // the rectangle misses the polygon: its centre stands for it
+    const glm::dvec2 c = 0.5 * (uv0 + uv1);
+    out.mean = out.minimum = out.maximum = emitterFormFactor(origin + c.x * du + c.y * dv, n, emitter, twoSided);
+    return out;
+  }
+  out.mean = integral / inside;
+  return out;
+}
+
 void gaussLegendre01(int order, std::vector<double>& nodes, std::vector<double>& weights) {
   order = std::clamp(order, 1, 8);
   nodes.assign(order, 0.0);

@@ -67,15 +67,17 @@ JointFitResult jointFit(const std::vector<JointFitRow>& rows, size_t polygons, c
       if (guess[l][c] > 0) unit[l] = guess[l][c];
     std::vector<std::vector<double>> A;
     std::vector<double> coef(n);
+    // The row's irradiance per unit exitance of lamp l: direct, and simulated indirect.
+    auto coefficient = [&](const JointFitRow& r, size_t l) { return r.G[l] + (r.S.empty() ? 0.0 : r.S[l][c]); };
     auto predicted = [&](const JointFitRow& r) {
       double H = r.I[c];
-      for (size_t l = 0; l < nl; ++l) H += m[l] * r.G[l];
+      for (size_t l = 0; l < nl; ++l) H += m[l] * coefficient(r, l);
       return H;
     };
     auto known = [&](const JointFitRow& r) {
       double k = r.I[c];
       for (size_t l = 0; l < nl; ++l)
-        if (fixed[l]) k += (*fixed[l])[c] * r.G[l];
+        if (fixed[l]) k += (*fixed[l])[c] * coefficient(r, l);
       return k;
     };
     for (int it = 0; it < 6; ++it) {
@@ -89,7 +91,7 @@ JointFitResult jointFit(const std::vector<JointFitRow>& rows, size_t polygons, c
         const double w = r.area * ws[size_t(var[r.polygon])] / (H * H);
         std::fill(coef.begin(), coef.end(), 0.0);
         coef[size_t(var[r.polygon])] = r.y[c];
-        for (size_t j = 0; j < freeLamps.size(); ++j) coef[size_t(P) + j] = -r.G[freeLamps[j]] * unit[freeLamps[j]];
+        for (size_t j = 0; j < freeLamps.size(); ++j) coef[size_t(P) + j] = -coefficient(r, freeLamps[j]) * unit[freeLamps[j]];
         const double rhs = known(r);
         const size_t p = size_t(var[r.polygon]);
         // coef has one polygon entry and the lamp entries: accumulate only those.
@@ -106,6 +108,7 @@ JointFitResult jointFit(const std::vector<JointFitRow>& rows, size_t polygons, c
         return out;
       }
       for (size_t j = 0; j < freeLamps.size(); ++j) m[freeLamps[j]] = x[size_t(P) + j] * unit[freeLamps[j]];
+      for (size_t l = 0; l < nl; ++l) out.exitance[l][c] = m[l];
       for (size_t j = 0; j < freeLamps.size(); ++j)
         if (!(m[freeLamps[j]] > 0)) {
           out.reason = "lamp " + std::to_string(freeLamps[j] + 1) + " came out non-positive";

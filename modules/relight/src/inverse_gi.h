@@ -20,7 +20,10 @@ struct JointFitRow {
   double area = 0;
   glm::dvec3 y{0.0};      // photographed radiosity (pi x radiance)
   std::vector<double> G;  // per lamp: form factor x visibility (unit exitance)
-  glm::dvec3 I{0.0};      // indirect irradiance
+  glm::dvec3 I{0.0};      // indirect irradiance (measured)
+  // Per lamp: the indirect irradiance it brings per unit exitance where no photo measured it
+  // (simulated), per channel; empty: none.
+  std::vector<glm::dvec3> S;
 };
 
 struct JointFitResult {

@@ -259,9 +259,15 @@ void Preprocessor::Impl::run(Progress& progress) {
       (shared ? out.estimates.unseenByMaterial : out.estimates.unseenWithoutMaterial).push_back(scene.polygons[i].name);
     }
   };
+  // Eq. 2's lamps light the photographed surfaces more or less than the photo says (the room's
+  // brightness where no photo looks, a lamp just below the ceiling that gets much of its upper
+  // face's light back): scaled by the solution itself, so that the computed reflectances of the
+  // photographed surfaces average the mean reflectance.
+  double eq2Scale = 1.0;
   auto eq2 = [&](double rh) {  // energy balance with uniform reflectance, every lamp the same (per face)
-    return (1 - rh) / rh * imageMean * realArea / lampArea;
+    return (1 - rh) / rh * imageMean * realArea / lampArea * eq2Scale;
   };
+
   std::vector<glm::dvec3> lampScale(nlamps, glm::dvec3(1.0));
   auto exitances = [&](double rh) {
     std::vector<glm::dvec3> e(nlamps);
@@ -317,21 +323,27 @@ void Preprocessor::Impl::run(Progress& progress) {
   std::string lsReason = o.lampLeastSquares ? "" : "switched off";
   bool lsUsed = false;
   std::vector<glm::dvec3> lsScale(nlamps, glm::dvec3(0.0));
-  // Direct form factor from each lamp at each leaf centre (for the per-lamp fit).
-  auto lampFactors = [&]() {
-    std::vector<std::vector<double>> F(leaves.size(), std::vector<double>(nlamps, 0.0));
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t k = r.begin(); k < r.end(); ++k) {
-        const auto& N = h.nodes()[leaves[k].node];
-        const glm::dvec3 n = glm::normalize(polygonNormal(scene.polygons[N.surface].vertices));
-        for (size_t l = 0; l < nlamps; ++l)
-          F[k][l] = radiosity::emitterFormFactor(glm::dvec3(N.center), n, scene.polygons[lampSurfaces[l]].vertices,
-                                                 scene.lamps[l].twoSided);
+  // Direct form factor (unoccluded, unit exitance) from each lamp averaged over each leaf, and its
+  // spread over the leaf (max - min): adaptive, so that the ceiling patch above a lamp hanging just
+  // below it is integrated, not missed.
+  std::vector<std::vector<double>> F(leaves.size(), std::vector<double>(nlamps, 0.0)), Fspread = F;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 32), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k < r.end(); ++k) {
+      const auto& N = h.nodes()[leaves[k].node];
+      const auto& verts = scene.polygons[N.surface].vertices;
+      const glm::dvec3 n = glm::normalize(polygonNormal(verts));
+      std::vector<glm::dvec2> uvPoly;
+      for (const auto& v : verts) uvPoly.push_back(h.toUV(N.surface, v));
+      const glm::dvec3 o = h.toWorld(N.surface, {0, 0});
+      const glm::dvec3 du = h.toWorld(N.surface, {1, 0}) - o, dv = h.toWorld(N.surface, {0, 1}) - o;
+      for (size_t l = 0; l < nlamps; ++l) {
+        const auto f = radiosity::emitterFormFactorOverElement(o, du, dv, n, uvPoly, {N.u0, N.v0}, {N.u1, N.v1},
+                                                               scene.polygons[lampSurfaces[l]].vertices, scene.lamps[l].twoSided);
+        F[k][l] = f.mean;
+        Fspread[k][l] = f.maximum - f.minimum;
       }
-    });
-    return F;
-  };
-  const auto F = lampFactors();
+    }
+  });
   // Per-lamp least squares over unshadowed elements the photo shows: observed B = rho_surface x
   // (sum_l m_l D_l + I), alternating between the surfaces' reflectances and the multipliers m of
   // the lamps not `fixed` (their exitance e is known). With no lamp fixed the total power is kept
@@ -427,28 +439,40 @@ void Preprocessor::Impl::run(Progress& progress) {
   for (; round < 2; ++round) {
     progress.report(0.4 + 0.02 * round, "estimating reflectances and lamps, round " + std::to_string(round + 1));
     const auto rho = eq1(rhoHat);
-    const auto e = exitances(rhoHat);
+    auto e = exitances(rhoHat);
     for (size_t i = 0; i < np; ++i)
       if (real[i]) h.setReflectance(int(i), rho[i]);
     for (size_t l = 0; l < nlamps; ++l) h.setExitance(lampSurfaces[l], e[l]);
     h.iterate(progress);
-    const LinkSums sums = linkSums(h, true);
-    double num = 0, den = 0;
-    for (const auto& L : leaves) {
-      if (!unshadowedSeen(sums, L)) continue;
-      const glm::dvec3 E(h.irradiance(L.node));
-      if (grey(E) <= 0) continue;
-      num += L.area * grey(clampRho(kPi * L.tex / glm::max(E, glm::dvec3(1e-12))));
-      den += L.area;
+    // The mean of the computed reflectances (rho = B / E over unshadowed elements the photo shows).
+    auto computedMean = [&]() {
+      const LinkSums sums = linkSums(h, true);
+      double num = 0, den = 0;
+      for (const auto& L : leaves) {
+        if (!unshadowedSeen(sums, L)) continue;
+        const glm::dvec3 E(h.irradiance(L.node));
+        if (grey(E) <= 0) continue;
+        num += L.area * grey(clampRho(kPi * L.tex / glm::max(E, glm::dvec3(1e-12))));
+        den += L.area;
+      }
+      return den > 0 ? std::clamp(num / den, 0.02, 0.95) : rhoHat;
+    };
+    const double computed = computedMean();
+    if (round == 0) out.estimates.meanReflectanceRefined = computed;
+    // With the reflectances held, the irradiance is linear in the lamps: one scale makes the
+    // computed reflectances average rho-hat.
+    if (std::abs(computed - rhoHat) > 1e-3 * rhoHat) {
+      eq2Scale *= computed / rhoHat;
+      e = exitances(rhoHat);
+      for (size_t l = 0; l < nlamps; ++l) h.setExitance(lampSurfaces[l], e[l]);
+      h.iterate(progress);
     }
-    const double refined = den > 0 ? std::clamp(num / den, 0.02, 0.95) : rhoHat;
     if (o.lampLeastSquares && nlamps > 1) {
       std::vector<glm::dvec3> m;
       lsUsed = fitLamps(e, std::vector<uint8_t>(nlamps, 0), m, lsReason);
       for (size_t l = 0; l < nlamps; ++l) lampScale[l] = lsUsed ? lampScale[l] * m[l] : glm::dvec3(1.0);
     }
-    if (round == 0) rhoHat = refined;  // §4: the given value, then the mean of the computed ones
-    else out.estimates.meanReflectanceRefined = refined;
+    out.estimates.eq2Scale = eq2Scale;
   }
   out.estimates.reflectanceRounds = round;
   out.estimates.lampModel = lsUsed ? "least-squares" : "equal";
@@ -504,45 +528,20 @@ void Preprocessor::Impl::run(Progress& progress) {
     progress.report(0.5, "inverse global illumination: reflectances and lamps");
     const auto& nodes = h.nodes();
     const size_t nn = nodes.size();
-    // Per leaf and lamp the visible direct form factor (unit exitance), the point factor averaged
-    // on 3 x 3 Gauss points of the element, times the lamp's visibility; and its spread.
+    // Per leaf and lamp the visible direct form factor (unit exitance): the averaged factor times
+    // the lamp's visibility; and its spread.
     const LampVisibility vis(h, lampSurfaces);
     std::vector<std::vector<double>> G(leaves.size(), std::vector<double>(nlamps, 0.0)), spread = G;
-    std::vector<double> photographed(leaves.size(), 0.0);
-    std::vector<double> gx, gw;
-    radiosity::gaussLegendre01(3, gx, gw);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 32), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t k = r.begin(); k < r.end(); ++k) {
         const auto& N = nodes[leaves[k].node];
-        const auto& verts = scene.polygons[N.surface].vertices;
-        const glm::dvec3 n = glm::normalize(polygonNormal(verts));
-        std::vector<glm::dvec2> uvPoly;
-        for (const auto& v : verts) uvPoly.push_back(h.toUV(N.surface, v));
-        std::vector<glm::dvec3> pts;
-        for (double a : gx)
-          for (double b : gx) {
-            const glm::dvec2 uv(N.u0 + a * (N.u1 - N.u0), N.v0 + b * (N.v1 - N.v0));
-            if (insideConvex2D(uvPoly, uv, 1e-9)) pts.push_back(h.toWorld(N.surface, uv));
-          }
-        if (pts.empty()) pts.push_back(glm::dvec3(N.center));
         const auto v = vis.at(N.surface, rectOf(N));
         for (size_t l = 0; l < nlamps; ++l) {
-          double sum = 0, lo = 1e300, hi = 0;
-          for (const auto& p : pts) {
-            const double f = radiosity::emitterFormFactor(p, n, scene.polygons[lampSurfaces[l]].vertices, scene.lamps[l].twoSided);
-            sum += f;
-            lo = std::min(lo, f);
-            hi = std::max(hi, f);
-          }
-          G[k][l] = sum / double(pts.size()) * v[l];
-          spread[k][l] = (hi - lo) * v[l];
+          G[k][l] = F[k][l] * v[l];
+          spread[k][l] = Fspread[k][l] * v[l];
         }
-        const auto& t = tex[N.surface];
-        t.mean(t.original, {N.u0, N.v0}, {N.u1, N.v1}, nullptr, &photographed[k]);
       }
     });
-    std::vector<int> leafOf(nn, -1);
-    for (size_t k = 0; k < leaves.size(); ++k) leafOf[leaves[k].node] = int(k);
     std::vector<std::optional<glm::dvec3>> fixed(nlamps);
     if (o.lampsFromPhoto)
       for (size_t l = 0; l < nlamps; ++l)
@@ -551,56 +550,139 @@ void Preprocessor::Impl::run(Progress& progress) {
     JointFitResult fit;
     std::vector<JointFitRow> rows;
     double measuredShare = 0;
+    // The light arriving at each candidate element from the room's surfaces, gathered as Yu et
+    // al. do: rays from stratified points of the element, cosine-distributed about its normal; a
+    // ray ending on a photographed texel brings its photographed radiosity (measured, fixed), one
+    // ending where no photo looked brings the simulation's, per lamp (linear in the lamps), and one
+    // ending on a lamp nothing (its light is G's).
+    constexpr int kGatherRays = 128;
+    std::vector<size_t> cand;
+    for (size_t k = 0; k < leaves.size(); ++k)
+      if (observed[leaves[k].surface] && leaves[k].seen >= 0.8) cand.push_back(k);
+    std::vector<glm::dvec3> Iph(cand.size(), glm::dvec3(0.0));
+    std::vector<std::vector<std::pair<int, int>>> simHits(cand.size());  // (leaf node, rays)
+    {
+      std::vector<Ray> rays(cand.size() * kGatherRays);
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, cand.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t c = r.begin(); c < r.end(); ++c) {
+          const auto& N = nodes[leaves[cand[c]].node];
+          const auto& verts = scene.polygons[N.surface].vertices;
+          const glm::dvec3 n = glm::normalize(polygonNormal(verts));
+          const glm::dvec3 t = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0)) : glm::cross(n, glm::dvec3(0, 1, 0)));
+          const glm::dvec3 b = glm::cross(n, t);
+          std::vector<glm::dvec2> uvPoly;
+          for (const auto& v : verts) uvPoly.push_back(h.toUV(N.surface, v));
+          uint64_t state = 0x9E3779B97F4A7C15ull * (cand[c] + 1);
+          auto uniform = [&state] {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            return double(state >> 11) * (1.0 / 9007199254740992.0);
+          };
+          constexpr int g = 11;  // 11 x 11 = 121 strata for the directions, points jittered
+          for (int k = 0; k < kGatherRays; ++k) {
+            glm::dvec2 uv(N.u0 + uniform() * (N.u1 - N.u0), N.v0 + uniform() * (N.v1 - N.v0));
+            for (int tries = 0; tries < 8 && !insideConvex2D(uvPoly, uv, 1e-9); ++tries)
+              uv = {N.u0 + uniform() * (N.u1 - N.u0), N.v0 + uniform() * (N.v1 - N.v0)};
+            if (!insideConvex2D(uvPoly, uv, 1e-9)) uv = h.toUV(N.surface, glm::dvec3(N.center));
+            const int st = k % (g * g);
+            const double u1 = (st % g + uniform()) / g, u2 = (st / g + uniform()) / g;
+            const double rr = std::sqrt(u1), phi = 2 * kPi * u2;
+            const glm::dvec3 d = rr * std::cos(phi) * t + rr * std::sin(phi) * b + std::sqrt(std::max(0.0, 1 - u1)) * n;
+            Ray& ray = rays[c * kGatherRays + size_t(k)];
+            ray.origin = glm::vec3(h.toWorld(N.surface, uv) + 1e-4 * n);
+            ray.direction = glm::vec3(d);
+            ray.tnear = 0.f;
+          }
+        }
+      });
+      std::vector<RayHit> hits(rays.size());
+      h.rayScene().intersect(rays, hits);
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, cand.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t c = r.begin(); c < r.end(); ++c) {
+          std::map<int, int> sim;
+          for (int k = 0; k < kGatherRays; ++k) {
+            const RayHit& hit = hits[c * kGatherRays + size_t(k)];
+            const int p = hit.polygon;
+            if (p < 0 || size_t(p) >= np || h.isEmitter(p) || !real[size_t(p)]) continue;  // out of the model, or a lamp
+            const glm::dvec2 uv = h.toUV(p, glm::dvec3(hit.point));
+            const auto& tp = tex[size_t(p)];
+            const int x = std::clamp(int(std::floor((uv.x - tp.origin.x) / tp.texel)), 0, std::max(0, tp.width - 1));
+            const int y = std::clamp(int(std::floor((uv.y - tp.origin.y) / tp.texel)), 0, std::max(0, tp.height - 1));
+            const TexelSource src = tp.source.empty() ? TexelSource::Outside : tp.source[tp.index(x, y)];
+            if (src == TexelSource::MainPhoto || src == TexelSource::OtherPhoto)
+              Iph[c] += kPi * glm::dvec3(tp.sample(tp.original, uv)) / double(kGatherRays);
+            else if (const int leaf = h.findLeaf(p, uv); leaf >= 0)
+              ++sim[leaf];
+          }
+          simHits[c].assign(sim.begin(), sim.end());
+        }
+      });
+    }
     for (int round = 0; round < 3; ++round) {
       progress.report(0.5 + 0.01 * round, "inverse global illumination, round " + std::to_string(round + 1));
-      radiometricReflectances(e, 2);
-      // Radiosity per node: a leaf the photos show has its photographed value, the others the
-      // simulation's; lamps none (their light is G's). Pulled up by area as the engine does.
-      std::vector<glm::dvec3> Bph(nn, glm::dvec3(0.0)), Bsim(nn, glm::dvec3(0.0));
-      for (size_t i = nn; i-- > 0;) {
-        const auto& N = nodes[i];
-        if (N.isLeaf()) {
-          const int k = leafOf[i];
-          if (k >= 0 && observed[N.surface] && photographed[size_t(k)] >= 0.5) Bph[i] = kPi * leaves[size_t(k)].tex;
-          else if (N.surface >= 0 && !h.isEmitter(N.surface)) Bsim[i] = glm::dvec3(h.radiosity(int(i)));
-        } else if (N.area > 0) {
-          Bph[i] /= double(N.area);
-          Bsim[i] /= double(N.area);
+      // The simulation (the light where no photo measured it) needs reflectances that belong to
+      // the lamps it is run with: the last fit's (polygons no photo shows take their material's,
+      // else the fitted mean), or in the first round those computed with the lamps estimated so far.
+      if (!fit.ok) {
+        radiometricReflectances(e, 2);
+      } else {
+        std::map<std::string, std::pair<glm::dvec3, double>> byMaterial;
+        glm::dvec3 sum(0.0);
+        double area = 0;
+        for (size_t i = 0; i < np; ++i) {
+          if (!real[i] || grey(fit.reflectance[i]) <= 0) continue;
+          const glm::dvec3 r = clampRho(fit.reflectance[i]);
+          const double a = polygonArea(scene.polygons[i].vertices);
+          sum += a * r;
+          area += a;
+          if (!scene.polygons[i].material.empty()) {
+            byMaterial[scene.polygons[i].material].first += a * r;
+            byMaterial[scene.polygons[i].material].second += a;
+          }
         }
-        if (N.parent >= 0) {
-          Bph[size_t(N.parent)] += double(N.area) * Bph[i];
-          Bsim[size_t(N.parent)] += double(N.area) * Bsim[i];
+        for (size_t i = 0; i < np; ++i) {
+          if (!real[i]) continue;
+          glm::dvec3 r = clampRho(fit.reflectance[i]);
+          if (grey(fit.reflectance[i]) <= 0) {
+            const auto it = byMaterial.find(scene.polygons[i].material);
+            r = o.sharedMaterials && it != byMaterial.end() ? it->second.first / it->second.second
+                                                            : (area > 0 ? sum / area : meanRho);
+          }
+          h.setElementReflectance(h.surfaceRoot(int(i)), r);
         }
       }
-      // Gather over the links (a node receives what arrives at it and at its ancestors).
-      std::vector<glm::dvec3> Eph(nn, glm::dvec3(0.0)), Esim(nn, glm::dvec3(0.0));
-      for (const auto& l : h.links()) {
-        if (l.receiver == l.source || l.formFactor <= 0.f || h.sourceIsEmitter(l.source)) continue;
-        const double k = double(l.formFactor) * double(l.visibility);
-        Eph[size_t(l.receiver)] += k * Bph[size_t(l.source)];
-        Esim[size_t(l.receiver)] += k * Bsim[size_t(l.source)];
+      // The simulation's radiosity per lamp at unit exitance, with the reflectances as they are.
+      std::vector<std::vector<glm::dvec3>> unitB(nlamps);
+      for (size_t l = 0; l < nlamps; ++l) {
+        for (size_t k = 0; k < nlamps; ++k) h.setExitance(lampSurfaces[k], glm::dvec3(k == l ? 1.0 : 0.0));
+        h.iterate(progress);
+        unitB[l].resize(nn);
+        for (size_t i = 0; i < nn; ++i) unitB[l][i] = glm::dvec3(h.radiosity(int(i)));
       }
-      for (size_t i = 1; i < nn; ++i) {
-        Eph[i] += Eph[size_t(nodes[i].parent)];
-        Esim[i] += Esim[size_t(nodes[i].parent)];
-      }
+      for (size_t l = 0; l < nlamps; ++l) h.setExitance(lampSurfaces[l], e[l]);
       rows.clear();
       double shareSum = 0, shareArea = 0;
-      for (size_t k = 0; k < leaves.size(); ++k) {
+      for (size_t c = 0; c < cand.size(); ++c) {
+        const size_t k = cand[c];
         const Leaf& L = leaves[k];
-        if (!observed[L.surface] || L.seen < 0.8) continue;
-        const glm::dvec3 I = Eph[size_t(L.node)] + Esim[size_t(L.node)];
-        double direct = 0, var = 0;
+        std::vector<glm::dvec3> S(nlamps, glm::dvec3(0.0));
+        for (const auto& [leaf, count] : simHits[c])
+          for (size_t l = 0; l < nlamps; ++l) S[l] += double(count) / kGatherRays * unitB[l][size_t(leaf)];
+        double direct = 0, var = 0, simulated = 0;
         for (size_t l = 0; l < nlamps; ++l) {
           direct += G[k][l] * grey(e[l]);
           var += spread[k][l] * grey(e[l]);
+          simulated += grey(S[l] * e[l]);
         }
+        const double indirect = grey(Iph[c]) + simulated;
         // An element whose direct light varies strongly across it (beside a lamp) is no sample
         // of one irradiance: left out.
-        if (var > 0.5 * (direct + grey(I))) continue;
-        rows.push_back({L.surface, L.area, kPi * L.tex, G[k], I});
-        if (grey(I) > 0) {
-          shareSum += L.area * grey(Eph[size_t(L.node)]) / grey(I);
+        if (var > 0.5 * (direct + indirect)) continue;
+        JointFitRow row{L.surface, L.area, kPi * L.tex, G[k], Iph[c], std::move(S)};
+        rows.push_back(std::move(row));
+        if (indirect > 0) {
+          shareSum += L.area * grey(Iph[c]) / indirect;
           shareArea += L.area;
         }
       }

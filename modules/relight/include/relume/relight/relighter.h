@@ -105,6 +105,9 @@ struct LampEstimate {
 
 struct RelightEstimates {
   double meanReflectanceGiven = 0, meanReflectanceRefined = 0;
+  // "Refined": the mean of the reflectances computed with Eq. 2's lamps. Eq. 2's lamps are then
+  // scaled by eq2Scale so that the computed reflectances average the given one.
+  double eq2Scale = 1;
   int reflectanceRounds = 0;
   std::string lampModel;  // "equal", "least-squares" or "photographed"
   std::string lampModelReason;
