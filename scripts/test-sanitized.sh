@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# The unit tests built with AddressSanitizer + UndefinedBehaviorSanitizer (-fno-sanitize-recover:
+# the first report fails the run), into build-asan/. CI runs it after scripts/test.sh.
+#
+# Every unit test binary runs whole, except relight_tests, which runs its quick tests: its others
+# each preprocess the sample room, 15-60 s apiece under the sanitizers, and run in the normal
+# build only (scripts/test.sh). The GUI and end-to-end tests run in the normal build only.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+targets=(geometry_tests raytrace_tests project_tests radiosity_tests reconstruct_tests relight_tests)
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRELUME_SANITIZE=ON ${RELUME_CMAKE_ARGS:-}
+cmake --build build-asan -j "$(nproc)" --target "${targets[@]}"
+export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1"
+export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/lsan.supp:print_suppressions=0"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+quick_relight="Relight.BadInputIsRefusedWithAClearError:Relight.TheShadowTestFailsOnAnImageThatKeepsTheOldShadow:"
+quick_relight+="Relight.EstimatesLampsNearTheirTrueEmittance:Relight.ProjectRoundTripRelightsTheSame:"
+quick_relight+="Relight.VirtualLampBrightensWhatItFaces"
+mkdir -p build-asan/logs
+run() {  # name, gtest filter
+  local log="build-asan/logs/$1.log" start=$SECONDS
+  if "build-asan/tests/$1" --gtest_filter="$2" > "$log" 2>&1; then
+    echo "sanitized $1: passed ($((SECONDS - start)) s)"
+  else
+    echo "sanitized $1: FAILED ($((SECONDS - start)) s), see $log:"
+    grep -E -A12 "ERROR: (Address|Leak)Sanitizer|runtime error|\[  FAILED  \]" "$log" | head -60
+    return 1
+  fi
+}
+# Two at a time (the machine has two cores; each binary's TBB work is mostly serial here).
+status=0
+pids=()
+run radiosity_tests '*' & pids+=($!)
+run reconstruct_tests '*' & pids+=($!)
+for p in "${pids[@]}"; do wait "$p" || status=1; done
+for t in geometry_tests raytrace_tests project_tests; do run "$t" '*' || status=1; done
+run relight_tests "$quick_relight" || status=1
+exit $status
