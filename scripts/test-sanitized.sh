@@ -4,7 +4,8 @@
 #
 # Every unit test binary runs whole, except relight_tests, which runs its quick tests: its others
 # each preprocess the sample room, 15-60 s apiece under the sanitizers, and run in the normal
-# build only (scripts/test.sh). The GUI and end-to-end tests run in the normal build only.
+# build only (scripts/test.sh). The GUI and end-to-end tests run in the normal build only. Then
+# the fuzzing corpora and regression inputs replay through the harnesses (tests/fuzz).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 targets=(geometry_tests raytrace_tests project_tests radiosity_tests reconstruct_tests relight_tests)
@@ -35,4 +36,21 @@ run reconstruct_tests '*' & pids+=($!)
 for p in "${pids[@]}"; do wait "$p" || status=1; done
 for t in geometry_tests raytrace_tests project_tests; do run "$t" '*' || status=1; done
 run relight_tests "$quick_relight" || status=1
+# The fuzzing corpora and every crash input found (tests/fuzz/regressions), replayed through the
+# parsers' harnesses under the same sanitizers (g++; libFuzzer's engine is not needed to replay).
+cmake -S tests/fuzz -B build-asan/fuzz-replay -G Ninja -DRELUME_FUZZ_REPLAY=ON > /dev/null
+cmake --build build-asan/fuzz-replay -j "$(nproc)"
+for h in tests/fuzz/*.cpp; do
+  name=$(basename "$h" .cpp)
+  [ "$name" = replay_main ] && continue
+  inputs=(tests/fuzz/corpus/"$name")
+  [ -d tests/fuzz/regressions/"$name" ] && inputs+=(tests/fuzz/regressions/"$name")
+  if out=$(build-asan/fuzz-replay/fuzz_"$name" "${inputs[@]}" 2>&1); then
+    echo "sanitized fuzz replay $name: $out"
+  else
+    echo "sanitized fuzz replay $name: FAILED"
+    echo "$out" | tail -40
+    status=1
+  fi
+done
 exit $status

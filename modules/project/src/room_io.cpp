@@ -28,21 +28,26 @@ namespace {
 
 std::string str(const QString& s) { return s.toStdString(); }
 
-QJsonObject readJsonObject(const QString& path) {
-  QFile f(path);
-  if (!f.exists()) throw Error(str(path), "", "the file does not exist");
-  if (!f.open(QIODevice::ReadOnly)) throw Error(str(path), "", "cannot open: " + str(f.errorString()));
-  const QByteArray data = f.readAll();
+QJsonObject parseJsonObject(const QByteArray& data, const std::string& name) {
   QJsonParseError err;
   const QJsonDocument doc = QJsonDocument::fromJson(data, &err);
   if (err.error != QJsonParseError::NoError) {
     int line = 1;
     for (int i = 0; i < err.offset && i < data.size(); ++i) line += data[i] == '\n';
-    throw Error(str(path), "line " + std::to_string(line), "invalid JSON: " + str(err.errorString()));
+    throw Error(name, "line " + std::to_string(line), "invalid JSON: " + str(err.errorString()));
   }
-  if (!doc.isObject()) throw Error(str(path), "", "the JSON document is not an object");
+  if (!doc.isObject()) throw Error(name, "", "the JSON document is not an object");
   return doc.object();
 }
+
+QByteArray readFileBytes(const QString& path) {
+  QFile f(path);
+  if (!f.exists()) throw Error(str(path), "", "the file does not exist");
+  if (!f.open(QIODevice::ReadOnly)) throw Error(str(path), "", "cannot open: " + str(f.errorString()));
+  return f.readAll();
+}
+
+QJsonObject readJsonObject(const QString& path) { return parseJsonObject(readFileBytes(path), str(path)); }
 
 struct JsonReader {
   std::string file;
@@ -53,6 +58,13 @@ struct JsonReader {
   double number(const QJsonValue& v, const std::string& element, const std::string& field) const {
     if (!v.isDouble()) fail(element, field + " must be a number");
     return v.toDouble();
+  }
+  // A whole number in [lo, hi].
+  int integer(const QJsonValue& v, const std::string& element, const std::string& field, int lo, int hi) const {
+    const double x = number(v, element, field);
+    if (!(x >= lo && x <= hi) || x != std::floor(x))
+      fail(element, field + " must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi));
+    return int(x);
   }
   glm::dvec3 vec3(const QJsonValue& v, const std::string& element, const std::string& field) const {
     const QJsonArray a = v.toArray();
@@ -165,8 +177,8 @@ void readPhotos(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
     ph.camera.K = jr.mat3(po["K"], where, "K");
     ph.camera.R = jr.mat3(po["R"], where, "R");
     ph.camera.t = jr.vec3(po["t"], where, "t");
-    ph.camera.width = int(jr.number(po["width"], where, "width"));
-    ph.camera.height = int(jr.number(po["height"], where, "height"));
+    ph.camera.width = jr.integer(po["width"], where, "width", 1, 1 << 20);
+    ph.camera.height = jr.integer(po["height"], where, "height", 1, 1 << 20);
     scene.photos.push_back(ph);
   }
 }
@@ -175,7 +187,8 @@ struct ObjPolygon {
   std::string object, group, material;
   std::vector<glm::dvec3> vertices;
 };
-std::vector<ObjPolygon> readObj(const QString& path);
+std::vector<ObjPolygon> parseObj(const QByteArray& bytes, const std::string& name);
+std::vector<ObjPolygon> readObj(const QString& path) { return parseObj(readFileBytes(path), str(path)); }
 
 void readVariants(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
   for (const auto& vv : arr) {
@@ -221,11 +234,8 @@ void readVariants(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
 
 // Minimal OBJ reader: o (object name), g (group), usemtl (material), v, f (one polygon per face).
 
-std::vector<ObjPolygon> readObj(const QString& path) {
-  QFile f(path);
-  if (!f.exists()) throw Error(str(path), "", "the file does not exist");
-  if (!f.open(QIODevice::ReadOnly | QIODevice::Text)) throw Error(str(path), "", "cannot open: " + str(f.errorString()));
-  QTextStream in(&f);
+std::vector<ObjPolygon> parseObj(const QByteArray& bytes, const std::string& path) {
+  QTextStream in(bytes);
   std::vector<glm::dvec3> verts;
   std::vector<ObjPolygon> out;
   std::string object, group, material;
@@ -240,13 +250,13 @@ std::vector<ObjPolygon> readObj(const QString& path) {
     else if (tok[0] == "g") group = str(tok.mid(1).join(' '));
     else if (tok[0] == "usemtl") material = str(tok.mid(1).join(' '));
     else if (tok[0] == "v") {
-      if (tok.size() < 4) throw Error(str(path), where, "a vertex needs 3 coordinates");
+      if (tok.size() < 4) throw Error(path, where, "a vertex needs 3 coordinates");
       glm::dvec3 p;
       for (int i = 0; i < 3; ++i) {
         const std::string t = str(tok[i + 1]);
         char* end = nullptr;
         p[i] = std::strtod(t.c_str(), &end);
-        if (end == t.c_str() || *end != '\0') throw Error(str(path), where, "'" + t + "' is not a number");
+        if (end == t.c_str() || *end != '\0') throw Error(path, where, "'" + t + "' is not a number");
       }
       verts.push_back(p);
     } else if (tok[0] == "f") {
@@ -254,10 +264,10 @@ std::vector<ObjPolygon> readObj(const QString& path) {
       for (int i = 1; i < tok.size(); ++i) {
         bool ok = false;
         int idx = tok[i].section('/', 0, 0).toInt(&ok);
-        if (!ok) throw Error(str(path), where, "face index '" + str(tok[i]) + "' is not a number");
+        if (!ok) throw Error(path, where, "face index '" + str(tok[i]) + "' is not a number");
         if (idx < 0) idx = int(verts.size()) + 1 + idx;
         if (idx < 1 || idx > int(verts.size()))
-          throw Error(str(path), where, "face index " + std::to_string(idx) + " refers to no vertex");
+          throw Error(path, where, "face index " + std::to_string(idx) + " refers to no vertex");
         poly.vertices.push_back(verts[idx - 1]);
       }
       out.push_back(poly);
@@ -392,10 +402,17 @@ Scene readObjWithJson(const std::string& objPath, const std::string& jsonPath) {
 Scene readProject(const std::string& projectPath) {
   QFileInfo fi(QString::fromStdString(projectPath));
   const QString json = fi.isDir() ? QDir(fi.filePath()).filePath("project.json") : fi.filePath();
-  Scene scene;
-  scene.sourceFile = str(json);
+  const QByteArray bytes = readFileBytes(json);
+  Scene scene = parseProject(std::string(bytes.constData(), size_t(bytes.size())), str(json));
   scene.baseDir = str(QFileInfo(json).absolutePath());
-  const QJsonObject root = readJsonObject(json);
+  checkPhotos(scene);
+  return scene;
+}
+
+Scene parseProject(const std::string& bytes, const std::string& name) {
+  Scene scene;
+  scene.sourceFile = name;
+  const QJsonObject root = parseJsonObject(QByteArray(bytes.data(), qsizetype(bytes.size())), name);
   JsonReader jr{scene.sourceFile};
   if (root["format"].toString() != "relume-project") jr.fail("format", "is not a Relume project (format must be 'relume-project')");
   const int version = root["version"].toInt(-1);
@@ -404,15 +421,19 @@ Scene readProject(const std::string& projectPath) {
                            std::to_string(kProjectVersion) + ")");
   readSceneObject(root, jr, scene, true);
   validateScene(scene);
-  checkPhotos(scene);
   return scene;
 }
 
-std::vector<std::vector<glm::dvec3>> readObjFaces(const std::string& path) {
+std::vector<std::vector<glm::dvec3>> parseObjFaces(const std::string& bytes, const std::string& name) {
   std::vector<std::vector<glm::dvec3>> out;
-  for (auto& p : readObj(QString::fromStdString(path))) out.push_back(std::move(p.vertices));
-  if (out.empty()) throw Error(path, "", "has no faces");
+  for (auto& p : parseObj(QByteArray(bytes.data(), qsizetype(bytes.size())), name)) out.push_back(std::move(p.vertices));
+  if (out.empty()) throw Error(name, "", "has no faces");
   return out;
+}
+
+std::vector<std::vector<glm::dvec3>> readObjFaces(const std::string& path) {
+  const QByteArray bytes = readFileBytes(QString::fromStdString(path));
+  return parseObjFaces(std::string(bytes.constData(), size_t(bytes.size())), path);
 }
 
 Variant readVariantFile(const std::string& path) {

@@ -62,9 +62,7 @@ glm::dvec2 distortNormalised(const ColmapCamera& c, glm::dvec2 u) {
 std::string lineRef(const std::string& file, int line) { return file + ":" + std::to_string(line); }
 
 // Lines of a COLMAP text file without comments; each with its 1-based line number.
-std::vector<std::pair<int, std::string>> dataLines(const std::string& path, bool keepEmpty) {
-  std::ifstream in(path);
-  if (!in) throw Error(path, "", "cannot open the file");
+std::vector<std::pair<int, std::string>> dataLines(std::istream& in, bool keepEmpty) {
   std::vector<std::pair<int, std::string>> out;
   std::string line;
   int n = 0;
@@ -79,11 +77,28 @@ std::vector<std::pair<int, std::string>> dataLines(const std::string& path, bool
 }
 
 template <class T>
-T readBin(std::ifstream& in, const std::string& path, const std::string& what) {
+T readBin(std::istream& in, const std::string& path, const std::string& what) {
   T v{};
   in.read(reinterpret_cast<char*>(&v), sizeof(T));
   if (!in) throw Error(path, what, "the file ends early (truncated?)");
   return v;
+}
+
+// Bytes left in a stream (so that a count in a corrupt header cannot ask for more records than
+// the file could hold).
+uint64_t bytesLeft(std::istream& in) {
+  const auto here = in.tellg();
+  if (here < 0) return std::numeric_limits<uint64_t>::max();
+  in.seekg(0, std::ios::end);
+  const auto end = in.tellg();
+  in.seekg(here);
+  return end > here ? uint64_t(end - here) : 0;
+}
+
+std::ifstream openFile(const std::string& path, bool binary) {
+  std::ifstream in(path, binary ? std::ios::binary : std::ios::in);
+  if (!in) throw Error(path, "", "cannot open the file");
+  return in;
 }
 
 }  // namespace
@@ -198,10 +213,10 @@ Camera ColmapModel::camera(const ColmapImage& image) const {
   return c;
 }
 
-ColmapModel readColmapText(const std::string& folder) {
+ColmapModel parseColmapText(std::istream& cameras, std::istream& images, std::istream* points, const std::string& camPath,
+                            const std::string& imPath, const std::string& ptPath) {
   ColmapModel m;
-  const std::string camPath = (fs::path(folder) / "cameras.txt").string();
-  for (const auto& [ln, line] : dataLines(camPath, false)) {
+  for (const auto& [ln, line] : dataLines(cameras, false)) {
     std::istringstream ss(line);
     ColmapCamera c;
     if (!(ss >> c.id >> c.model >> c.width >> c.height))
@@ -217,8 +232,7 @@ ColmapModel readColmapText(const std::string& folder) {
                   c.model + " needs " + std::to_string(spec->params) + " parameters and a positive size");
     m.cameras[c.id] = c;
   }
-  const std::string imPath = (fs::path(folder) / "images.txt").string();
-  const auto lines = dataLines(imPath, true);
+  const auto lines = dataLines(images, true);
   for (size_t i = 0; i < lines.size(); ++i) {
     const auto& [ln, line] = lines[i];
     if (line.find_first_not_of(" \t") == std::string::npos) continue;  // a stray empty points line
@@ -233,19 +247,21 @@ ColmapModel readColmapText(const std::string& folder) {
       throw Error(lineRef(imPath, ln), "image " + im.name, "refers to camera " + std::to_string(im.camera) + ", which cameras.txt lacks");
     if (i + 1 < lines.size()) {
       std::istringstream ps(lines[i + 1].second);
-      std::vector<double> v;
-      double x;
-      while (ps >> x) v.push_back(x);
-      if (!ps.eof() || v.size() % 3 != 0)
-        throw Error(lineRef(imPath, lines[i + 1].first), "image " + im.name, "expected X Y POINT3D_ID triples");
-      for (size_t k = 0; k < v.size(); k += 3) im.points.push_back({{v[k], v[k + 1]}, int64_t(v[k + 2])});
+      // X Y as numbers, POINT3D_ID as an integer (-1: none).
+      double x, y;
+      long long id;
+      while (ps >> x) {
+        if (!(ps >> y >> id))
+          throw Error(lineRef(imPath, lines[i + 1].first), "image " + im.name, "expected X Y POINT3D_ID triples");
+        im.points.push_back({{x, y}, int64_t(id)});
+      }
+      if (!ps.eof()) throw Error(lineRef(imPath, lines[i + 1].first), "image " + im.name, "expected X Y POINT3D_ID triples");
       ++i;
     }
     m.images[im.id] = std::move(im);
   }
-  const std::string ptPath = (fs::path(folder) / "points3D.txt").string();
-  if (fs::exists(ptPath)) {
-    for (const auto& [ln, line] : dataLines(ptPath, false)) {
+  if (points) {
+    for (const auto& [ln, line] : dataLines(*points, false)) {
       std::istringstream ss(line);
       ColmapPoint p;
       int r, g, b;
@@ -266,12 +282,20 @@ ColmapModel readColmapText(const std::string& folder) {
   return m;
 }
 
-ColmapModel readColmapBinary(const std::string& folder) {
+ColmapModel readColmapText(const std::string& folder) {
+  const std::string cam = (fs::path(folder) / "cameras.txt").string(), im = (fs::path(folder) / "images.txt").string(),
+                    pt = (fs::path(folder) / "points3D.txt").string();
+  std::ifstream c = openFile(cam, false), i = openFile(im, false);
+  if (!fs::exists(pt)) return parseColmapText(c, i, nullptr, cam, im, pt);
+  std::ifstream p = openFile(pt, false);
+  return parseColmapText(c, i, &p, cam, im, pt);
+}
+
+ColmapModel parseColmapBinary(std::istream& cameras, std::istream& images, std::istream* points, const std::string& camPath,
+                              const std::string& imPath, const std::string& ptPath) {
   ColmapModel m;
-  const std::string camPath = (fs::path(folder) / "cameras.bin").string();
   {
-    std::ifstream in(camPath, std::ios::binary);
-    if (!in) throw Error(camPath, "", "cannot open the file");
+    std::istream& in = cameras;
     const uint64_t n = readBin<uint64_t>(in, camPath, "header");
     if (n > 100000) throw Error(camPath, "header", "is not a COLMAP cameras.bin (camera count " + std::to_string(n) + ")");
     for (uint64_t i = 0; i < n; ++i) {
@@ -291,10 +315,8 @@ ColmapModel readColmapBinary(const std::string& folder) {
       m.cameras[c.id] = c;
     }
   }
-  const std::string imPath = (fs::path(folder) / "images.bin").string();
   {
-    std::ifstream in(imPath, std::ios::binary);
-    if (!in) throw Error(imPath, "", "cannot open the file");
+    std::istream& in = images;
     const uint64_t n = readBin<uint64_t>(in, imPath, "header");
     if (n > 10000000) throw Error(imPath, "header", "is not a COLMAP images.bin");
     for (uint64_t i = 0; i < n; ++i) {
@@ -310,7 +332,7 @@ ColmapModel readColmapBinary(const std::string& folder) {
       char ch;
       while ((ch = readBin<char>(in, imPath, what)) != '\0') im.name += ch;
       const uint64_t np = readBin<uint64_t>(in, imPath, what);
-      if (np > 100000000) throw Error(imPath, what, "has an impossible point count (corrupt file?)");
+      if (np > bytesLeft(in) / 24) throw Error(imPath, what, "has more points than the file holds (corrupt file?)");
       im.points.resize(np);
       for (auto& o : im.points) {
         o.xy.x = readBin<double>(in, imPath, what);
@@ -323,10 +345,8 @@ ColmapModel readColmapBinary(const std::string& folder) {
       m.images[im.id] = std::move(im);
     }
   }
-  const std::string ptPath = (fs::path(folder) / "points3D.bin").string();
-  if (fs::exists(ptPath)) {
-    std::ifstream in(ptPath, std::ios::binary);
-    if (!in) throw Error(ptPath, "", "cannot open the file");
+  if (points) {
+    std::istream& in = *points;
     const uint64_t n = readBin<uint64_t>(in, ptPath, "header");
     for (uint64_t i = 0; i < n; ++i) {
       const std::string what = "point record " + std::to_string(i);
@@ -336,7 +356,7 @@ ColmapModel readColmapBinary(const std::string& folder) {
       for (int k = 0; k < 3; ++k) p.rgb[k] = readBin<uint8_t>(in, ptPath, what);
       p.error = readBin<double>(in, ptPath, what);
       const uint64_t tl = readBin<uint64_t>(in, ptPath, what);
-      if (tl > 1000000) throw Error(ptPath, what, "has an impossible track length (corrupt file?)");
+      if (tl > bytesLeft(in) / 8) throw Error(ptPath, what, "has a longer track than the file holds (corrupt file?)");
       p.track.resize(tl);
       for (auto& e : p.track) {
         e.image = int(readBin<uint32_t>(in, ptPath, what));
@@ -346,6 +366,15 @@ ColmapModel readColmapBinary(const std::string& folder) {
     }
   }
   return m;
+}
+
+ColmapModel readColmapBinary(const std::string& folder) {
+  const std::string cam = (fs::path(folder) / "cameras.bin").string(), im = (fs::path(folder) / "images.bin").string(),
+                    pt = (fs::path(folder) / "points3D.bin").string();
+  std::ifstream c = openFile(cam, true), i = openFile(im, true);
+  if (!fs::exists(pt)) return parseColmapBinary(c, i, nullptr, cam, im, pt);
+  std::ifstream p = openFile(pt, true);
+  return parseColmapBinary(c, i, &p, cam, im, pt);
 }
 
 ColmapModel readColmapModel(const std::string& folder) {

@@ -18,6 +18,9 @@ Scene loadRoom(const std::string& path);
 Scene readBundle(const std::string& folder);
 Scene readObjWithJson(const std::string& objPath, const std::string& jsonPath);
 Scene readProject(const std::string& projectPath);
+// A project.json's bytes (`name` for the messages): the scene, validated, its photos not checked
+// (readProject wraps it and checks them). What the fuzzing harness calls.
+Scene parseProject(const std::string& bytes, const std::string& name);
 
 // Checks that every photo (and HDR) file exists and is a readable image of the camera's size.
 void checkPhotos(const Scene& scene);
@@ -35,6 +38,8 @@ Variant readVariantFile(const std::string& path);
 
 // The faces of an OBJ mesh (one polygon per `f` line, metres), for a virtual object.
 std::vector<std::vector<glm::dvec3>> readObjFaces(const std::string& path);
+// The same from an OBJ file's bytes (`name` for the messages).
+std::vector<std::vector<glm::dvec3>> parseObjFaces(const std::string& bytes, const std::string& name);
 
 inline constexpr int kProjectVersion = 1;
 

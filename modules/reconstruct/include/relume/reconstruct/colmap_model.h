@@ -1,4 +1,5 @@
 #pragma once
+#include <iosfwd>
 // COLMAP sparse models (cameras, images, points3D) in COLMAP's text and binary formats, and the
 // similarity transforms that put them into Relume's metric frame (metres, +Z up).
 #include <glm/mat3x3.hpp>
@@ -89,6 +90,12 @@ struct ColmapModel {
 ColmapModel readColmapModel(const std::string& folder);
 ColmapModel readColmapText(const std::string& folder);
 ColmapModel readColmapBinary(const std::string& folder);
+// The same from streams (bytes in, model or relume::Error out; the names are for the messages):
+// what the readers above wrap, and what the fuzzing harnesses call. `points` may be null.
+ColmapModel parseColmapText(std::istream& cameras, std::istream& images, std::istream* points, const std::string& camerasName,
+                            const std::string& imagesName, const std::string& pointsName);
+ColmapModel parseColmapBinary(std::istream& cameras, std::istream& images, std::istream* points,
+                              const std::string& camerasName, const std::string& imagesName, const std::string& pointsName);
 // Writes the three text files (each atomically), creating the folder.
 void writeColmapText(const ColmapModel& model, const std::string& folder);
 // Replaces the model folder as a whole: the new model is written beside it and swapped in, so
