@@ -51,6 +51,28 @@ double photoExposure(const Scene& scene, const Photo& ph) {
   return den > 0 ? num / den : 1.0;
 }
 
+// Area-weighted means of reflectances, over everything added and per material: what a polygon no
+// photo shows takes (polygons that share a material share its reflectance).
+struct MaterialMeans {
+  std::map<std::string, std::pair<glm::dvec3, double>> byMaterial;
+  glm::dvec3 sum{0.0};
+  double weight = 0;
+  void add(const std::string& material, const glm::dvec3& rho, double w) {
+    sum += w * rho;
+    weight += w;
+    if (!material.empty()) {
+      byMaterial[material].first += w * rho;
+      byMaterial[material].second += w;
+    }
+  }
+  glm::dvec3 overall(const glm::dvec3& fallback) const { return weight > 0 ? sum / weight : fallback; }
+  std::optional<glm::dvec3> of(const std::string& material) const {
+    const auto it = byMaterial.find(material);
+    if (it == byMaterial.end() || it->second.second <= 0) return std::nullopt;
+    return it->second.first / it->second.second;
+  }
+};
+
 struct Leaf {
   int node;
   int surface;
@@ -198,7 +220,7 @@ void Preprocessor::Impl::run(Progress& progress) {
     size_t inside = 0;
     for (size_t k = 0; k < t.source.size(); ++k) {
       inside += t.source[k] != TexelSource::Outside;
-      if (t.source[k] == TexelSource::MainPhoto || t.source[k] == TexelSource::OtherPhoto)
+      if (fromPhoto(t.source[k]))
         for (int c = 0; c < 3; ++c) ch[c].push_back(t.original[k][c]);
     }
     if (photo.hdr.empty() || ch[0].size() < 4 || ch[0].size() < inside / 4) continue;
@@ -235,27 +257,17 @@ void Preprocessor::Impl::run(Progress& progress) {
   // the mean over the photographed polygons of its material (polygons that share a material
   // share its reflectance), else the room's.
   auto updateMeanRho = [&](const HierarchicalRadiosity& hr, const std::vector<Leaf>& ls) {
-    glm::dvec3 sum(0.0);
-    double area = 0;
-    std::map<std::string, std::pair<glm::dvec3, double>> byMaterial;
+    MaterialMeans means;
     for (const auto& L : ls)
-      if (observed[L.surface] && L.seen >= 0.5) {
-        const glm::dvec3 r = rhoOf(L.surface, L.tex, glm::dvec3(hr.irradiance(L.node)));
-        sum += L.area * r;
-        area += L.area;
-        if (const std::string& m = scene.polygons[L.surface].material; !m.empty()) {
-          byMaterial[m].first += L.area * r;
-          byMaterial[m].second += L.area;
-        }
-      }
-    if (area > 0) meanRho = sum / area;
+      if (observed[L.surface] && L.seen >= 0.5)
+        means.add(scene.polygons[L.surface].material, rhoOf(L.surface, L.tex, glm::dvec3(hr.irradiance(L.node))), L.area);
+    meanRho = means.overall(meanRho);
     out.estimates.unseenByMaterial.clear();
     out.estimates.unseenWithoutMaterial.clear();
     for (size_t i = 0; i < np; ++i) {
       if (!real[i] || observed[i]) continue;
-      const auto it = byMaterial.find(scene.polygons[i].material);
-      const bool shared = o.sharedMaterials && it != byMaterial.end() && it->second.second > 0;
-      unseenRho[i] = shared ? it->second.first / it->second.second : meanRho;
+      const auto shared = o.sharedMaterials ? means.of(scene.polygons[i].material) : std::nullopt;
+      unseenRho[i] = shared.value_or(meanRho);
       (shared ? out.estimates.unseenByMaterial : out.estimates.unseenWithoutMaterial).push_back(scene.polygons[i].name);
     }
   };
@@ -322,7 +334,6 @@ void Preprocessor::Impl::run(Progress& progress) {
   };
   std::string lsReason = o.lampLeastSquares ? "" : "switched off";
   bool lsUsed = false;
-  std::vector<glm::dvec3> lsScale(nlamps, glm::dvec3(0.0));
   // Direct form factor (unoccluded, unit exitance) from each lamp averaged over each leaf, and its
   // spread over the leaf (max - min): adaptive, so that the ceiling patch above a lamp hanging just
   // below it is integrated, not missed.
@@ -607,10 +618,7 @@ void Preprocessor::Impl::run(Progress& progress) {
             if (p < 0 || size_t(p) >= np || h.isEmitter(p) || !real[size_t(p)]) continue;  // out of the model, or a lamp
             const glm::dvec2 uv = h.toUV(p, glm::dvec3(hit.point));
             const auto& tp = tex[size_t(p)];
-            const int x = std::clamp(int(std::floor((uv.x - tp.origin.x) / tp.texel)), 0, std::max(0, tp.width - 1));
-            const int y = std::clamp(int(std::floor((uv.y - tp.origin.y) / tp.texel)), 0, std::max(0, tp.height - 1));
-            const TexelSource src = tp.source.empty() ? TexelSource::Outside : tp.source[tp.index(x, y)];
-            if (src == TexelSource::MainPhoto || src == TexelSource::OtherPhoto)
+            if (fromPhoto(tp.sourceAt(uv)))
               Iph[c] += kPi * glm::dvec3(tp.sample(tp.original, uv)) / double(kGatherRays);
             else if (const int leaf = h.findLeaf(p, uv); leaf >= 0)
               ++sim[leaf];
@@ -627,27 +635,16 @@ void Preprocessor::Impl::run(Progress& progress) {
       if (!fit.ok) {
         radiometricReflectances(e, 2);
       } else {
-        std::map<std::string, std::pair<glm::dvec3, double>> byMaterial;
-        glm::dvec3 sum(0.0);
-        double area = 0;
-        for (size_t i = 0; i < np; ++i) {
-          if (!real[i] || grey(fit.reflectance[i]) <= 0) continue;
-          const glm::dvec3 r = clampRho(fit.reflectance[i]);
-          const double a = polygonArea(scene.polygons[i].vertices);
-          sum += a * r;
-          area += a;
-          if (!scene.polygons[i].material.empty()) {
-            byMaterial[scene.polygons[i].material].first += a * r;
-            byMaterial[scene.polygons[i].material].second += a;
-          }
-        }
+        MaterialMeans means;
+        for (size_t i = 0; i < np; ++i)
+          if (real[i] && grey(fit.reflectance[i]) > 0)
+            means.add(scene.polygons[i].material, clampRho(fit.reflectance[i]), polygonArea(scene.polygons[i].vertices));
         for (size_t i = 0; i < np; ++i) {
           if (!real[i]) continue;
           glm::dvec3 r = clampRho(fit.reflectance[i]);
           if (grey(fit.reflectance[i]) <= 0) {
-            const auto it = byMaterial.find(scene.polygons[i].material);
-            r = o.sharedMaterials && it != byMaterial.end() ? it->second.first / it->second.second
-                                                            : (area > 0 ? sum / area : meanRho);
+            const auto shared = o.sharedMaterials ? means.of(scene.polygons[i].material) : std::nullopt;
+            r = shared.value_or(means.overall(meanRho));
           }
           h.setElementReflectance(h.surfaceRoot(int(i)), r);
         }

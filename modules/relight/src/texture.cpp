@@ -133,7 +133,14 @@ size_t sampleFromPhoto(PolygonTexture& t, const Camera& cam, const ImageRGB& img
 
 bool PolygonTexture::photographed() const {
   return std::any_of(source.begin(), source.end(),
-                     [](TexelSource s) { return s == TexelSource::MainPhoto || s == TexelSource::OtherPhoto; });
+                     [](TexelSource s) { return fromPhoto(s); });
+}
+
+TexelSource PolygonTexture::sourceAt(glm::dvec2 uv) const {
+  if (source.empty()) return TexelSource::Outside;
+  const int x = std::clamp(int(std::floor((uv.x - origin.x) / texel)), 0, width - 1);
+  const int y = std::clamp(int(std::floor((uv.y - origin.y) / texel)), 0, height - 1);
+  return source[index(x, y)];
 }
 
 glm::vec3 PolygonTexture::sample(const std::vector<glm::vec3>& layer, glm::dvec2 uv) const {
@@ -149,7 +156,7 @@ glm::dvec3 PolygonTexture::photographedMean(const std::vector<glm::vec3>& layer,
   glm::dvec3 sum(0.0);
   size_t n = 0;
   for (size_t k = 0; k < source.size() && k < layer.size(); ++k)
-    if (source[k] == TexelSource::MainPhoto || source[k] == TexelSource::OtherPhoto) {
+    if (fromPhoto(source[k])) {
       sum += glm::dvec3(layer[k]);
       ++n;
     }
@@ -157,14 +164,13 @@ glm::dvec3 PolygonTexture::photographedMean(const std::vector<glm::vec3>& layer,
   return n > 0 ? sum / double(n) : glm::dvec3(0.0);
 }
 
-glm::vec3 PolygonTexture::mean(const std::vector<glm::vec3>& layer, glm::dvec2 lo, glm::dvec2 hi, double* seen,
-                               double* photographed) const {
+glm::vec3 PolygonTexture::mean(const std::vector<glm::vec3>& layer, glm::dvec2 lo, glm::dvec2 hi, double* seen) const {
   const int x0 = std::max(0, int(std::ceil((lo.x - origin.x) / texel - 0.5)));
   const int x1 = std::min(width - 1, int(std::floor((hi.x - origin.x) / texel - 0.5)));
   const int y0 = std::max(0, int(std::ceil((lo.y - origin.y) / texel - 0.5)));
   const int y1 = std::min(height - 1, int(std::floor((hi.y - origin.y) / texel - 0.5)));
   glm::dvec3 sum(0.0);
-  size_t n = 0, fromMain = 0, fromAny = 0;
+  size_t n = 0, fromMain = 0;
   for (int y = y0; y <= y1; ++y)
     for (int x = x0; x <= x1; ++x) {
       const size_t i = index(x, y);
@@ -172,19 +178,13 @@ glm::vec3 PolygonTexture::mean(const std::vector<glm::vec3>& layer, glm::dvec2 l
       sum += glm::dvec3(layer[i]);
       ++n;
       fromMain += source[i] == TexelSource::MainPhoto;
-      fromAny += source[i] == TexelSource::MainPhoto || source[i] == TexelSource::OtherPhoto;
     }
   if (n == 0) {
     const glm::dvec2 c = 0.5 * (lo + hi);
-    const int x = std::clamp(int((c.x - origin.x) / texel), 0, width - 1);
-    const int y = std::clamp(int((c.y - origin.y) / texel), 0, height - 1);
-    const TexelSource src = source[index(x, y)];
-    if (seen) *seen = src == TexelSource::MainPhoto ? 1.0 : 0.0;
-    if (photographed) *photographed = src == TexelSource::MainPhoto || src == TexelSource::OtherPhoto ? 1.0 : 0.0;
+    if (seen) *seen = sourceAt(c) == TexelSource::MainPhoto ? 1.0 : 0.0;
     return sample(layer, c);
   }
   if (seen) *seen = double(fromMain) / double(n);
-  if (photographed) *photographed = double(fromAny) / double(n);
   return glm::vec3(sum / double(n));
 }
 
@@ -200,7 +200,7 @@ void fillSmoothly(PolygonTexture& t, std::vector<glm::vec3>& layer, bool outside
   Level base{t.width, t.height, layer, std::vector<float>(layer.size(), 0.f)};
   for (size_t i = 0; i < layer.size(); ++i)
     if (outsideOnly ? t.source[i] != TexelSource::Outside
-                    : (t.source[i] == TexelSource::MainPhoto || t.source[i] == TexelSource::OtherPhoto))
+                    : fromPhoto(t.source[i]))
       base.wt[i] = 1.f;
   lv.push_back(std::move(base));
   while (lv.back().w > 1 || lv.back().h > 1) {

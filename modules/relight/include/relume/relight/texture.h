@@ -26,6 +26,9 @@ enum class TexelSource : uint8_t {
   Smooth = 3,     // seen by no photo: filled smoothly from the texels around
 };
 
+// Was the texel seen by a photo (main or other), rather than filled or outside?
+inline bool fromPhoto(TexelSource s) { return s == TexelSource::MainPhoto || s == TexelSource::OtherPhoto; }
+
 struct PolygonTexture {
   int polygon = -1;
   PlaneFrame frame;          // the polygon's plane frame (as the radiosity engine uses it)
@@ -41,13 +44,13 @@ struct PolygonTexture {
   // Does any photo show part of the polygon?
   bool photographed() const;
   glm::dvec2 uvOf(double x, double y) const { return origin + texel * glm::dvec2(x, y); }
+  // Where the texel containing plane coordinates uv (clamped to the grid) came from.
+  TexelSource sourceAt(glm::dvec2 uv) const;
   // Bilinear lookup of a layer at plane coordinates uv (clamped to the grid).
   glm::vec3 sample(const std::vector<glm::vec3>& layer, glm::dvec2 uv) const;
   // Mean of a layer over the texels whose centres lie in the rectangle and in the polygon (or the
   // value at its centre when none does); `seen` receives the fraction seen by the main photo.
-  // `photographed`: the fraction seen by any photo (main or other).
-  glm::vec3 mean(const std::vector<glm::vec3>& layer, glm::dvec2 lo, glm::dvec2 hi, double* seen = nullptr,
-                 double* photographed = nullptr) const;
+  glm::vec3 mean(const std::vector<glm::vec3>& layer, glm::dvec2 lo, glm::dvec2 hi, double* seen = nullptr) const;
   // Mean of a layer over the texels some photo shows (main or other); `count` gets their number
   // (0: none, and the mean is 0).
   glm::dvec3 photographedMean(const std::vector<glm::vec3>& layer, size_t* count = nullptr) const;
