@@ -19,6 +19,7 @@
 #include "relume/geometry/error.h"
 #include "relume/geometry/polygon.h"
 #include "relume/image/image.h"
+#include "relume/project/relight_store.h"
 #include "relume/project/room_io.h"
 #include "relume/radiosity/hierarchy.h"
 #include "relume/raytrace/ray_scene.h"
@@ -31,6 +32,15 @@ namespace rad = relume::radiosity;
 namespace {
 
 std::string str(const QString& s) { return s.toStdString(); }
+}  // namespace
+
+Scene openRoom(const QString& path) {
+  Scene scene = loadRoom(str(path));
+  for (const auto& n : scene.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  return scene;
+}
+
+namespace {
 
 size_t peakRssBytes() {
   rusage u{};
@@ -120,7 +130,7 @@ int solveCommand(const QStringList& args, Progress& progress) {
   if (!p.isSet("json")) throw Error("", "command line", "--json OUT.json is required");
   const rad::Options opt = engineOptions(p);
   progress.report(0, "reading " + str(p.positionalArguments()[0]));
-  const Scene scene = loadRoom(str(p.positionalArguments()[0]));
+  const Scene scene = openRoom(p.positionalArguments()[0]);
   rad::HierarchicalRadiosity h(rad::surfacesFromScene(scene), opt);
   const auto st = h.solve(progress);
   QJsonArray polys;
@@ -168,7 +178,7 @@ int renderCommand(const QStringList& args, Progress& progress) {
   const QString ext = QFileInfo(out).suffix().toLower();
   if (ext != "exr" && ext != "png") throw Error(str(out), "", "the output must end in .exr or .png");
   progress.report(0, "reading " + str(p.positionalArguments()[0]));
-  const Scene scene = loadRoom(str(p.positionalArguments()[0]));
+  const Scene scene = openRoom(p.positionalArguments()[0]);
   const std::string camName = p.isSet("camera") ? str(p.value("camera")) : scene.mainPhoto;
   const Photo* photo = scene.findPhoto(camName);
   if (!photo) {
@@ -193,10 +203,33 @@ int importCommand(const QStringList& args, Progress& progress) {
   p.addOption({{"o", "output"}, "Project folder to write.", "PROJECT"});
   parseOrThrow(p, args, 1, "relume import ROOM -o PROJECT");
   if (!p.isSet("output")) throw Error("", "command line", "-o PROJECT is required");
-  const Scene scene = loadRoom(str(p.positionalArguments()[0]));
-  saveProject(scene, str(p.value("output")), progress);
-  std::fprintf(stderr, "wrote project %s (%zu polygons, %zu lamps, %zu photos)\n", qPrintable(p.value("output")),
-               scene.polygons.size(), scene.lamps.size(), scene.photos.size());
+  const Scene scene = openRoom(p.positionalArguments()[0]);
+  // A preprocessed project stays preprocessed (its relighting data and workbench edits go along).
+  const bool preprocessed =
+      hasRelightData(scene.baseDir) && QFileInfo::exists(QString::fromStdString(scene.baseDir) + "/project.json");
+  if (preprocessed) saveRelightProject(scene, readRelightData(scene), str(p.value("output")), progress);
+  else saveProject(scene, str(p.value("output")), progress);
+  std::fprintf(stderr, "wrote %sproject %s (%zu polygons, %zu lamps, %zu photos)\n", preprocessed ? "preprocessed " : "",
+               qPrintable(p.value("output")), scene.polygons.size(), scene.lamps.size(), scene.photos.size());
+  return 0;
+}
+
+int checkCommand(const QStringList& args, Progress&) {
+  QCommandLineParser p;
+  p.setApplicationDescription(
+      "Read a room or project as every command would (and a project's relighting data), say what it holds, and exit "
+      "with 0 only if all of it reads.");
+  p.addPositionalArgument("ROOM", "Bundle folder, Relume project or .obj with its .json.");
+  parseOrThrow(p, args, 1, "relume check ROOM");
+  const QString path = p.positionalArguments()[0];
+  const Scene scene = openRoom(path);
+  std::printf("%s: %zu polygons, %zu lamps, %zu photos, %zu variants", qPrintable(path), scene.polygons.size(),
+              scene.lamps.size(), scene.photos.size(), scene.variants.size());
+  if (hasRelightData(scene.baseDir) && QFileInfo::exists(QString::fromStdString(scene.baseDir) + "/project.json")) {
+    const RelightData data = readRelightData(scene);
+    std::printf("; preprocessed (textures of photo '%s' for %zu polygons)", data.photo.c_str(), data.textures.size());
+  }
+  std::printf("\n");
   return 0;
 }
 
@@ -213,7 +246,7 @@ int benchCommand(const QStringList& args, Progress& progress) {
   const int runs = std::max(1, p.value("runs").isEmpty() ? 5 : p.value("runs").toInt());
   const size_t editLinks = p.isSet("edit-links") ? size_t(p.value("edit-links").toLongLong()) : 50000;
   const rad::Options opt = engineOptions(p);
-  const Scene scene = loadRoom(str(p.positionalArguments()[0]));
+  const Scene scene = openRoom(p.positionalArguments()[0]);
   const auto surfaces = rad::surfacesFromScene(scene);
   QJsonObject out;
   out["room"] = QString::fromStdString(scene.sourceFile);

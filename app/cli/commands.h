@@ -23,6 +23,7 @@ int solveCommand(const QStringList& args, Progress& progress);
 int renderCommand(const QStringList& args, Progress& progress);
 int benchCommand(const QStringList& args, Progress& progress);
 int importCommand(const QStringList& args, Progress& progress);
+int checkCommand(const QStringList& args, Progress& progress);
 int preprocessCommand(const QStringList& args, Progress& progress);
 int relightCommand(const QStringList& args, Progress& progress);
 int evaluateCommand(const QStringList& args, Progress& progress);
@@ -37,6 +38,8 @@ namespace relume {
 struct Scene;
 }
 namespace relume::cli {
+// relume::loadRoom, printing what reading had to tell the user (Scene::notes) on stderr.
+Scene openRoom(const QString& path);
 // The relighting figures of `relume bench` (medians of `runs`).
 QJsonObject relightBench(const Scene& scene, int runs, Progress& progress);
 // The reconstruction figures: COLMAP on the room's photos, triangulation and polygon fitting.

@@ -20,6 +20,7 @@ void usage() {
                "  render ROOM --camera NAME -o IMG.exr|png [--show leaves|links|visibility] [--eps X]\n"
                "  bench  ROOM --json OUT.json [--runs N]\n"
                "  import ROOM -o PROJECT      (write a Relume project)\n"
+               "  check ROOM                  (read it as every command would; exit 0 if all of it reads)\n"
                "  preprocess ROOM -o PROJECT  (textures, estimates, real shadows removed)\n"
                "  relight PROJECT --lamp A=0 [--lamp B=2] [--virtual-lamp F] [--virtual-object F]\n"
                "          [--method full|ratio-only] -o IMG.exr|png\n"
@@ -61,6 +62,7 @@ int main(int argc, char** argv) {
     if (cmd == "render") return relume::cli::renderCommand(rest, progress);
     if (cmd == "bench") return relume::cli::benchCommand(rest, progress);
     if (cmd == "import") return relume::cli::importCommand(rest, progress);
+    if (cmd == "check") return relume::cli::checkCommand(rest, progress);
     if (cmd == "preprocess") return relume::cli::preprocessCommand(rest, progress);
     if (cmd == "relight") return relume::cli::relightCommand(rest, progress);
     if (cmd == "evaluate") return relume::cli::evaluateCommand(rest, progress);

@@ -226,7 +226,7 @@ int preprocessCommand(const QStringList& args, Progress& progress) {
   if (!p.isSet("output")) throw Error("", "command line", "-o PROJECT is required");
   const RelightOptions opt = relightOptions(p);
   progress.report(0, "reading " + str(p.positionalArguments()[0]));
-  const Scene scene = loadRoom(str(p.positionalArguments()[0]));
+  const Scene scene = openRoom(p.positionalArguments()[0]);
   ProgressScope work(progress, 0.0, 0.9);
   const RelightData data = preprocessRoom(scene, opt, work);
   printEstimates(data);
@@ -448,12 +448,24 @@ QJsonObject relightBench(const Scene& sceneIn, int runs, Progress& progress) {
 
 int compareCommand(const QStringList& args, Progress&) {
   QCommandLineParser p;
-  p.setApplicationDescription("Score a rendering of a bundle's main view against a truth image (the benchmark protocol).");
+  p.setApplicationDescription(
+      "Score a rendering of a bundle's main view against a truth image (the benchmark protocol), or against another "
+      "image of the same size (the protocol's 'all' mask of that image).");
   p.addPositionalArgument("RENDERING", "Linear EXR of the main view.");
-  p.addPositionalArgument("BUNDLE", "The bundle folder.");
+  p.addPositionalArgument("BUNDLE", "The bundle folder, or a linear EXR to compare with.");
   p.addOption({"truth", "Variant name (truth/NAME.exr), 'unoccluded', or 'photo' for photos/main.exr.", "NAME"});
-  parseOrThrow(p, args, 2, "relume compare RENDERING.exr BUNDLE --truth VARIANT");
-  const Scene scene = loadRoom(str(p.positionalArguments()[1]));
+  parseOrThrow(p, args, 2, "relume compare RENDERING.exr BUNDLE|OTHER.exr [--truth VARIANT]");
+  if (QFileInfo other(p.positionalArguments()[1]); other.isFile() && isRadianceFile(str(other.filePath()))) {
+    if (p.isSet("truth")) throw Error("", "command line", "--truth names a bundle's image; with two images give no --truth");
+    const ImageRGB a = readImageLinear(str(p.positionalArguments()[0])), b = readImageLinear(str(other.filePath()));
+    if (a.width != b.width || a.height != b.height)
+      throw Error(str(other.filePath()), "", "is " + std::to_string(b.width) + "x" + std::to_string(b.height) + ", the rendering " +
+                                                 std::to_string(a.width) + "x" + std::to_string(a.height));
+    const Comparison c = compareImages(a, b, benchmarkMasks(b, b).all);  // the protocol's "all" mask of the other image
+    std::printf("all %.2f dB (gain %.3f %.3f %.3f)\n", c.psnr, c.gain.x, c.gain.y, c.gain.z);
+    return 0;
+  }
+  const Scene scene = openRoom(p.positionalArguments()[1]);
   const Photo& main = photoNamedian(scene, scene.mainPhoto);
   const ImageRGB photo = readImageLinear(resolve(scene, main.hdr.empty() ? main.file : main.hdr));
   const ImageRGB unocc = readImageLinear(scene.baseDir + "/truth/unoccluded.exr");
@@ -486,9 +498,9 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
   if (!QDir().mkpath(outDir)) throw Error(str(outDir), "", "cannot create the folder");
   RelightOptions opt = relightOptions(p);
   opt.oracleLamps = p.isSet("oracle-lamps");
-  Scene scene = loadRoom(str(p.positionalArguments()[0]));
+  Scene scene = openRoom(p.positionalArguments()[0]);
   if (p.isSet("geometry")) {
-    const Scene g = loadRoom(str(p.value("geometry")));
+    const Scene g = openRoom(p.value("geometry"));
     for (const auto& v : scene.variants)
       for (const auto& [lamp, scale] : v.lampScale)
         if (g.findLamp(lamp) < 0)

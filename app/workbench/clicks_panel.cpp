@@ -40,6 +40,7 @@
 #include "relume/image/image.h"
 #include "relume/inspect/sparse_view.h"
 #include "relume/reconstruct/click_build.h"
+#include "relume/reconstruct/colmap_driver.h"
 #include "relume/reconstruct/matching.h"
 #include "relume/reconstruct/photos.h"
 
@@ -384,8 +385,7 @@ bool ClicksPanel::load(const QString& workspace, const QString& photos) {
     std::unique_ptr<recon::ColmapModel> model;
     if (!w.modelFolder.empty()) model = std::make_unique<recon::ColmapModel>(recon::readColmapModel(w.modelFolder));
     bool metric = false;
-    if (QFile f(ws + "/workspace.json"); f.open(QIODevice::ReadOnly))
-      metric = QJsonDocument::fromJson(f.readAll()).object()["metric"].toBool();
+    if (const auto info = recon::readWorkspaceInfo(ss(ws))) metric = info->metric;
     const QString file = ws + "/clicks.json";
     recon::Clicks c;
     if (QFileInfo::exists(file)) c = recon::readClicks(ss(file), true);

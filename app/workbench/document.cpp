@@ -17,6 +17,7 @@
 #include "relume/geometry/progress.h"
 #include "relume/project/relight_store.h"
 #include "relume/project/room_io.h"
+#include "relume/project/save_hooks.h"
 
 namespace relume {
 
@@ -34,7 +35,7 @@ QString projectFolderOf(const QString& path) {
 
 QJsonObject readState(const QString& folder) {
   if (folder.isEmpty()) return {};
-  const QString file = folder + "/workbench.json";
+  const QString file = QString::fromStdString(fileInFolder(folder.toStdString(), "workbench.json", folder.toStdString(), ""));
   QFile f(file);
   if (!f.exists()) return {};
   if (!f.open(QIODevice::ReadOnly)) throw Error(file.toStdString(), "", "cannot be read: " + f.errorString().toStdString());
@@ -751,6 +752,7 @@ std::function<void(Progress&)> Document::saveWork(const QString& folder) const {
       QSaveFile f(QString::fromStdString(staging) + "/workbench.json");
       if (!f.open(QIODevice::WriteOnly) || f.write(edits) < 0 || !f.commit())
         throw Error(folder.toStdString(), "workbench.json", "cannot write: " + f.errorString().toStdString());
+      detail::saveStep("workbench.json written");
     });
   };
 }

@@ -576,9 +576,17 @@ bool MainWindow::openPath(const QString& path) {
   return jobs_->start(tr("Opening %1").arg(QFileInfo(abs).fileName()), [this, abs](Progress& progress) {
     std::shared_ptr<LoadedRoom> room = loadRoomForWorkbench(abs, progress);
     return JobRunner::Continuation([this, room, abs]() mutable {
+      const std::vector<std::string> notes = room->scene.notes;
       doc_->adopt(std::make_unique<LoadedRoom>(std::move(*room)));
       addRecent(abs);
       statusBar()->showMessage(tr("Opened %1").arg(abs), 5000);
+      if (!notes.empty()) {
+        QStringList lines;
+        for (const auto& n : notes) lines << QString::fromStdString(n);
+        auto* box = new QMessageBox(QMessageBox::Information, tr("Relume"), lines.join("\n\n"), QMessageBox::Ok, this);
+        box->setAttribute(Qt::WA_DeleteOnClose);
+        box->open();  // not modal to the event loop: the room is open behind it
+      }
     });
   });
 }

@@ -1,16 +1,22 @@
 """Writes the seed corpora under tests/fuzz/corpus/ from the sample room (valid files, small).
 
-    python3 tests/fuzz/make_corpus.py
+    python3 tests/fuzz/make_corpus.py [PREPROCESSED_PROJECT]
+
+PREPROCESSED_PROJECT (e.g. from `relume preprocess resources/sample_room -o P`) gives the relight
+harness its seed: the project's project.json with its relight/relight.json.
 
 Each seed is one fuzz input in the harnesses' layout (split.h): two little-endian 16-bit lengths,
 then the files one after another.
 """
+import json
 import os
 import struct
+import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
-COLMAP = os.path.join(ROOT, "resources", "sample_room", "colmap")
+SAMPLE = os.path.join(ROOT, "resources", "sample_room")
+COLMAP = os.path.join(SAMPLE, "colmap")
 MODEL_IDS = {"SIMPLE_PINHOLE": 0, "PINHOLE": 1, "SIMPLE_RADIAL": 2, "RADIAL": 3, "OPENCV": 4}
 
 
@@ -61,6 +67,55 @@ def main():
         pb += struct.pack("<Q", len(track)) + b"".join(struct.pack("<II", a, b) for a, b in track)
     write("colmap_binary", "sample_room", pack(cb, ib))
     write("colmap_binary", "with_points", pack(cb, ib, pb))
+    rooms()
+    if len(sys.argv) > 1:
+        proj = sys.argv[1]
+        write("relight", "sample_room", pack(open(os.path.join(proj, "project.json"), "rb").read(),
+                                             open(os.path.join(proj, "relight", "relight.json"), "rb").read()))
+
+
+BOX_OBJ = b"o box\nv 1 1 0\nv 2 1 0\nv 2 2 0\nv 1 2 0\nv 1 1 1\nv 2 1 1\nv 2 2 1\nv 1 2 1\n" \
+          b"f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n"
+
+
+def compact(obj):
+    return json.dumps(obj, separators=(",", ":")).encode()
+
+
+def rooms():
+    scene_bytes = open(os.path.join(SAMPLE, "scene.json"), "rb").read()
+    scene = json.loads(scene_bytes)
+    obj = open(os.path.join(SAMPLE, "geometry.obj"), "rb").read()
+    # Bundles: geometry in scene.json; geometry from geometry.obj (scene.json keeps the names,
+    # kinds and albedos); a variant whose virtual object is an OBJ file.
+    write("bundle", "sample_room", pack(compact(scene), obj))
+    meta = dict(scene)
+    meta["polygons"] = [{k: v for k, v in p.items() if k != "vertices"} for p in scene["polygons"]]
+    write("bundle", "geometry_obj", pack(compact(meta), obj))
+    with_mesh = dict(scene)
+    with_mesh["variants"] = scene.get("variants", [])[:1] + [
+        {"name": "mesh", "virtual_objects": [{"name": "box", "obj": "box.obj", "albedo": [0.6, 0.5, 0.4]}]}]
+    write("bundle", "virtual_mesh", pack(compact(with_mesh), obj, BOX_OBJ))
+    # The OBJ room with its JSON: materials by the OBJ's usemtl names.
+    materials = {}
+    for p in scene["polygons"]:
+        if p.get("material") and p.get("albedo"):
+            materials[p["material"]] = p["albedo"]
+    side = {k: v for k, v in scene.items() if k != "polygons"}
+    side["materials"] = materials
+    write("obj_json", "sample_room", pack(obj, compact(side)))
+    write("obj_json", "virtual_mesh", pack(obj, compact(dict(side, variants=with_mesh["variants"])), BOX_OBJ))
+    # Lighting changes, as `relume relight` reads them.
+    for name in ("virtual_box", "virtual_lamp"):
+        write("variant", name, pack(open(os.path.join(ROOT, "resources", "examples", name + ".json"), "rb").read(), b""))
+    write("variant", "mesh", pack(compact({"name": "mesh", "lights": {"A": 0.5}, "virtual_objects": [
+        {"name": "box", "obj": "box.obj", "albedo": [0.6, 0.5, 0.4]}]}), BOX_OBJ))
+    write("intrinsics", "calibrated", compact({"width": 640, "height": 480, "model": "OPENCV", "fx": 512.3, "fy": 511.9,
+                                               "cx": 320.4, "cy": 239.8, "k1": -0.12, "k2": 0.03, "p1": 0.001,
+                                               "p2": -0.0005, "rms_pixels": 0.21}))
+    write("workspace", "reconstructed", compact({"photos": "/home/user/room/photos", "registered": ["main", "view0"],
+                                                 "left_out": ["blurry"], "points": 5321, "metric": True,
+                                                 "seconds": {"features": 4.2, "matching": 1.1, "mapping": 9.8}}))
 
 
 if __name__ == "__main__":

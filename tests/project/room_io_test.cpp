@@ -50,6 +50,11 @@ std::string room(const std::string& floorVerts = "[[0,0,0],[1,0,0],[1,1,0],[0,1,
   "main_photo": "main"})";
 }
 
+std::string text(const fs::path& f) {
+  std::ifstream in(f);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
 std::string errorOf(const std::string& folder) {
   try {
     loadRoom(folder);
@@ -174,10 +179,6 @@ TEST(Project, SavingAProjectAgainKeepsTheClicksItWasMadeFrom) {
   });
   const Scene p = loadRoom(proj);
   saveProject(p, proj);
-  auto text = [](const fs::path& f) {
-    std::ifstream in(f);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  };
   EXPECT_EQ(text(fs::path(proj) / "clicks.json"), "{\"points\": {}, \"polygons\": []}");
   EXPECT_EQ(text(fs::path(proj) / "triangulation.json"), "{\"points\": {}}");
   saveProject(loadRoom(proj), proj, silentProgress(),
@@ -190,26 +191,26 @@ TEST(Project, SavingAProjectAgainKeepsTheClicksItWasMadeFrom) {
   EXPECT_EQ(text(fs::path(other) / "clicks.json"), "{}");
 }
 
-// A crash at any file-system step of a save (the process ends there) leaves the old or the new
-// project openable at the user's path: with the atomic directory exchange, and without it (the
-// fallback of two renames, where the next open puts the old project back).
+// A crash at any file-system step of a save (the process ends there: no clean-up, no destructors)
+// leaves the old or the new project openable at the user's path, with the atomic directory
+// exchange and without it (the fallback of two renames, where the next open puts the old project
+// back). Every step in turn, until the save completes; then saving again succeeds.
 TEST(Project, ACrashAtAnyStepOfASaveLeavesTheOldOrTheNewProject) {
   const Scene s = loadRoom(kSample);
   Scene changed = s;
   changed.polygons[0].albedo = glm::dvec3(0.123, 0.234, 0.345);
   for (bool exchange : {true, false}) {
-    const std::vector<std::string> steps = exchange ? std::vector<std::string>{"staged", "exchanged", "done"}
-                                                    : std::vector<std::string>{"staged", "moved aside", "moved in", "done"};
-    int sawNew = 0;
-    for (const auto& crashAt : steps) {
+    int sawNew = 0, sawOld = 0, n = 1;
+    for (;; ++n) {
       TempDir tmp;
       const std::string proj = (tmp.path / "room.relume").string();
       saveProject(s, proj);
       const pid_t child = fork();
       ASSERT_GE(child, 0);
       if (child == 0) {
-        detail::setSaveTestHooks({[&](const char* step) {
-                                    if (crashAt == step) std::_Exit(0);  // no clean-up, no destructors
+        int step = 0;
+        detail::setSaveTestHooks({[&](const char*) {
+                                    if (++step == n) std::_Exit(0);
                                   },
                                   exchange});
         try {
@@ -217,18 +218,134 @@ TEST(Project, ACrashAtAnyStepOfASaveLeavesTheOldOrTheNewProject) {
         } catch (...) {
           std::_Exit(2);
         }
-        std::_Exit(3);  // the step was never reached
+        std::_Exit(3);  // the save finished before step n
       }
       int status = 0;
       waitpid(child, &status, 0);
-      ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "crash at '" << crashAt << "' was not reached";
+      ASSERT_TRUE(WIFEXITED(status)) << "step " << n;
+      if (WEXITSTATUS(status) == 3) break;
+      ASSERT_EQ(WEXITSTATUS(status), 0) << "the save failed before step " << n;
       Scene reopened;
-      ASSERT_NO_THROW(reopened = loadRoom(proj)) << "crash at '" << crashAt << "' (exchange " << exchange << ")";
+      ASSERT_NO_THROW(reopened = loadRoom(proj)) << "crash at step " << n << " (exchange " << exchange << ")";
       const glm::dvec3 a = reopened.polygons[0].albedo;
       const bool isNew = a == changed.polygons[0].albedo, isOld = a == s.polygons[0].albedo;
-      EXPECT_TRUE(isNew || isOld) << "crash at '" << crashAt << "'";
+      EXPECT_TRUE(isNew || isOld) << "crash at step " << n;
       sawNew += isNew;
+      sawOld += isOld;
+      ASSERT_NO_THROW(saveProject(changed, proj)) << "saving again after a crash at step " << n;
+      EXPECT_EQ(loadRoom(proj).polygons[0].albedo, changed.polygons[0].albedo);
+      EXPECT_EQ(std::distance(fs::directory_iterator(tmp.path), fs::directory_iterator{}), 1) << "leftovers after step " << n;
     }
+    EXPECT_GE(n, 12) << "a save of the sample room has more steps than that";
     EXPECT_GE(sawNew, 2) << "exchange " << exchange;  // after the swap, the new project is there
+    EXPECT_GE(sawOld, 10) << "exchange " << exchange;
   }
+}
+
+// A project or bundle someone sends may only name files inside its own folder: an absolute
+// path, a '..' and a symbolic link leading out are each refused with a message naming the file,
+// the element and the path, and nothing outside is read. The same links inside the folder work.
+TEST(Confinement, PathsLeadingOutOfAProjectOrBundleAreRefused) {
+  TempDir tmp;
+  const fs::path outside = tmp.path / "elsewhere";
+  fs::create_directories(outside);
+  fs::copy_file(kSample + "/photos/main.png", outside / "main.png");
+  const std::string proj = (tmp.path / "p.relume").string();
+  saveProject(loadRoom(kSample), proj);
+  const std::string json = text(fs::path(proj) / "project.json");
+  int copies = 0;
+  auto variant = [&](const std::string& from, const std::string& to) {
+    const fs::path dir = tmp.path / ("copy" + std::to_string(++copies));
+    fs::copy(proj, dir, fs::copy_options::recursive);
+    std::string j = json;
+    j.replace(j.find(from), from.size(), to);
+    write(dir / "project.json", j);
+    return dir;
+  };
+  struct Case {
+    std::string what;
+    fs::path dir;
+    std::string expect;
+  };
+  std::vector<Case> cases = {
+      {"absolute", variant("\"photos/main.png\"", "\"" + (outside / "main.png").string() + "\""), "is an absolute path"},
+      {"dot-dot", variant("\"photos/main.png\"", "\"photos/../../elsewhere/main.png\""), "leads out of its folder ('..')"},
+  };
+  {  // a photo file that is a link out
+    const fs::path dir = variant("\"main_photo\"", "\"main_photo\"");
+    fs::remove(dir / "photos/main.png");
+    fs::create_symlink(outside / "main.png", dir / "photos/main.png");
+    cases.push_back({"file link", dir, "symbolic link that leads out of"});
+  }
+  {  // a folder on the way that is a link out
+    const fs::path dir = variant("\"main_photo\"", "\"main_photo\"");
+    fs::rename(dir / "photos", dir / "real_photos");
+    fs::copy_file(dir / "real_photos/main.png", outside / "view0.png");
+    fs::create_symlink(outside, dir / "photos");
+    cases.push_back({"folder link", dir, "symbolic link that leads out of"});
+  }
+  for (const auto& c : cases) {
+    const std::string msg = errorOf(c.dir.string());
+    EXPECT_NE(msg.find(c.expect), std::string::npos) << c.what << ": " << msg;
+    EXPECT_NE(msg.find("project.json"), std::string::npos) << c.what << " names the file: " << msg;
+    EXPECT_NE(msg.find("photo 'main'"), std::string::npos) << c.what << " names the element: " << msg;
+  }
+  // A link that stays inside the folder is fine.
+  const fs::path inside = variant("\"main_photo\"", "\"main_photo\"");
+  fs::rename(inside / "photos/main.png", inside / "photos/main_real.png");
+  fs::create_symlink("main_real.png", inside / "photos/main.png");
+  EXPECT_NO_THROW(loadRoom(inside.string()));
+  // The same in a bundle's scene.json, and a virtual object's OBJ named by a bundle's variant.
+  const fs::path bundle = tmp.path / "bundle";
+  write(bundle / "scene.json", room("[[0,0,0],[1,0,0],[1,1,0],[0,1,0]]", "[[0,0,1],[0,1,1],[1,1,1],[1,0,1]]",
+                                    "[[1,0,0],[0,0,-1],[0,1,0]]", "../elsewhere/main.png"));
+  EXPECT_NE(errorOf(bundle.string()).find("leads out of its folder"), std::string::npos) << errorOf(bundle.string());
+  std::string withObject = room();
+  withObject.insert(withObject.rfind('}'), R"(, "variants": [{"name": "v", "virtual_objects": [{"name": "o", "obj": ")" +
+                                               (outside / "box.obj").string() + R"(", "albedo": [0.5, 0.5, 0.5]}]}])");
+  write(outside / "box.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n");
+  write(bundle / "scene.json", withObject);
+  fs::create_directories(bundle / "photos");
+  fs::copy_file(kSample + "/photos/main.png", bundle / "photos/main.png", fs::copy_options::overwrite_existing);
+  const std::string objMsg = errorOf(bundle.string());
+  EXPECT_NE(objMsg.find("variant 'v': obj"), std::string::npos) << objMsg;
+  EXPECT_NE(objMsg.find("is an absolute path"), std::string::npos) << objMsg;
+  // A lighting change the user names on the command line is the user's own: its OBJ may be anywhere.
+  write(outside / "change.json", R"({"virtual_objects": [{"name": "o", "obj": "box.obj", "albedo": [0.5, 0.5, 0.5]}]})");
+  const fs::path userFile = tmp.path / "mine" / "change.json";
+  write(userFile, R"({"virtual_objects": [{"name": "o", "obj": ")" + (outside / "box.obj").string() + R"(", "albedo": [0.5, 0.5, 0.5]}]})");
+  EXPECT_EQ(readVariantFile(userFile.string()).virtualObjects.size(), 1u);
+}
+
+// What an interrupted save leaves beside a project is never taken for one, and the next open says
+// what it found: a staging folder opened by mistake is refused, the leftovers are reported, and
+// the next save clears them.
+TEST(Project, AnInterruptedSavesLeftoversAreReportedAndNeverOpenedAsAProject) {
+  TempDir tmp;
+  const std::string proj = (tmp.path / "room.relume").string();
+  saveProject(loadRoom(kSample), proj);
+  const fs::path staging = tmp.path / ".room.relume.saving", backup = tmp.path / ".room.relume.previous";
+  fs::copy(proj, staging, fs::copy_options::recursive);
+  fs::copy(proj, backup, fs::copy_options::recursive);
+  for (const std::string& named : {staging.string(), staging.string() + "/", (staging / "project.json").string()}) {
+    const std::string msg = errorOf(named);
+    EXPECT_NE(msg.find("not a project"), std::string::npos) << named << ": " << msg;
+    EXPECT_NE(msg.find("room.relume"), std::string::npos) << msg;
+  }
+  const Scene s = loadRoom(proj);
+  ASSERT_EQ(s.notes.size(), 2u);
+  EXPECT_NE(s.notes[0].find(".room.relume.saving"), std::string::npos) << s.notes[0];
+  EXPECT_NE(s.notes[1].find("previous version"), std::string::npos) << s.notes[1];
+  saveProject(s, proj + "/");  // the folder, however it is written
+  EXPECT_FALSE(fs::exists(staging));
+  EXPECT_FALSE(fs::exists(backup));
+  EXPECT_EQ(std::distance(fs::directory_iterator(tmp.path), fs::directory_iterator{}), 1);
+  EXPECT_TRUE(loadRoom(proj).notes.empty());
+  // The project gone and its previous version beside it (a crash between the fallback's two
+  // renames): it is moved back, and the note says so.
+  fs::rename(proj, backup);
+  const Scene back = loadRoom(proj);
+  ASSERT_EQ(back.notes.size(), 1u);
+  EXPECT_NE(back.notes[0].find("moved back"), std::string::npos) << back.notes[0];
+  EXPECT_TRUE(fs::exists(fs::path(proj) / "project.json"));
 }

@@ -96,6 +96,8 @@ void writeImage(const std::string& path, const ImageRGB& img, float exposure) {
   OIIO::ImageSpec spec(img.width, img.height, 3, hdr ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
   if (hdr) {
     spec.attribute("compression", "zip");
+    // No time stamp: the same pixels give the same bytes (a project saved twice is identical).
+    spec.attribute("DateTime", "");
     writeAtomically(path, spec, OIIO::TypeDesc::FLOAT, img.pixels.data());
     return;
   }

@@ -13,7 +13,11 @@
 #include <QSaveFile>
 #include <QTemporaryDir>
 #include <QTextStream>
+#include <atomic>
+#include <cctype>
+#include <csignal>
 #include <cmath>
+#include <cstdlib>
 #include <glm/geometric.hpp>
 #include <limits>
 #include <map>
@@ -27,6 +31,23 @@ namespace relume {
 namespace {
 
 std::string str(const QString& s) { return s.toStdString(); }
+
+// Why a path named inside a project or bundle may lead outside it ("" when it cannot).
+std::string pathEscapes(const std::string& p) {
+  if (p.empty()) return "";
+  const bool drive = p.size() > 1 && p[1] == ':' && std::isalpha((unsigned char)p[0]);
+  if (p.front() == '/' || p.front() == '\\' || drive)
+    return "is an absolute path: a project or bundle may only name files inside its own folder";
+  if (p.front() == ':') return "is not a file name (a leading ':' names Qt's built-in resources)";
+  size_t start = 0;
+  while (start <= p.size()) {
+    const size_t end = std::min(p.find_first_of("/\\", start), p.size());
+    if (p.compare(start, end - start, "..") == 0)
+      return "leads out of its folder ('..'): a project or bundle may only name files inside its own folder";
+    start = end + 1;
+  }
+  return "";
+}
 
 QJsonObject parseJsonObject(const QByteArray& data, const std::string& name) {
   QJsonParseError err;
@@ -51,6 +72,11 @@ QJsonObject readJsonObject(const QString& path) { return parseJsonObject(readFil
 
 struct JsonReader {
   std::string file;
+  // Paths it reads are confined to the file's folder (a bundle or project; not a file the user
+  // named on the command line).
+  bool confined = false;
+  // The bytes of a further file the JSON names (a virtual object's OBJ), by its name as given.
+  FileBytes files;
 
   [[noreturn]] void fail(const std::string& element, const std::string& what) const {
     throw Error(file, element, what);
@@ -70,6 +96,16 @@ struct JsonReader {
     const QJsonArray a = v.toArray();
     if (!v.isArray() || a.size() != 3) fail(element, field + " must be an array of 3 numbers");
     return {number(a[0], element, field), number(a[1], element, field), number(a[2], element, field)};
+  }
+  // A file name as the JSON gives it; when confined, relative and without '..'.
+  std::string path(const QJsonValue& v, const std::string& element, const std::string& field) const {
+    if (!v.isUndefined() && !v.isString()) fail(element, field + " must be a string (a file name)");
+    const std::string p = v.toString().toStdString();
+    if (confined && !p.empty()) {
+      const std::string why = pathEscapes(p);
+      if (!why.empty()) fail(element, field + " '" + p + "' " + why);
+    }
+    return p;
   }
   glm::dmat3 mat3(const QJsonValue& v, const std::string& element, const std::string& field) const {
     const QJsonArray rows = v.toArray();
@@ -171,8 +207,8 @@ void readPhotos(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
     ph.name = str(po["name"].toString());
     const std::string where = "photo '" + ph.name + "'";
     if (ph.name.empty()) jr.fail("a photo", "has no name");
-    ph.file = str(po["file"].toString());
-    ph.hdr = str(po["hdr"].toString());
+    ph.file = jr.path(po["file"], where, "file");
+    ph.hdr = jr.path(po["hdr"], where, "hdr");
     if (ph.file.empty() && ph.hdr.empty()) jr.fail(where, "names no image file");
     ph.camera.K = jr.mat3(po["K"], where, "K");
     ph.camera.R = jr.mat3(po["R"], where, "R");
@@ -188,7 +224,10 @@ struct ObjPolygon {
   std::vector<glm::dvec3> vertices;
 };
 std::vector<ObjPolygon> parseObj(const QByteArray& bytes, const std::string& name);
-std::vector<ObjPolygon> readObj(const QString& path) { return parseObj(readFileBytes(path), str(path)); }
+// For bytes parsed without a folder: any further file is an error.
+FileBytes noFiles(const std::string& name) {
+  return [name](const std::string& rel) -> std::string { throw Error(name, "", "names " + rel + ", which is not available here"); };
+}
 
 void readVariants(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
   for (const auto& vv : arr) {
@@ -215,9 +254,11 @@ void readVariants(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
       VirtualBox b;
       b.name = str(oo["name"].toString());
       if (oo.contains("obj")) {
-        const QString objPath = QDir(QFileInfo(QString::fromStdString(jr.file)).absolutePath()).filePath(oo["obj"].toString());
-        for (const auto& op : readObj(objPath)) b.mesh.push_back(op.vertices);
-        if (b.mesh.empty()) jr.fail(where, "the mesh " + str(objPath) + " has no faces");
+        const std::string rel = jr.path(oo["obj"], where, "obj");
+        if (rel.empty()) jr.fail(where, "obj must name a mesh file");
+        const std::string bytes = jr.files(rel);
+        for (auto& op : parseObj(QByteArray(bytes.data(), qsizetype(bytes.size())), rel)) b.mesh.push_back(std::move(op.vertices));
+        if (b.mesh.empty()) jr.fail(where, "the mesh " + rel + " has no faces");
       } else {
         b.boxMin = jr.vec3(oo["box_min"], where, "box_min");
         b.boxMax = jr.vec3(oo["box_max"], where, "box_max");
@@ -226,8 +267,8 @@ void readVariants(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
       b.albedo = jr.vec3(oo["albedo"], where, "albedo");
       v.virtualObjects.push_back(b);
     }
-    v.file = str(vo["file"].toString());
-    v.hdr = str(vo["hdr"].toString());
+    v.file = jr.path(vo["file"], where, "file");
+    v.hdr = jr.path(vo["hdr"], where, "hdr");
     scene.variants.push_back(v);
   }
 }
@@ -282,6 +323,37 @@ QString resolve(const QString& base, const std::string& rel) {
 
 }  // namespace
 
+std::string fileInFolder(const std::string& folder, const std::string& rel, const std::string& file,
+                         const std::string& element) {
+  const std::string why = rel.empty() || rel == "." || rel == "./" ? "is not a file name" : pathEscapes(rel);
+  if (!why.empty()) throw Error(file, element, "'" + rel + "' " + why);
+  const QString joined = QDir(QString::fromStdString(folder)).filePath(QString::fromStdString(rel));
+  // Through symbolic links, the file's real place must stay inside the folder's real place.
+  const QString real = QFileInfo(joined).canonicalFilePath();  // empty when it does not exist
+  if (!real.isEmpty()) {
+    const QString base = QFileInfo(QString::fromStdString(folder)).canonicalFilePath();
+    if (base.isEmpty()) throw Error(file, element, "the folder " + folder + " does not exist");
+    if (!real.startsWith(base.endsWith('/') ? base : base + "/"))
+      throw Error(file, element,
+                  "'" + rel + "' is or passes through a symbolic link that leads out of " + folder + " (to " + str(real) +
+                      "): refused, a project or bundle may only name files inside its own folder");
+  }
+  return str(joined);
+}
+
+namespace {
+// Every file the scene read from a project or bundle names stays inside its folder.
+// `jsonFile` is the file that named them (for messages).
+void checkConfined(const Scene& scene, const std::string& jsonFile) {
+  for (const auto& ph : scene.photos)
+    for (const std::string& rel : {ph.file, ph.hdr})
+      if (!rel.empty()) fileInFolder(scene.baseDir, rel, jsonFile, "photo '" + ph.name + "'");
+  for (const auto& v : scene.variants)
+    for (const std::string& rel : {v.file, v.hdr})
+      if (!rel.empty()) fileInFolder(scene.baseDir, rel, jsonFile, "variant '" + v.name + "'");
+}
+}  // namespace
+
 void checkPhotos(const Scene& scene) {
   for (const auto& ph : scene.photos) {
     for (const std::string& rel : {ph.file, ph.hdr}) {
@@ -329,23 +401,36 @@ static void readSceneObject(const QJsonObject& root, const JsonReader& jr, Scene
   readVariants(root["variants"].toArray(), jr, scene);
 }
 
-Scene readBundle(const std::string& folder) {
-  const QString dir = QString::fromStdString(folder);
-  const QString json = QDir(dir).filePath("scene.json");
+namespace {
+// Reads the files a JSON in `folder` names, confined to it (fileInFolder) when `confined`.
+FileBytes filesIn(const std::string& folder, const std::string& jsonFile, bool confined) {
+  return [folder, jsonFile, confined](const std::string& rel) {
+    const std::string path = confined ? fileInFolder(folder, rel, jsonFile, "")
+                                      : str(QDir(QString::fromStdString(folder)).filePath(QString::fromStdString(rel)));
+    const QByteArray b = readFileBytes(QString::fromStdString(path));
+    return std::string(b.constData(), size_t(b.size()));
+  };
+}
+std::string bytesOf(const QString& path) {
+  const QByteArray b = readFileBytes(path);
+  return std::string(b.constData(), size_t(b.size()));
+}
+}  // namespace
+
+Scene parseBundle(const std::string& sceneJson, const std::string& name, const FileBytes& files) {
   Scene scene;
-  scene.baseDir = str(QFileInfo(dir).absoluteFilePath());
-  scene.sourceFile = str(json);
-  const QJsonObject root = readJsonObject(json);
-  JsonReader jr{scene.sourceFile};
+  scene.sourceFile = name;
+  const QJsonObject root = parseJsonObject(QByteArray(sceneJson.data(), qsizetype(sceneJson.size())), name);
+  JsonReader jr{scene.sourceFile, true, files ? files : noFiles(name)};
   const bool jsonHasGeometry = root["polygons"].isArray() && !root["polygons"].toArray().isEmpty() &&
                                root["polygons"].toArray()[0].toObject().contains("vertices");
   if (!jsonHasGeometry) {
     // Geometry from geometry.obj; names, kinds and albedos from scene.json's polygon entries.
-    const QString obj = QDir(dir).filePath("geometry.obj");
+    const std::string obj = jr.files("geometry.obj");
     std::map<std::string, QJsonObject> meta;
     for (const auto& pv : root["polygons"].toArray()) meta[str(pv.toObject()["name"].toString())] = pv.toObject();
     int n = 0;
-    for (const auto& op : readObj(obj)) {
+    for (const auto& op : parseObj(QByteArray(obj.data(), qsizetype(obj.size())), "geometry.obj")) {
       Polygon p;
       p.name = op.object.empty() ? "polygon_" + std::to_string(n) : op.object;
       if (scene.findPolygon(p.name) >= 0) p.name += "_" + std::to_string(n);
@@ -363,23 +448,31 @@ Scene readBundle(const std::string& folder) {
   }
   readSceneObject(root, jr, scene, jsonHasGeometry);
   validateScene(scene);
+  return scene;
+}
+
+Scene readBundle(const std::string& folder) {
+  const std::string json = fileInFolder(folder, "scene.json", folder, "");
+  Scene scene = parseBundle(bytesOf(QString::fromStdString(json)), json, filesIn(folder, json, true));
+  scene.baseDir = str(QFileInfo(QString::fromStdString(folder)).absoluteFilePath());
+  checkConfined(scene, json);
   checkPhotos(scene);
   return scene;
 }
 
-Scene readObjWithJson(const std::string& objPath, const std::string& jsonPath) {
+Scene parseObjWithJson(const std::string& objBytes, const std::string& objName, const std::string& jsonBytes,
+                       const std::string& jsonName, const FileBytes& files) {
   Scene scene;
-  scene.sourceFile = objPath;
-  scene.baseDir = str(QFileInfo(QString::fromStdString(jsonPath)).absolutePath());
-  const QJsonObject root = readJsonObject(QString::fromStdString(jsonPath));
-  JsonReader jr{jsonPath};
+  scene.sourceFile = objName;
+  const QJsonObject root = parseJsonObject(QByteArray(jsonBytes.data(), qsizetype(jsonBytes.size())), jsonName);
+  JsonReader jr{jsonName, true, files ? files : noFiles(jsonName)};
   std::map<std::string, glm::dvec3> materials;
   const QJsonObject mats = root["materials"].toObject();
   for (auto it = mats.begin(); it != mats.end(); ++it)
     materials[str(it.key())] = jr.vec3(it.value().isObject() ? it.value().toObject()["albedo"] : it.value(),
                                        "material '" + str(it.key()) + "'", "albedo");
   int n = 0;
-  for (const auto& op : readObj(QString::fromStdString(objPath))) {
+  for (const auto& op : parseObj(QByteArray(objBytes.data(), qsizetype(objBytes.size())), objName)) {
     Polygon p;
     p.name = op.object.empty() ? "polygon_" + std::to_string(n) : op.object;
     if (scene.findPolygon(p.name) >= 0) p.name += "_" + std::to_string(n);
@@ -391,29 +484,40 @@ Scene readObjWithJson(const std::string& objPath, const std::string& jsonPath) {
     scene.polygons.push_back(p);
     ++n;
   }
-  scene.sourceFile = objPath;
   readSceneObject(root, jr, scene, false);
-  scene.sourceFile = objPath;
+  scene.sourceFile = objName;
   validateScene(scene);
+  return scene;
+}
+
+Scene readObjWithJson(const std::string& objPath, const std::string& jsonPath) {
+  const std::string folder = str(QFileInfo(QString::fromStdString(jsonPath)).absolutePath());
+  Scene scene = parseObjWithJson(bytesOf(QString::fromStdString(objPath)), objPath, bytesOf(QString::fromStdString(jsonPath)),
+                                 jsonPath, filesIn(folder, jsonPath, true));
+  scene.baseDir = folder;
+  checkConfined(scene, jsonPath);
   checkPhotos(scene);
   return scene;
 }
 
 Scene readProject(const std::string& projectPath) {
   QFileInfo fi(QString::fromStdString(projectPath));
-  const QString json = fi.isDir() ? QDir(fi.filePath()).filePath("project.json") : fi.filePath();
+  const QString json = fi.isDir() ? QString::fromStdString(fileInFolder(projectPath, "project.json", projectPath, ""))
+                                  : fi.filePath();
   const QByteArray bytes = readFileBytes(json);
-  Scene scene = parseProject(std::string(bytes.constData(), size_t(bytes.size())), str(json));
-  scene.baseDir = str(QFileInfo(json).absolutePath());
+  const std::string folder = str(QFileInfo(json).absolutePath());
+  Scene scene = parseProject(std::string(bytes.constData(), size_t(bytes.size())), str(json), filesIn(folder, str(json), true));
+  scene.baseDir = folder;
+  checkConfined(scene, str(json));
   checkPhotos(scene);
   return scene;
 }
 
-Scene parseProject(const std::string& bytes, const std::string& name) {
+Scene parseProject(const std::string& bytes, const std::string& name, const FileBytes& files) {
   Scene scene;
   scene.sourceFile = name;
   const QJsonObject root = parseJsonObject(QByteArray(bytes.data(), qsizetype(bytes.size())), name);
-  JsonReader jr{scene.sourceFile};
+  JsonReader jr{scene.sourceFile, true, files ? files : noFiles(name)};
   if (root["format"].toString() != "relume-project") jr.fail("format", "is not a Relume project (format must be 'relume-project')");
   const int version = root["version"].toInt(-1);
   if (version < 1 || version > kProjectVersion)
@@ -436,13 +540,19 @@ std::vector<std::vector<glm::dvec3>> readObjFaces(const std::string& path) {
   return parseObjFaces(std::string(bytes.constData(), size_t(bytes.size())), path);
 }
 
-Variant readVariantFile(const std::string& path) {
-  const QJsonObject root = readJsonObject(QString::fromStdString(path));
+Variant parseVariantFile(const std::string& bytes, const std::string& name, const FileBytes& files) {
+  const QJsonObject root = parseJsonObject(QByteArray(bytes.data(), qsizetype(bytes.size())), name);
   Scene scene;
-  readVariants(QJsonArray{root}, JsonReader{path}, scene);
+  readVariants(QJsonArray{root}, JsonReader{name, false, files ? files : noFiles(name)}, scene);
   Variant v = scene.variants.front();
-  if (v.name.empty()) v.name = str(QFileInfo(QString::fromStdString(path)).completeBaseName());
+  if (v.name.empty()) v.name = str(QFileInfo(QString::fromStdString(name)).completeBaseName());
   return v;
+}
+
+Variant readVariantFile(const std::string& path) {
+  // The user named this file: what it names is the user's choice too (not confined).
+  return parseVariantFile(bytesOf(QString::fromStdString(path)), path,
+                          filesIn(str(QFileInfo(QString::fromStdString(path)).absolutePath()), path, false));
 }
 
 namespace {
@@ -457,15 +567,90 @@ detail::SaveTestHooks detail::setSaveTestHooks(SaveTestHooks hooks) {
   return hooks;
 }
 
+void detail::saveStep(const char* what) {
+  if (const auto& hooks = saveHooks(); hooks.step) hooks.step(what);
+  static const long crashAt = [] {
+    const char* e = std::getenv("RELUME_CRASH_AT_SAVE_STEP");
+    return e ? std::atol(e) : 0L;
+  }();
+  static std::atomic<long> count{0};
+  if (crashAt > 0 && ++count == crashAt) {
+    std::fprintf(stderr, "RELUME_CRASH_AT_SAVE_STEP: killed at save step %ld (%s)\n", crashAt, what);
+    std::fflush(stderr);
+    std::raise(SIGKILL);
+  }
+}
+
+namespace {
+// The folders a save keeps beside the project `path`: its staging folder (the new project being
+// written; after the exchange, the old one on its way out), the old project while the fallback
+// moves the new one in, and anything being deleted. Only `.previous` is ever a whole project
+// that the user's path lacks.
+struct SaveFolders {
+  QString staging, backup, discard;
+  explicit SaveFolders(const QFileInfo& target)
+      : staging(target.absolutePath() + "/." + target.fileName() + ".saving"),
+        backup(target.absolutePath() + "/." + target.fileName() + ".previous"),
+        discard(target.absolutePath() + "/." + target.fileName() + ".discard") {}
+};
+
+// Deletes `folder` without ever leaving a half-deleted project under a name that means one:
+// renamed to the discard name first (one step), then removed.
+// False when it cannot be renamed (it then stays as it was).
+bool discardFolder(const QString& folder, const SaveFolders& names) {
+  if (!QFileInfo::exists(folder)) return true;
+  if (folder != names.discard) {
+    QDir(names.discard).removeRecursively();
+    if (!QDir().rename(folder, names.discard)) return false;
+    detail::saveStep("moved to discard");
+  }
+  QDir(names.discard).removeRecursively();
+  detail::saveStep("removed");
+  return true;
+}
+
+bool isSaveFolderName(const QString& name) {
+  return name.startsWith('.') && (name.endsWith(".saving") || name.endsWith(".previous") || name.endsWith(".discard"));
+}
+}  // namespace
+
+namespace {
+Scene loadRoomAt(const std::string& path);
+}
+
 Scene loadRoom(const std::string& path) {
-  const QFileInfo fi(QString::fromStdString(path));
-  if (!fi.exists()) {
+  const QFileInfo fi(QDir::cleanPath(QFileInfo(QString::fromStdString(path)).absoluteFilePath()));
+  // Named by its project.json or scene.json, a room is its folder.
+  const QFileInfo folderOf = fi.fileName() == "project.json" || fi.fileName() == "scene.json" ? QFileInfo(fi.absolutePath()) : fi;
+  if (isSaveFolderName(folderOf.fileName()))
+    throw Error(path, "", "is a folder an interrupted or finishing save left behind, not a project: open " +
+                              str(folderOf.absolutePath() + "/" +
+                                  folderOf.fileName().mid(1, folderOf.fileName().lastIndexOf('.') - 1)));
+  const SaveFolders save(folderOf);
+  std::vector<std::string> notes;
+  if (!folderOf.exists() && QFileInfo::exists(save.backup + "/project.json")) {
     // A save that stopped between its two renames (no atomic exchange) left the old project
     // beside the path: put it back.
-    const QString backup = fi.absolutePath() + "/." + fi.fileName() + ".previous";
-    if (QFileInfo::exists(backup + "/project.json") && QDir().rename(backup, fi.absoluteFilePath())) return loadRoom(path);
-    throw Error(path, "", "no such file or folder");
+    if (!QDir().rename(save.backup, folderOf.absoluteFilePath()))
+      throw Error(path, "", "an interrupted save left the project at " + str(save.backup) + ", and it cannot be moved back");
+    notes.push_back("an interrupted save had left this project at " + str(save.backup) + "; it was moved back to " + path);
   }
+  Scene scene = loadRoomAt(path);
+  if (QFileInfo::exists(save.staging))
+    notes.push_back("an interrupted save left " + str(save.staging) +
+                    " (a copy on its way in or out, not opened); the project at the path is whole, and the next save removes it");
+  if (QFileInfo::exists(save.backup))
+    notes.push_back("an interrupted save left the previous version of this project at " + str(save.backup) + "; the next save removes it");
+  if (QFileInfo::exists(save.discard))
+    notes.push_back("an interrupted save left " + str(save.discard) + " (being deleted); the next save removes it");
+  scene.notes.insert(scene.notes.begin(), notes.begin(), notes.end());
+  return scene;
+}
+
+namespace {
+Scene loadRoomAt(const std::string& path) {
+  const QFileInfo fi(QString::fromStdString(path));
+  if (!fi.exists()) throw Error(path, "", "no such file or folder");
   if (fi.isDir()) {
     const QDir d(fi.filePath());
     if (d.exists("project.json")) return readProject(path);
@@ -481,6 +666,7 @@ Scene loadRoom(const std::string& path) {
   }
   throw Error(path, "", "not a room: give a bundle folder, a Relume project or an .obj with its .json");
 }
+}  // namespace
 
 // ----------------------------------------------------------------------------------------------
 // Writing
@@ -496,127 +682,143 @@ QJsonArray toJson(const glm::dmat3& m) {
 
 void saveProject(const Scene& scene, const std::string& folder, Progress& progress,
                  const std::function<void(const std::string&)>& extra) {
-  const QFileInfo target(QString::fromStdString(folder));
+  // "room.relume/" and "room.relume" are one folder (the names beside it come from its name).
+  const QFileInfo target(QDir::cleanPath(QFileInfo(QString::fromStdString(folder)).absoluteFilePath()));
   const QString parent = target.absolutePath();
   if (!QDir().mkpath(parent)) throw Error(folder, "", "cannot create the parent folder");
-  const QString staging = parent + "/." + target.fileName() + ".saving";
-  QDir(staging).removeRecursively();
+  const SaveFolders names(target);
+  const QString staging = names.staging;
+  // An earlier save's leftovers.
+  if (!discardFolder(staging, names) || !discardFolder(names.discard, names))
+    throw Error(folder, "", "cannot remove what an earlier save left in " + str(parent));
   if (!QDir().mkpath(staging + "/photos")) throw Error(folder, "", "cannot create a staging folder in " + str(parent));
+  detail::saveStep("staging folder created");
+  // Whatever goes wrong while the new project is assembled (a file that cannot be copied, the
+  // caller's extra files, Cancel) leaves no staging folder behind.
+  try {
+    auto abandon = [&](const std::string& why) { throw Error(folder, "", why); };
+    QJsonObject root;
+    root["format"] = "relume-project";
+    root["version"] = kProjectVersion;
+    root["units"] = "metres";
+    root["up"] = "+Z";
+    QJsonArray polys;
+    for (const auto& p : scene.polygons) {
+      QJsonObject o;
+      o["name"] = QString::fromStdString(p.name);
+      o["group"] = QString::fromStdString(p.group);
+      o["material"] = QString::fromStdString(p.material);
+      o["kind"] = kindName(p.kind);
+      QJsonArray vs;
+      for (const auto& v : p.vertices) vs.append(toJson(v));
+      o["vertices"] = vs;
+      if (p.kind != PolygonKind::Light) o["albedo"] = toJson(p.albedo);
+      polys.append(o);
+    }
+    root["polygons"] = polys;
+    QJsonArray lamps;
+    for (const auto& l : scene.lamps)
+      lamps.append(QJsonObject{{"name", QString::fromStdString(l.name)},
+                               {"polygon", QString::fromStdString(scene.polygons[l.polygon].name)},
+                               {"radiance_rgb", toJson(l.radiance)},
+                               {"two_sided", l.twoSided}});
+    root["lamps"] = lamps;
+    QJsonArray photos;
+    int done = 0;
+    for (const auto& ph : scene.photos) {
+      progress.report(double(done++) / std::max<size_t>(1, scene.photos.size()), "copying photo " + ph.name);
+      QJsonObject o{{"name", QString::fromStdString(ph.name)}};
+      for (const auto& [key, rel] : {std::pair<const char*, std::string>{"file", ph.file}, {"hdr", ph.hdr}}) {
+        if (rel.empty()) continue;
+        const QString src = resolve(QString::fromStdString(scene.baseDir), rel);
+        const QString name = "photos/" + QFileInfo(src).fileName();
+        if (!QFile::copy(src, staging + "/" + name)) abandon("cannot copy photo " + str(src));
+        detail::saveStep("photo copied");
+        o[key] = name;
+      }
+      o["K"] = toJson(ph.camera.K);
+      o["R"] = toJson(ph.camera.R);
+      o["t"] = toJson(ph.camera.t);
+      o["width"] = ph.camera.width;
+      o["height"] = ph.camera.height;
+      photos.append(o);
+    }
+    root["photos"] = photos;
+    root["main_photo"] = QString::fromStdString(scene.mainPhoto);
+    QJsonArray variants;
+    for (const auto& v : scene.variants) {
+      QJsonObject o{{"name", QString::fromStdString(v.name)}};
+      QJsonObject lights;
+      for (const auto& [k, s] : v.lampScale) lights[QString::fromStdString(k)] = toJson(s);
+      o["lights"] = lights;
+      variants.append(o);
+    }
+    root["variants"] = variants;
+    {
+      QSaveFile f(staging + "/project.json");
+      if (!f.open(QIODevice::WriteOnly)) abandon("cannot write project.json: " + str(f.errorString()));
+      f.write(QJsonDocument(root).toJson(QJsonDocument::Indented));
+      if (!f.commit()) abandon("cannot write project.json: " + str(f.errorString()));
+      detail::saveStep("project.json written");
+    }
+    if (extra) extra(str(staging));
+    // What the project was made from (the clicks and their triangulation) and the workbench's edits
+    // stay with it when a project is saved again, unless the caller wrote new ones.
+    if (!scene.baseDir.empty() && QFileInfo::exists(QString::fromStdString(scene.baseDir) + "/project.json"))
+      for (const char* name : {"clicks.json", "triangulation.json", "workbench.json"}) {
+        const QString src = QString::fromStdString(fileInFolder(scene.baseDir, name, scene.baseDir, "")),
+                      dst = staging + "/" + name;
+        if (!QFileInfo::exists(src) || QFileInfo::exists(dst)) continue;
+        if (!QFile::copy(src, dst)) abandon("cannot copy " + str(src) + " into the project");
+        detail::saveStep("kept file copied");
+      }
+    progress.poll();
+  } catch (...) {
+    QDir(staging).removeRecursively();
+    throw;
+  }
   auto abandon = [&](const std::string& why) {
     QDir(staging).removeRecursively();
     throw Error(folder, "", why);
   };
-  QJsonObject root;
-  root["format"] = "relume-project";
-  root["version"] = kProjectVersion;
-  root["units"] = "metres";
-  root["up"] = "+Z";
-  QJsonArray polys;
-  for (const auto& p : scene.polygons) {
-    QJsonObject o;
-    o["name"] = QString::fromStdString(p.name);
-    o["group"] = QString::fromStdString(p.group);
-    o["material"] = QString::fromStdString(p.material);
-    o["kind"] = kindName(p.kind);
-    QJsonArray vs;
-    for (const auto& v : p.vertices) vs.append(toJson(v));
-    o["vertices"] = vs;
-    if (p.kind != PolygonKind::Light) o["albedo"] = toJson(p.albedo);
-    polys.append(o);
-  }
-  root["polygons"] = polys;
-  QJsonArray lamps;
-  for (const auto& l : scene.lamps)
-    lamps.append(QJsonObject{{"name", QString::fromStdString(l.name)},
-                             {"polygon", QString::fromStdString(scene.polygons[l.polygon].name)},
-                             {"radiance_rgb", toJson(l.radiance)},
-                             {"two_sided", l.twoSided}});
-  root["lamps"] = lamps;
-  QJsonArray photos;
-  int done = 0;
-  for (const auto& ph : scene.photos) {
-    progress.report(double(done++) / std::max<size_t>(1, scene.photos.size()), "copying photo " + ph.name);
-    QJsonObject o{{"name", QString::fromStdString(ph.name)}};
-    for (const auto& [key, rel] : {std::pair<const char*, std::string>{"file", ph.file}, {"hdr", ph.hdr}}) {
-      if (rel.empty()) continue;
-      const QString src = resolve(QString::fromStdString(scene.baseDir), rel);
-      const QString name = "photos/" + QFileInfo(src).fileName();
-      if (!QFile::copy(src, staging + "/" + name)) abandon("cannot copy photo " + str(src));
-      o[key] = name;
-    }
-    o["K"] = toJson(ph.camera.K);
-    o["R"] = toJson(ph.camera.R);
-    o["t"] = toJson(ph.camera.t);
-    o["width"] = ph.camera.width;
-    o["height"] = ph.camera.height;
-    photos.append(o);
-  }
-  root["photos"] = photos;
-  root["main_photo"] = QString::fromStdString(scene.mainPhoto);
-  QJsonArray variants;
-  for (const auto& v : scene.variants) {
-    QJsonObject o{{"name", QString::fromStdString(v.name)}};
-    QJsonObject lights;
-    for (const auto& [k, s] : v.lampScale) lights[QString::fromStdString(k)] = toJson(s);
-    o["lights"] = lights;
-    variants.append(o);
-  }
-  root["variants"] = variants;
-  {
-    QSaveFile f(staging + "/project.json");
-    if (!f.open(QIODevice::WriteOnly)) abandon("cannot write project.json: " + str(f.errorString()));
-    f.write(QJsonDocument(root).toJson(QJsonDocument::Indented));
-    if (!f.commit()) abandon("cannot write project.json: " + str(f.errorString()));
-  }
-  if (extra) {
-    try {
-      extra(str(staging));
-    } catch (...) {
-      QDir(staging).removeRecursively();
-      throw;
-    }
-  }
-  // What the project was made from (the clicks and their triangulation) stays with it when a
-  // project is saved again, unless the caller wrote a new one.
-  if (!scene.baseDir.empty() && QFileInfo::exists(QString::fromStdString(scene.baseDir) + "/project.json"))
-    for (const char* name : {"clicks.json", "triangulation.json"}) {
-      const QString src = QString::fromStdString(scene.baseDir) + "/" + name, dst = staging + "/" + name;
-      if (QFileInfo::exists(src) && !QFileInfo::exists(dst) && !QFile::copy(src, dst))
-        abandon("cannot copy " + str(src) + " into the project");
-    }
-  progress.poll();
   // Into place, crash-consistent: at every instant the user's path holds the old or the new
   // project, or (fallback only) the old one waits beside it where loadRoom finds it.
   const QString path = target.absoluteFilePath();
-  const QString backup = parent + "/." + target.fileName() + ".previous";
-  QDir(backup).removeRecursively();
-  auto& hooks = saveHooks();
-  auto step = [&](const char* what) {
-    if (hooks.step) hooks.step(what);
-  };
-  step("staged");
+  const QString& backup = names.backup;
+  if (QFileInfo::exists(backup)) {
+    // An earlier save stopped after moving the old project aside: with the project at the
+    // path, that copy is stale; without it, it is the project (loadRoom puts it back).
+    if (!QFileInfo::exists(path)) {
+      if (!QDir().rename(backup, path)) abandon("cannot move back " + str(backup));
+      detail::saveStep("moved back");
+    }
+    discardFolder(backup, names);
+  }
+  const auto& hooks = saveHooks();
+  static const bool noExchange = std::getenv("RELUME_SAVE_NO_EXCHANGE") != nullptr;
+  detail::saveStep("staged");
   const bool hadOld = QFileInfo::exists(path);
-  if (hadOld && hooks.exchange &&
+  if (hadOld && hooks.exchange && !noExchange &&
       renameat2(AT_FDCWD, QFile::encodeName(staging).constData(), AT_FDCWD, QFile::encodeName(path).constData(),
                 RENAME_EXCHANGE) == 0) {
     // One atomic step: the new project at the path, the old one in the staging folder.
-    step("exchanged");
-    QDir(staging).removeRecursively();
-    step("done");
+    detail::saveStep("exchanged");
+    discardFolder(staging, names);
+    detail::saveStep("done");
     return;
   }
   // No atomic exchange here (another file system, or a new path): old -> backup, staging ->
   // path, drop backup. A crash between the two renames leaves the old project as the backup,
   // which loadRoom moves back.
   if (hadOld && !QDir().rename(path, backup)) abandon("cannot move the existing project aside");
-  step("moved aside");
+  detail::saveStep("moved aside");
   if (!QDir().rename(staging, path)) {
     if (hadOld) QDir().rename(backup, path);
     abandon("cannot move the new project into place");
   }
-  step("moved in");
-  if (hadOld) QDir(backup).removeRecursively();
-  step("done");
+  detail::saveStep("moved in");
+  if (hadOld) discardFolder(backup, names);
+  detail::saveStep("done");
 }
 
 }  // namespace relume

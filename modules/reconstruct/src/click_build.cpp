@@ -15,6 +15,8 @@
 #include "relume/geometry/error.h"
 #include "relume/image/image.h"
 #include "relume/project/room_io.h"
+#include "relume/project/save_hooks.h"
+#include "relume/reconstruct/colmap_driver.h"
 #include "relume/reconstruct/multiview.h"
 #include "relume/reconstruct/photos.h"
 
@@ -131,10 +133,7 @@ ClickWorkspace openClickWorkspace(const std::string& path, const std::string& ph
   if (d.exists("sparse/cameras.txt") || d.exists("sparse/cameras.bin")) w.modelFolder = d.filePath("sparse").toStdString();
   else if (d.exists("cameras.txt") || d.exists("cameras.bin")) w.modelFolder = d.path().toStdString();
   if (!photosOption.empty()) w.photosDir = photosOption;
-  else if (d.exists("workspace.json")) {
-    QFile f(d.filePath("workspace.json"));
-    if (f.open(QIODevice::ReadOnly)) w.photosDir = QJsonDocument::fromJson(f.readAll()).object()["photos"].toString().toStdString();
-  }
+  else if (const auto info = readWorkspaceInfo(d.path().toStdString())) w.photosDir = info->photos;
   if (w.photosDir.empty()) {
     QDir up(d);
     if (up.cdUp() && up.exists("photos")) w.photosDir = up.filePath("photos").toStdString();
@@ -259,7 +258,9 @@ void saveClickProject(const ClickBuild& b, const Clicks& clicks, const std::stri
   saveProject(b.scene, folder, progress, [&](const std::string& staging) {
     const QDir dir(QString::fromStdString(staging));
     writeJson(dir.filePath("triangulation.json"), rep);
+    relume::detail::saveStep("triangulation.json written");
     writeClicks(clicks, dir.filePath("clicks.json").toStdString());
+    relume::detail::saveStep("clicks.json written");
   });
 }
 

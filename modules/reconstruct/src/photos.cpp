@@ -354,27 +354,43 @@ void writeIntrinsics(const Intrinsics& in, const std::string& path) {
     throw Error(path, "", "cannot write the file");
 }
 
+Intrinsics parseIntrinsics(const std::string& bytes, const std::string& name) {
+  QJsonParseError err;
+  const QJsonDocument doc = QJsonDocument::fromJson(QByteArray(bytes.data(), qsizetype(bytes.size())), &err);
+  if (doc.isNull() || !doc.isObject()) throw Error(name, "", "is not JSON: " + err.errorString().toStdString());
+  const QJsonObject o = doc.object();
+  auto number = [&](const char* key, bool required) {
+    const QJsonValue v = o[key];
+    if (v.isUndefined() && !required) return 0.0;
+    if (!v.isDouble() || !std::isfinite(v.toDouble()))
+      throw Error(name, key, "must be a number (as `relume calibrate` writes it)");
+    return v.toDouble();
+  };
+  auto size = [&](const char* key) {
+    const double x = number(key, true);
+    if (!(x >= 1 && x <= (1 << 20)) || x != std::floor(x)) throw Error(name, key, "must be a whole number of pixels from 1 to 1048576");
+    return int(x);
+  };
+  Intrinsics in;
+  in.width = size("width");
+  in.height = size("height");
+  in.fx = number("fx", true);
+  in.fy = number("fy", true);
+  in.cx = number("cx", true);
+  in.cy = number("cy", true);
+  in.k1 = number("k1", false);
+  in.k2 = number("k2", false);
+  in.p1 = number("p1", false);
+  in.p2 = number("p2", false);
+  if (!(in.fx > 0) || !(in.fy > 0)) throw Error(name, "fx, fy", "must be positive (pixels)");
+  return in;
+}
+
 Intrinsics readIntrinsics(const std::string& path) {
   QFile f(QString::fromStdString(path));
   if (!f.open(QIODevice::ReadOnly)) throw Error(path, "", "cannot open the file");
-  QJsonParseError err;
-  const QJsonDocument doc = QJsonDocument::fromJson(f.readAll(), &err);
-  if (doc.isNull() || !doc.isObject()) throw Error(path, "", "is not JSON: " + err.errorString().toStdString());
-  const QJsonObject o = doc.object();
-  Intrinsics in;
-  in.width = o["width"].toInt();
-  in.height = o["height"].toInt();
-  in.fx = o["fx"].toDouble();
-  in.fy = o["fy"].toDouble();
-  in.cx = o["cx"].toDouble();
-  in.cy = o["cy"].toDouble();
-  in.k1 = o["k1"].toDouble();
-  in.k2 = o["k2"].toDouble();
-  in.p1 = o["p1"].toDouble();
-  in.p2 = o["p2"].toDouble();
-  if (in.width <= 0 || in.height <= 0 || !(in.fx > 0) || !(in.fy > 0))
-    throw Error(path, "", "needs width, height and positive fx, fy (as `relume calibrate` writes them)");
-  return in;
+  const QByteArray b = f.readAll();
+  return parseIntrinsics(std::string(b.constData(), size_t(b.size())), path);
 }
 
 }  // namespace relume::recon

@@ -51,6 +51,9 @@ struct Scene {
   std::vector<Photo> photos;
   std::string mainPhoto;
   std::vector<Variant> variants;
+  // What reading found and did that the user should hear about (an interrupted save's
+  // leftovers, a project put back from its backup); front ends show them.
+  std::vector<std::string> notes;
 
   int findPolygon(const std::string& name) const;
   int findLamp(const std::string& name) const;

@@ -23,6 +23,11 @@ void saveRelightProject(const Scene& scene, const RelightData& data, const std::
 // The relighting data of a project read with readProject; throws relume::Error naming the file
 // when the project was not preprocessed or a file is missing or damaged.
 RelightData readRelightData(const Scene& project);
+// relight.json's bytes (`name` for the messages) for `project`: everything but the texture layers
+// and glow images (readRelightData wraps it and loads those). What the fuzzing harness calls.
+RelightData parseRelightJson(const std::string& bytes, const Scene& project, const std::string& name);
+// The largest texture grid side relight.json may give (texels).
+inline constexpr int kMaxTextureSide = 16384;
 bool hasRelightData(const std::string& projectFolder);
 // Painted reference regions as JSON ([{polygon, reference: [u, v], discs: [[u, v, r], ...]}]), as
 // relight.json and the workbench's state keep them; the reader names `file` in its errors.

@@ -3,6 +3,7 @@
 // processes: CPU SIFT, progress read from their output, Cancel kills them. The workspace holds
 // COLMAP's database and models (colmap/) and the chosen model as text (sparse/).
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,17 @@ ColmapRun runColmap(const std::string& photosDir, const std::string& workspace, 
 // registered and those left out, the number of points, whether the model is in the metric frame,
 // COLMAP's times. Written atomically; `relume triangulate` and the workbench read it.
 void writeWorkspaceInfo(const std::string& workspace, const std::string& photosDir, const ColmapRun& run, bool metric);
+struct WorkspaceInfo {
+  std::string photos;  // the photos folder the user reconstructed from (this machine's path)
+  std::vector<std::string> registered, leftOut;
+  long long points = 0;
+  bool metric = false;
+};
+// workspace.json's bytes (`name` for the messages); throws relume::Error on invalid JSON or a
+// field of the wrong type.
+WorkspaceInfo parseWorkspaceInfo(const std::string& bytes, const std::string& name);
+// The workspace's workspace.json, or nothing when it has none.
+std::optional<WorkspaceInfo> readWorkspaceInfo(const std::string& workspace);
 
 // Runs one COLMAP subcommand; progress lines are matched by `onLine`. Throws as runColmap does.
 void runColmapStep(const std::string& colmap, const std::vector<std::string>& args, const std::string& what,

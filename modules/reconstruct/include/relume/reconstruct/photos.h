@@ -70,6 +70,8 @@ Intrinsics calibrateCheckerboard(const std::vector<std::string>& files, int cols
                                  Progress& progress);
 void writeIntrinsics(const Intrinsics& in, const std::string& jsonPath);
 Intrinsics readIntrinsics(const std::string& jsonPath);
+// The same from the JSON's bytes (`name` for the messages).
+Intrinsics parseIntrinsics(const std::string& bytes, const std::string& name);
 
 // The exposure, focal and camera fields of `exif` that are set, as metadata to write with a photo.
 ImageMetadata exifMetadata(const PhotoInfo& exif);
