@@ -1,6 +1,7 @@
 #include "relume/geometry/progress.h"
 
 #include "relume/geometry/error.h"
+#include "relume/geometry/memory.h"
 
 namespace relume {
 
@@ -16,6 +17,7 @@ Progress::Progress(Progress& parent, double lo, double hi)
 void Progress::poll() const {
   if (cancelled_.load()) throw Cancelled();
   if (parent_) parent_->poll();
+  else checkMemoryLeft();  // once per poll, at the root
 }
 
 Progress& silentProgress() {

@@ -63,10 +63,14 @@ void checkPolygon(const Scene& scene, const Polygon& p, const ValidationOptions&
 // towards the scene (into the room); a contact face (a box bottom lying on the floor) is exempt.
 void checkShellOrientation(const Scene& scene) {
   glm::dvec3 lo(1e300), hi(-1e300);
-  for (const auto& p : scene.polygons)
-    for (const auto& q : p.vertices) {
+  std::vector<glm::dvec3> all;  // every vertex, with the polygon it belongs to
+  std::vector<size_t> owner;
+  for (size_t i = 0; i < scene.polygons.size(); ++i)
+    for (const auto& q : scene.polygons[i].vertices) {
       lo = glm::min(lo, q);
       hi = glm::max(hi, q);
+      all.push_back(q);
+      owner.push_back(i);
     }
   const double size = glm::length(hi - lo);
   const double tol = 1e-6 * size;
@@ -75,21 +79,28 @@ void checkShellOrientation(const Scene& scene) {
     if (p.kind == PolygonKind::Window) continue;
     const glm::dvec3 n = polygonNormal(p.vertices);
     const glm::dvec3 o = p.vertices[0];
-    double mn = 0, mx = 0;
+    // Most polygons have some of the scene in front: stop at the first such vertex (this keeps
+    // the check near-linear in the scene's size rather than quadratic).
+    double mn = 0;
+    bool inFront = false;
+    for (size_t k = 0; k < all.size() && !inFront; ++k) {
+      if (owner[k] == i) continue;
+      const double d = glm::dot(all[k] - o, n);
+      inFront = d > tol;
+      mn = std::min(mn, d);
+    }
+    if (inFront || mn >= -100 * tol) continue;
+    // The whole scene behind it: wrong unless a polygon lies on its plane facing the other way
+    // (a contact face).
     bool oppositeCoplanar = false;
-    for (size_t j = 0; j < scene.polygons.size(); ++j) {
+    for (size_t j = 0; j < scene.polygons.size() && !oppositeCoplanar; ++j) {
       if (j == i) continue;
       const auto& q = scene.polygons[j];
       bool allOnPlane = true;
-      for (const auto& x : q.vertices) {
-        const double d = glm::dot(x - o, n);
-        mn = std::min(mn, d);
-        mx = std::max(mx, d);
-        allOnPlane = allOnPlane && std::abs(d) <= tol;
-      }
-      if (allOnPlane && glm::dot(polygonNormal(q.vertices), n) < -0.999) oppositeCoplanar = true;
+      for (const auto& x : q.vertices) allOnPlane = allOnPlane && std::abs(glm::dot(x - o, n)) <= tol;
+      oppositeCoplanar = allOnPlane && glm::dot(polygonNormal(q.vertices), n) < -0.999;
     }
-    if (mx <= tol && mn < -100 * tol && !oppositeCoplanar)
+    if (!oppositeCoplanar)
       throw Error(scene.sourceFile, "polygon '" + p.name + "'",
                   "its normal points out of the room (the rest of the scene lies behind it); "
                   "reverse its vertex order");
@@ -122,6 +133,17 @@ void checkCamera(const Scene& scene, const Photo& ph) {
 
 void validateScene(const Scene& scene, const ValidationOptions& options) {
   if (scene.polygons.empty()) throw Error(scene.sourceFile, "", "the scene holds no polygons");
+  if (scene.polygons.size() > kMaxRoomPolygons)
+    throw Error(scene.sourceFile, "",
+                "has " + std::to_string(scene.polygons.size()) + " polygons; Relume relights rooms of up to " +
+                    std::to_string(kMaxRoomPolygons) +
+                    " (each keeps its own textures and radiosity hierarchy): model the room with planes for the walls "
+                    "and boxes for the furniture, as the paper does");
+  for (const auto& p : scene.polygons)
+    if (p.vertices.size() > kMaxPolygonVertices)
+      throw Error(scene.sourceFile, "polygon '" + p.name + "'",
+                  "has " + std::to_string(p.vertices.size()) + " vertices; a polygon may have up to " +
+                      std::to_string(kMaxPolygonVertices));
   for (const auto& p : scene.polygons) checkPolygon(scene, p, options);
   for (const auto& l : scene.lamps) {
     const std::string where = "lamp '" + l.name + "'";

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "relume/geometry/error.h"
+#include "relume/geometry/memory.h"
 
 namespace relume {
 
@@ -44,6 +45,8 @@ ImageRGB readImageLinear(const std::string& path) {
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels < 1)
     throw Error(path, "", "the image has no pixels");
   const int nc = spec.nchannels;
+  requireMemory(size_t(spec.width) * size_t(spec.height) * (size_t(nc) + 3) * sizeof(float),
+                "reading this " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " image", path);
   std::vector<float> raw(size_t(spec.width) * spec.height * nc);
   if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, raw.data()))
     throw Error(path, "", "cannot decode the image: " + in->geterror());
@@ -113,6 +116,9 @@ Image8 readImage8(const std::string& path) {
   const OIIO::ImageSpec& s = in->spec();
   if (s.format.is_floating_point() || s.format.size() != 1)
     throw Error(path, "", "is not an 8-bit image (this step reads the camera's 8-bit JPEG, PNG or TIFF files)");
+  if (s.width <= 0 || s.height <= 0 || s.nchannels < 1) throw Error(path, "", "the image has no pixels");
+  requireMemory(size_t(s.width) * size_t(s.height) * (size_t(s.nchannels) + 3),
+                "reading this " + std::to_string(s.width) + "x" + std::to_string(s.height) + " image", path);
   Image8 img;
   img.width = s.width;
   img.height = s.height;

@@ -55,6 +55,10 @@ void checkVirtualObject(const Scene& scene, const VirtualObject& object) {
   for (double c : {object.albedo.x, object.albedo.y, object.albedo.z})
     if (!(c > 0 && c <= 1)) throw Error(scene.sourceFile, what, "albedo must lie in (0, 1]");
   if (object.polygons.empty()) throw Error(scene.sourceFile, what, "has no polygons");
+  if (object.polygons.size() > kMaxObjectFaces)
+    throw Error(scene.sourceFile, what,
+                "has " + std::to_string(object.polygons.size()) + " faces; a virtual object in the radiosity solution may have up to " +
+                    std::to_string(kMaxObjectFaces) + " (simplify the mesh: its faces become elements and links of the solution)");
   for (size_t k = 0; k < object.polygons.size(); ++k)
     if (object.polygons[k].size() < 3 || !(polygonArea(object.polygons[k]) > 1e-8))
       throw Error(scene.sourceFile, what, "polygon " + std::to_string(k) + " has fewer than 3 vertices or no area");

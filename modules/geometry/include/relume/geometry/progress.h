@@ -17,7 +17,8 @@ class Progress {
 
   // Reports the fraction done in [0,1] of the current stage; throws Cancelled when asked to stop.
   void report(double fraction, const std::string& text);
-  // Throws Cancelled when cancellation was requested.
+  // Throws Cancelled when cancellation was requested, and relume::Error when the machine is
+  // nearly out of memory (relume/geometry/memory.h).
   void poll() const;
   void cancel() { cancelled_.store(true); }
   bool cancelled() const { return cancelled_.load(); }

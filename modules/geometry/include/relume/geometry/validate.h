@@ -1,5 +1,7 @@
 #pragma once
 // Checks a scene for what would break the radiosity engine and names the culprit.
+#include <cstddef>
+
 #include "relume/geometry/scene.h"
 
 namespace relume {
@@ -8,6 +10,11 @@ struct ValidationOptions {
   double planarityTolerance = 1e-3;  // max distance off the plane, relative to the polygon's size
   double minArea = 1e-10;            // m^2
 };
+
+// Limits of a room Relume relights (a model rebuilt from photos has tens to thousands of
+// polygons; a scanned mesh is not one): more polygons, or a polygon with more vertices, is refused.
+inline constexpr size_t kMaxRoomPolygons = 50000;
+inline constexpr size_t kMaxPolygonVertices = 1000;
 
 // Throws relume::Error naming scene.sourceFile and the polygon / lamp / photo at fault:
 // fewer than 3 vertices, zero area, non-planar, non-convex, NaN or infinite numbers, room shell

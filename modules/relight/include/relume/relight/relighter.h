@@ -78,6 +78,10 @@ struct VirtualLamp {
   bool twoSided = false;  // emits from both faces (the same radiance on each)
 };
 // A virtual object: a closed set of outward-facing convex polygons with one albedo.
+// The most faces a virtual object's mesh may have (each face becomes elements and links of the
+// radiosity solution, updated on every move).
+inline constexpr size_t kMaxObjectFaces = 20000;
+
 struct VirtualObject {
   std::string name;
   std::vector<std::vector<glm::dvec3>> polygons;
