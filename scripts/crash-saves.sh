@@ -13,8 +13,8 @@
 #                file system that lacks it: two renames, the old project kept aside between them.
 #   --quick      after each crash, compare the whole folder at the path with the old and the new
 #                project byte for byte (instead of relighting it: what CI runs).
-#   --kill9 N    N real `kill -9`s from outside, each at a random moment after the save has begun
-#                (its staging folder has appeared) and before the command ends.
+#   --kill9 N    N real `kill -9`s from outside, each at a random moment of the save phase (from
+#                its staging folder's appearing to the command's end, timed on one run first).
 # After every crash: `relume check` opens the path (exit 0), its project.json is byte for byte the
 # old or the new one, a preprocessed project relights to the old or the new one's image
 # (>= 50 dB), and saving again over it succeeds. Prints the counts; exits 1 on any failure.
@@ -160,20 +160,31 @@ for cmd in "${commands[@]}"; do
   fi
   if [ "$kills" -gt 0 ]; then
     declare -A seen=()
+    # Aim: how long the save phase lasts (from its staging folder's appearing to the command's
+    # end), measured on one uninterrupted run; each kill comes at a random moment within it.
+    reset_target
+    new_args "$tmp/target"
+    "${args[@]}" >"$tmp/run.out" 2>&1 &
+    pid=$!
+    while kill -0 $pid 2>/dev/null && [ ! -e "$tmp/.target.saving" ]; do sleep 0.001; done
+    t0=$(date +%s%N)
+    wait $pid
+    save_ms=$(( ($(date +%s%N) - t0) / 1000000 ))
+    [ $save_ms -ge 1 ] || save_ms=1
     aimed=0
     for ((k = 1; k <= kills; ++k)); do
       reset_target
       new_args "$tmp/target"
       "${args[@]}" >"$tmp/run.out" 2>&1 &  # relume itself, not a subshell, is what gets killed
       pid=$!
-      # Wait for the save to begin (its staging folder), then kill at a random moment within it.
-      while kill -0 $pid 2>/dev/null && [ ! -e "$tmp/.target.saving" ]; do sleep 0.002; done
-      sleep "0.$(printf '%03d' $((RANDOM % 400)))"
+      while kill -0 $pid 2>/dev/null && [ ! -e "$tmp/.target.saving" ]; do sleep 0.001; done
+      delay=$(( (RANDOM * 32768 + RANDOM) % save_ms ))
+      sleep "$(printf '%d.%03d' $((delay / 1000)) $((delay % 1000)))"
       if kill -9 $pid 2>/dev/null; then aimed=$((aimed + 1)); fi
       wait $pid 2>/dev/null
       check_after "$cmd, kill -9 trial $k"
     done
-    echo "$cmd: $kills kill -9 trials, $aimed landed before the command ended: old project at the path ${seen[old]:-0} times, new ${seen[new]:-0} times"
+    echo "$cmd: $kills kill -9 trials at random moments of its ${save_ms} ms save phase; $aimed landed before the command ended: old project at the path ${seen[old]:-0} times, new ${seen[new]:-0} times"
     unset seen
   fi
 done

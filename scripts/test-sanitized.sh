@@ -34,7 +34,7 @@ pids=()
 run radiosity_tests '*' & pids+=($!)
 run reconstruct_tests '*' & pids+=($!)
 for p in "${pids[@]}"; do wait "$p" || status=1; done
-for t in geometry_tests raytrace_tests project_tests; do run "$t" '*' || status=1; done
+for t in geometry_tests raytrace_tests project_tests daylight_tests; do run "$t" '*' || status=1; done
 run relight_tests "$quick_relight" || status=1
 # The fuzzing corpora and every crash input found (tests/fuzz/regressions), replayed through the
 # parsers' harnesses under the same sanitizers (g++; libFuzzer's engine is not needed to replay).

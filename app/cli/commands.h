@@ -33,6 +33,7 @@ int alignCommand(const QStringList& args, Progress& progress);
 int triangulateCommand(const QStringList& args, Progress& progress);
 int hdrMergeCommand(const QStringList& args, Progress& progress);
 int calibrateCommand(const QStringList& args, Progress& progress);
+int skyCommand(const QStringList& args, Progress& progress);
 }  // namespace relume::cli
 namespace relume {
 struct Scene;

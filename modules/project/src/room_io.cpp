@@ -68,7 +68,6 @@ QByteArray readFileBytes(const QString& path) {
   return f.readAll();
 }
 
-QJsonObject readJsonObject(const QString& path) { return parseJsonObject(readFileBytes(path), str(path)); }
 
 struct JsonReader {
   std::string file;

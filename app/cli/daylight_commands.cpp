@@ -1,0 +1,99 @@
+// relume sky: what a measured sky holds (its regions, its sun), as the daylight basis will use it.
+#include <QCommandLineParser>
+#include <QJsonArray>
+#include <QJsonObject>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "commands.h"
+#include "relume/daylight/sky.h"
+#include "relume/geometry/error.h"
+#include "relume/image/image.h"
+
+namespace relume::cli {
+
+namespace dl = relume::daylight;
+
+int skyCommand(const QStringList& args, Progress& progress) {
+  QCommandLineParser p;
+  p.setApplicationDescription(
+      "Read an HDR fisheye of the sky (looking up, image up = +Y, the circle filling the image unless given), find the "
+      "sun, average the rest over the sky's regions and print the irradiance it gives.");
+  p.addPositionalArgument("FISHEYE", "Linear HDR fisheye image (EXR).");
+  p.addOption({"projection", "equidistant (default) or equisolid.", "NAME"});
+  p.addOption({"fov", "Field of view across the image circle in degrees (default 180).", "DEG"});
+  p.addOption({"circle", "The image circle as CX,CY,R in pixels (default: centred, filling the image).", "CX,CY,R"});
+  p.addOption({"regions", "Number of sky regions (default 64).", "N"});
+  p.addOption({"json", "Also write the regions, the sun and the irradiances as JSON.", "OUT.json"});
+  parseOrThrow(p, args, 1, "relume sky FISHEYE.exr [--projection equidistant|equisolid] [--fov 180] [--regions 64]");
+  const std::string file = p.positionalArguments()[0].toStdString();
+  const QString proj = p.value("projection").isEmpty() ? "equidistant" : p.value("projection");
+  if (proj != "equidistant" && proj != "equisolid")
+    throw Error("", "--projection", "must be equidistant or equisolid, not '" + proj.toStdString() + "'");
+  bool ok = true;
+  const double fov = p.isSet("fov") ? p.value("fov").toDouble(&ok) : 180.0;
+  if (!ok || !(fov > 0 && fov <= 360)) throw Error("", "--fov", "must be a number of degrees in (0, 360]");
+  const int regions = p.isSet("regions") ? p.value("regions").toInt(&ok) : 64;
+  if (!ok || regions < 1 || regions > 100000) throw Error("", "--regions", "must be a whole number from 1 to 100000");
+  int w = 0, h = 0;
+  imageSize(file, w, h);
+  dl::FisheyeModel model = dl::fisheyeLookingUp(
+      w, h, proj == "equisolid" ? dl::FisheyeProjection::Equisolid : dl::FisheyeProjection::Equidistant, fov);
+  if (p.isSet("circle")) {
+    const QStringList c = p.value("circle").split(',');
+    bool a = false, b = false, r = false;
+    if (c.size() != 3) throw Error("", "--circle", "must be CX,CY,R (pixels)");
+    model.centre = {c[0].toDouble(&a), c[1].toDouble(&b)};
+    model.radius = c[2].toDouble(&r);
+    if (!a || !b || !r) throw Error("", "--circle", "must be CX,CY,R (pixels)");
+  }
+  progress.report(0, "reading " + file);
+  const dl::SkyImage sky = dl::readSkyImage(file, model);
+  progress.report(0.3, "averaging the sky over " + std::to_string(regions) + " regions");
+  const dl::SkyRegions cells(regions);
+  const dl::SkyRadiance avg = dl::averageSky(sky, cells);
+  const double deg = 180 / std::numbers::pi;
+  const glm::dvec3 horizontal = dl::planeIrradiance(cells, avg, {0, 0, 1});
+  dl::SkyRadiance skyOnly = avg;
+  skyOnly.sun.found = false;
+  const glm::dvec3 diffuse = dl::planeIrradiance(cells, skyOnly, {0, 0, 1});
+  if (avg.sun.found) {
+    const glm::dvec3& d = avg.sun.direction;
+    double az = std::atan2(d.y, d.x) * deg;
+    if (az < 0) az += 360;
+    std::printf("sun: elevation %.2f deg, azimuth %.2f deg (from +X towards +Y), %d pixels, %.3g sr; irradiance facing it %.4g %.4g %.4g\n",
+                std::asin(d.z) * deg, az, avg.sun.pixels, avg.sun.solidAngle, avg.sun.irradiance.x, avg.sun.irradiance.y,
+                avg.sun.irradiance.z);
+  } else {
+    std::printf("sun: none found (no pixel far brighter than the sky)\n");
+  }
+  std::printf("horizontal irradiance: sky %.4g %.4g %.4g, with the sun %.4g %.4g %.4g (%d regions)\n", diffuse.x, diffuse.y,
+              diffuse.z, horizontal.x, horizontal.y, horizontal.z, cells.size());
+  if (p.isSet("json")) {
+    auto rgb = [](const glm::dvec3& v) { return QJsonArray{v.x, v.y, v.z}; };
+    QJsonArray reg;
+    for (int k = 0; k < cells.size(); ++k) {
+      const auto& c = cells.cell(k);
+      reg.append(QJsonObject{{"elevation_deg", QJsonArray{c.elev0 * deg, c.elev1 * deg}},
+                             {"azimuth_deg", QJsonArray{c.azim0 * deg, c.azim1 * deg}},
+                             {"solid_angle_sr", cells.solidAngle(k)},
+                             {"radiance", rgb(avg.region[size_t(k)])}});
+    }
+    QJsonObject sun{{"found", avg.sun.found}};
+    if (avg.sun.found)
+      sun = QJsonObject{{"found", true},
+                        {"direction", rgb(avg.sun.direction)},
+                        {"irradiance", rgb(avg.sun.irradiance)},
+                        {"solid_angle_sr", avg.sun.solidAngle},
+                        {"pixels", avg.sun.pixels}};
+    writeJsonAtomically(p.value("json"), QJsonObject{{"file", QString::fromStdString(file)},
+                                                     {"regions", reg},
+                                                     {"sun", sun},
+                                                     {"horizontal_irradiance_sky", rgb(diffuse)},
+                                                     {"horizontal_irradiance", rgb(horizontal)}});
+  }
+  return 0;
+}
+
+}  // namespace relume::cli

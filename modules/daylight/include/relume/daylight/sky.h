@@ -1,0 +1,111 @@
+#pragma once
+// The measured sky (Grosch, Eble, Mueller 2007, §5 and §6.1): an HDR fisheye image taken outside,
+// looking up, with its lens model; the upper hemisphere cut into N regions of about equal solid
+// angle; each region's mean radiance from the image, and the sun found and kept apart, since its
+// light is concentrated in a few pixels rather than spread over a region.
+//
+// Directions are unit vectors in the room's frame (metres, +Z up), pointing from the room to the
+// sky. A fisheye's image frame: x to the right, y down, pixel centres at (x + 0.5, y + 0.5).
+#include <glm/mat3x3.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "relume/image/image.h"
+
+namespace relume::daylight {
+
+enum class FisheyeProjection {
+  Equidistant,  // r = f * theta (the common "f-theta" fisheye)
+  Equisolid,    // r = 2 f * sin(theta / 2)
+};
+
+struct FisheyeModel {
+  FisheyeProjection projection = FisheyeProjection::Equidistant;
+  double fovDeg = 180;     // full field of view across the image circle
+  glm::dvec2 centre{0.0};  // the image circle's centre (pixels)
+  double radius = 0;       // the image circle's radius (pixels): theta = fov / 2 there
+  // Columns: the room-frame directions of the image's +x (right), of its up (-y) and of the
+  // optical axis. Looking up with image up = +Y: (+X, +Y, +Z).
+  glm::dmat3 axes{1.0};
+};
+
+// The day101 convention: equidistant (or `projection`), `fovDeg`, looking up (+Z), image up = +Y,
+// the circle filling the image (centre at its centre, radius half its smaller side).
+FisheyeModel fisheyeLookingUp(int width, int height, FisheyeProjection projection = FisheyeProjection::Equidistant,
+                              double fovDeg = 180);
+
+// The direction seen at image point (px, py), or nothing outside the image circle.
+std::optional<glm::dvec3> pixelDirection(const FisheyeModel& m, double px, double py);
+// The image point where `direction` is seen, or nothing outside the field of view.
+std::optional<glm::dvec2> directionPixel(const FisheyeModel& m, const glm::dvec3& direction);
+// The solid angle (sr) pixel (x, y) covers (0 outside the circle), integrated over the pixel.
+double pixelSolidAngle(const FisheyeModel& m, int x, int y);
+
+struct SkyImage {
+  ImageRGB image;  // linear radiance (W / (m^2 sr) per channel, or any consistent unit)
+  FisheyeModel model;
+  std::string file;  // for messages
+};
+// Reads an HDR fisheye and checks it: finite, non-negative radiance; the circle inside the image;
+// a view that sees the upper hemisphere (not only what lies below the horizon). Throws
+// relume::Error naming the file and what is wrong.
+SkyImage readSkyImage(const std::string& path, const FisheyeModel& model);
+void checkSkyImage(const SkyImage& sky);
+
+// The upper hemisphere cut into bands of equal elevation width, each band into cells whose
+// count follows its solid angle, so that cells are about square and of about equal solid angle.
+class SkyRegions {
+ public:
+  explicit SkyRegions(int n = 64);
+  int size() const { return int(cells_.size()); }
+  // The region holding `direction` (z >= 0), or -1 below the horizon.
+  int regionOf(const glm::dvec3& direction) const;
+  double solidAngle(int k) const;
+  glm::dvec3 centre(int k) const;  // the direction at the cell's centre (elevation, azimuth)
+  // Elevation and azimuth bounds (radians; azimuth from +X towards +Y).
+  struct Cell {
+    double elev0, elev1, azim0, azim1;
+  };
+  const Cell& cell(int k) const { return cells_[size_t(k)]; }
+
+ private:
+  std::vector<Cell> cells_;
+  std::vector<int> bandStart_;  // first cell of each band, and size() at the end
+  double bandWidth_ = 0;
+};
+
+struct Sun {
+  bool found = false;
+  glm::dvec3 direction{0.0, 0.0, 1.0};
+  // Irradiance on a plane facing the sun (W/m^2 per channel): its radiance integrated over the
+  // pixels it covers.
+  glm::dvec3 irradiance{0.0};
+  double solidAngle = 0;  // sr of the pixels taken as the sun
+  int pixels = 0;
+};
+
+struct SkyRadiance {
+  std::vector<glm::dvec3> region;  // each region's mean radiance, the sun's pixels left out
+  Sun sun;
+};
+
+struct SkyOptions {
+  // A pixel belongs to the sun when its luminance exceeds this many times the median luminance
+  // of the sky's pixels (a clear sky's sun is 10^4 - 10^5 times brighter than the sky around it).
+  double sunThreshold = 200;
+  double sunRadiusDeg = 3;  // the sun's pixels: within this angle of the brightest one
+};
+
+// Each region's mean radiance (pixels weighted by their solid angle; a region no pixel centre
+// falls into takes the radiance seen at its centre) and the sun.
+SkyRadiance averageSky(const SkyImage& sky, const SkyRegions& regions, const SkyOptions& options = {});
+
+// Irradiance (W/m^2 per channel) on a plane of normal `normal` from the regions' radiance over
+// the upper hemisphere (plus the sun when it is above the plane): sum of L_k times the
+// projected solid angle of region k on the plane's side, integrated numerically.
+glm::dvec3 planeIrradiance(const SkyRegions& regions, const SkyRadiance& sky, const glm::dvec3& normal);
+
+}  // namespace relume::daylight

@@ -1,0 +1,258 @@
+#include "relume/daylight/sky.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <numbers>
+
+#include "relume/geometry/error.h"
+
+namespace relume::daylight {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+
+double thetaMax(const FisheyeModel& m) { return m.fovDeg * kPi / 360.0; }
+
+// Angle from the optical axis at normalised radius s = r / R, and back.
+double thetaOf(const FisheyeModel& m, double s) {
+  const double tm = thetaMax(m);
+  if (m.projection == FisheyeProjection::Equidistant) return s * tm;
+  return 2.0 * std::asin(std::clamp(s * std::sin(tm / 2.0), -1.0, 1.0));
+}
+double radiusOf(const FisheyeModel& m, double theta) {
+  const double tm = thetaMax(m);
+  if (m.projection == FisheyeProjection::Equidistant) return theta / tm;
+  return std::sin(theta / 2.0) / std::sin(tm / 2.0);
+}
+
+double luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+}  // namespace
+
+FisheyeModel fisheyeLookingUp(int width, int height, FisheyeProjection projection, double fovDeg) {
+  FisheyeModel m;
+  m.projection = projection;
+  m.fovDeg = fovDeg;
+  m.centre = {width / 2.0, height / 2.0};
+  m.radius = std::min(width, height) / 2.0;
+  // A camera looking up (+Z) with the image's up along +Y has its image right along -X (seen
+  // from below, as a sky chart is drawn).
+  m.axes = glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1));
+  return m;
+}
+
+std::optional<glm::dvec3> pixelDirection(const FisheyeModel& m, double px, double py) {
+  const double dx = px - m.centre.x, dy = py - m.centre.y;
+  const double r = std::sqrt(dx * dx + dy * dy);
+  if (!(m.radius > 0) || r > m.radius) return std::nullopt;
+  const double theta = thetaOf(m, r / m.radius);
+  const double c = r > 0 ? dx / r : 1.0, s = r > 0 ? -dy / r : 0.0;  // image up is -y
+  const glm::dvec3 local(std::sin(theta) * c, std::sin(theta) * s, std::cos(theta));
+  return glm::normalize(m.axes * local);
+}
+
+std::optional<glm::dvec2> directionPixel(const FisheyeModel& m, const glm::dvec3& direction) {
+  const glm::dvec3 local = glm::transpose(m.axes) * glm::normalize(direction);
+  const double theta = std::acos(std::clamp(local.z, -1.0, 1.0));
+  if (theta > thetaMax(m) + 1e-12) return std::nullopt;
+  const double r = radiusOf(m, theta) * m.radius;
+  const double h = std::hypot(local.x, local.y);
+  const double c = h > 0 ? local.x / h : 1.0, s = h > 0 ? local.y / h : 0.0;
+  return glm::dvec2(m.centre.x + r * c, m.centre.y - r * s);
+}
+
+double pixelSolidAngle(const FisheyeModel& m, int x, int y) {
+  // Numerically, over 4 x 4 sub-pixels: the solid angle of an image area dA at normalised
+  // radius s is sin(theta) dtheta dphi with dphi = dA_tangential / r.
+  constexpr int kSub = 4;
+  double sum = 0;
+  for (int j = 0; j < kSub; ++j)
+    for (int i = 0; i < kSub; ++i) {
+      const double px = x + (i + 0.5) / kSub, py = y + (j + 0.5) / kSub;
+      const double dx = px - m.centre.x, dy = py - m.centre.y;
+      const double r = std::sqrt(dx * dx + dy * dy);
+      if (r > m.radius || r <= 0) continue;
+      const double s = r / m.radius, ds = 1e-6;
+      const double theta = thetaOf(m, s);
+      const double dthetaDr = (thetaOf(m, std::min(1.0, s + ds)) - thetaOf(m, std::max(0.0, s - ds))) /
+                              ((std::min(1.0, s + ds) - std::max(0.0, s - ds)) * m.radius);
+      sum += std::sin(theta) * dthetaDr / r / (kSub * kSub);
+    }
+  return sum;
+}
+
+void checkSkyImage(const SkyImage& sky) {
+  const ImageRGB& im = sky.image;
+  const FisheyeModel& m = sky.model;
+  if (im.width <= 0 || im.height <= 0) throw Error(sky.file, "", "the sky image has no pixels");
+  if (!(m.fovDeg > 0 && m.fovDeg <= 360)) throw Error(sky.file, "fisheye", "its field of view must lie in (0, 360] degrees");
+  if (!(m.radius > 0) || m.centre.x - m.radius < -0.5 || m.centre.y - m.radius < -0.5 ||
+      m.centre.x + m.radius > im.width + 0.5 || m.centre.y + m.radius > im.height + 0.5)
+    throw Error(sky.file, "fisheye",
+                "the image circle (centre " + std::to_string(m.centre.x) + ", " + std::to_string(m.centre.y) + ", radius " +
+                    std::to_string(m.radius) + " px) does not lie inside the " + std::to_string(im.width) + "x" +
+                    std::to_string(im.height) + " image");
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x) {
+      const glm::vec3 c = im.at(x, y);
+      for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(c[k]) || c[k] < 0)
+          throw Error(sky.file, "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")",
+                      "the radiance is " + std::string(std::isfinite(c[k]) ? "negative" : "NaN or infinite") +
+                          ": a sky image must hold finite, non-negative radiance");
+    }
+  // It must see the sky: some of the circle above the horizon.
+  bool above = false;
+  for (int y = 0; y < im.height && !above; y += 2)
+    for (int x = 0; x < im.width && !above; x += 2)
+      if (const auto d = pixelDirection(m, x + 0.5, y + 0.5)) above = d->z > 0.05;
+  if (!above) throw Error(sky.file, "fisheye", "the image sees only what lies below the horizon: it cannot give the sky");
+}
+
+SkyImage readSkyImage(const std::string& path, const FisheyeModel& model) {
+  SkyImage sky{readImageLinear(path), model, path};
+  checkSkyImage(sky);
+  return sky;
+}
+
+SkyRegions::SkyRegions(int n) {
+  if (n < 1 || n > 100000) throw Error("", "sky regions", "the number of regions must be from 1 to 100000");
+  // Bands of equal elevation width; square-ish cells give about n = 8 B^2 / pi.
+  const int bands = std::max(1, int(std::lround(std::sqrt(kPi * n / 8.0))));
+  bandWidth_ = (kPi / 2) / bands;
+  std::vector<double> omega(static_cast<size_t>(bands));
+  std::vector<int> count(static_cast<size_t>(bands));
+  for (int b = 0; b < bands; ++b) omega[size_t(b)] = 2 * kPi * (std::sin((b + 1) * bandWidth_) - std::sin(b * bandWidth_));
+  int total = 0;
+  for (int b = 0; b < bands; ++b) total += count[size_t(b)] = std::max(1, int(std::lround(n * omega[size_t(b)] / (2 * kPi))));
+  // Make the counts sum to n: take from or give to the band whose cells are furthest from 2 pi / n.
+  while (total != n) {
+    int best = -1;
+    double worst = 0;
+    for (int b = 0; b < bands; ++b) {
+      const int c = count[size_t(b)] + (total < n ? 1 : -1);
+      if (c < 1) continue;
+      const double err = std::abs(omega[size_t(b)] / c - 2 * kPi / n) - std::abs(omega[size_t(b)] / count[size_t(b)] - 2 * kPi / n);
+      if (best < 0 || err < worst) best = b, worst = err;
+    }
+    if (best < 0) break;
+    count[size_t(best)] += total < n ? 1 : -1;
+    total += total < n ? 1 : -1;
+  }
+  for (int b = 0; b < bands; ++b) {
+    bandStart_.push_back(int(cells_.size()));
+    const int c = count[size_t(b)];
+    for (int k = 0; k < c; ++k)
+      cells_.push_back({b * bandWidth_, (b + 1) * bandWidth_, 2 * kPi * k / c, 2 * kPi * (k + 1) / c});
+  }
+  bandStart_.push_back(int(cells_.size()));
+}
+
+int SkyRegions::regionOf(const glm::dvec3& d) const {
+  const glm::dvec3 u = glm::normalize(d);
+  if (u.z < 0) return -1;
+  const double elev = std::asin(std::clamp(u.z, 0.0, 1.0));
+  const int bands = int(bandStart_.size()) - 1;
+  const int b = std::clamp(int(elev / bandWidth_), 0, bands - 1);
+  double az = std::atan2(u.y, u.x);
+  if (az < 0) az += 2 * kPi;
+  const int c = bandStart_[size_t(b) + 1] - bandStart_[size_t(b)];
+  return bandStart_[size_t(b)] + std::clamp(int(az / (2 * kPi) * c), 0, c - 1);
+}
+
+double SkyRegions::solidAngle(int k) const {
+  const Cell& c = cells_.at(size_t(k));
+  return (c.azim1 - c.azim0) * (std::sin(c.elev1) - std::sin(c.elev0));
+}
+
+glm::dvec3 SkyRegions::centre(int k) const {
+  const Cell& c = cells_.at(size_t(k));
+  const double e = 0.5 * (c.elev0 + c.elev1), a = 0.5 * (c.azim0 + c.azim1);
+  return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+}
+
+SkyRadiance averageSky(const SkyImage& sky, const SkyRegions& regions, const SkyOptions& options) {
+  const ImageRGB& im = sky.image;
+  struct Px {
+    int x, y;
+    glm::dvec3 dir, L;
+    double omega;
+  };
+  std::vector<Px> px;
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x) {
+      const auto d = pixelDirection(sky.model, x + 0.5, y + 0.5);
+      if (!d || d->z < 0) continue;
+      const double w = pixelSolidAngle(sky.model, x, y);
+      if (w > 0) px.push_back({x, y, *d, glm::dvec3(im.at(x, y)), w});
+    }
+  SkyRadiance out;
+  out.region.assign(size_t(regions.size()), glm::dvec3(0.0));
+  if (px.empty()) return out;
+  // The sun: pixels far brighter than the sky's median, near the brightest one.
+  std::vector<double> lum(px.size());
+  for (size_t i = 0; i < px.size(); ++i) lum[i] = luminance(px[i].L);
+  std::vector<double> sorted = lum;
+  std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  const size_t brightest = size_t(std::max_element(lum.begin(), lum.end()) - lum.begin());
+  std::vector<char> isSun(px.size(), 0);
+  if (lum[brightest] > options.sunThreshold * std::max(median, 1e-30)) {
+    const double cosR = std::cos(options.sunRadiusDeg * kPi / 180);
+    glm::dvec3 weighted(0.0);
+    for (size_t i = 0; i < px.size(); ++i)
+      if (lum[i] > options.sunThreshold * median && glm::dot(px[i].dir, px[brightest].dir) >= cosR) {
+        isSun[i] = 1;
+        out.sun.irradiance += px[i].L * px[i].omega;
+        out.sun.solidAngle += px[i].omega;
+        weighted += px[i].dir * (lum[i] * px[i].omega);
+        ++out.sun.pixels;
+      }
+    out.sun.found = true;
+    out.sun.direction = glm::normalize(weighted);
+  }
+  // Region means of the rest.
+  std::vector<double> weight(size_t(regions.size()), 0.0);
+  for (size_t i = 0; i < px.size(); ++i) {
+    if (isSun[i]) continue;
+    const int k = regions.regionOf(px[i].dir);
+    if (k < 0) continue;
+    out.region[size_t(k)] += px[i].L * px[i].omega;
+    weight[size_t(k)] += px[i].omega;
+  }
+  for (int k = 0; k < regions.size(); ++k) {
+    if (weight[size_t(k)] > 0) {
+      out.region[size_t(k)] /= weight[size_t(k)];
+      continue;
+    }
+    // No pixel centre in it (a tiny image): what the image shows at its centre.
+    if (const auto p = directionPixel(sky.model, regions.centre(k))) {
+      const int x = std::clamp(int(p->x), 0, im.width - 1), y = std::clamp(int(p->y), 0, im.height - 1);
+      out.region[size_t(k)] = glm::dvec3(im.at(x, y));
+    }
+  }
+  return out;
+}
+
+glm::dvec3 planeIrradiance(const SkyRegions& regions, const SkyRadiance& sky, const glm::dvec3& normal) {
+  const glm::dvec3 n = glm::normalize(normal);
+  glm::dvec3 e(0.0);
+  constexpr int kSub = 16;  // per region: 16 x 16 sub-cells
+  for (int k = 0; k < regions.size(); ++k) {
+    const auto& c = regions.cell(k);
+    double projected = 0;
+    for (int j = 0; j < kSub; ++j)
+      for (int i = 0; i < kSub; ++i) {
+        const double e0 = c.elev0 + (c.elev1 - c.elev0) * j / kSub, e1 = c.elev0 + (c.elev1 - c.elev0) * (j + 1) / kSub;
+        const double a = c.azim0 + (c.azim1 - c.azim0) * (i + 0.5) / kSub, em = 0.5 * (e0 + e1);
+        const glm::dvec3 d(std::cos(em) * std::cos(a), std::cos(em) * std::sin(a), std::sin(em));
+        const double omega = (c.azim1 - c.azim0) / kSub * (std::sin(e1) - std::sin(e0));
+        projected += std::max(0.0, glm::dot(d, n)) * omega;
+      }
+    e += sky.region[size_t(k)] * projected;
+  }
+  if (sky.sun.found) e += sky.sun.irradiance * std::max(0.0, glm::dot(sky.sun.direction, n));
+  return e;
+}
+
+}  // namespace relume::daylight

@@ -1,0 +1,147 @@
+// The measured sky: fisheye geometry, the hemisphere's regions, region means and the sun, judged
+// against skies made here with known radiance (no external images).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <numbers>
+
+#include "relume/daylight/sky.h"
+#include "relume/geometry/error.h"
+
+using namespace relume;
+using namespace relume::daylight;
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+
+glm::dvec3 fromElevAzim(double elevDeg, double azimDeg) {
+  const double e = elevDeg * kPi / 180, a = azimDeg * kPi / 180;
+  return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+}
+
+// A fisheye of the given sky function, each pixel the mean over 3 x 3 sub-pixels (41 x 41 within
+// 2 degrees of `hot`, where a sun's disc is smaller than a pixel).
+SkyImage render(int size, FisheyeProjection proj, const std::function<glm::dvec3(const glm::dvec3&)>& sky,
+                const glm::dvec3& hot = glm::dvec3(0.0)) {
+  SkyImage s{ImageRGB(size, size), fisheyeLookingUp(size, size, proj), "synthetic.exr"};
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      glm::dvec3 sum(0.0);
+      int n = 0;
+      const auto c = pixelDirection(s.model, x + 0.5, y + 0.5);
+      const int k = c && glm::dot(*c, hot) > std::cos(2 * kPi / 180) ? 41 : 3;
+      for (int j = 0; j < k; ++j)
+        for (int i = 0; i < k; ++i)
+          if (const auto d = pixelDirection(s.model, x + (i + 0.5) / k, y + (j + 0.5) / k)) sum += sky(*d), ++n;
+      if (n) s.image.set(x, y, glm::vec3(sum / double(n)));
+    }
+  return s;
+}
+}  // namespace
+
+TEST(Fisheye, PixelsAndDirectionsAreInverseAndFollowTheLensModel) {
+  for (auto proj : {FisheyeProjection::Equidistant, FisheyeProjection::Equisolid}) {
+    const FisheyeModel m = fisheyeLookingUp(256, 256, proj);
+    // The centre looks up; the circle's edge is the horizon; image up is +Y, and (seen from
+    // below) image right is -X.
+    EXPECT_NEAR(glm::length(*pixelDirection(m, 128, 128) - glm::dvec3(0, 0, 1)), 0, 1e-12);
+    EXPECT_NEAR(glm::length(*pixelDirection(m, 128, 0) - glm::dvec3(0, 1, 0)), 0, 1e-9);
+    EXPECT_NEAR(glm::length(*pixelDirection(m, 256, 128) - glm::dvec3(-1, 0, 0)), 0, 1e-9);
+    EXPECT_FALSE(pixelDirection(m, 5, 5).has_value());  // a corner, outside the circle
+    for (double e : {5.0, 30.0, 60.0, 89.0})
+      for (double a : {0.0, 77.0, 200.0, 300.0}) {
+        const glm::dvec3 d = fromElevAzim(e, a);
+        const auto p = directionPixel(m, d);
+        ASSERT_TRUE(p);
+        EXPECT_NEAR(glm::length(*pixelDirection(m, p->x, p->y) - d), 0, 1e-9) << e << " " << a;
+      }
+    // Equidistant: 45 degrees from the axis is half way out; equisolid: sin(22.5) / sin(45).
+    const double r = glm::length(*directionPixel(m, fromElevAzim(45, 0)) - glm::dvec2(128, 128)) / 128;
+    EXPECT_NEAR(r, proj == FisheyeProjection::Equidistant ? 0.5 : std::sin(kPi / 8) / std::sin(kPi / 4), 1e-9);
+  }
+}
+
+TEST(Fisheye, PixelSolidAnglesCoverTheHemisphere) {
+  for (auto proj : {FisheyeProjection::Equidistant, FisheyeProjection::Equisolid}) {
+    const FisheyeModel m = fisheyeLookingUp(256, 256, proj);
+    double sum = 0;
+    for (int y = 0; y < 256; ++y)
+      for (int x = 0; x < 256; ++x) sum += pixelSolidAngle(m, x, y);
+    EXPECT_NEAR(sum, 2 * kPi, 0.01 * 2 * kPi);
+  }
+}
+
+TEST(SkyRegions, CoverTheHemisphereInAboutEqualCells) {
+  for (int n : {16, 64, 256}) {
+    const SkyRegions r(n);
+    ASSERT_EQ(r.size(), n);
+    double sum = 0;
+    for (int k = 0; k < n; ++k) {
+      sum += r.solidAngle(k);
+      EXPECT_NEAR(r.solidAngle(k), 2 * kPi / n, 0.35 * 2 * kPi / n) << "n " << n << " cell " << k;
+      EXPECT_EQ(r.regionOf(r.centre(k)), k);
+    }
+    EXPECT_NEAR(sum, 2 * kPi, 1e-9);
+    EXPECT_EQ(r.regionOf({0, 0, -1}), -1);
+  }
+}
+
+TEST(Sky, AUniformSkyAveragesToItsRadianceAndGivesPiLOnAHorizontalPlane) {
+  const glm::dvec3 L(1.7, 1.5, 1.2);
+  const SkyImage s = render(256, FisheyeProjection::Equidistant, [&](const glm::dvec3&) { return L; });
+  const SkyRegions regions(64);
+  const SkyRadiance avg = averageSky(s, regions);
+  EXPECT_FALSE(avg.sun.found);
+  for (int k = 0; k < regions.size(); ++k) EXPECT_NEAR(glm::length(avg.region[size_t(k)] - L), 0, 1e-4) << k;
+  // Irradiance: pi L on a horizontal plane, pi L / 2 on a vertical one (upper hemisphere only).
+  const glm::dvec3 up = planeIrradiance(regions, avg, {0, 0, 1}), side = planeIrradiance(regions, avg, {1, 0, 0});
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(up[c], kPi * L[c], 0.005 * kPi * L[c]);
+    EXPECT_NEAR(side[c], kPi * L[c] / 2, 0.005 * kPi * L[c] / 2);
+  }
+}
+
+TEST(Sky, TheSunIsFoundWhereItIsAndItsLightKeptApartFromItsRegion) {
+  // A sky brightening towards the zenith, and a sun of 0.53 degrees at elevation 30, azimuth
+  // 120, of radiance 2e5 times the sky's.
+  const glm::dvec3 sunDir = fromElevAzim(30, 120);
+  const double sunRadius = 0.265 * kPi / 180, sunL = 2e5;
+  auto skyL = [](const glm::dvec3& d) { return glm::dvec3(0.5 + 0.5 * d.z, 0.6 + 0.5 * d.z, 0.9 + 0.5 * d.z); };
+  const SkyImage s = render(512, FisheyeProjection::Equidistant, [&](const glm::dvec3& d) {
+    return glm::dot(d, sunDir) >= std::cos(sunRadius) ? glm::dvec3(sunL) : skyL(d);
+  }, sunDir);
+  const SkyRegions regions(64);
+  const SkyRadiance avg = averageSky(s, regions);
+  ASSERT_TRUE(avg.sun.found);
+  EXPECT_LT(std::acos(std::min(1.0, glm::dot(avg.sun.direction, sunDir))) * 180 / kPi, 0.5);
+  // Its irradiance: L times its solid angle (the disc's light, wherever the pixels put it).
+  const double expected = sunL * 2 * kPi * (1 - std::cos(sunRadius));
+  EXPECT_NEAR(avg.sun.irradiance.x, expected, 0.05 * expected);
+  // The sun's region keeps the sky's radiance around it.
+  const int k = regions.regionOf(sunDir);
+  EXPECT_NEAR(avg.region[size_t(k)].x, skyL(regions.centre(k)).x, 0.05);
+}
+
+TEST(Sky, BadSkyImagesAreRefusedWithTheirProblem) {
+  SkyImage s = render(64, FisheyeProjection::Equidistant, [](const glm::dvec3&) { return glm::dvec3(1.0); });
+  auto message = [](const SkyImage& sky) {
+    try {
+      checkSkyImage(sky);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message(s), "no error");
+  SkyImage nan = s;
+  nan.image.set(10, 20, glm::vec3(std::nanf(""), 1, 1));
+  EXPECT_NE(message(nan).find("synthetic.exr: pixel (10, 20): the radiance is NaN or infinite"), std::string::npos) << message(nan);
+  SkyImage outside = s;
+  outside.model.radius = 40;
+  EXPECT_NE(message(outside).find("does not lie inside the 64x64 image"), std::string::npos) << message(outside);
+  SkyImage below = s;
+  below.model.axes = glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, -1, 0), glm::dvec3(0, 0, -1));  // looking down
+  below.model.fovDeg = 150;
+  EXPECT_NE(message(below).find("only what lies below the horizon"), std::string::npos) << message(below);
+}
