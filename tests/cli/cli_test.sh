@@ -67,6 +67,30 @@ check "an albedo above 1 is an error" "[ $? -eq 1 ] && grep -q 'albedo' '$tmp/ba
 "$relume" relight "$tmp/sample.relume" -o "$tmp/bad4.png" 2>"$tmp/bad4.err"
 check "relighting a project never preprocessed says so" "[ $? -eq 1 ] && grep -q 'relume preprocess' '$tmp/bad4.err'"
 
+# Command-line mistakes name the option and exit 1 (docs/errors.md).
+cli_error() {  # NAME EXPECTED-TEXT COMMAND...
+  local name=$1 expect=$2
+  shift 2
+  "$relume" "$@" >/dev/null 2>"$tmp/cli.err"
+  local code=$?
+  check "$name" "[ $code -eq 1 ] && grep -qF -- \"$expect\" '$tmp/cli.err'"
+}
+cli_error "an unknown option is named" "Unknown option 'no-such-option'" solve "$room" --json "$tmp/o.json" --no-such-option
+cli_error "a required option missing is named" "--json OUT.json is required" solve "$room"
+cli_error "a numeric option that is not a number" "--eps" solve "$room" --json "$tmp/o.json" --eps abc
+cli_error "a choice option with an unknown value" "must be bf or bfv, not 'xy'" solve "$room" --json "$tmp/o.json" --oracle xy
+cli_error "a lamp scale without a value" "NAME=S" relight "$tmp/lit.relume" --lamp A -o "$tmp/o.png"
+cli_error "a negative lamp scale" "finite number >= 0" relight "$tmp/lit.relume" --lamp A=-1 -o "$tmp/o.png"
+cli_error "an output of the wrong type" "the output must end in .exr or .png" render "$room" --camera main -o "$tmp/o.jpg"
+cli_error "images of different sizes are not compared" "the rendering 640x480" compare "$tmp/ratio.exr" "$tmp/lit.relume/relight/tex_000.orig.exr"
+cli_error "a folder that is no room is named" "holds neither scene.json" check "$tmp"
+cp -r "$tmp/lit.relume" "$tmp/broken.relume"
+cp "$tmp/broken.relume/relight/tex_001.orig.exr" "$tmp/broken.relume/relight/tex_000.orig.exr"
+cli_error "check reads a project's relighting data and names a damaged texture" \
+  "tex_000.orig.exr: has the wrong size for its texture grid" check "$tmp/broken.relume"
+"$relume" check "$tmp/lit.relume" >"$tmp/check.out" 2>&1
+check "check says what a project holds" "[ $? -eq 0 ] && grep -q 'preprocessed (textures of photo' '$tmp/check.out'"
+
 # Ctrl-C during preprocess leaves the existing project as it was.
 cp "$tmp/lit.relume/relight/relight.json" "$tmp/before.json"
 "$relume" preprocess "$room" -o "$tmp/lit.relume" --eps 0.0005 2>/dev/null &

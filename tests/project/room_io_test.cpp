@@ -5,6 +5,7 @@
 #include <random>
 
 #include "relume/geometry/error.h"
+#include "relume/project/relight_store.h"
 #include "relume/project/room_io.h"
 #include "relume/project/save_hooks.h"
 
@@ -348,4 +349,82 @@ TEST(Project, AnInterruptedSavesLeftoversAreReportedAndNeverOpenedAsAProject) {
   ASSERT_EQ(back.notes.size(), 1u);
   EXPECT_NE(back.notes[0].find("moved back"), std::string::npos) << back.notes[0];
   EXPECT_TRUE(fs::exists(fs::path(proj) / "project.json"));
+}
+
+// Each way a project.json can be wrong has its own message naming the element (read from bytes,
+// as every reader of projects does).
+TEST(Project, EachMalformedProjectFieldIsNamed) {
+  const std::string base = text(std::string(RELUME_SOURCE_DIR) + "/tests/fuzz/corpus/project/small.json");
+  ASSERT_NO_THROW(parseProject(base, "p.json"));
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string s = base;
+    const size_t at = s.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) s.replace(at, from.size(), to);
+    return s;
+  };
+  const struct {
+    std::string what, json, expect;
+  } cases[] = {
+      {"other format", with("\"relume-project\"", "\"something-else\""), "p.json: format: is not a Relume project"},
+      {"newer version", with("\"version\": 1", "\"version\": 99"), "p.json: version: project version 99 is not supported"},
+      {"unknown kind", with("\"kind\": \"light\"", "\"kind\": \"lamp\""), "polygon 'light_A': unknown kind 'lamp'"},
+      {"polygon named twice", with("\"name\": \"wall_back\"", "\"name\": \"floor\""), "polygon 'floor': the name is used twice"},
+      {"polygon without name", with("\"name\": \"wall_back\"", "\"name\": \"\""), "a polygon: has no name"},
+      {"albedo of the wrong type", with("\"albedo\": [", "\"albedo\": \"grey\", \"x\": ["), "has no albedo"},
+      {"lamp on a missing polygon", with("\"polygon\": \"light_A\"", "\"polygon\": \"light_Z\""), "lamp 'A'"},
+      {"main photo not listed", with("\"main_photo\": \"main\"", "\"main_photo\": \"other\""),
+       "main_photo: names photo 'other', which is not listed"},
+      {"width not a whole number", with("\"width\": 640", "\"width\": 640.5"), "photo 'main': width must be a whole number"},
+      {"width of the wrong type", with("\"width\": 640", "\"width\": \"640\""), "photo 'main': width must be a number"},
+      {"radiance of two numbers", with("\"radiance_rgb\": [\n    34,", "\"radiance_rgb\": ["),
+       "radiance_rgb must be an array of 3 numbers"},
+  };
+  for (const auto& c : cases) {
+    std::string msg = "no error";
+    try {
+      parseProject(c.json, "p.json");
+    } catch (const Error& e) {
+      msg = e.what();
+    }
+    EXPECT_NE(msg.find(c.expect), std::string::npos) << c.what << ": " << msg;
+  }
+}
+
+// The same for relight/relight.json (the fuzzing seed: a preprocessed sample room's project.json
+// and relight.json, two 16-bit lengths first).
+TEST(Project, EachMalformedRelightFieldIsNamed) {
+  const std::string seed = text(std::string(RELUME_SOURCE_DIR) + "/tests/fuzz/corpus/relight/sample_room");
+  ASSERT_GT(seed.size(), 4u);
+  const size_t la = size_t(uint8_t(seed[0])) | size_t(uint8_t(seed[1])) << 8, lb = size_t(uint8_t(seed[2])) | size_t(uint8_t(seed[3])) << 8;
+  const Scene scene = parseProject(seed.substr(4, la), "project.json");
+  const std::string base = seed.substr(4 + la, lb);
+  ASSERT_NO_THROW(parseRelightJson(base, scene, "relight.json"));
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string s = base;
+    const size_t at = s.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) s.replace(at, from.size(), to);
+    return s;
+  };
+  const struct {
+    std::string what, json, expect;
+  } cases[] = {
+      {"not relighting data", with("\"relume-relight\"", "\"relume-project\""), "relight.json: format: is not 'relume-relight'"},
+      {"rays out of range", with("\"visibility_rays\": ", "\"visibility_rays\": 1e9, \"x\": "), "options visibility_rays: must be from 1 to 4096"},
+      {"count negative", with("\"joint_fit_elements\": ", "\"joint_fit_elements\": -1, \"x\": "), "estimates joint_fit_elements: must be a whole number"},
+      {"texel zero", with("\"texel\": ", "\"texel\": 0, \"x\": "), "has no valid texture grid"},
+      {"colour of the wrong type", with("\"exitance_used\": [", "\"exitance_used\": [\"a\", "), "a colour must be 3 finite numbers"},
+      {"textures of another room", with("\"textures\": [", "\"textures\": [{}, "), "textures: lists"},
+      {"JSON cut short", base.substr(0, base.size() / 2), "relight.json: is not valid JSON"},
+  };
+  for (const auto& c : cases) {
+    std::string msg = "no error";
+    try {
+      parseRelightJson(c.json, scene, "relight.json");
+    } catch (const Error& e) {
+      msg = e.what();
+    }
+    EXPECT_NE(msg.find(c.expect), std::string::npos) << c.what << ": " << msg;
+  }
 }

@@ -974,3 +974,45 @@ TEST(PhotoImport, ExifBracketsAreGroupedAndMergedPerViewpoint) {
   }
   EXPECT_FALSE(fs::exists(out / "c.exr"));
 }
+
+// intrinsics.json (relume calibrate) and workspace.json (relume reconstruct) name what is wrong.
+TEST(WorkspaceFiles, MalformedIntrinsicsAndWorkspaceDescriptionsAreNamed) {
+  const std::string good = R"({"width": 640, "height": 480, "fx": 500, "fy": 501, "cx": 320, "cy": 240, "k1": -0.1})";
+  const relume::recon::Intrinsics in = relume::recon::parseIntrinsics(good, "i.json");
+  EXPECT_EQ(in.width, 640);
+  EXPECT_DOUBLE_EQ(in.k1, -0.1);
+  EXPECT_DOUBLE_EQ(in.k2, 0.0);
+  auto intrinsicsError = [](const std::string& json) {
+    try {
+      relume::recon::parseIntrinsics(json, "i.json");
+    } catch (const relume::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(intrinsicsError("{\"width\": 640").find("i.json: is not JSON"), std::string::npos);
+  EXPECT_NE(intrinsicsError(R"({"width": 0, "height": 480, "fx": 1, "fy": 1, "cx": 0, "cy": 0})").find("i.json: width: must be a whole number"),
+            std::string::npos);
+  EXPECT_NE(intrinsicsError(R"({"width": 640, "height": 480, "fx": "500", "fy": 1, "cx": 0, "cy": 0})").find("i.json: fx: must be a number"),
+            std::string::npos);
+  EXPECT_NE(intrinsicsError(R"({"width": 640, "height": 480, "fx": -5, "fy": 1, "cx": 0, "cy": 0})").find("fx, fy: must be positive"),
+            std::string::npos);
+  const relume::recon::WorkspaceInfo w =
+      relume::recon::parseWorkspaceInfo(R"({"photos": "/data/room", "registered": ["a", "b"], "points": 12, "metric": true})", "w.json");
+  EXPECT_EQ(w.photos, "/data/room");
+  EXPECT_EQ(w.registered.size(), 2u);
+  EXPECT_TRUE(w.metric);
+  auto workspaceError = [](const std::string& json) {
+    try {
+      relume::recon::parseWorkspaceInfo(json, "w.json");
+    } catch (const relume::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(workspaceError("[1, 2").find("w.json: is not JSON"), std::string::npos);
+  EXPECT_NE(workspaceError(R"({"photos": 3})").find("w.json: photos: must be the photos folder"), std::string::npos);
+  EXPECT_NE(workspaceError(R"({"registered": "a"})").find("w.json: registered: must be a list of photo names"), std::string::npos);
+  EXPECT_NE(workspaceError(R"({"metric": "yes"})").find("w.json: metric: must be true or false"), std::string::npos);
+  EXPECT_NE(workspaceError(R"({"points": -4})").find("w.json: points: must be a whole number"), std::string::npos);
+}
