@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <random>
 
@@ -54,6 +55,25 @@ std::string room(const std::string& floorVerts = "[[0,0,0],[1,0,0],[1,1,0],[0,1,
 std::string text(const fs::path& f) {
   std::ifstream in(f);
   return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// `base` with its first `from` replaced by `to` (a failed expectation when `from` is not there).
+std::string replaced(const std::string& base, const std::string& from, const std::string& to) {
+  std::string s = base;
+  const size_t at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) s.replace(at, from.size(), to);
+  return s;
+}
+
+// What `f` throws as relume::Error ("no error" when it throws nothing).
+std::string errorFrom(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
 }
 
 std::string errorOf(const std::string& folder) {
@@ -356,13 +376,7 @@ TEST(Project, AnInterruptedSavesLeftoversAreReportedAndNeverOpenedAsAProject) {
 TEST(Project, EachMalformedProjectFieldIsNamed) {
   const std::string base = text(std::string(RELUME_SOURCE_DIR) + "/tests/fuzz/corpus/project/small.json");
   ASSERT_NO_THROW(parseProject(base, "p.json"));
-  auto with = [&](const std::string& from, const std::string& to) {
-    std::string s = base;
-    const size_t at = s.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    if (at != std::string::npos) s.replace(at, from.size(), to);
-    return s;
-  };
+  auto with = [&](const std::string& from, const std::string& to) { return replaced(base, from, to); };
   const struct {
     std::string what, json, expect;
   } cases[] = {
@@ -381,12 +395,7 @@ TEST(Project, EachMalformedProjectFieldIsNamed) {
        "radiance_rgb must be an array of 3 numbers"},
   };
   for (const auto& c : cases) {
-    std::string msg = "no error";
-    try {
-      parseProject(c.json, "p.json");
-    } catch (const Error& e) {
-      msg = e.what();
-    }
+    const std::string msg = errorFrom([&] { parseProject(c.json, "p.json"); });
     EXPECT_NE(msg.find(c.expect), std::string::npos) << c.what << ": " << msg;
   }
 }
@@ -400,13 +409,7 @@ TEST(Project, EachMalformedRelightFieldIsNamed) {
   const Scene scene = parseProject(seed.substr(4, la), "project.json");
   const std::string base = seed.substr(4 + la, lb);
   ASSERT_NO_THROW(parseRelightJson(base, scene, "relight.json"));
-  auto with = [&](const std::string& from, const std::string& to) {
-    std::string s = base;
-    const size_t at = s.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    if (at != std::string::npos) s.replace(at, from.size(), to);
-    return s;
-  };
+  auto with = [&](const std::string& from, const std::string& to) { return replaced(base, from, to); };
   const struct {
     std::string what, json, expect;
   } cases[] = {
@@ -419,12 +422,7 @@ TEST(Project, EachMalformedRelightFieldIsNamed) {
       {"JSON cut short", base.substr(0, base.size() / 2), "relight.json: is not valid JSON"},
   };
   for (const auto& c : cases) {
-    std::string msg = "no error";
-    try {
-      parseRelightJson(c.json, scene, "relight.json");
-    } catch (const Error& e) {
-      msg = e.what();
-    }
+    const std::string msg = errorFrom([&] { parseRelightJson(c.json, scene, "relight.json"); });
     EXPECT_NE(msg.find(c.expect), std::string::npos) << c.what << ": " << msg;
   }
 }

@@ -982,14 +982,16 @@ TEST(WorkspaceFiles, MalformedIntrinsicsAndWorkspaceDescriptionsAreNamed) {
   EXPECT_EQ(in.width, 640);
   EXPECT_DOUBLE_EQ(in.k1, -0.1);
   EXPECT_DOUBLE_EQ(in.k2, 0.0);
-  auto intrinsicsError = [](const std::string& json) {
+  // What parsing `json` with `parse` throws ("no error" when it throws nothing).
+  auto errorOf = [](auto parse, const std::string& json, const char* name) {
     try {
-      relume::recon::parseIntrinsics(json, "i.json");
+      parse(json, name);
     } catch (const relume::Error& e) {
       return std::string(e.what());
     }
     return std::string("no error");
   };
+  auto intrinsicsError = [&](const std::string& json) { return errorOf(relume::recon::parseIntrinsics, json, "i.json"); };
   EXPECT_NE(intrinsicsError("{\"width\": 640").find("i.json: is not JSON"), std::string::npos);
   EXPECT_NE(intrinsicsError(R"({"width": 0, "height": 480, "fx": 1, "fy": 1, "cx": 0, "cy": 0})").find("i.json: width: must be a whole number"),
             std::string::npos);
@@ -1002,14 +1004,7 @@ TEST(WorkspaceFiles, MalformedIntrinsicsAndWorkspaceDescriptionsAreNamed) {
   EXPECT_EQ(w.photos, "/data/room");
   EXPECT_EQ(w.registered.size(), 2u);
   EXPECT_TRUE(w.metric);
-  auto workspaceError = [](const std::string& json) {
-    try {
-      relume::recon::parseWorkspaceInfo(json, "w.json");
-    } catch (const relume::Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
+  auto workspaceError = [&](const std::string& json) { return errorOf(relume::recon::parseWorkspaceInfo, json, "w.json"); };
   EXPECT_NE(workspaceError("[1, 2").find("w.json: is not JSON"), std::string::npos);
   EXPECT_NE(workspaceError(R"({"photos": 3})").find("w.json: photos: must be the photos folder"), std::string::npos);
   EXPECT_NE(workspaceError(R"({"registered": "a"})").find("w.json: registered: must be a list of photo names"), std::string::npos);
