@@ -13,8 +13,9 @@
 #                file system that lacks it: two renames, the old project kept aside between them.
 #   --quick      after each crash, compare the whole folder at the path with the old and the new
 #                project byte for byte (instead of relighting it: what CI runs).
-#   --kill9 N    N real `kill -9`s from outside, each at a random moment of the save phase (from
-#                its staging folder's appearing to the command's end, timed on one run first).
+#   --kill9 N    real `kill -9`s from outside, each at a random moment of the save phase (from
+#                its staging folder's appearing to the command's end, timed on one run first),
+#                until N of them landed before the command ended.
 # After every crash: `relume check` opens the path (exit 0), its project.json is byte for byte the
 # old or the new one, a preprocessed project relights to the old or the new one's image
 # (>= 50 dB), and saving again over it succeeds. Prints the counts; exits 1 on any failure.
@@ -32,7 +33,7 @@ while [ $# -gt 0 ]; do
     --kill9) kills=${2:?--kill9 needs a number of trials}; shift 2 ;;
     --quick) quick=1; shift ;;
     --fallback) export RELUME_SAVE_NO_EXCHANGE=1; shift ;;
-    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
     *) commands+=("$1"); shift ;;
   esac
 done
@@ -171,8 +172,11 @@ for cmd in "${commands[@]}"; do
     wait $pid
     save_ms=$(( ($(date +%s%N) - t0) / 1000000 ))
     [ $save_ms -ge 1 ] || save_ms=1
+    # Until `kills` of them landed before the command ended (at most 3 x as many trials).
     aimed=0
-    for ((k = 1; k <= kills; ++k)); do
+    trials=0
+    for ((k = 1; aimed < kills && k <= 3 * kills; ++k)); do
+      trials=$k
       reset_target
       new_args "$tmp/target"
       "${args[@]}" >"$tmp/run.out" 2>&1 &  # relume itself, not a subshell, is what gets killed
@@ -184,7 +188,7 @@ for cmd in "${commands[@]}"; do
       wait $pid 2>/dev/null
       check_after "$cmd, kill -9 trial $k"
     done
-    echo "$cmd: $kills kill -9 trials at random moments of its ${save_ms} ms save phase; $aimed landed before the command ended: old project at the path ${seen[old]:-0} times, new ${seen[new]:-0} times"
+    echo "$cmd: $trials kill -9 trials at random moments of its ${save_ms} ms save phase, $aimed of them before the command ended; after each the path held the old project ${seen[old]:-0} times, the new ${seen[new]:-0} times"
     unset seen
   fi
 done
