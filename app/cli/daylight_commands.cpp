@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "relume/daylight/sky.h"
 #include "relume/geometry/error.h"
+#include "relume/geometry/scene.h"
 #include "relume/image/image.h"
 
 namespace relume::cli {
@@ -26,8 +27,21 @@ int skyCommand(const QStringList& args, Progress& progress) {
   p.addOption({"circle", "The image circle as CX,CY,R in pixels (default: centred, filling the image).", "CX,CY,R"});
   p.addOption({"regions", "Number of sky regions (default 64).", "N"});
   p.addOption({"json", "Also write the regions, the sun and the irradiances as JSON.", "OUT.json"});
-  parseOrThrow(p, args, 1, "relume sky FISHEYE.exr [--projection equidistant|equisolid] [--fov 180] [--regions 64]");
-  const std::string file = p.positionalArguments()[0].toStdString();
+  p.addOption({"sky", "With a daylight ROOM: which of its skies (default: the one its photos were taken under).", "NAME"});
+  parseOrThrow(p, args, 1, "relume sky FISHEYE.exr|ROOM [--sky NAME] [--projection equidistant|equisolid] [--fov 180] [--regions 64]");
+  std::string file = p.positionalArguments()[0].toStdString();
+  std::string description;  // the lens in words, when a room's daylight section gives it
+  if (!isRadianceFile(file)) {
+    const Scene room = openRoom(p.positionalArguments()[0]);
+    if (room.skies.empty()) throw Error(room.sourceFile, "daylight", "the room lists no measured sky");
+    const std::string want = p.isSet("sky") ? p.value("sky").toStdString() : room.photoSky.empty() ? room.skies.front().name : room.photoSky;
+    const SkyCapture* cap = nullptr;
+    for (const auto& c : room.skies)
+      if (c.name == want) cap = &c;
+    if (!cap) throw Error(room.sourceFile, "--sky", "the room has no sky named '" + want + "'");
+    file = room.baseDir + "/" + cap->fisheye;
+    description = cap->fisheyeModel;
+  }
   const QString proj = p.value("projection").isEmpty() ? "equidistant" : p.value("projection");
   if (proj != "equidistant" && proj != "equisolid")
     throw Error("", "--projection", "must be equidistant or equisolid, not '" + proj.toStdString() + "'");
@@ -38,8 +52,10 @@ int skyCommand(const QStringList& args, Progress& progress) {
   if (!ok || regions < 1 || regions > 100000) throw Error("", "--regions", "must be a whole number from 1 to 100000");
   int w = 0, h = 0;
   imageSize(file, w, h);
-  dl::FisheyeModel model = dl::fisheyeLookingUp(
-      w, h, proj == "equisolid" ? dl::FisheyeProjection::Equisolid : dl::FisheyeProjection::Equidistant, fov);
+  dl::FisheyeModel model =
+      description.empty()
+          ? dl::fisheyeLookingUp(w, h, proj == "equisolid" ? dl::FisheyeProjection::Equisolid : dl::FisheyeProjection::Equidistant, fov)
+          : dl::fisheyeFromDescription(description, w, h, file);
   if (p.isSet("circle")) {
     const QStringList c = p.value("circle").split(',');
     bool a = false, b = false, r = false;

@@ -145,3 +145,32 @@ TEST(Sky, BadSkyImagesAreRefusedWithTheirProblem) {
   below.model.fovDeg = 150;
   EXPECT_NE(message(below).find("only what lies below the horizon"), std::string::npos) << message(below);
 }
+
+TEST(Fisheye, ADescriptionInWordsGivesTheLensAndItsOrientation) {
+  const FisheyeModel m = fisheyeFromDescription("equidistant, 180 deg, looking up (+Z), image up = +Y", 256, 256, "s.json");
+  const FisheyeModel ref = fisheyeLookingUp(256, 256);
+  for (double x : {10.5, 128.0, 200.25})
+    for (double y : {30.0, 128.0, 250.5}) {
+      const auto a = pixelDirection(m, x, y), b = pixelDirection(ref, x, y);
+      ASSERT_EQ(a.has_value(), b.has_value());
+      if (a) EXPECT_NEAR(glm::length(*a - *b), 0, 1e-12);
+    }
+  const FisheyeModel rotated = fisheyeFromDescription("Equisolid 150 deg, looking up, image up = -X", 100, 80, "s.json");
+  EXPECT_EQ(rotated.projection, FisheyeProjection::Equisolid);
+  EXPECT_DOUBLE_EQ(rotated.fovDeg, 150);
+  EXPECT_DOUBLE_EQ(rotated.radius, 40);
+  // The top of the circle: towards image up (-X), 75 degrees from the zenith.
+  EXPECT_NEAR(glm::length(*pixelDirection(rotated, 50, 0) - fromElevAzim(15, 180)), 0, 1e-9);
+  auto error = [](const std::string& text) {
+    try {
+      fisheyeFromDescription(text, 64, 64, "s.json");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error("fisheye, 180 deg, looking up, image up = +Y").find("equidistant or equisolid"), std::string::npos);
+  EXPECT_NE(error("equidistant, looking up, image up = +Y").find("field of view"), std::string::npos);
+  EXPECT_NE(error("equidistant, 180 deg, looking down, image up = +Y").find("looking up"), std::string::npos);
+  EXPECT_NE(error("equidistant, 180 deg, looking up").find("image's up"), std::string::npos);
+}

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "relume/geometry/error.h"
+#include "relume/image/image.h"
 #include "relume/project/relight_store.h"
 #include "relume/project/room_io.h"
 #include "relume/project/save_hooks.h"
@@ -425,4 +426,40 @@ TEST(Project, EachMalformedRelightFieldIsNamed) {
     const std::string msg = errorFrom([&] { parseRelightJson(c.json, scene, "relight.json"); });
     EXPECT_NE(msg.find(c.expect), std::string::npos) << c.what << ": " << msg;
   }
+}
+
+// A daylight bundle's measured skies (its "daylight" section and each variant's "sun") are read,
+// checked, confined to the bundle, and go along into a project.
+TEST_F(BadInput, DaylightSkiesAreReadCheckedAndKeptInAProject) {
+  auto withDaylight = [](const std::string& fisheye, const std::string& variantSun) {
+    std::string j = room();
+    j.insert(j.rfind('}'), R"(, "variants": [{"name": "noon", "sun": ")" + variantSun + R"("}],
+      "daylight": {"photos_sun": "morning", "sky": [
+        {"name": "morning", "fisheye": ")" + fisheye + R"(", "fisheye_model": "equidistant, 180 deg, looking up (+Z), image up = +Y",
+         "fisheye_position": [0.5, 0.5, 1.2]},
+        {"name": "noon", "fisheye": "sky/noon.exr", "fisheye_model": "equisolid, 180 deg, looking up, image up = -Y"}]})");
+    return j;
+  };
+  const std::string dir = bundle(withDaylight("sky/morning.exr", "noon"));
+  writeImage(dir + "/photos/main.png", ImageRGB(64, 48));  // the camera's size
+  fs::create_directories(fs::path(dir) / "sky");
+  for (const char* f : {"sky/morning.exr", "sky/noon.exr"}) fs::copy_file(kSample + "/photos/main.exr", fs::path(dir) / f);
+  const Scene s = loadRoom(dir);
+  ASSERT_EQ(s.skies.size(), 2u);
+  EXPECT_EQ(s.photoSky, "morning");
+  EXPECT_EQ(s.skies[0].fisheye, "sky/morning.exr");
+  EXPECT_EQ(s.skies[0].fisheyePosition, glm::dvec3(0.5, 0.5, 1.2));
+  EXPECT_EQ(s.variants.at(0).sky, "noon");
+  // Into a project: the sky images are copied in and the section written back.
+  const std::string proj = (tmp.path / "day.relume").string();
+  saveProject(s, proj);
+  const Scene p = loadRoom(proj);
+  ASSERT_EQ(p.skies.size(), 2u);
+  EXPECT_EQ(p.skies[1].fisheyeModel, s.skies[1].fisheyeModel);
+  EXPECT_TRUE(fs::exists(fs::path(proj) / p.skies[1].fisheye));
+  EXPECT_EQ(p.variants.at(0).sky, "noon");
+  // A variant lit by a sky the section does not list, and a fisheye outside the bundle.
+  EXPECT_NE(errorOf(bundle(withDaylight("sky/morning.exr", "dusk"))).find("variant 'noon': sun names sky 'dusk'"), std::string::npos);
+  EXPECT_NE(errorOf(bundle(withDaylight("../sky.exr", "noon"))).find("daylight sky 'morning': fisheye '../sky.exr' leads out"),
+            std::string::npos);
 }

@@ -1,6 +1,8 @@
 #include "relume/daylight/sky.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cstdio>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <numbers>
@@ -38,6 +40,39 @@ FisheyeModel fisheyeLookingUp(int width, int height, FisheyeProjection projectio
   // A camera looking up (+Z) with the image's up along +Y has its image right along -X (seen
   // from below, as a sky chart is drawn).
   m.axes = glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1));
+  return m;
+}
+
+FisheyeModel fisheyeFromDescription(const std::string& text, int width, int height, const std::string& file) {
+  std::string t;
+  for (char c : text) t += char(std::tolower((unsigned char)c));
+  const std::string where = "fisheye model '" + text + "'";
+  const bool eqd = t.find("equidistant") != std::string::npos, eqs = t.find("equisolid") != std::string::npos;
+  if (eqd == eqs) throw Error(file, where, "must name its projection: equidistant or equisolid");
+  const size_t deg = t.find("deg");
+  size_t start = deg;
+  while (start > 0 && (std::isdigit((unsigned char)t[start - 1]) || t[start - 1] == '.' || t[start - 1] == ' ')) --start;
+  double fov = 0;
+  if (deg == std::string::npos || std::sscanf(t.c_str() + start, "%lf", &fov) != 1 || !(fov > 0 && fov <= 360))
+    throw Error(file, where, "must give its field of view, e.g. '180 deg'");
+  if (t.find("looking up") == std::string::npos)
+    throw Error(file, where, "must say 'looking up': Relume reads fisheyes taken looking up at the sky");
+  const size_t up = t.find("image up");
+  glm::dvec3 u(0.0);
+  if (up != std::string::npos) {
+    const size_t eq = t.find('=', up);
+    std::string axis;
+    for (size_t i = eq == std::string::npos ? t.size() : eq + 1; i < t.size() && axis.size() < 2; ++i)
+      if (!std::isspace((unsigned char)t[i])) axis += t[i];
+    if (axis == "+x") u = {1, 0, 0};
+    else if (axis == "-x") u = {-1, 0, 0};
+    else if (axis == "+y") u = {0, 1, 0};
+    else if (axis == "-y") u = {0, -1, 0};
+  }
+  if (glm::length(u) == 0) throw Error(file, where, "must say which room axis is the image's up, e.g. 'image up = +Y'");
+  FisheyeModel m = fisheyeLookingUp(width, height, eqd ? FisheyeProjection::Equidistant : FisheyeProjection::Equisolid, fov);
+  const glm::dvec3 a(0, 0, 1);
+  m.axes = glm::dmat3(glm::cross(a, u), u, a);  // a camera's x = y x z, with y = -up
   return m;
 }
 

@@ -268,6 +268,8 @@ void readVariants(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
     }
     v.file = jr.path(vo["file"], where, "file");
     v.hdr = jr.path(vo["hdr"], where, "hdr");
+    if (!vo["sun"].isUndefined() && !vo["sun"].isString()) jr.fail(where, "sun must name one of the daylight skies");
+    v.sky = str(vo["sun"].toString());
     scene.variants.push_back(v);
   }
 }
@@ -350,6 +352,9 @@ void checkConfined(const Scene& scene, const std::string& jsonFile) {
   for (const auto& v : scene.variants)
     for (const std::string& rel : {v.file, v.hdr})
       if (!rel.empty()) fileInFolder(scene.baseDir, rel, jsonFile, "variant '" + v.name + "'");
+  for (const auto& c : scene.skies)
+    for (const std::string& rel : {c.fisheye, c.panorama})
+      if (!rel.empty()) fileInFolder(scene.baseDir, rel, jsonFile, "daylight sky '" + c.name + "'");
 }
 }  // namespace
 
@@ -370,6 +375,42 @@ void checkPhotos(const Scene& scene) {
                         std::to_string(ph.camera.width) + "x" + std::to_string(ph.camera.height));
     }
   }
+}
+
+// "daylight": {"photos_sun": NAME, "sky": [{name, fisheye, fisheye_model, fisheye_position,
+// panorama, panorama_position}]}, as a daylight bundle describes its measured skies.
+static void readDaylight(const QJsonValue& v, const JsonReader& jr, Scene& scene) {
+  if (v.isUndefined() || v.isNull()) return;
+  if (!v.isObject()) jr.fail("daylight", "must be an object");
+  const QJsonObject d = v.toObject();
+  for (const auto& sv : d["sky"].toArray()) {
+    const QJsonObject so = sv.toObject();
+    SkyCapture c;
+    c.name = str(so["name"].toString());
+    if (c.name.empty()) jr.fail("daylight sky", "has no name");
+    const std::string where = "daylight sky '" + c.name + "'";
+    for (const auto& other : scene.skies)
+      if (other.name == c.name) jr.fail(where, "is listed twice");
+    c.fisheye = jr.path(so["fisheye"], where, "fisheye");
+    if (c.fisheye.empty()) jr.fail(where, "names no fisheye image");
+    if (!so["fisheye_model"].isString()) jr.fail(where, "fisheye_model must describe the lens in words");
+    c.fisheyeModel = str(so["fisheye_model"].toString());
+    if (so.contains("fisheye_position")) c.fisheyePosition = jr.vec3(so["fisheye_position"], where, "fisheye_position");
+    c.panorama = jr.path(so["panorama"], where, "panorama");
+    if (so.contains("panorama_position")) c.panoramaPosition = jr.vec3(so["panorama_position"], where, "panorama_position");
+    scene.skies.push_back(c);
+  }
+  scene.photoSky = str(d["photos_sun"].toString());
+  auto known = [&](const std::string& name) {
+    for (const auto& c : scene.skies)
+      if (c.name == name) return true;
+    return false;
+  };
+  if (!scene.photoSky.empty() && !known(scene.photoSky))
+    jr.fail("daylight photos_sun", "names sky '" + scene.photoSky + "', which is not listed");
+  for (const auto& var : scene.variants)
+    if (!var.sky.empty() && !known(var.sky))
+      jr.fail("variant '" + var.name + "'", "sun names sky '" + var.sky + "', which the daylight section does not list");
 }
 
 static void readSceneObject(const QJsonObject& root, const JsonReader& jr, Scene& scene, bool polygonsFromJson) {
@@ -398,6 +439,7 @@ static void readSceneObject(const QJsonObject& root, const JsonReader& jr, Scene
   if (!scene.mainPhoto.empty() && !scene.findPhoto(scene.mainPhoto))
     jr.fail("main_photo", "names photo '" + scene.mainPhoto + "', which is not listed");
   readVariants(root["variants"].toArray(), jr, scene);
+  readDaylight(root["daylight"], jr, scene);
 }
 
 namespace {
@@ -750,9 +792,33 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
       QJsonObject lights;
       for (const auto& [k, s] : v.lampScale) lights[QString::fromStdString(k)] = toJson(s);
       o["lights"] = lights;
+      if (!v.sky.empty()) o["sun"] = QString::fromStdString(v.sky);
       variants.append(o);
     }
     root["variants"] = variants;
+    if (!scene.skies.empty()) {
+      // The measured skies go along, copied into sky/.
+      if (!QDir().mkpath(staging + "/sky")) abandon("cannot create the sky folder");
+      QJsonArray skies;
+      for (const auto& c : scene.skies) {
+        QJsonObject o{{"name", QString::fromStdString(c.name)},
+                      {"fisheye_model", QString::fromStdString(c.fisheyeModel)},
+                      {"fisheye_position", toJson(c.fisheyePosition)}};
+        for (const auto& [key, rel] : {std::pair<const char*, std::string>{"fisheye", c.fisheye}, {"panorama", c.panorama}}) {
+          if (rel.empty()) continue;
+          const QString src = resolve(QString::fromStdString(scene.baseDir), rel);
+          const QString name = "sky/" + QFileInfo(src).fileName();
+          if (!QFileInfo::exists(staging + "/" + name)) {
+            if (!QFile::copy(src, staging + "/" + name)) abandon("cannot copy the sky image " + str(src));
+            detail::saveStep("sky image copied");
+          }
+          o[key] = name;
+        }
+        if (!c.panorama.empty()) o["panorama_position"] = toJson(c.panoramaPosition);
+        skies.append(o);
+      }
+      root["daylight"] = QJsonObject{{"photos_sun", QString::fromStdString(scene.photoSky)}, {"sky", skies}};
+    }
     {
       QSaveFile f(staging + "/project.json");
       if (!f.open(QIODevice::WriteOnly)) abandon("cannot write project.json: " + str(f.errorString()));

@@ -37,6 +37,12 @@ struct FisheyeModel {
 FisheyeModel fisheyeLookingUp(int width, int height, FisheyeProjection projection = FisheyeProjection::Equidistant,
                               double fovDeg = 180);
 
+// A fisheye described in words, as daylight bundles do ("equidistant, 180 deg, looking up (+Z),
+// image up = +Y"): the projection (equidistant or equisolid), the field of view in degrees, looking
+// up, and which room axis is the image's up (+X, -X, +Y or -Y); the circle fills the
+// width x height image. Throws relume::Error naming `file` and what is missing or not understood.
+FisheyeModel fisheyeFromDescription(const std::string& text, int width, int height, const std::string& file);
+
 // The direction seen at image point (px, py), or nothing outside the image circle.
 std::optional<glm::dvec3> pixelDirection(const FisheyeModel& m, double px, double py);
 // The image point where `direction` is seen, or nothing outside the field of view.

@@ -40,7 +40,19 @@ struct Variant {
   std::vector<Lamp> virtualLamps;                // with polygon vertices in virtualLampPolygons
   std::vector<std::vector<glm::dvec3>> virtualLampPolygons;
   std::vector<VirtualBox> virtualObjects;
+  std::string sky;        // the sky it is lit by (a SkyCapture's name; empty: the photos' own)
   std::string file, hdr;  // truth images, relative
+};
+
+// A measured sky (daylight rooms): an HDR fisheye taken outside, and optionally a panorama.
+struct SkyCapture {
+  std::string name;
+  std::string fisheye;       // relative path of the HDR fisheye
+  std::string fisheyeModel;  // its lens and orientation in words, e.g. "equidistant, 180 deg,
+                             // looking up (+Z), image up = +Y" (relume::daylight parses it)
+  glm::dvec3 fisheyePosition{0.0};
+  std::string panorama;      // relative path of an equirectangular HDR, or empty
+  glm::dvec3 panoramaPosition{0.0};
 };
 
 struct Scene {
@@ -51,6 +63,8 @@ struct Scene {
   std::vector<Photo> photos;
   std::string mainPhoto;
   std::vector<Variant> variants;
+  std::vector<SkyCapture> skies;  // daylight rooms: the measured skies
+  std::string photoSky;           // the sky the photos were taken under (a SkyCapture's name)
   // What reading found and did that the user should hear about (an interrupted save's
   // leftovers, a project put back from its backup); front ends show them.
   std::vector<std::string> notes;
