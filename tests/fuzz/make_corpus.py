@@ -96,6 +96,14 @@ def rooms():
     with_mesh["variants"] = scene.get("variants", [])[:1] + [
         {"name": "mesh", "virtual_objects": [{"name": "box", "obj": "box.obj", "albedo": [0.6, 0.5, 0.4]}]}]
     write("bundle", "virtual_mesh", pack(compact(with_mesh), obj, BOX_OBJ))
+    daylight = dict(scene)
+    daylight["variants"] = [{"name": "noon", "sun": "noon"}]
+    daylight["daylight"] = {"photos_sun": "morning", "sky": [
+        {"name": "morning", "fisheye": "sky/morning.exr",
+         "fisheye_model": "equidistant, 180 deg, looking up (+Z), image up = +Y", "fisheye_position": [2.0, 2.5, 2.7],
+         "panorama": "sky/pano.exr", "panorama_position": [4.5, 2.5, 1.5]},
+        {"name": "noon", "fisheye": "sky/noon.exr", "fisheye_model": "equisolid, 180 deg, looking up, image up = -Y"}]}
+    write("bundle", "daylight", pack(compact(daylight), obj))
     # The OBJ room with its JSON: materials by the OBJ's usemtl names.
     materials = {}
     for p in scene["polygons"]:
