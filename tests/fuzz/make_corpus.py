@@ -121,6 +121,8 @@ def rooms():
     write("intrinsics", "calibrated", compact({"width": 640, "height": 480, "model": "OPENCV", "fx": 512.3, "fy": 511.9,
                                                "cx": 320.4, "cy": 239.8, "k1": -0.12, "k2": 0.03, "p1": 0.001,
                                                "p2": -0.0005, "rms_pixels": 0.21}))
+    write("sky_description", "day101", b"\xff\xff" + b"equidistant, 180 deg, looking up (+Z), image up = +Y")
+    write("sky_description", "equisolid", b"\x63\x4f" + b"Equisolid 150 deg, looking up, image up = -X")
     write("workspace", "reconstructed", compact({"photos": "/home/user/room/photos", "registered": ["main", "view0"],
                                                  "left_out": ["blurry"], "points": 5321, "metric": True,
                                                  "seconds": {"features": 4.2, "matching": 1.1, "mapping": 9.8}}))

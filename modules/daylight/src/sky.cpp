@@ -50,10 +50,13 @@ FisheyeModel fisheyeFromDescription(const std::string& text, int width, int heig
   const bool eqd = t.find("equidistant") != std::string::npos, eqs = t.find("equisolid") != std::string::npos;
   if (eqd == eqs) throw Error(file, where, "must name its projection: equidistant or equisolid");
   const size_t deg = t.find("deg");
-  size_t start = deg;
-  while (start > 0 && (std::isdigit((unsigned char)t[start - 1]) || t[start - 1] == '.' || t[start - 1] == ' ')) --start;
   double fov = 0;
-  if (deg == std::string::npos || std::sscanf(t.c_str() + start, "%lf", &fov) != 1 || !(fov > 0 && fov <= 360))
+  if (deg != std::string::npos) {
+    size_t start = deg;  // the number before "deg"
+    while (start > 0 && (std::isdigit((unsigned char)t[start - 1]) || t[start - 1] == '.' || t[start - 1] == ' ')) --start;
+    if (std::sscanf(t.c_str() + start, "%lf", &fov) != 1) fov = 0;
+  }
+  if (!(fov > 0 && fov <= 360))
     throw Error(file, where, "must give its field of view, e.g. '180 deg'");
   if (t.find("looking up") == std::string::npos)
     throw Error(file, where, "must say 'looking up': Relume reads fisheyes taken looking up at the sky");
