@@ -35,9 +35,7 @@ int skyCommand(const QStringList& args, Progress& progress) {
     const Scene room = openRoom(p.positionalArguments()[0]);
     if (room.skies.empty()) throw Error(room.sourceFile, "daylight", "the room lists no measured sky");
     const std::string want = p.isSet("sky") ? p.value("sky").toStdString() : room.photoSky.empty() ? room.skies.front().name : room.photoSky;
-    const SkyCapture* cap = nullptr;
-    for (const auto& c : room.skies)
-      if (c.name == want) cap = &c;
+    const SkyCapture* cap = room.findSky(want);
     if (!cap) throw Error(room.sourceFile, "--sky", "the room has no sky named '" + want + "'");
     file = room.baseDir + "/" + cap->fisheye;
     description = cap->fisheyeModel;

@@ -14,6 +14,12 @@ int Scene::findLamp(const std::string& name) const {
   return -1;
 }
 
+const SkyCapture* Scene::findSky(const std::string& name) const {
+  for (const auto& c : skies)
+    if (c.name == name) return &c;
+  return nullptr;
+}
+
 const Photo* Scene::findPhoto(const std::string& name) const {
   for (const auto& p : photos)
     if (p.name == name) return &p;

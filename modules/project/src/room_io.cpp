@@ -389,8 +389,7 @@ static void readDaylight(const QJsonValue& v, const JsonReader& jr, Scene& scene
     c.name = str(so["name"].toString());
     if (c.name.empty()) jr.fail("daylight sky", "has no name");
     const std::string where = "daylight sky '" + c.name + "'";
-    for (const auto& other : scene.skies)
-      if (other.name == c.name) jr.fail(where, "is listed twice");
+    if (scene.findSky(c.name)) jr.fail(where, "is listed twice");
     c.fisheye = jr.path(so["fisheye"], where, "fisheye");
     if (c.fisheye.empty()) jr.fail(where, "names no fisheye image");
     if (!so["fisheye_model"].isString()) jr.fail(where, "fisheye_model must describe the lens in words");
@@ -401,15 +400,10 @@ static void readDaylight(const QJsonValue& v, const JsonReader& jr, Scene& scene
     scene.skies.push_back(c);
   }
   scene.photoSky = str(d["photos_sun"].toString());
-  auto known = [&](const std::string& name) {
-    for (const auto& c : scene.skies)
-      if (c.name == name) return true;
-    return false;
-  };
-  if (!scene.photoSky.empty() && !known(scene.photoSky))
+  if (!scene.photoSky.empty() && !scene.findSky(scene.photoSky))
     jr.fail("daylight photos_sun", "names sky '" + scene.photoSky + "', which is not listed");
   for (const auto& var : scene.variants)
-    if (!var.sky.empty() && !known(var.sky))
+    if (!var.sky.empty() && !scene.findSky(var.sky))
       jr.fail("variant '" + var.name + "'", "sun names sky '" + var.sky + "', which the daylight section does not list");
 }
 

@@ -72,6 +72,7 @@ struct Scene {
   int findPolygon(const std::string& name) const;
   int findLamp(const std::string& name) const;
   const Photo* findPhoto(const std::string& name) const;
+  const SkyCapture* findSky(const std::string& name) const;
   // Index of the lamp whose polygon is `polygon`, or -1.
   int lampOfPolygon(int polygon) const;
 };
