@@ -9,6 +9,10 @@
 # the bundled sample room.
 #   --steps      crash at every file-system step of the save in turn (RELUME_CRASH_AT_SAVE_STEP=N,
 #                which sends the process SIGKILL at its N-th step), until the command finishes.
+#   --snapshots  one uninterrupted run that copies, at every file-system step, what a crash there
+#                would leave (RELUME_SAVE_SNAPSHOTS=DIR); each copy is then checked as after a
+#                crash. The same states as --steps from one run of the command (for preprocess,
+#                whose every run takes seconds before its save).
 #   --fallback   saves without the atomic directory exchange (RELUME_SAVE_NO_EXCHANGE), as on a
 #                file system that lacks it: two renames, the old project kept aside between them.
 #   --quick      after each crash, compare the whole folder at the path with the old and the new
@@ -23,6 +27,7 @@ set -u
 here=$(cd "$(dirname "$0")/.." && pwd)
 relume=$here/build/app/cli/relume
 steps=0
+snapshots=0
 kills=0
 quick=0
 commands=()
@@ -30,10 +35,11 @@ while [ $# -gt 0 ]; do
   case $1 in
     --relume) relume=${2:?--relume needs the binary}; shift 2 ;;
     --steps) steps=1; shift ;;
+    --snapshots) snapshots=1; shift ;;
     --kill9) kills=${2:?--kill9 needs a number of trials}; shift 2 ;;
     --quick) quick=1; shift ;;
     --fallback) export RELUME_SAVE_NO_EXCHANGE=1; shift ;;
-    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
     *) commands+=("$1"); shift ;;
   esac
 done
@@ -112,6 +118,20 @@ check_after() {
   seen[$state]=$((${seen[$state]:-0} + 1))
 }
 
+# The next save over what a crash left succeeds and leaves nothing beside the project (tried for
+# each kind of leftovers: which folders the crash left beside the path; with --quick once per
+# kind, otherwise after every step). $1 names the trial.
+resave_after() {
+  left=$(cd "$tmp" && ls -d .target.* 2>/dev/null | tr '\n' ' ')
+  if [ $quick = 0 ] || [ "$left" != "${last_left-none}" ]; then
+    resaved=$((resaved + 1))
+    if ! new_cmd "$tmp/target" >"$tmp/resave.out" 2>&1 || ls -d "$tmp"/.target.* >/dev/null 2>&1; then
+      echo "FAILED ($1): saving again after the crash (leftovers: ${left:-none})"; tail -3 "$tmp/resave.out"; failed=1
+    fi
+  fi
+  last_left=$left
+}
+
 reset_target() {
   rm -rf "$tmp/target" "$tmp"/.target.*
   cp -a "$tmp/old" "$tmp/target"
@@ -143,20 +163,32 @@ for cmd in "${commands[@]}"; do
       if [ $rc -eq 0 ]; then break; fi
       if [ $rc -ne 137 ]; then echo "FAILED ($cmd step $n): exit $rc, not killed:"; tail -3 "$tmp/run.out"; failed=1; break; fi
       check_after "$cmd, killed at save step $n"
-      # The next save over what the crash left succeeds and leaves nothing beside the project
-      # (tried for each kind of leftovers: which folders a crash left beside the path; with
-      # --quick once per kind, otherwise after every step).
-      left=$(cd "$tmp" && ls -d .target.* 2>/dev/null | tr '\n' ' ')
-      if [ $quick = 0 ] || [ "$left" != "${last_left-none}" ]; then
-        resaved=$((resaved + 1))
-        if ! new_cmd "$tmp/target" >"$tmp/resave.out" 2>&1 || ls -d "$tmp"/.target.* >/dev/null 2>&1; then
-          echo "FAILED ($cmd step $n): saving again after the crash (leftovers: ${left:-none})"; tail -3 "$tmp/resave.out"; failed=1
-        fi
-      fi
-      last_left=$left
+      resave_after "$cmd step $n"
       n=$((n + 1))
     done
     echo "$cmd: killed at each of $((n - 1)) save steps: old project at the path ${seen[old]:-0} times, new ${seen[new]:-0} times; saved again after $resaved of them"
+    unset seen
+  fi
+  if [ $snapshots = 1 ]; then
+    declare -A seen=()
+    resaved=0
+    unset last_left
+    reset_target
+    rm -rf "$tmp/snaps"
+    RELUME_SAVE_SNAPSHOTS=$tmp/snaps new_cmd "$tmp/target" >"$tmp/run.out" 2>&1 ||
+      { echo "FAILED ($cmd): the run that takes the snapshots failed:"; tail -3 "$tmp/run.out"; failed=1; continue; }
+    same_as_new=$(same_folder "$tmp/target" "$tmp/new" && echo yes)
+    [ "$same_as_new" = yes ] || { echo "FAILED ($cmd): the run that takes the snapshots wrote another project"; failed=1; continue; }
+    count=$(find "$tmp/snaps" -mindepth 1 -maxdepth 1 -type d | wc -l)
+    for ((n = 1; n <= count; ++n)); do
+      rm -rf "$tmp/target" "$tmp"/.target.*
+      cp -a "$tmp/snaps/$n/." "$tmp/"
+      check_after "$cmd, as a crash at save step $n leaves it"
+      resave_after "$cmd snapshot $n"
+    done
+    rm -rf "$tmp/snaps"
+    [ "$count" -gt 0 ] || { echo "FAILED ($cmd): no save step was seen"; failed=1; }
+    echo "$cmd: what a crash leaves at each of $count save steps (snapshots of one run): old project at the path ${seen[old]:-0} times, new ${seen[new]:-0} times; saved again after $resaved of them"
     unset seen
   fi
   if [ "$kills" -gt 0 ]; then

@@ -8,7 +8,8 @@
 # the fuzzing corpora and regression inputs replay through the harnesses (tests/fuzz).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-targets=(geometry_tests raytrace_tests project_tests radiosity_tests reconstruct_tests relight_tests)
+targets=(geometry_tests raytrace_tests project_tests radiosity_tests reconstruct_tests relight_tests
+         daylight_tests)
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRELUME_SANITIZE=ON ${RELUME_CMAKE_ARGS:-}
 cmake --build build-asan -j "$(nproc)" --target "${targets[@]}"
 export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1"

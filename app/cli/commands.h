@@ -34,6 +34,7 @@ int triangulateCommand(const QStringList& args, Progress& progress);
 int hdrMergeCommand(const QStringList& args, Progress& progress);
 int calibrateCommand(const QStringList& args, Progress& progress);
 int skyCommand(const QStringList& args, Progress& progress);
+int photometryCommand(const QStringList& args, Progress& progress);
 }  // namespace relume::cli
 namespace relume {
 struct Scene;

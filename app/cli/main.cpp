@@ -32,6 +32,7 @@ void usage() {
                "  hdr-merge IMAGES... -o OUT.exr [--times T1,T2,..|--ev EV1,EV2,..]\n"
                "  calibrate CHECKERBOARD_DIR --pattern 9x6 --square 0.025 [-o intrinsics.json]\n"
                "  sky FISHEYE.exr [--projection equidistant|equisolid] [--fov 180] [--regions 64]  (sun, sky regions)\n"
+               "  photometry FILE.ies|FILE.ldt [--json OUT.json]  (a luminaire's flux and shape)\n"
                "ROOM: a bundle folder (scene.json), a Relume project, or an .obj with its .json.\n"
                "Run 'relume <command> --help' for a command's options.\n");
 }
@@ -74,6 +75,7 @@ int main(int argc, char** argv) {
     if (cmd == "hdr-merge") return relume::cli::hdrMergeCommand(rest, progress);
     if (cmd == "calibrate") return relume::cli::calibrateCommand(rest, progress);
     if (cmd == "sky") return relume::cli::skyCommand(rest, progress);
+    if (cmd == "photometry") return relume::cli::photometryCommand(rest, progress);
     std::fprintf(stderr, "relume: unknown command '%s'\n", qPrintable(cmd));
     usage();
     return 2;

@@ -230,6 +230,13 @@ int preprocessCommand(const QStringList& args, Progress& progress) {
   ProgressScope work(progress, 0.0, 0.9);
   const RelightData data = preprocessRoom(scene, opt, work);
   printEstimates(data);
+  for (const auto& l : scene.lamps)
+    if (l.photometry)
+      std::fprintf(stderr,
+                   "  %-6s emits as its photometric file %s says (%s, %.0f lm of lamps, %.0f lm from the luminaire); its "
+                   "exitance is the photos' estimate, the file's lumens are not used\n",
+                   l.name.c_str(), l.photometryFile.c_str(), l.photometry->format.c_str(), l.photometry->lampLumens,
+                   l.photometry->flux());
   ProgressScope saving(progress, 0.9, 1.0);
   saveRelightProject(scene, data, str(p.value("output")), saving);
   std::fprintf(stderr, "wrote project %s\n", qPrintable(p.value("output")));

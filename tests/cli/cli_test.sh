@@ -102,5 +102,19 @@ code=$?
 check "Ctrl-C cancels preprocess with exit 130" "[ $code -eq 130 ]"
 check "and the project is untouched" "cmp -s '$tmp/before.json' '$tmp/lit.relume/relight/relight.json' && [ -z \"\$(ls -a '$tmp' | grep saving)\" ]"
 
+# A luminaire's photometric file, in both formats: its flux is the intensities integrated over the
+# sphere (here by the trapezoid rule in Python, independently of Relume), the same from either file.
+examples=$(dirname "$room")/examples
+"$relume" photometry "$examples/downlight.ies" --json "$tmp/ies.json" >"$tmp/ies.out" 2>/dev/null
+"$relume" photometry "$examples/downlight.ldt" --json "$tmp/ldt.json" 2>/dev/null
+check "photometry gives an IES file's flux and the EULUMDAT twin's" \
+  "python3 -c \"import json, math; v=open('$examples/downlight.ies').read().split('TILT=NONE')[1].split(); \
+nv=int(v[3]); g=[float(x) for x in v[13:13+nv]]; I=[float(x) for x in v[14+nv:14+2*nv]]; \
+flux=sum(math.pi*math.radians(g[k+1]-g[k])*(I[k]*math.sin(math.radians(g[k]))+I[k+1]*math.sin(math.radians(g[k+1]))) for k in range(nv-1)); \
+a=json.load(open('$tmp/ies.json'))['flux_lm']; b=json.load(open('$tmp/ldt.json'))['flux_lm']; \
+assert abs(a-flux) < 0.01*flux and abs(b-a) < 0.01*a, (a, b, flux)\" && grep -q 'light output ratio' '$tmp/ies.out'"
+printf 'IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 10\n0 45 90\n0\n100 -50 0\n' >"$tmp/bad.ies"
+cli_error "a photometric file with a negative intensity is named" "bad.ies: intensity 2" photometry "$tmp/bad.ies"
+
 if [ $fail -eq 0 ]; then echo "cli: all passed"; fi
 exit $fail

@@ -126,6 +126,32 @@ def rooms():
     write("workspace", "reconstructed", compact({"photos": "/home/user/room/photos", "registered": ["main", "view0"],
                                                  "left_out": ["blurry"], "points": 5321, "metric": True,
                                                  "seconds": {"features": 4.2, "matching": 1.1, "mapping": 9.8}}))
+    photometry_seeds()
+
+
+def photometry_seeds():
+    """A downlight of cosine shape (I = 800 cd x cos gamma, 2513 lm) in both photometric formats, and an
+    IES file with its tilt data included and a C-dependent distribution."""
+    import math
+    gammas = list(range(0, 95, 15))
+    cos = [round(800 * math.cos(math.radians(g)), 2) for g in gammas]
+    ies = ["IESNA:LM-63-2002", "[TEST] Relume fuzz seed", "[LUMINAIRE] cosine downlight", "TILT=NONE",
+           "1 -1 1 %d 1 1 2 0.3 0.3 0" % len(gammas), "1 1 40", " ".join(map(str, gammas)), "0",
+           " ".join(map(str, cos))]
+    write("ies", "cosine", ("\n".join(ies) + "\n").encode())
+    cs = [0, 45, 90]
+    tilted = ["IESNA:LM-63-1995", "[LUMINAIRE] quadrants", "TILT=INCLUDE", "1", "3", "0 45 90", "1 0.95 0.9",
+              "2 1200 1.5 %d %d 1 2 0.3 1.2 0.1" % (len(gammas), len(cs)), "0.95 1 60", " ".join(map(str, gammas)),
+              " ".join(map(str, cs))]
+    for c in cs:
+        tilted.append(" ".join(str(round(v * (1 + 0.3 * math.cos(math.radians(2 * c))), 2)) for v in cos))
+    write("ies", "tilt_quadrants", ("\r\n".join(tilted) + "\r\n").encode())
+    ldt = ["Relume fuzz seed", "1", "1", "1", "0", str(len(gammas) * 2 - 1), "15", "report", "cosine downlight", "1",
+           "cosine.ldt", "2026-12-02"] + ["100"] * 9 + ["100", "100", "1", "0", "1", "1", "LED", "2513", "3000", "90",
+                                                        "20"] + ["0,5"] * 10 + ["0"]
+    ldt += [str(g) for g in range(0, 181, 15)]
+    ldt += [str(round(800 * max(0.0, math.cos(math.radians(g))) * 1000 / 2513, 3)) for g in range(0, 181, 15)]
+    write("ldt", "cosine", ("\r\n".join(ldt) + "\r\n").encode())
 
 
 if __name__ == "__main__":

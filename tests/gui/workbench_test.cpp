@@ -27,6 +27,7 @@
 #include <QtTest>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <numeric>
 
 #include "document.h"
@@ -39,6 +40,7 @@
 #include "click_photo_view.h"
 #include "clicks_panel.h"
 #include "relume/project/room_io.h"
+#include "relume/project/save_hooks.h"
 #include "relume/reconstruct/click_build.h"
 #include "photos_panel.h"
 #include "process_exit.h"
@@ -153,6 +155,40 @@ bool copyFolder(const QString& from, const QString& to) {
     const QString src = it.next();
     const QString dst = to + "/" + QDir(from).relativeFilePath(src);
     if (!QDir().mkpath(QFileInfo(dst).path()) || !QFile::copy(src, dst)) return false;
+  }
+  return true;
+}
+
+// Every entry under `from` (hidden ones and empty folders too) copied to `to`: what a disk holds.
+bool copyTree(const QString& from, const QString& to) {
+  if (!QDir().mkpath(to)) return false;
+  QDirIterator it(from, QDir::AllEntries | QDir::Hidden | QDir::System | QDir::NoDotAndDotDot, QDirIterator::Subdirectories);
+  while (it.hasNext()) {
+    const QString src = it.next();
+    const QString dst = to + "/" + QDir(from).relativeFilePath(src);
+    if (QFileInfo(src).isDir()) {
+      if (!QDir().mkpath(dst)) return false;
+    } else if (!QDir().mkpath(QFileInfo(dst).path()) || !QFile::copy(src, dst)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Whether two folder trees hold the same files with the same bytes.
+bool sameTree(const QString& a, const QString& b) {
+  auto files = [](const QString& root) {
+    QStringList out;
+    QDirIterator it(root, QDir::Files | QDir::Hidden | QDir::System, QDirIterator::Subdirectories);
+    while (it.hasNext()) out << QDir(root).relativeFilePath(it.next());
+    out.sort();
+    return out;
+  };
+  const QStringList fa = files(a);
+  if (fa.isEmpty() || fa != files(b)) return false;
+  for (const QString& rel : fa) {
+    QFile x(a + "/" + rel), y(b + "/" + rel);
+    if (!x.open(QIODevice::ReadOnly) || !y.open(QIODevice::ReadOnly) || x.readAll() != y.readAll()) return false;
   }
   return true;
 }
@@ -1446,6 +1482,119 @@ class WorkbenchTest : public QObject {
     QVERIFY2(!next.document()->isDirty(), qPrintable(next.lastError()));
     doc()->undoStack()->undo();
     QCOMPARE(doc()->lampScale(b), glm::dvec3(1.0));
+  }
+
+  // A crash at any file-system step of the workbench's Save, or of an autosave over an earlier
+  // autosave, leaves at its path the previous project or the new one, whole: never neither, never
+  // a mix, and the next open says what the save left beside it. What a crash at a step leaves is
+  // what the disk holds at that step: the test copies the project's folder (with the save's side
+  // folders) at every step of one real save, then opens each copy as the next start would.
+  void crashAtEverySaveStep() {
+    const int b = lampIndex("B");
+    const glm::dvec3 before = doc()->lampScale(b);
+    // Runs `save`, which writes the project `name` in `parent`, and checks every step's copy.
+    auto everyStep = [&](const QString& parent, const QString& name, bool exchange, const std::function<bool()>& save) {
+      const QString target = parent + "/" + name;
+      const QString old = tmp_.path() + "/crash-old";
+      QDir(old).removeRecursively();
+      QVERIFY(copyTree(target, old));
+      const QStringList sideNames{"." + name + ".saving", "." + name + ".previous", "." + name + ".discard"};
+      QStringList snapshots, steps;
+      detail::SaveTestHooks hooks;
+      hooks.exchange = exchange;
+      hooks.step = [&](const char* what) {  // on the save's own thread, which waits meanwhile
+        const QString snap = tmp_.path() + QString("/crash-step-%1").arg(snapshots.size() + 1);
+        QDir(snap).removeRecursively();
+        QDir().mkpath(snap);
+        // Hard links, as fast as the save (which never writes into a file it wrote before).
+        for (const QString& n : QStringList{name} + sideNames) {
+          if (!QFileInfo::exists(parent + "/" + n)) continue;
+          std::error_code ec;
+          std::filesystem::copy(str(parent + "/" + n), str(snap + "/" + n),
+                                std::filesystem::copy_options::recursive | std::filesystem::copy_options::create_hard_links, ec);
+          if (ec) qWarning("cannot link %s: %s", qPrintable(n), ec.message().c_str());
+        }
+        snapshots << snap;
+        steps << what;
+      };
+      const detail::SaveTestHooks previous = detail::setSaveTestHooks(hooks);
+      const bool started = save();
+      QElapsedTimer t;
+      t.start();
+      while ((window_->jobs()->busy() || window_->autosaveRunning()) && t.elapsed() < 180000) QTest::qWait(20);
+      const bool finished = !window_->jobs()->busy() && !window_->autosaveRunning();
+      detail::setSaveTestHooks(previous);
+      QVERIFY(started && finished);
+      QVERIFY2(!sameTree(target, old), "the save changed nothing: the test would prove nothing");
+      QVERIFY2(snapshots.size() >= 8, qPrintable(steps.join(", ")));
+      int asOld = 0, asNew = 0;
+      for (int k = 0; k < snapshots.size(); ++k) {
+        const QString at = snapshots[k] + "/" + name;
+        const QString step = QString("after step %1 (%2)").arg(k + 1).arg(steps[k]);
+        // The next start opens the path (putting back a project a fallback save had moved aside).
+        Scene scene;
+        try {
+          scene = loadRoom(str(at));
+        } catch (const std::exception& e) {
+          QFAIL(qPrintable(step + ": the path does not open: " + e.what()));
+        }
+        const bool isOld = sameTree(at, old), isNew = sameTree(at, target);
+        QVERIFY2(isOld || isNew, qPrintable(step + ": the path holds neither the previous project nor the new one"));
+        asOld += isOld;
+        asNew += isNew && !isOld;
+        for (const QString& side : sideNames) {
+          if (!QFileInfo::exists(snapshots[k] + "/" + side)) continue;
+          // Never taken for a project, and reported when the project beside it opens.
+          bool refused = false;
+          try {
+            loadRoom(str(snapshots[k] + "/" + side));
+          } catch (const relume::Error&) {
+            refused = true;
+          }
+          QVERIFY2(refused, qPrintable(step + ": " + side + " opened as a project"));
+          const bool reported = std::any_of(scene.notes.begin(), scene.notes.end(),
+                                            [&](const std::string& n) { return n.find(str(side)) != std::string::npos; });
+          QVERIFY2(reported, qPrintable(step + ": " + side + " left beside the project is not reported"));
+        }
+      }
+      qInfo("%s, %s: %lld steps, the previous project at %d of them, the new one at %d", qPrintable(name),
+            exchange ? "atomic exchange" : "two renames", qlonglong(snapshots.size()), asOld, asNew);
+      QVERIFY(asOld > 0 && asNew > 0);
+      // What the workbench opens from the copies: the relighting data read whole, at the first
+      // and the last step (every other copy is byte for byte one of these two).
+      for (const QString& snap : {snapshots.front(), snapshots.back()}) {
+        try {
+          QVERIFY(loadRoomForWorkbench(snap + "/" + name, silentProgress())->session != nullptr);
+        } catch (const std::exception& e) {
+          QFAIL(qPrintable(snap + ": the workbench cannot open it: " + e.what()));
+        }
+      }
+      for (const QString& snap : snapshots) QDir(snap).removeRecursively();
+    };
+
+    // File > Save over an existing project, with the atomic exchange and without it.
+    for (const bool exchange : {true, false}) {
+      const QString parent = tmp_.path() + (exchange ? "/crash-exchange" : "/crash-renames");
+      QVERIFY(window_->saveTo(parent + "/room.relume"));
+      QVERIFY(waitForJob(120000));
+      QVERIFY2(!doc()->isDirty(), qPrintable(window_->lastError()));
+      doc()->editLampScale(b, glm::dvec3(exchange ? 0.25 : 0.4));
+      everyStep(parent, "room.relume", exchange, [&] { return window_->saveTo(parent + "/room.relume"); });
+      if (QTest::currentTestFailed()) break;
+    }
+    // An autosave over the previous autosave: the next start recovers one of the two.
+    if (!QTest::currentTestFailed()) {
+      const QString autosave = MainWindow::autosaveFolder();
+      doc()->editLampScale(b, glm::dvec3(0.6));
+      QVERIFY(window_->autosaveNow());
+      QElapsedTimer t;
+      t.start();
+      while (window_->autosaveRunning() && t.elapsed() < 120000) QTest::qWait(20);
+      QVERIFY(QFile::exists(autosave + "/project.json"));
+      doc()->editLampScale(b, glm::dvec3(0.8));
+      everyStep(QFileInfo(autosave).absolutePath(), QFileInfo(autosave).fileName(), true, [&] { return window_->autosaveNow(); });
+    }
+    doc()->editLampScale(b, before);
   }
 
   // Unreadable, truncated and newer-schema projects open nothing and say why.

@@ -463,3 +463,37 @@ TEST_F(BadInput, DaylightSkiesAreReadCheckedAndKeptInAProject) {
   EXPECT_NE(errorOf(bundle(withDaylight("../sky.exr", "noon"))).find("daylight sky 'morning': fisheye '../sky.exr' leads out"),
             std::string::npos);
 }
+
+// A lamp's photometric file (IES or EULUMDAT) is read with the room, confined to its folder,
+// checked, and copied into a project that keeps it.
+TEST_F(BadInput, ALampsPhotometricFileIsReadCheckedAndKeptInAProject) {
+  auto withPhotometry = [](const std::string& file) {
+    return replaced(room(), R"("radiance_rgb": [5,5,5]})", R"("radiance_rgb": [5,5,5], "photometry": ")" + file + R"("})");
+  };
+  const std::string ies =
+      "IESNA:LM-63-2002\n[LUMINAIRE] downlight\nTILT=NONE\n1 1000 1 3 1 1 2 0.2 0.2 0\n1 1 20\n0 45 90\n0\n100 70.7 0\n";
+  const std::string dir = bundle(withPhotometry("lamps/downlight.ies"));
+  writeImage(dir + "/photos/main.png", ImageRGB(64, 48));  // the camera's size
+  write(fs::path(dir) / "lamps/downlight.ies", ies);
+  const Scene s = loadRoom(dir);
+  ASSERT_EQ(s.lamps.size(), 1u);
+  ASSERT_NE(s.lamps[0].photometry, nullptr);
+  EXPECT_EQ(s.lamps[0].photometry->lampLumens, 1000.0);
+  EXPECT_EQ(s.lamps[0].photometry->luminaire, "downlight");
+  const std::string proj = (tmp.path / "lamp.relume").string();
+  saveProject(s, proj);
+  const Scene p = loadRoom(proj);
+  ASSERT_NE(p.lamps.at(0).photometry, nullptr);
+  EXPECT_EQ(p.lamps[0].photometryFile, "photometry/downlight.ies");
+  EXPECT_EQ(text(fs::path(proj) / "photometry/downlight.ies"), ies);
+  // Outside the bundle, of another kind, malformed.
+  EXPECT_NE(errorOf(bundle(withPhotometry("../downlight.ies"))).find("lamp 'L': photometry '../downlight.ies' leads out"),
+            std::string::npos);
+  write(fs::path(dir) / "lamps/downlight.txt", ies);
+  EXPECT_NE(errorOf(bundle(withPhotometry("lamps/downlight.txt"))).find("must be an IES LM-63 (.ies) or EULUMDAT (.ldt) file"),
+            std::string::npos);
+  write(fs::path(dir) / "lamps/downlight.ies", replaced(ies, "100 70.7 0", "100 -70.7 0"));
+  const std::string negative = errorOf(bundle(withPhotometry("lamps/downlight.ies")));
+  EXPECT_NE(negative.find("lamps/downlight.ies"), std::string::npos) << negative;
+  EXPECT_NE(negative.find("cannot be negative"), std::string::npos) << negative;
+}

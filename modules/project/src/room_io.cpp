@@ -18,6 +18,7 @@
 #include <csignal>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <glm/geometric.hpp>
 #include <limits>
 #include <map>
@@ -156,8 +157,18 @@ bool twoSidedOf(const QJsonObject& lo, const JsonReader& jr, const std::string& 
   return v.toBool();
 }
 
+// A lamp's photometric file, named relative to the JSON's folder: parsed by its ending (.ies or .ldt).
+std::shared_ptr<const PhotometricDistribution> photometryOf(const JsonReader& jr, const std::string& rel,
+                                                            const std::string& where) {
+  const std::string bytes = jr.files(rel);
+  const std::string ext = str(QFileInfo(QString::fromStdString(rel)).suffix().toLower());
+  if (ext == "ies") return std::make_shared<const PhotometricDistribution>(parseIes(bytes, rel));
+  if (ext == "ldt") return std::make_shared<const PhotometricDistribution>(parseEulumdat(bytes, rel));
+  jr.fail(where, "photometry '" + rel + "' must be an IES LM-63 (.ies) or EULUMDAT (.ldt) file");
+}
+
 // Lamps: {name, polygon (a polygon name or its vertex list), radiance_rgb | color * strength,
-// two_sided}.
+// two_sided, photometry (an .ies or .ldt file)}.
 void readLamps(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
   for (const auto& lv : arr) {
     const QJsonObject lo = lv.toObject();
@@ -170,6 +181,8 @@ void readLamps(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
       lamp.radiance = jr.vec3(lo["color"], where, "color") * jr.number(lo["strength"], where, "strength");
     else jr.fail(where, "needs radiance_rgb (or color and strength)");
     lamp.twoSided = twoSidedOf(lo, jr, where);
+    lamp.photometryFile = jr.path(lo["photometry"], where, "photometry");
+    if (!lamp.photometryFile.empty()) lamp.photometry = photometryOf(jr, lamp.photometryFile, where);
     const QJsonValue pv = lo["polygon"];
     if (pv.isString()) {
       lamp.polygon = scene.findPolygon(str(pv.toString()));
@@ -590,11 +603,63 @@ Variant readVariantFile(const std::string& path) {
                           filesIn(str(QFileInfo(QString::fromStdString(path)).absolutePath()), path, false));
 }
 
+PhotometricDistribution readPhotometricFile(const std::string& path) {
+  const std::string bytes = bytesOf(QString::fromStdString(path));
+  const QString suffix = QFileInfo(QString::fromStdString(path)).suffix().toLower();
+  if (suffix == "ies") return parseIes(bytes, path);
+  if (suffix == "ldt") return parseEulumdat(bytes, path);
+  if (bytes.find("TILT=") != std::string::npos) return parseIes(bytes, path);
+  throw Error(path, "", "is neither an IES LM-63 file (.ies) nor a EULUMDAT file (.ldt)");
+}
+
 namespace {
 detail::SaveTestHooks& saveHooks() {
   static detail::SaveTestHooks hooks;
   return hooks;
 }
+
+// The project a save on this thread is writing now (empty outside saves), for the snapshots.
+std::string& currentSaveTarget() {
+  thread_local std::string target;
+  return target;
+}
+
+// RELUME_SAVE_SNAPSHOTS=DIR: what a crash at this step would leave, copied to DIR/<step>/ — the
+// project's path and the folders a save keeps beside it, as they are on disk now.
+void snapshotSave(long step) {
+  static const char* dir = std::getenv("RELUME_SAVE_SNAPSHOTS");
+  if (!dir || currentSaveTarget().empty()) return;
+  namespace fs = std::filesystem;
+  const fs::path target(currentSaveTarget());
+  const fs::path to = fs::path(dir) / std::to_string(step);
+  std::error_code ec;
+  fs::create_directories(to, ec);
+  const std::string name = target.filename().string();
+  for (const std::string& n : {name, "." + name + ".saving", "." + name + ".previous", "." + name + ".discard"}) {
+    const fs::path from = target.parent_path() / n;
+    if (!fs::exists(fs::symlink_status(from))) continue;
+    // Hard links: as fast as the save itself (a save never writes into a file it wrote before, it
+    // writes new files and renames, so a linked file keeps the content it had at this step).
+    fs::copy(from, to / n, fs::copy_options::recursive | fs::copy_options::copy_symlinks | fs::copy_options::create_hard_links, ec);
+    if (ec) {
+      ec.clear();
+      fs::remove_all(to / n, ec);
+      fs::copy(from, to / n, fs::copy_options::recursive | fs::copy_options::copy_symlinks, ec);
+    }
+    if (ec) {
+      std::fprintf(stderr, "RELUME_SAVE_SNAPSHOTS: cannot copy %s: %s\n", from.c_str(), ec.message().c_str());
+      std::abort();
+    }
+  }
+}
+
+// Names the project being saved for the snapshots while it lives.
+struct SaveTargetScope {
+  explicit SaveTargetScope(const QString& path) { currentSaveTarget() = path.toStdString(); }
+  ~SaveTargetScope() { currentSaveTarget().clear(); }
+  SaveTargetScope(const SaveTargetScope&) = delete;
+  SaveTargetScope& operator=(const SaveTargetScope&) = delete;
+};
 }  // namespace
 
 detail::SaveTestHooks detail::setSaveTestHooks(SaveTestHooks hooks) {
@@ -609,7 +674,9 @@ void detail::saveStep(const char* what) {
     return e ? std::atol(e) : 0L;
   }();
   static std::atomic<long> count{0};
-  if (crashAt > 0 && ++count == crashAt) {
+  const long step = ++count;
+  snapshotSave(step);
+  if (crashAt > 0 && step == crashAt) {
     std::fprintf(stderr, "RELUME_CRASH_AT_SAVE_STEP: killed at save step %ld (%s)\n", crashAt, what);
     std::fflush(stderr);
     std::raise(SIGKILL);
@@ -722,6 +789,7 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
   const QString parent = target.absolutePath();
   if (!QDir().mkpath(parent)) throw Error(folder, "", "cannot create the parent folder");
   const SaveFolders names(target);
+  const SaveTargetScope scope(target.absoluteFilePath());
   const QString staging = names.staging;
   // An earlier save's leftovers.
   if (!discardFolder(staging, names) || !discardFolder(names.discard, names))
@@ -752,11 +820,24 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
     }
     root["polygons"] = polys;
     QJsonArray lamps;
-    for (const auto& l : scene.lamps)
-      lamps.append(QJsonObject{{"name", QString::fromStdString(l.name)},
-                               {"polygon", QString::fromStdString(scene.polygons[l.polygon].name)},
-                               {"radiance_rgb", toJson(l.radiance)},
-                               {"two_sided", l.twoSided}});
+    for (const auto& l : scene.lamps) {
+      QJsonObject o{{"name", QString::fromStdString(l.name)},
+                    {"polygon", QString::fromStdString(scene.polygons[l.polygon].name)},
+                    {"radiance_rgb", toJson(l.radiance)},
+                    {"two_sided", l.twoSided}};
+      if (!l.photometryFile.empty()) {
+        // The luminaire's file goes along, copied into photometry/.
+        const QString src = resolve(QString::fromStdString(scene.baseDir), l.photometryFile);
+        const QString name = "photometry/" + QFileInfo(src).fileName();
+        if (!QFileInfo::exists(staging + "/" + name)) {
+          if (!QDir().mkpath(staging + "/photometry")) abandon("cannot create the photometry folder");
+          if (!QFile::copy(src, staging + "/" + name)) abandon("cannot copy the photometric file " + str(src));
+          detail::saveStep("photometric file copied");
+        }
+        o["photometry"] = name;
+      }
+      lamps.append(o);
+    }
     root["lamps"] = lamps;
     QJsonArray photos;
     int done = 0;

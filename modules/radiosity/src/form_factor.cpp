@@ -38,18 +38,50 @@ double pointToPolygonFormFactor(const glm::dvec3& p, const glm::dvec3& n,
   return std::abs(sum) / (2.0 * std::numbers::pi);
 }
 
+EmitterShape::EmitterShape(const std::vector<glm::dvec3>& polygon, bool twoSidedFaces,
+                           std::shared_ptr<const PhotometricDistribution> distribution)
+    : twoSided(twoSidedFaces), photometry(std::move(distribution)) {
+  if (!photometry || polygon.size() < 3) {
+    photometry = nullptr;
+    return;
+  }
+  centre = glm::dvec3(0.0);
+  for (const auto& v : polygon) centre += v / double(polygon.size());
+  nadir = glm::normalize(areaVector(polygon));
+  c0 = polygon[1] - polygon[0];
+  c0 = glm::normalize(c0 - glm::dot(c0, nadir) * nadir);
+  c90 = glm::cross(c0, nadir);
+  flux = photometry->flux();
+  if (!(flux > 0)) photometry = nullptr;  // a dark distribution: no shape to give
+}
+
+double EmitterShape::weight(const glm::dvec3& p) const {
+  if (!photometry) return 1.0;
+  const glm::dvec3 d = p - centre;
+  const double len = glm::length(d);
+  if (len <= 0) return 0.0;
+  const double cg = glm::dot(d, nadir) / len;
+  const double gamma = std::acos(std::clamp(cg, -1.0, 1.0)) * 180.0 / std::numbers::pi;
+  double c = std::atan2(glm::dot(d, c90), glm::dot(d, c0)) * 180.0 / std::numbers::pi;
+  if (c < 0) c += 360.0;
+  // The point kernel carries |cos gamma| already: at grazing angles F -> 0 and F w stays finite.
+  return std::numbers::pi * photometry->intensity(c, gamma) / (flux * std::max(std::abs(cg), 1e-3));
+}
+
 double emitterFormFactor(const glm::dvec3& p, const glm::dvec3& n, const std::vector<glm::dvec3>& poly,
-                         bool twoSided) {
-  if (!twoSided || poly.size() < 3 || glm::dot(areaVector(poly), p - poly[0]) > 0.0)
-    return pointToPolygonFormFactor(p, n, poly);
-  // Seen from behind: the back face, i.e. the same polygon wound the other way.
-  return pointToPolygonFormFactor(p, n, std::vector<glm::dvec3>(poly.rbegin(), poly.rend()));
+                         const EmitterShape& shape) {
+  double f = 0.0;
+  if (!shape.emitsBehind() || poly.size() < 3 || glm::dot(areaVector(poly), p - poly[0]) > 0.0)
+    f = pointToPolygonFormFactor(p, n, poly);
+  else  // seen from behind: the back face, i.e. the same polygon wound the other way
+    f = pointToPolygonFormFactor(p, n, std::vector<glm::dvec3>(poly.rbegin(), poly.rend()));
+  return f > 0.0 && shape.photometry ? f * shape.weight(p) : f;
 }
 
 ElementFactor emitterFormFactorOverElement(const glm::dvec3& origin, const glm::dvec3& du, const glm::dvec3& dv,
                                            const glm::dvec3& n, const std::vector<glm::dvec2>& uvPolygon,
                                            glm::dvec2 uv0, glm::dvec2 uv1, const std::vector<glm::dvec3>& emitter,
-                                           bool twoSided, double tolerance, int maxDepth) {
+                                           const EmitterShape& shape, double tolerance, int maxDepth) {
   glm::dvec3 centre(0.0);
   double radius = 0;
   for (const auto& v : emitter) centre += v / double(emitter.size());
@@ -66,7 +98,7 @@ ElementFactor emitterFormFactorOverElement(const glm::dvec3& origin, const glm::
     for (int k = 0; k < 4; ++k) {
       const glm::dvec2 uv(a.x + ((k & 1) ? g1 : g0) * (b.x - a.x), a.y + ((k & 2) ? g1 : g0) * (b.y - a.y));
       in[k] = uvPolygon.size() < 3 || insideConvex2D(uvPolygon, uv, 1e-9);
-      f[k] = in[k] ? emitterFormFactor(origin + uv.x * du + uv.y * dv, n, emitter, twoSided) : 0.0;
+      f[k] = in[k] ? emitterFormFactor(origin + uv.x * du + uv.y * dv, n, emitter, shape) : 0.0;
       if (!in[k]) continue;
       ++count;
       fmin = std::min(fmin, f[k]);
@@ -103,7 +135,7 @@ ElementFactor emitterFormFactorOverElement(const glm::dvec3& origin, const glm::
   cell(cell, uv0, uv1, 0);
   if (inside <= 0) {  // the rectangle misses the polygon: its centre stands for it
     const glm::dvec2 c = 0.5 * (uv0 + uv1);
-    out.mean = out.minimum = out.maximum = emitterFormFactor(origin + c.x * du + c.y * dv, n, emitter, twoSided);
+    out.mean = out.minimum = out.maximum = emitterFormFactor(origin + c.x * du + c.y * dv, n, emitter, shape);
     return out;
   }
   out.mean = integral / inside;

@@ -77,6 +77,7 @@ std::vector<Surface> surfacesFromScene(const Scene& scene) {
       if (lamp >= 0) {
         s.exitance = kPi * scene.lamps[lamp].radiance;
         s.twoSided = scene.lamps[lamp].twoSided;
+        s.photometry = scene.lamps[lamp].photometry;
       }
     } else if (p.kind == PolygonKind::Window) {
       s.reflectance = glm::dvec3(0.0);  // an opening absorbs everything that leaves the room
@@ -93,6 +94,7 @@ struct HierarchicalRadiosity::Impl {
   std::vector<PlaneFrame> frames;
   std::vector<std::vector<glm::dvec2>> uvPolys;
   std::vector<std::vector<double>> fanCdf;  // cumulative triangle-fan areas per surface
+  std::vector<EmitterShape> shapes;          // per surface: how it emits (if it does)
   std::vector<double> surfaceArea;
   std::vector<int32_t> perm, posInPerm;      // cluster surface order
   std::vector<int32_t> rangeBegin, rangeCount;  // per node (clusters)
@@ -292,6 +294,7 @@ HierarchicalRadiosity::HierarchicalRadiosity(std::vector<Surface> surfaces, Opti
   impl_->surfaceArea.resize(ns);
   for (size_t s = 0; s < ns; ++s) {
     const auto& v = surfaces_[s].vertices;
+    impl_->shapes.emplace_back(v, surfaces_[s].twoSided, surfaces_[s].photometry);
     impl_->frames[s] = PlaneFrame::of(v);
     for (const auto& q : v) impl_->uvPolys[s].push_back(impl_->frames[s].toUV(q));
     double acc = 0;
@@ -414,9 +417,10 @@ struct Kernel {
       if (R.surface == S.surface) return 0.0;  // planar polygons do not see themselves
       const PlaneFrame& fr = im.frames[R.surface];
       const PlaneFrame& fs = im.frames[S.surface];
-      const bool twoSided = h.surfaces()[S.surface].twoSided;
+      const EmitterShape& shape = im.shapes[S.surface];
       if (behind(S, fr.toWorld({R.u0, R.v0}), fr.normal) ||
-          (behind(R, fs.toWorld({S.u0, S.v0}), fs.normal) && (!twoSided || behind(R, fs.toWorld({S.u0, S.v0}), -fs.normal))))
+          (behind(R, fs.toWorld({S.u0, S.v0}), fs.normal) &&
+           (!shape.emitsBehind() || behind(R, fs.toWorld({S.u0, S.v0}), -fs.normal))))
         return 0.0;
       const auto src = worldPolygon(s);
       std::vector<glm::dvec3> pts;
@@ -424,7 +428,7 @@ struct Kernel {
       quadrature(r, pts, wts, s);
       double f = 0, fmin = 1e300, fmax = 0;
       for (size_t i = 0; i < pts.size(); ++i) {
-        const double fi = emitterFormFactor(pts[i], fr.normal, src, twoSided);
+        const double fi = emitterFormFactor(pts[i], fr.normal, src, shape);
         f += wts[i] * fi;
         fmin = std::min(fmin, fi);
         fmax = std::max(fmax, fi);
@@ -461,12 +465,12 @@ struct Kernel {
       }
     } else if (!S.isCluster()) {  // cluster <- element (isotropic receiver: mean cosine 1/4)
       const PlaneFrame& fs = im.frames[S.surface];
-      const bool twoSided = h.surfaces()[S.surface].twoSided;
-      if (!twoSided && behind(R, glm::dvec3(S.center), fs.normal)) return 0.0;
+      const EmitterShape& shape = im.shapes[S.surface];
+      if (!shape.emitsBehind() && behind(R, glm::dvec3(S.center), fs.normal)) return 0.0;
       const glm::dvec3 d = glm::dvec3(R.center) - glm::dvec3(S.center);
       const double d2 = glm::dot(d, d);
       const double c = glm::dot(d, fs.normal) / std::sqrt(d2);
-      const double cs = twoSided ? std::abs(c) : std::max(0.0, c);
+      const double cs = (shape.emitsBehind() ? std::abs(c) : std::max(0.0, c)) * shape.weight(glm::dvec3(R.center));
       f = S.area * cs / (4.0 * kPi * d2);
       bound = S.area * cs / (kPi * d2);
     } else {
@@ -566,7 +570,7 @@ struct Kernel {
     fb.clear();
     for (size_t i = 0; i < a.size(); ++i) {
       // A two-sided emitter's point seen from behind: its back face's point (lifted the other way).
-      if (sb[i] >= 0 && h.surfaces()[sb[i]].twoSided && glm::dot(b[i] - a[i], nb[i]) >= 0.f) {
+      if (sb[i] >= 0 && im.shapes[sb[i]].emitsBehind() && glm::dot(b[i] - a[i], nb[i]) >= 0.f) {
         b[i] -= 2.f * kNormalOffset * nb[i];
         nb[i] = -nb[i];
       }
@@ -780,7 +784,7 @@ double HierarchicalRadiosity::pushPull() {
     B_[n] = b;
     if (N.parent >= 0) {
       // A cluster's radiosity is its power over its area: a two-sided emitter gives it both faces'.
-      const float w = N.surface >= 0 && nodes_[N.parent].isCluster() && surfaces_[N.surface].twoSided ? 2.f : 1.f;
+      const float w = N.surface >= 0 && nodes_[N.parent].isCluster() ? float(impl_->shapes[N.surface].faces()) : 1.f;
       float* a = &acc[3 * size_t(N.parent)];
       a[0] += w * N.area * b.x;
       a[1] += w * N.area * b.y;
@@ -831,7 +835,7 @@ SolveStats HierarchicalRadiosity::solve(Progress& progress) {
   for (size_t s = 0; s < surfaces_.size(); ++s) {
     const double a = im.surfaceArea[s];
     const auto& e = surfaces_[s].exitance;
-    power += (surfaces_[s].twoSided ? 2 : 1) * a * std::max({e.x, e.y, e.z});
+    power += im.shapes[s].faces() * a * std::max({e.x, e.y, e.z});
     if (!isEmitter(int(s))) area += a;
   }
   im.eRef = area > 0 && power > 0 ? power / area : 1.0;
@@ -1072,6 +1076,7 @@ std::vector<int> HierarchicalRadiosity::addSurfaces(const std::vector<Surface>& 
     const int s = int(surfaces_.size());
     surfaces_.push_back(sf);
     const auto& v = sf.vertices;
+    im.shapes.emplace_back(v, sf.twoSided, sf.photometry);
     im.frames.push_back(PlaneFrame::of(v));
     im.uvPolys.emplace_back();
     for (const auto& q : v) im.uvPolys.back().push_back(im.frames.back().toUV(q));

@@ -207,7 +207,12 @@ void Preprocessor::Impl::run(Progress& progress) {
       seenArea += seen * a;
     }
   }
-  for (const auto& l : scene.lamps) lampArea += (l.twoSided ? 2 : 1) * polygonArea(scene.polygons[l.polygon].vertices);
+  // How each lamp emits (faces, photometric distribution), set up once.
+  std::vector<radiosity::EmitterShape> lampShapes;
+  for (const auto& l : scene.lamps) {
+    lampShapes.emplace_back(scene.polygons[l.polygon].vertices, l.twoSided, l.photometry);
+    lampArea += lampShapes.back().faces() * polygonArea(scene.polygons[l.polygon].vertices);
+  }
   if (seenArea <= 0 || grey(imageMean) <= 0)
     throw Error(scene.sourceFile, "photo " + photo.name, "shows no lit real surface to estimate reflectances from");
   imageMean /= seenArea;
@@ -349,7 +354,7 @@ void Preprocessor::Impl::run(Progress& progress) {
       const glm::dvec3 du = h.toWorld(N.surface, {1, 0}) - o, dv = h.toWorld(N.surface, {0, 1}) - o;
       for (size_t l = 0; l < nlamps; ++l) {
         const auto f = radiosity::emitterFormFactorOverElement(o, du, dv, n, uvPoly, {N.u0, N.v0}, {N.u1, N.v1},
-                                                               scene.polygons[lampSurfaces[l]].vertices, scene.lamps[l].twoSided);
+                                                               scene.polygons[lampSurfaces[l]].vertices, lampShapes[l]);
         F[k][l] = f.mean;
         Fspread[k][l] = f.maximum - f.minimum;
       }

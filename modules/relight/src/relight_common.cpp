@@ -96,9 +96,10 @@ std::vector<float> LampVisibility::at(int surface, const glm::vec4& rect) const 
       for (int k = 0; k < kPairsPerPoint; ++k) {
         const glm::dvec3& a = lp[(i * kPairsPerPoint + k) % lp.size()];
         const glm::dvec3 d = a - p;
-        // A two-sided lamp lights both half-spaces of its plane.
-        const bool twoSided = h_.surfaces()[lamps_[l]].twoSided;
-        if (glm::dot(d, n) <= 0 || (!twoSided && glm::dot(d, normals_[l]) >= 0)) continue;
+        // A two-sided lamp, or one with a photometric distribution, lights both half-spaces of its plane.
+        const auto& lamp = h_.surfaces()[lamps_[l]];
+        const bool behind = lamp.twoSided || lamp.photometry;
+        if (glm::dot(d, n) <= 0 || (!behind && glm::dot(d, normals_[l]) >= 0)) continue;
         segs.push_back({glm::vec3(p), glm::vec3(a)});
         owner.push_back(int(l));
       }
@@ -269,6 +270,7 @@ std::vector<radiosity::Surface> engineSurfaces(const Scene& scene, const std::ve
   for (size_t l = 0; l < scene.lamps.size(); ++l) {
     out[scene.lamps[l].polygon].exitance = lampExitance[l];
     out[scene.lamps[l].polygon].twoSided = scene.lamps[l].twoSided;
+    out[scene.lamps[l].polygon].photometry = scene.lamps[l].photometry;
   }
   return out;
 }

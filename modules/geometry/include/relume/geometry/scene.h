@@ -2,11 +2,13 @@
 // The scene model: polygons, groups, materials, lamps, cameras and photos, lighting variants.
 #include <glm/vec3.hpp>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "relume/geometry/camera.h"
+#include "relume/geometry/photometry.h"
 #include "relume/geometry/polygon.h"
 
 namespace relume {
@@ -18,6 +20,13 @@ struct Lamp {
   // Emits from both faces (an emissive panel seen from above and below, as Cycles mesh lamps
   // do), the same radiance per face; otherwise from the face its normal points to only.
   bool twoSided = false;
+  // A photometric distribution (IES LM-63 or EULUMDAT file, relative to Scene::baseDir; empty:
+  // none): the shape of the lamp's emission over all directions, its nadir along the polygon's
+  // normal and its C0 plane through the polygon's first edge. Its exitance is then the lamp's
+  // whole flux over its area, whatever the faces (`twoSided` no longer matters); the file's
+  // lumens are reported, never used for the scale.
+  std::string photometryFile;
+  std::shared_ptr<const PhotometricDistribution> photometry;
 };
 
 struct Photo {

@@ -5,6 +5,7 @@
 #include <vector>
 #include <glm/vec3.hpp>
 
+#include "relume/geometry/photometry.h"
 #include "relume/geometry/progress.h"
 #include "relume/geometry/scene.h"
 
@@ -43,6 +44,9 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
 // "virtual_lights", "virtual_objects"); a virtual object may give "obj" (a mesh file, relative to
 // the JSON file) instead of box_min / box_max.
 Variant readVariantFile(const std::string& path);
+// A luminaire's photometric file: IES LM-63 (.ies) or EULUMDAT (.ldt), told apart by its name's
+// ending (or, for another ending, by a TILT= line); parseIes / parseEulumdat on its bytes.
+PhotometricDistribution readPhotometricFile(const std::string& path);
 Variant parseVariantFile(const std::string& bytes, const std::string& name, const FileBytes& files);
 
 // The faces of an OBJ mesh (one polygon per `f` line, metres), for a virtual object.

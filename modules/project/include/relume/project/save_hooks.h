@@ -8,6 +8,8 @@
 // command, e.g. `relume preprocess -o EXISTING`, at every step in turn; RELUME_SAVE_NO_EXCHANGE
 // makes saves take the fallback of two renames (what a file system without an atomic directory
 // exchange gets).
+// RELUME_SAVE_SNAPSHOTS=DIR copies, at every step, the project's path and the folders a save keeps
+// beside it into DIR/<step>/: what a crash at each step would leave, from one uninterrupted run.
 #include <functional>
 
 namespace relume::detail {

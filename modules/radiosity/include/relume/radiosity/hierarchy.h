@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "relume/geometry/photometry.h"
 #include "relume/geometry/progress.h"
 
 namespace relume {
@@ -50,6 +51,9 @@ struct Surface {
   glm::dvec3 reflectance{0.0};       // diffuse albedo, RGB
   glm::dvec3 exitance{0.0};          // emitted radiosity W/m^2 (pi x radiance), RGB
   bool twoSided = false;             // an emitter that emits `exitance` from both faces
+  // An emitter's photometric distribution (see EmitterShape): `exitance` is then its whole flux
+  // over its area, shaped by the distribution; null: Lambertian face(s).
+  std::shared_ptr<const PhotometricDistribution> photometry;
 };
 
 // Polygons, albedos and lamps of a scene (lamp polygons reflect nothing).
