@@ -80,6 +80,15 @@ std::string errorOf(const std::function<void()>& call) {
   return "";
 }
 
+// `parse` on `bytes` throws an error naming bad.<ext> that contains `words`.
+template <typename Parse>
+void expectError(Parse parse, const std::string& ext, const std::string& bytes, const std::string& words) {
+  const std::string file = "bad." + ext;
+  const std::string e = errorOf([&] { parse(bytes, file); });
+  EXPECT_NE(e.find(file), std::string::npos) << e;
+  EXPECT_NE(e.find(words), std::string::npos) << "wanted '" << words << "' in: " << e;
+}
+
 const double I0 = 800.0;
 // Lambertian below the luminaire: I0 cos(gamma), flux pi I0.
 double lambertian(double, double g) { return g <= 90.0 ? I0 * std::max(0.0, std::cos(rad(g))) : 0.0; }
@@ -154,74 +163,66 @@ TEST(Photometry, TiltIncludedIsSkippedAndAnUpwardLuminaireEmitsAbove) {
 TEST(Photometry, EachMalformedIesFileIsNamedWithItsProblem) {
   const std::string good = iesFile(lambertian, steps(0, 90, 5), {0.0, 90.0});
   ASSERT_NO_THROW(parseIes(good, "good.ies"));
-  auto expectError = [](const std::string& bytes, const std::string& words) {
-    const std::string e = errorOf([&] { parseIes(bytes, "bad.ies"); });
-    EXPECT_NE(e.find("bad.ies"), std::string::npos) << e;
-    EXPECT_NE(e.find(words), std::string::npos) << "wanted '" << words << "' in: " << e;
-  };
+  auto expectIesError = [](const std::string& bytes, const std::string& words) { expectError(parseIes, "ies", bytes, words); };
   // Truncated: cut in the candela values, and cut before TILT.
-  expectError(good.substr(0, good.size() - 40), "ends before");
-  expectError(good.substr(0, 30), "no TILT= line");
-  expectError("", "empty");
+  expectIesError(good.substr(0, good.size() - 40), "ends before");
+  expectIesError(good.substr(0, 30), "no TILT= line");
+  expectIesError("", "empty");
   // Wrong counts: one vertical angle more than given, one less.
   std::string more = good, fewer = good;
   more.replace(more.find(" 19 2 1 "), 8, " 20 2 1 ");
-  expectError(more, "ends before");
+  expectIesError(more, "ends before");
   fewer.replace(fewer.find(" 19 2 1 "), 8, " 18 2 1 ");
-  expectError(fewer, "");  // the angles and values no longer line up: some error, named
+  expectIesError(fewer, "");  // the angles and values no longer line up: some error, named
   EXPECT_NE(errorOf([&] { parseIes(fewer, "bad.ies"); }), "");
   std::string extra = good + "5 5 5\n";
-  expectError(extra, "more than the counts say");
+  expectIesError(extra, "more than the counts say");
   // A negative candela value.
   std::string negative = good;
   negative.replace(negative.rfind("800 "), 4, "-800 ");
-  expectError(negative, "cannot be negative");
+  expectIesError(negative, "cannot be negative");
   // Unknown TILT, and a tilt file elsewhere.
   std::string tilt = good;
   tilt.replace(tilt.find("TILT=NONE"), 9, "TILT=SOMETIMES");
-  expectError(tilt, "TILT=SOMETIMES is not supported");
+  expectIesError(tilt, "TILT=SOMETIMES is not supported");
   tilt = good;
   tilt.replace(tilt.find("TILT=NONE"), 9, "TILT=lamp.tlt");
-  expectError(tilt, "TILT=lamp.tlt is not supported");
+  expectIesError(tilt, "TILT=lamp.tlt is not supported");
   // Type B photometry, a word among the numbers, descending angles.
   std::string typeB = good;
   typeB.replace(typeB.find(" 19 2 1 "), 8, " 19 2 2 ");
-  expectError(typeB, "type B photometry");
+  expectIesError(typeB, "type B photometry");
   std::string word = good;
   word.replace(word.find("1 1 40"), 6, "1 x 40");
-  expectError(word, "'x' is not a number");
+  expectIesError(word, "'x' is not a number");
   std::string descending = good;
   descending.replace(descending.find("0 5 10 "), 7, "0 10 5 ");
-  expectError(descending, "must increase");
+  expectIesError(descending, "must increase");
 }
 
 TEST(Photometry, EachMalformedEulumdatFileIsNamedWithItsProblem) {
   const std::string good = ldtFile(lambertian, 2, 24);
   ASSERT_NO_THROW(parseEulumdat(good, "good.ldt"));
-  auto expectError = [](const std::string& bytes, const std::string& words) {
-    const std::string e = errorOf([&] { parseEulumdat(bytes, "bad.ldt"); });
-    EXPECT_NE(e.find("bad.ldt"), std::string::npos) << e;
-    EXPECT_NE(e.find(words), std::string::npos) << "wanted '" << words << "' in: " << e;
-  };
-  expectError(good.substr(0, good.size() / 2), "ends before");
-  expectError(good.substr(0, 20), "ends before");
+  auto expectLdtError = [](const std::string& bytes, const std::string& words) { expectError(parseEulumdat, "ldt", bytes, words); };
+  expectLdtError(good.substr(0, good.size() / 2), "ends before");
+  expectLdtError(good.substr(0, 20), "ends before");
   // Wrong counts: Ng one more (the file ends early) and one less (lines left over).
   std::string more = good, fewer = good;
   more.replace(more.find("\n37\n"), 4, "\n38\n");
-  expectError(more, "");
+  expectLdtError(more, "");
   EXPECT_NE(errorOf([&] { parseEulumdat(more, "bad.ldt"); }), "");
   fewer.replace(fewer.find("\n37\n"), 4, "\n36\n");
   EXPECT_NE(errorOf([&] { parseEulumdat(fewer, "bad.ldt"); }), "");
-  expectError(good + "12\n", "more lines than the counts say");
+  expectLdtError(good + "12\n", "more lines than the counts say");
   // Mc not a multiple of 4 with a symmetry, a symmetry indicator out of range.
   std::string mc = good;
   mc.replace(mc.find("\n2\n24\n"), 6, "\n2\n22\n");
-  expectError(mc, "multiple of 4");
+  expectLdtError(mc, "multiple of 4");
   std::string isym = good;
   isym.replace(isym.find("\n2\n24\n"), 6, "\n7\n24\n");
-  expectError(isym, "symmetry indicator Isym");
+  expectLdtError(isym, "symmetry indicator Isym");
   // A negative intensity.
   std::string negative = good;
   negative.replace(negative.rfind("\n400\n"), 5, "\n-400\n");
-  expectError(negative, "cannot be negative");
+  expectLdtError(negative, "cannot be negative");
 }

@@ -298,24 +298,59 @@ std::vector<PolygonTexture> dewarpPhotos(const Scene& scene, const RayScene& ray
         }
     const size_t inside = size_t(std::count(need.begin(), need.end(), 1));
     st.texels += inside;
-    const size_t fromMain = sampleFromPhoto(t, cam, images[photoIndex], ids[photoIndex], rays, TexelSource::MainPhoto, need);
-    st.fromMain += fromMain;
-    size_t missing = inside - fromMain;
-    for (size_t q = 0; q < scene.photos.size() && missing > 0; ++q) {
-      if (int(q) == photoIndex || projectedArea(scene.photos[q].camera, poly) < 1) continue;
-      for (size_t i = 0; i < n; ++i) need[i] = t.source[i] == TexelSource::Smooth;
-      if (images[q].width == 0) {
-        progress.poll();  // reading and ray-casting a photo takes a while: answer Cancel first
-        images[q] = readPhoto(scene, scene.photos[q]);
-        progress.poll();
-        ids[q] = idsOf(scene.photos[q].camera);
+    st.fromMain += sampleFromPhoto(t, cam, images[photoIndex], ids[photoIndex], rays, TexelSource::MainPhoto, need);
+  }
+  // Texels the main photo lacks, from the other photos in turn, each brought to the main photo's
+  // exposure first: its radiance scale relative to the main photo is the median ratio over the
+  // texels both photos show (all polygons together).
+  std::vector<uint8_t> need;
+  for (size_t q = 0; q < scene.photos.size(); ++q) {
+    if (int(q) == photoIndex) continue;
+    std::vector<size_t> wanting;  // polygons with texels still missing that photo q sees
+    for (size_t p = 0; p < out.size(); ++p)
+      if (std::count(out[p].source.begin(), out[p].source.end(), TexelSource::Smooth) > 0 &&
+          projectedArea(scene.photos[q].camera, scene.polygons[p].vertices) >= 1)
+        wanting.push_back(p);
+    if (wanting.empty()) continue;
+    progress.report(0.9, "filling what " + main.name + " does not show from " + scene.photos[q].name);
+    progress.poll();  // reading and ray-casting a photo takes a while: answer Cancel first
+    images[q] = readPhoto(scene, scene.photos[q]);
+    progress.poll();
+    ids[q] = idsOf(scene.photos[q].camera);
+    progress.poll();
+    std::vector<double> ratios;
+    for (size_t p = 0; p < out.size(); ++p) {
+      PolygonTexture probe = out[p];
+      need.assign(probe.source.size(), 0);
+      for (size_t i = 0; i < need.size(); i += 5) need[i] = probe.source[i] == TexelSource::MainPhoto;  // a fifth: plenty
+      if (std::find(need.begin(), need.end(), 1) == need.end()) continue;
+      sampleFromPhoto(probe, scene.photos[q].camera, images[q], ids[q], rays, TexelSource::OtherPhoto, need);
+      for (size_t i = 0; i < need.size(); ++i) {
+        if (!need[i] || probe.source[i] != TexelSource::OtherPhoto) continue;  // not sampled from photo q now
+        const glm::vec3 m = out[p].original[i], o = probe.original[i];
+        const double a = double(m.x) + m.y + m.z, b = double(o.x) + o.y + o.z;
+        if (a > 1e-6 && b > 1e-6) ratios.push_back(a / b);
       }
-      progress.poll();
-      const size_t got = sampleFromPhoto(t, scene.photos[q].camera, images[q], ids[q], rays, TexelSource::OtherPhoto, need);
-      st.fromOther += got;
-      missing -= got;
     }
-    st.smooth += missing;
+    float scale = 1.f;
+    if (ratios.size() >= 64) {
+      std::nth_element(ratios.begin(), ratios.begin() + long(ratios.size() / 2), ratios.end());
+      scale = float(ratios[ratios.size() / 2]);
+    }
+    st.exposureScale.push_back(scale);
+    st.exposureOverlap.push_back(ratios.size());
+    for (size_t p : wanting) {
+      PolygonTexture& t = out[p];
+      need.assign(t.source.size(), 0);
+      for (size_t i = 0; i < need.size(); ++i) need[i] = t.source[i] == TexelSource::Smooth;
+      const std::vector<TexelSource> before = t.source;
+      st.fromOther += sampleFromPhoto(t, scene.photos[q].camera, images[q], ids[q], rays, TexelSource::OtherPhoto, need);
+      for (size_t i = 0; i < need.size(); ++i)
+        if (before[i] != TexelSource::OtherPhoto && t.source[i] == TexelSource::OtherPhoto) t.original[i] *= scale;
+    }
+  }
+  for (auto& t : out) {
+    st.smooth += size_t(std::count(t.source.begin(), t.source.end(), TexelSource::Smooth));
     fillSmoothly(t, t.original, false);
   }
   progress.report(1.0, "textures de-warped");

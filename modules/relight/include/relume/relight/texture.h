@@ -58,11 +58,16 @@ struct PolygonTexture {
 
 struct DewarpStats {
   size_t texels = 0, fromMain = 0, fromOther = 0, smooth = 0;
+  // Per other photo that filled texels, in the order used: its radiance scale to the main photo's
+  // exposure (1 with fewer than 64 texels both show) and how many texels both show.
+  std::vector<float> exposureScale;
+  std::vector<size_t> exposureOverlap;
 };
 
 // De-warps photo `photoIndex` of the scene onto every polygon. Texels hidden from that camera by
 // other polygons, behind the polygon or outside the frame are taken from another photo that sees
-// them, else filled smoothly. Photos are read as linear radiance (the EXR when there is one).
+// them, scaled to the main photo's exposure (the median ratio over the texels both show), else
+// filled smoothly. Photos are read as linear radiance (the EXR when there is one).
 std::vector<PolygonTexture> dewarpPhotos(const Scene& scene, const RayScene& rays, int photoIndex,
                                          DewarpStats* stats = nullptr, Progress& progress = silentProgress());
 
