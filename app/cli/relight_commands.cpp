@@ -51,6 +51,9 @@ void addRelightOptions(QCommandLineParser& p) {
                "Estimate reflectances and lamps as the paper does (from rho-hat, unshadowed elements only) instead of "
                "by inverse global illumination (measured indirect light, shadows, joint fit)."});
   p.addOption({"no-shared-materials", "Polygons no photo shows take the room's mean reflectance, not their material's."});
+  p.addOption({"calibrated-photos",
+               "The photos are photometrically calibrated (linear values in cd/m^2): lamps with a photometric file are "
+               "taken at the file's flux instead of being estimated."});
   p.addOption({"eps", "Radiosity refinement threshold.", "X"});
   p.addOption({"reference-patch", "POLYGON=U,V: the polygon's default reference patch (plane coordinates, metres).", "P=U,V"});
   p.addOption({"reference-region",
@@ -85,6 +88,7 @@ RelightOptions relightOptions(const QCommandLineParser& p) {
   o.lampsFromPhoto = !p.isSet("lamps-from-equations");
   o.inverseGlobalIllumination = !p.isSet("no-inverse-gi");
   o.sharedMaterials = !p.isSet("no-shared-materials");
+  o.calibratedPhotos = p.isSet("calibrated-photos");
   for (const QString& r : p.values("reference-patch")) {
     const int eq = r.indexOf('=');
     if (eq <= 0) throw Error("", "--reference-patch " + str(r), "expected POLYGON=U,V");
@@ -233,10 +237,11 @@ int preprocessCommand(const QStringList& args, Progress& progress) {
   for (const auto& l : scene.lamps)
     if (l.photometry)
       std::fprintf(stderr,
-                   "  %-6s emits as its photometric file %s says (%s, %.0f lm of lamps, %.0f lm from the luminaire); its "
-                   "exitance is the photos' estimate, the file's lumens are not used\n",
+                   "  %-6s emits as its photometric file %s says (%s, %.0f lm of lamps, %.0f lm from the luminaire); %s\n",
                    l.name.c_str(), l.photometryFile.c_str(), l.photometry->format.c_str(), l.photometry->lampLumens,
-                   l.photometry->flux());
+                   l.photometry->flux(),
+                   opt.calibratedPhotos ? "the photos are calibrated: its exitance is the luminaire's flux over its area"
+                                        : "its exitance is the photos' estimate, the file's lumens are not used");
   ProgressScope saving(progress, 0.9, 1.0);
   saveRelightProject(scene, data, str(p.value("output")), saving);
   std::fprintf(stderr, "wrote project %s\n", qPrintable(p.value("output")));

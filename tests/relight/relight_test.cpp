@@ -592,3 +592,39 @@ TEST(Relight, TheDisplayMeshCoversEachPolygonWithoutCracks) {
   }
   EXPECT_GT(interiorEdges, mesh.leafNode.size()) << "leaves share their edges";
 }
+
+TEST(Relight, CalibratedPhotosTakePhotometricLampsAtTheirFilesFlux) {
+  // The sample room's photos are linear radiance in its lamps' own units: calibrated. Each lamp
+  // gets a photometric file of Lambertian shape (I = I0 cos gamma, flux pi I0) whose flux is the
+  // lamp's true power; with --calibrated-photos the lamps are taken at it (a file gives no colour:
+  // grey), without it they are estimated as ever.
+  Scene scene = readBundle(kRoom);
+  const Scene truth = scene;
+  for (auto& p : scene.polygons) p.albedo = glm::dvec3(0.5);
+  std::vector<double> power(scene.lamps.size());
+  for (size_t l = 0; l < scene.lamps.size(); ++l) {
+    const glm::dvec3& r = truth.lamps[l].radiance;
+    power[l] = M_PI * (r.x + r.y + r.z) / 3 * polygonArea(scene.polygons[scene.lamps[l].polygon].vertices);
+    auto d = std::make_shared<PhotometricDistribution>();
+    d->c = {0.0};
+    for (double g = 0; g <= 90.0; g += 5.0) {
+      d->gamma.push_back(g);
+      d->candela.push_back(power[l] / M_PI * std::cos(g * M_PI / 180));
+    }
+    scene.lamps[l].photometry = d;
+    scene.lamps[l].radiance = glm::dvec3(0.0);
+  }
+  RelightOptions o;
+  o.calibratedPhotos = true;
+  const RelightData data = preprocessRoom(scene, o);
+  for (size_t l = 0; l < scene.lamps.size(); ++l) {
+    const glm::dvec3& e = data.lampExitance[l];
+    const double area = polygonArea(scene.polygons[scene.lamps[l].polygon].vertices);
+    EXPECT_NEAR((e.x + e.y + e.z) / 3 * area, power[l], 0.01 * power[l]) << scene.lamps[l].name;
+  }
+  // Relit with lamp A off, its old shadow is gone as with the estimates.
+  RelightSession s(scene, data);
+  s.setLampScale(scene.findLamp("A"), glm::dvec3(0.0));
+  s.update();
+  EXPECT_TRUE(oldShadowGone(s.render(mainCamera(), RelightMethod::Full)));
+}

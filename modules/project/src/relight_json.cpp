@@ -75,6 +75,7 @@ RelightData parseRelightJson(const std::string& bytes, const Scene& scene, const
   op.lampsFromPhoto = o["lamps_from_photo"].toBool(op.lampsFromPhoto);
   op.inverseGlobalIllumination = o["inverse_global_illumination"].toBool(op.inverseGlobalIllumination);
   op.sharedMaterials = o["shared_materials"].toBool(op.sharedMaterials);
+  op.calibratedPhotos = o["calibrated_photos"].toBool(op.calibratedPhotos);
   {
     const QString r = o["reference_correction"].toString("weighted");
     op.reference = r == "off" ? RelightOptions::Reference::Off

@@ -50,6 +50,7 @@ QJsonObject optionsJson(const RelightOptions& o) {
           {"lamps_from_photo", o.lampsFromPhoto},
           {"inverse_global_illumination", o.inverseGlobalIllumination},
           {"shared_materials", o.sharedMaterials},
+          {"calibrated_photos", o.calibratedPhotos},
           {"reference_correction", o.reference == RelightOptions::Reference::Off     ? "off"
                                    : o.reference == RelightOptions::Reference::Paper ? "paper"
                                                                                      : "weighted"},

@@ -241,6 +241,12 @@ void Preprocessor::Impl::run(Progress& progress) {
       throw Error(scene.sourceFile, "lamp " + scene.lamps[l].name,
                   "is off in the photo (its pixels are no brighter than the room's surfaces); relighting starts from "
                   "the lamps that lit the photo");
+  // Calibrated photos: a lamp with a photometric file is known from the file (its flux over its
+  // area), unless the photo shows it.
+  if (o.calibratedPhotos)
+    for (size_t l = 0; l < nlamps; ++l)
+      if (grey(measured[l]) <= 0 && scene.lamps[l].photometry)
+        measured[l] = glm::dvec3(scene.lamps[l].photometry->flux() / polygonArea(scene.polygons[lampSurfaces[l]].vertices));
   double rhoHat = o.meanReflectance;
   // Polygons no photo shows (a wall behind the camera) still reflect light: they get the mean
   // reflectance of the room (its colour from the photo), refined with the computed ones below.

@@ -51,6 +51,11 @@ struct RelightOptions {
   // Polygons no photo shows take the reflectance of the photographed polygons of their material
   // (OBJ usemtl, scene.json material, a clicked polygon's group); off: the room's mean.
   bool sharedMaterials = true;
+  // The photos are photometrically calibrated (linear values in cd/m^2): a lamp with a
+  // photometric file (Lamp::photometry) is then known, its exitance the file's luminaire flux over
+  // the lamp's area (lm/m^2 = pi x cd/m^2), held fixed like a lamp the HDR photo shows. Off: the
+  // file gives the shape only and the strength is estimated like any lamp's.
+  bool calibratedPhotos = false;
   // Evaluation only (an oracle, never a user's setting): the scene's lamp radiances are the truth
   // and are used as the lamps' exitances instead of any estimate.
   bool oracleLamps = false;
