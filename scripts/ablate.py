@@ -9,7 +9,8 @@ for unseen polygons; every lamp taken as one-sided (a copy of the bundle without
 when it has two-sided lamps); and the oracle (the bundle's true lamps instead of the estimates:
 what is left is rendering and texture error). Columns: the lamp-off variants' PSNR on the all and
 shadow masks (worst .. best), `virtual_light_only`, the unoccluded image on the shadow mask, and
-each lamp's exitance error against the bundle's truth (computed here from its scene.json).
+each lamp's power error against the bundle's truth (computed here from its scene.json; power per
+unit area, so that a lamp taken as one-sided is judged by the light it gives).
 Writes DIR/ablation.md and DIR/ablation.json and prints the table.
 """
 import argparse
@@ -25,14 +26,14 @@ ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)),
 
 
 def lamp_truth(scene):
-    """Each lamp's true exitance (grey), pi x its radiance."""
+    """Each lamp's true power per unit area (grey): pi x its radiance, x 2 for a two-sided lamp."""
     out = {}
     for l in scene.get("lights", scene.get("lamps", [])):
         if "radiance_rgb" in l:
             rgb = l["radiance_rgb"]
         else:
             rgb = [c * l["strength"] for c in l["color"]]
-        out[l["name"]] = math.pi * sum(rgb) / 3
+        out[l["name"]] = math.pi * sum(rgb) / 3 * (2 if l.get("two_sided") else 1)
     return out
 
 
@@ -98,7 +99,8 @@ def main():
             print("ablate: %s ..." % name, file=sys.stderr, flush=True)
             r = evaluate(a.relume, where, os.path.join(out, name.split(" (")[0].replace(" ", "_").replace("'", "")), args)
             v = {x["name"]: x for x in r["variants"]}
-            used = {l["name"]: sum(l["used"]) / 3 for l in r["estimates"]["lamps"]}
+            # Power per unit area: a lamp estimated as two-sided emits its exitance from each face.
+            used = {l["name"]: sum(l["used"]) / 3 * (2 if l.get("two_sided") else 1) for l in r["estimates"]["lamps"]}
             errors = {n: 100 * (used[n] / truth[n] - 1) for n in used if n in truth and truth[n] > 0}
             row = {
                 "ablation": name,

@@ -179,8 +179,9 @@ for cmd in "${commands[@]}"; do
       { echo "FAILED ($cmd): the run that takes the snapshots failed:"; tail -3 "$tmp/run.out"; failed=1; continue; }
     same_as_new=$(same_folder "$tmp/target" "$tmp/new" && echo yes)
     [ "$same_as_new" = yes ] || { echo "FAILED ($cmd): the run that takes the snapshots wrote another project"; failed=1; continue; }
-    count=$(find "$tmp/snaps" -mindepth 1 -maxdepth 1 -type d | wc -l)
-    for ((n = 1; n <= count; ++n)); do
+    count=0
+    for n in $(ls "$tmp/snaps" | sort -n); do
+      count=$((count + 1))
       rm -rf "$tmp/target" "$tmp"/.target.*
       cp -a "$tmp/snaps/$n/." "$tmp/"
       check_after "$cmd, as a crash at save step $n leaves it"

@@ -762,6 +762,14 @@
         <translation>Farbe der Lampe</translation>
     </message>
     <message>
+        <source>its photometric file&apos;s flux</source>
+        <translation>Lichtstrom ihrer photometrischen Datei</translation>
+    </message>
+    <message>
+        <source>Emits as %1 says (%2, %3 lm)</source>
+        <translation>Strahlt ab, wie %1 angibt (%2, %3 lm)</translation>
+    </message>
+    <message>
         <source>measured in the HDR photo</source>
         <translation>im HDR-Foto gemessen</translation>
     </message>

@@ -762,6 +762,14 @@
         <translation>Couleur de la lampe</translation>
     </message>
     <message>
+        <source>its photometric file&apos;s flux</source>
+        <translation>le flux de son fichier photométrique</translation>
+    </message>
+    <message>
+        <source>Emits as %1 says (%2, %3 lm)</source>
+        <translation>Émet comme l&apos;indique %1 (%2, %3 lm)</translation>
+    </message>
+    <message>
         <source>measured in the HDR photo</source>
         <translation>mesurée dans la photo HDR</translation>
     </message>

@@ -117,7 +117,10 @@ void LightsPanel::rebuild() {
       const auto& e = est.lamps[l];
       const glm::dvec3 u = e.used;
       QString how = QString::fromStdString(est.lampModel);
-      if (e.photographed != glm::dvec3(0.0) && e.used == e.photographed) how = tr("measured in the HDR photo");
+      const Lamp& lamp = doc_->scene().lamps[l];
+      const bool fromFile = lamp.photometry && doc_->data().options.calibratedPhotos;
+      if (fromFile && e.photographed != glm::dvec3(0.0) && e.used == e.photographed) how = tr("its photometric file's flux");
+      else if (e.photographed != glm::dvec3(0.0) && e.used == e.photographed) how = tr("measured in the HDR photo");
       else if (e.leastSquares != glm::dvec3(0.0) && e.used == e.leastSquares) how = tr("least-squares fit");
       else if (e.used == e.equal) how = tr("Eq. 2, all lamps equal");
       r.estimate->setText(tr("Estimate: %1, %2, %3 W/m² (%4)")
@@ -125,6 +128,11 @@ void LightsPanel::rebuild() {
                               .arg(u.y, 0, 'g', 3)
                               .arg(u.z, 0, 'g', 3)
                               .arg(how));
+      if (lamp.photometry)
+        r.estimate->setText(r.estimate->text() + "\n" +
+                            tr("Emits as %1 says (%2, %3 lm)")
+                                .arg(QString::fromStdString(lamp.photometryFile), QString::fromStdString(lamp.photometry->format))
+                                .arg(lamp.photometry->flux(), 0, 'f', 0));
     }
     grid->addWidget(r.on, 0, 0);
     grid->addWidget(r.slider, 0, 1);

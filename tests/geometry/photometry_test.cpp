@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <sstream>
@@ -148,6 +149,24 @@ TEST(Photometry, EverySymmetryGivesTheIntensitiesItWasWrittenFrom) {
   }
 }
 
+TEST(Photometry, TheFormatsVersionDecidesWhatTheLampFactorIs) {
+  // Up to LM-63-1995 the second value of the ballast line multiplies the candela; in 2019 it is
+  // the file generation type (here 1.10001), in 2002 unused.
+  std::string f1995 = iesFile(lambertian, steps(0, 90, 5), {0.0});
+  f1995.replace(f1995.find("IESNA:LM-63-2002"), 16, "IESNA:LM-63-1995");
+  f1995.replace(f1995.find("\n1 1 40\n"), 8, "\n1 0.5 40\n");
+  std::string f2019 = f1995;
+  f2019.replace(f2019.find("IESNA:LM-63-1995"), 16, "IES:LM-63-2019");
+  f2019.replace(f2019.find("\n1 0.5 40\n"), 10, "\n1 1.10001 40\n");
+  const PhotometricDistribution a = parseIes(f1995, "a.ies"), b = parseIes(f2019, "b.ies");
+  EXPECT_EQ(b.format, "IES LM-63-2019");
+  EXPECT_NEAR(a.flux(), 0.5 * kPi * I0, 0.01 * kPi * I0);
+  EXPECT_NEAR(b.flux(), kPi * I0, 0.01 * kPi * I0);
+  // Angles that are no numbers give no light (and read nothing out of range).
+  EXPECT_EQ(b.intensity(std::nan(""), 10.0), 0.0);
+  EXPECT_EQ(b.intensity(10.0, std::numeric_limits<double>::infinity()), 0.0);
+}
+
 TEST(Photometry, TiltIncludedIsSkippedAndAnUpwardLuminaireEmitsAbove) {
   std::string withTilt = iesFile(lambertian, steps(0, 90, 5), {0.0}, "INCLUDE");
   withTilt.insert(withTilt.find("TILT=INCLUDE\n") + 13, "1\n3\n0 45 90\n1 0.9 0.8\n");
@@ -181,6 +200,12 @@ TEST(Photometry, EachMalformedIesFileIsNamedWithItsProblem) {
   std::string negative = good;
   negative.replace(negative.rfind("800 "), 4, "-800 ");
   expectIesError(negative, "cannot be negative");
+  // Multipliers that overflow, and a luminaire that emits nothing.
+  std::string huge = good;
+  huge.replace(huge.find("1 -1 1 19"), 9, "1 -1 1e300 19");
+  expectIesError(huge, "beyond any luminaire");
+  std::string dark = iesFile([](double, double) { return 0.0; }, steps(0, 90, 5), {0.0});
+  expectIesError(dark, "emits nothing");
   // Unknown TILT, and a tilt file elsewhere.
   std::string tilt = good;
   tilt.replace(tilt.find("TILT=NONE"), 9, "TILT=SOMETIMES");
@@ -214,9 +239,12 @@ TEST(Photometry, EachMalformedEulumdatFileIsNamedWithItsProblem) {
   fewer.replace(fewer.find("\n37\n"), 4, "\n36\n");
   EXPECT_NE(errorOf([&] { parseEulumdat(fewer, "bad.ldt"); }), "");
   expectLdtError(good + "12\n", "more lines than the counts say");
-  // Mc not a multiple of 4 with a symmetry, a symmetry indicator out of range.
+  // Mc that the symmetry cannot halve or quarter, a symmetry indicator out of range.
   std::string mc = good;
-  mc.replace(mc.find("\n2\n24\n"), 6, "\n2\n22\n");
+  mc.replace(mc.find("\n2\n24\n"), 6, "\n2\n23\n");
+  expectLdtError(mc, "multiple of 2");
+  mc = good;
+  mc.replace(mc.find("\n2\n24\n"), 6, "\n4\n22\n");
   expectLdtError(mc, "multiple of 4");
   std::string isym = good;
   isym.replace(isym.find("\n2\n24\n"), 6, "\n7\n24\n");

@@ -1512,7 +1512,10 @@ class WorkbenchTest : public QObject {
           std::error_code ec;
           std::filesystem::copy(str(parent + "/" + n), str(snap + "/" + n),
                                 std::filesystem::copy_options::recursive | std::filesystem::copy_options::create_hard_links, ec);
-          if (ec) qWarning("cannot link %s: %s", qPrintable(n), ec.message().c_str());
+          if (ec) {  // another file system (the autosave folder under $HOME, /tmp a tmpfs): copies
+            QDir(snap + "/" + n).removeRecursively();
+            if (!copyTree(parent + "/" + n, snap + "/" + n)) qWarning("cannot copy %s", qPrintable(n));
+          }
         }
         snapshots << snap;
         steps << what;

@@ -486,6 +486,29 @@ TEST_F(BadInput, ALampsPhotometricFileIsReadCheckedAndKeptInAProject) {
   ASSERT_NE(p.lamps.at(0).photometry, nullptr);
   EXPECT_EQ(p.lamps[0].photometryFile, "photometry/downlight.ies");
   EXPECT_EQ(text(fs::path(proj) / "photometry/downlight.ies"), ies);
+  EXPECT_NE(text(fs::path(proj) / "project.json").find("\"version\": 2"), std::string::npos);  // older Relumes refuse it
+  // A second lamp whose file has the same name but lives in another folder keeps its own.
+  {
+    Scene two = s;
+    Polygon q = two.polygons[two.lamps[0].polygon];
+    q.name = "light_M";
+    for (auto& v : q.vertices) v.x += 0.2;
+    two.polygons.push_back(q);
+    Lamp m = two.lamps[0];
+    m.name = "M";
+    m.polygon = int(two.polygons.size()) - 1;
+    m.photometryFile = "other/downlight.ies";
+    two.lamps.push_back(m);
+    const std::string other = replaced(ies, "[LUMINAIRE] downlight", "[LUMINAIRE] another");
+    write(fs::path(dir) / "other/downlight.ies", other);
+    const std::string proj2 = (tmp.path / "two.relume").string();
+    saveProject(two, proj2);
+    const Scene p2 = loadRoom(proj2);
+    ASSERT_EQ(p2.lamps.size(), 2u);
+    EXPECT_EQ(p2.lamps[0].photometry->luminaire, "downlight");
+    EXPECT_EQ(p2.lamps[1].photometry->luminaire, "another");
+    EXPECT_NE(p2.lamps[0].photometryFile, p2.lamps[1].photometryFile);
+  }
   // Outside the bundle, of another kind, malformed.
   EXPECT_NE(errorOf(bundle(withPhotometry("../downlight.ies"))).find("lamp 'L': photometry '../downlight.ies' leads out"),
             std::string::npos);

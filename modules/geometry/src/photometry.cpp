@@ -1,7 +1,7 @@
 #include "relume/geometry/photometry.h"
 
 #include <algorithm>
-#include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
@@ -14,14 +14,19 @@ namespace {
 
 constexpr size_t kMaxAngles = 3601;  // 0.05 degree steps over a half turn: more than any goniophotometer
 
-// A number read whole from `text` (no trailing characters), or false.
+// A number read whole from `text` (no trailing characters; whatever the process's locale), or false.
 bool toNumber(std::string text, double& out, bool decimalComma = false) {
   if (decimalComma) std::replace(text.begin(), text.end(), ',', '.');
-  if (text.empty()) return false;
-  errno = 0;
-  char* end = nullptr;
-  out = std::strtod(text.c_str(), &end);
-  return end == text.c_str() + text.size() && errno != ERANGE && std::isfinite(out);
+  const char* b = text.data();
+  const char* e = b + text.size();
+  if (b != e && *b == '+') ++b;  // from_chars takes no leading '+'
+  if (b == e) return false;
+  const auto r = std::from_chars(b, e, out);
+  if (r.ec == std::errc::result_out_of_range && r.ptr == e) {  // below the smallest normal double: zero
+    out = 0.0;
+    return true;
+  }
+  return r.ec == std::errc() && r.ptr == e && std::isfinite(out);
 }
 
 std::string trim(std::string_view s) {
@@ -52,7 +57,7 @@ std::string fmt(double v) {
 
 // Index of the last stored angle <= x in ascending `a` (clamped), and the weight of the next.
 void bracket(const std::vector<double>& a, double x, size_t& i, double& t) {
-  if (a.size() == 1 || x <= a.front()) {
+  if (a.size() == 1 || !(x > a.front())) {
     i = 0;
     t = 0;
     return;
@@ -99,11 +104,17 @@ void checkDistribution(const PhotometricDistribution& d, const std::string& file
       if (first != 0.0) throw Error(file, "horizontal angles", "a full distribution starts at 0 degrees, not " + fmt(first));
       break;
   }
-  for (size_t k = 0; k < d.candela.size(); ++k)
-    if (!(d.candela[k] >= 0.0))
-      throw Error(file, "intensity " + std::to_string(k + 1) + " (plane " + fmt(d.c[k / d.gamma.size()]) + ", angle " +
-                            fmt(d.gamma[k % d.gamma.size()]) + ")",
-                  "a luminous intensity cannot be negative: " + fmt(d.candela[k]));
+  bool lit = false;
+  for (size_t k = 0; k < d.candela.size(); ++k) {
+    const std::string where = "intensity " + std::to_string(k + 1) + " (plane " + fmt(d.c[k / d.gamma.size()]) + ", angle " +
+                              fmt(d.gamma[k % d.gamma.size()]) + ")";
+    if (d.candela[k] < 0.0) throw Error(file, where, "a luminous intensity cannot be negative: " + fmt(d.candela[k]));
+    // 1e9 cd is a thousand times the brightest searchlight: beyond it the file's numbers (or its
+    // multipliers) are wrong, and products of them would overflow.
+    if (!(d.candela[k] <= 1e9)) throw Error(file, where, "a luminous intensity of " + fmt(d.candela[k]) + " cd is beyond any luminaire");
+    lit = lit || d.candela[k] > 0.0;
+  }
+  if (!lit) throw Error(file, "intensities", "every intensity is zero: the luminaire emits nothing");
 }
 
 size_t countOf(double v, const std::string& file, const std::string& what, size_t lo, size_t hi) {
@@ -116,6 +127,7 @@ size_t countOf(double v, const std::string& file, const std::string& what, size_
 
 double PhotometricDistribution::intensity(double cDegrees, double gammaDegrees) const {
   if (gamma.empty() || c.empty() || candela.size() != c.size() * gamma.size()) return 0.0;
+  if (!std::isfinite(cDegrees) || !std::isfinite(gammaDegrees)) return 0.0;
   if (gammaDegrees < gamma.front() - 1e-9 || gammaDegrees > gamma.back() + 1e-9) return 0.0;
   double C = std::fmod(cDegrees, 360.0);
   if (C < 0) C += 360.0;
@@ -157,7 +169,7 @@ double PhotometricDistribution::intensity(double cDegrees, double gammaDegrees) 
 namespace {
 // The intensity integrated over gamma in [g0, g1] and all C (lm), by the midpoint rule on a grid
 // fine against the stored angles.
-double integrate(const PhotometricDistribution& d, double g0, double g1) {
+double integrateBand(const PhotometricDistribution& d, double g0, double g1) {
   const int ng = 1440, nc = d.symmetry == PhotometricDistribution::Symmetry::Rotational ? 1 : 720;
   const double dg = (g1 - g0) / ng * std::numbers::pi / 180.0, dc = 2.0 * std::numbers::pi / nc;
   double sum = 0;
@@ -171,8 +183,13 @@ double integrate(const PhotometricDistribution& d, double g0, double g1) {
 }
 }  // namespace
 
-double PhotometricDistribution::flux() const { return integrate(*this, 0.0, 180.0); }
-double PhotometricDistribution::downwardFlux() const { return integrate(*this, 0.0, 90.0); }
+double PhotometricDistribution::flux() const { return flux_ >= 0 ? flux_ : integrateBand(*this, 0.0, 180.0); }
+double PhotometricDistribution::downwardFlux() const { return downward_ >= 0 ? downward_ : integrateBand(*this, 0.0, 90.0); }
+void PhotometricDistribution::integrate() {
+  flux_ = downward_ = -1;
+  flux_ = flux();
+  downward_ = downwardFlux();
+}
 
 // ----------------------------------------------------------------------------------------------
 // IES LM-63
@@ -184,8 +201,9 @@ PhotometricDistribution parseIes(std::string_view bytes, const std::string& file
   size_t at = 0;
   const std::string header = trim(lines[0]);
   d.format = "IES LM-63-1986";
-  if (header.rfind("IESNA", 0) == 0) {
-    d.format = header.find("2002") != std::string::npos ? "IES LM-63-2002"
+  if (header.rfind("IESNA", 0) == 0 || header.rfind("IES:LM-63", 0) == 0) {
+    d.format = header.find("2019") != std::string::npos   ? "IES LM-63-2019"
+               : header.find("2002") != std::string::npos ? "IES LM-63-2002"
                : header.find("1995") != std::string::npos ? "IES LM-63-1995"
                                                           : "IES LM-63-1991";
     ++at;
@@ -263,7 +281,10 @@ PhotometricDistribution parseIes(std::string_view bytes, const std::string& file
   for (size_t k = 0; k < nv; ++k) d.gamma[k] = number("vertical angle " + std::to_string(k + 1));
   d.c.resize(nh);
   for (size_t k = 0; k < nh; ++k) d.c[k] = number("horizontal angle " + std::to_string(k + 1));
-  const double scale = multiplier * ballast * (d.format == "IES LM-63-2002" || !(ballastLamp > 0) ? 1.0 : ballastLamp);
+  // The line's second value is the ballast-lamp photometric factor up to LM-63-1995; 2002 left it
+  // for future use (1) and 2019 made it the file generation type: not a factor.
+  const bool lampFactor = d.format != "IES LM-63-2002" && d.format != "IES LM-63-2019" && ballastLamp > 0;
+  const double scale = multiplier * ballast * (lampFactor ? ballastLamp : 1.0);
   d.candela.resize(nv * nh);
   for (size_t k = 0; k < nv * nh; ++k)
     d.candela[k] = scale * number("candela value " + std::to_string(k + 1) + " of " + std::to_string(nv * nh));
@@ -289,6 +310,7 @@ PhotometricDistribution parseIes(std::string_view bytes, const std::string& file
   if (d.symmetry == S::Full && d.c.size() == 1) d.symmetry = S::Rotational;
   d.lampLumens = lumensPerLamp > 0 && lamps > 0 ? lumensPerLamp * lamps : 0.0;
   checkDistribution(d, file);
+  d.integrate();
   return d;
 }
 
@@ -354,8 +376,10 @@ PhotometricDistribution parseEulumdat(std::string_view bytes, const std::string&
     case 3: d.symmetry = S::AboutC90C270; mc1 = 3 * mc / 4 + 1; mc2 = mc1 + mc / 2; break;
     case 4: d.symmetry = S::Quadrants; mc2 = mc / 4 + 1; break;
   }
-  if (isym >= 2 && mc % 4 != 0)
-    throw Error(file, "number of C-planes Mc (line 4)", "with symmetry indicator " + std::to_string(isym) + " it must be a multiple of 4, not " + std::to_string(mc));
+  if ((isym == 2 && mc % 2 != 0) || (isym >= 3 && mc % 4 != 0))
+    throw Error(file, "number of C-planes Mc (line 4)",
+                "with symmetry indicator " + std::to_string(isym) + " it must be a multiple of " + (isym == 2 ? "2" : "4") +
+                    ", not " + std::to_string(mc));
   const size_t planes = mc2 - mc1 + 1;
   const double toCandela = conversion * setFlux[0] / 1000.0;
   std::vector<double> values(planes * ng);
@@ -385,6 +409,7 @@ PhotometricDistribution parseEulumdat(std::string_view bytes, const std::string&
   }
   d.candela = values;
   checkDistribution(d, file);
+  d.integrate();
   return d;
 }
 

@@ -802,7 +802,10 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
     auto abandon = [&](const std::string& why) { throw Error(folder, "", why); };
     QJsonObject root;
     root["format"] = "relume-project";
-    root["version"] = kProjectVersion;
+    // Version 2 only where it matters: a project whose lamps name photometric files (a Relume
+    // that reads version 1 would take them for Lambertian faces without a word).
+    const bool photometric = std::any_of(scene.lamps.begin(), scene.lamps.end(), [](const Lamp& l) { return !l.photometryFile.empty(); });
+    root["version"] = photometric ? kProjectVersion : 1;
     root["units"] = "metres";
     root["up"] = "+Z";
     QJsonArray polys;
@@ -820,6 +823,7 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
     }
     root["polygons"] = polys;
     QJsonArray lamps;
+    std::map<QString, QString> photometryCopies;  // source file -> its name in the project
     for (const auto& l : scene.lamps) {
       QJsonObject o{{"name", QString::fromStdString(l.name)},
                     {"polygon", QString::fromStdString(scene.polygons[l.polygon].name)},
@@ -827,9 +831,14 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
                     {"two_sided", l.twoSided}};
       if (!l.photometryFile.empty()) {
         // The luminaire's file goes along, copied into photometry/.
-        const QString src = resolve(QString::fromStdString(scene.baseDir), l.photometryFile);
-        const QString name = "photometry/" + QFileInfo(src).fileName();
-        if (!QFileInfo::exists(staging + "/" + name)) {
+        const QString src = QFileInfo(resolve(QString::fromStdString(scene.baseDir), l.photometryFile)).absoluteFilePath();
+        QString& name = photometryCopies[src];
+        if (name.isEmpty()) {
+          // Files of the same name from different folders are kept apart (NAME_2.ies, ...).
+          const QFileInfo fi(src);
+          name = "photometry/" + fi.fileName();
+          for (int k = 2; QFileInfo::exists(staging + "/" + name); ++k)
+            name = "photometry/" + fi.completeBaseName() + "_" + QString::number(k) + "." + fi.suffix();
           if (!QDir().mkpath(staging + "/photometry")) abandon("cannot create the photometry folder");
           if (!QFile::copy(src, staging + "/" + name)) abandon("cannot copy the photometric file " + str(src));
           detail::saveStep("photometric file copied");

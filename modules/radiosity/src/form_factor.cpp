@@ -47,12 +47,23 @@ EmitterShape::EmitterShape(const std::vector<glm::dvec3>& polygon, bool twoSided
   }
   centre = glm::dvec3(0.0);
   for (const auto& v : polygon) centre += v / double(polygon.size());
-  nadir = glm::normalize(areaVector(polygon));
-  c0 = polygon[1] - polygon[0];
+  const glm::dvec3 area = areaVector(polygon);
+  // C0 along the first edge of some length (a repeated first vertex gives none).
+  glm::dvec3 edge(0.0);
+  for (size_t i = 0; i < polygon.size() && glm::length(edge) <= 1e-9; ++i)
+    edge = polygon[(i + 1) % polygon.size()] - polygon[i];
+  flux = photometry->flux();
+  if (!(glm::length(area) > 0) || !(glm::length(edge) > 1e-9) || !std::isfinite(flux) || !(flux > 0)) {
+    photometry = nullptr;  // no plane, or a dark distribution: no shape to give
+    return;
+  }
+  nadir = glm::normalize(area);
+  c0 = edge - glm::dot(edge, nadir) * nadir;
+  if (!(glm::length(c0) > 1e-12)) c0 = std::abs(nadir.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
   c0 = glm::normalize(c0 - glm::dot(c0, nadir) * nadir);
   c90 = glm::cross(c0, nadir);
-  flux = photometry->flux();
-  if (!(flux > 0)) photometry = nullptr;  // a dark distribution: no shape to give
+  peak = std::numbers::pi * *std::max_element(photometry->candela.begin(), photometry->candela.end()) / flux;
+  upward = photometry->flux() - photometry->downwardFlux() > 1e-6 * flux;
 }
 
 double EmitterShape::weight(const glm::dvec3& p) const {

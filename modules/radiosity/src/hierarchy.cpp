@@ -443,7 +443,7 @@ struct Kernel {
         const glm::dvec2 uv = fr.toUV(sc);
         const double m = S.radius;
         if (uv.x > R.u0 - m && uv.x < R.u1 + m && uv.y > R.v0 - m && uv.y < R.v1 + m)
-          variation = std::max(variation, float(std::min(1.0, S.area / (kPi * dPlane * dPlane))));
+          variation = std::max(variation, float(std::min(shape.peak, shape.peak * S.area / (kPi * dPlane * dPlane))));
       }
       return f;
     }
@@ -472,7 +472,9 @@ struct Kernel {
       const double c = glm::dot(d, fs.normal) / std::sqrt(d2);
       const double cs = (shape.emitsBehind() ? std::abs(c) : std::max(0.0, c)) * shape.weight(glm::dvec3(R.center));
       f = S.area * cs / (4.0 * kPi * d2);
-      bound = S.area * cs / (kPi * d2);
+      // A photometric source may send up to `peak` times a Lambertian face's light to any part of
+      // the cluster, not only towards its centre.
+      bound = S.area * (shape.photometry ? std::max(cs, shape.peak) : cs) / (kPi * d2);
     } else {
       const glm::dvec3 d = glm::dvec3(R.center) - glm::dvec3(S.center);
       f = S.area / (16.0 * kPi * glm::dot(d, d));
@@ -624,6 +626,14 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
   const Options& opt = h.options_;
   Builder builder{h, im};
   const double threshold = opt.epsilon * im.eRef;
+  // Clusters holding a lamp with a photometric distribution: their isotropic estimate cannot stand
+  // for a beam, so links from them are always opened (down to the lamp's own elements).
+  std::vector<uint8_t> beamBelow(h.nodes_.size(), 0);
+  for (size_t n = h.nodes_.size(); n-- > 1;) {
+    const auto& N = h.nodes_[n];
+    if (!N.isCluster() && im.shapes[N.surface].photometry && h.isEmitter(N.surface)) beamBelow[n] = 1;
+    if (beamBelow[n] && N.parent >= 0) beamBelow[N.parent] = 1;
+  }
   bool changed = false;
   std::vector<HierarchicalRadiosity::Link> frontier, next, finals;
   const size_t keep = std::min(ctx.keep, h.links_.size());
@@ -666,7 +676,7 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
       if (open == Open::None && ctx.useOracle) {
         const bool clusterEnd = R.isCluster() || S.isCluster();
         const float dist = glm::length(R.center - S.center);
-        const bool overlap = clusterEnd && dist < R.radius + S.radius;
+        const bool overlap = (clusterEnd && dist < R.radius + S.radius) || (S.isCluster() && beamBelow[l.source]);
         double kernelError = l.variation;
         if (opt.oracle == Oracle::BFV)
           kernelError = l.type == VisibilityType::Partial ? l.formFactor : l.visibility * l.variation;
@@ -1019,6 +1029,7 @@ size_t HierarchicalRadiosity::moveSurfaces(const std::vector<int>& moved, const 
   std::vector<uint8_t> touched(nodes_.size(), 0);  // nodes whose geometry changed
   for (int s : moved) {
     for (auto& v : surfaces_[s].vertices) v = place(v);
+    im.shapes[s] = EmitterShape(surfaces_[s].vertices, surfaces_[s].twoSided, surfaces_[s].photometry);
     auto& f = im.frames[s];
     f.origin = place(f.origin);
     f.u = rotation * f.u;

@@ -233,6 +233,12 @@ void Preprocessor::Impl::run(Progress& progress) {
       std::nth_element(ch[c].begin(), ch[c].begin() + ch[c].size() / 2, ch[c].end());
       measured[l][c] = kPi * ch[c][ch[c].size() / 2];
     }
+    // A photometric lamp's radiance towards the camera is its exitance / pi times its weight
+    // there; seen where it sends (nearly) nothing, it tells nothing.
+    if (lampShapes[l].photometry) {
+      const double w = lampShapes[l].weight(photo.camera.center());
+      measured[l] = w > 0.05 ? measured[l] / w : glm::dvec3(0.0);
+    }
   }
   // A lamp the photo shows no brighter than the room's surfaces is off: there is no light of it
   // to estimate or take away (a room lit by daylight is another method's).
@@ -725,7 +731,7 @@ void Preprocessor::Impl::run(Progress& progress) {
     le.name = scene.lamps[l].name;
     le.jointFit = jointExitance[l];
     le.uncertainty = jointError[l];
-    le.twoSided = scene.lamps[l].twoSided;
+    le.twoSided = scene.lamps[l].twoSided && !scene.lamps[l].photometry;  // a distribution's exitance is all its flux
     le.equal = eq2(rhoHat);
     le.leastSquares = lsUsed ? eq2(rhoHat) * lampScale[l] : glm::dvec3(0.0);
     le.photographed = measured[l];

@@ -318,8 +318,14 @@ std::vector<PolygonTexture> dewarpPhotos(const Scene& scene, const RayScene& ray
     progress.poll();
     ids[q] = idsOf(scene.photos[q].camera);
     progress.poll();
+    // Real surfaces only (a lamp's or a window's radiance depends on the direction), seen by photo
+    // q, and no texel at the clipping level of an LDR photo in either photo.
+    const bool ldr = main.hdr.empty() || scene.photos[q].hdr.empty();
+    auto clipped = [&](const glm::vec3& v) { return ldr && std::max({v.x, v.y, v.z}) >= 0.98f; };
     std::vector<double> ratios;
     for (size_t p = 0; p < out.size(); ++p) {
+      if (scene.polygons[p].kind != PolygonKind::Real || projectedArea(scene.photos[q].camera, scene.polygons[p].vertices) < 1)
+        continue;
       PolygonTexture probe = out[p];
       need.assign(probe.source.size(), 0);
       for (size_t i = 0; i < need.size(); i += 5) need[i] = probe.source[i] == TexelSource::MainPhoto;  // a fifth: plenty
@@ -328,6 +334,7 @@ std::vector<PolygonTexture> dewarpPhotos(const Scene& scene, const RayScene& ray
       for (size_t i = 0; i < need.size(); ++i) {
         if (!need[i] || probe.source[i] != TexelSource::OtherPhoto) continue;  // not sampled from photo q now
         const glm::vec3 m = out[p].original[i], o = probe.original[i];
+        if (clipped(m) || clipped(o)) continue;
         const double a = double(m.x) + m.y + m.z, b = double(o.x) + o.y + o.z;
         if (a > 1e-6 && b > 1e-6) ratios.push_back(a / b);
       }

@@ -28,12 +28,18 @@ struct PhotometricDistribution {
   std::string luminaire;        // the file's name for the luminaire, when it gives one
 
   // Luminous intensity (cd) towards (C, gamma), in degrees; bilinear between the stored angles,
-  // zero beyond the stored gamma range.
+  // zero beyond the stored gamma range (and for angles that are not finite numbers).
   double intensity(double cDegrees, double gammaDegrees) const;
   // Total luminous flux (lm): the intensity integrated over the sphere.
   double flux() const;
   // The flux into gamma < 90 (the nadir's hemisphere), lm.
   double downwardFlux() const;
+  // Integrates both once (about a million intensity lookups) and keeps them for flux() and
+  // downwardFlux(); the parsers call it. A distribution built otherwise integrates on each call.
+  void integrate();
+
+ private:
+  double flux_ = -1, downward_ = -1;  // kept by integrate(); -1: not yet
 };
 
 // IES LM-63 (1986, 1991, 1995, 2002) from its bytes; `file` names it in errors. Type C only

@@ -62,6 +62,7 @@ std::vector<std::vector<glm::dvec3>> parseObjFaces(const std::string& bytes, con
 std::string fileInFolder(const std::string& folder, const std::string& rel, const std::string& file,
                          const std::string& element);
 
-inline constexpr int kProjectVersion = 1;
+// 2: lamps may name photometric files (written only by projects that use them).
+inline constexpr int kProjectVersion = 2;
 
 }  // namespace relume

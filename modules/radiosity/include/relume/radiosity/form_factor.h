@@ -21,7 +21,9 @@ struct EmitterShape {
   bool twoSided = false;
   std::shared_ptr<const PhotometricDistribution> photometry;
   glm::dvec3 centre{0.0}, nadir{0.0, 0.0, -1.0}, c0{1.0, 0.0, 0.0}, c90{0.0, 1.0, 0.0};
-  double flux = 1.0;  // the distribution's own (lm)
+  double flux = 1.0;    // the distribution's own (lm)
+  double peak = 1.0;    // pi I_max / flux: the most the kernel F w exceeds a Lambertian face's (1 for one)
+  bool upward = false;  // the distribution sends light behind the polygon's plane (gamma > 90)
 
   EmitterShape(bool twoSidedFaces = false) : twoSided(twoSidedFaces) {}  // NOLINT: a plain face is a bool
   // The distribution placed on `polygon` (convex, its normal the nadir); null: Lambertian faces.
@@ -29,7 +31,7 @@ struct EmitterShape {
                std::shared_ptr<const PhotometricDistribution> distribution);
 
   // Does it light what lies behind its plane?
-  bool emitsBehind() const { return twoSided || photometry != nullptr; }
+  bool emitsBehind() const { return photometry ? upward : twoSided; }
   // Faces whose exitance count towards its power (a distribution's exitance is all of it).
   double faces() const { return twoSided && !photometry ? 2.0 : 1.0; }
   // Radiance towards p relative to a Lambertian face of the same exitance (1 without a distribution).
