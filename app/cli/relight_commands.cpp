@@ -193,7 +193,8 @@ std::vector<glm::dvec3> lampScales(const Scene& scene, const std::map<std::strin
 void virtualsOf(const Variant& v, std::vector<VirtualLamp>& lamps, std::vector<VirtualObject>& objects) {
   for (size_t i = 0; i < v.virtualLamps.size(); ++i)
     lamps.push_back({v.virtualLamps[i].name.empty() ? "virtual_lamp_" + std::to_string(i) : v.virtualLamps[i].name,
-                     v.virtualLampPolygons[i], v.virtualLamps[i].radiance, v.virtualLamps[i].twoSided});
+                     v.virtualLampPolygons[i], v.virtualLamps[i].radiance, v.virtualLamps[i].twoSided,
+                     v.virtualLamps[i].photometry});
   for (const auto& b : v.virtualObjects) {
     const std::string name = b.name.empty() ? "virtual_object_" + std::to_string(objects.size()) : b.name;
     if (b.mesh.empty()) objects.push_back(boxObject(name, b.boxMin, b.boxMax, b.albedo));

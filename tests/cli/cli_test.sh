@@ -113,6 +113,8 @@ nv=int(v[3]); g=[float(x) for x in v[13:13+nv]]; I=[float(x) for x in v[14+nv:14
 flux=sum(math.pi*math.radians(g[k+1]-g[k])*(I[k]*math.sin(math.radians(g[k]))+I[k+1]*math.sin(math.radians(g[k+1]))) for k in range(nv-1)); \
 a=json.load(open('$tmp/ies.json'))['flux_lm']; b=json.load(open('$tmp/ldt.json'))['flux_lm']; \
 assert abs(a-flux) < 0.01*flux and abs(b-a) < 0.01*a, (a, b, flux)\" && grep -q 'light output ratio' '$tmp/ies.out'"
+"$relume" relight "$tmp/lit.relume" --virtual-lamp "$examples/virtual_downlight.json" -o "$tmp/downlight.exr" 2>/dev/null
+check "a virtual lamp with a photometric file relights" "[ -s '$tmp/downlight.exr' ]"
 printf 'IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 10\n0 45 90\n0\n100 -50 0\n' >"$tmp/bad.ies"
 cli_error "a photometric file with a negative intensity is named" "bad.ies: intensity 2" photometry "$tmp/bad.ies"
 

@@ -179,6 +179,33 @@ TEST(Relight, VirtualLampBrightensWhatItFaces) {
   EXPECT_GT(lit.at(int(px.x), int(px.y)).y, 1.3f * off.at(int(px.x), int(px.y)).y);
 }
 
+TEST(Relight, AVirtualLampWithANarrowBeamLightsWhereItsDistributionSays) {
+  // The same 30 cm lamp 0.86 m above the table, as a Lambertian face and with a photometric
+  // distribution I ~ cos^20 gamma of the same power: straight below, the beam gives (20 + 1) / 2
+  // times the Lambertian face's direct light; 75 degrees off its axis, next to nothing.
+  VirtualLamp v{"spot", {{1.8, 2.5, 1.6}, {1.8, 2.8, 1.6}, {2.1, 2.8, 1.6}, {2.1, 2.5, 1.6}}, glm::dvec3(20.0)};  // facing down
+  auto beam = std::make_shared<PhotometricDistribution>();
+  beam->c = {0.0};
+  for (double g = 0; g <= 90.0; g += 2.5) {
+    beam->gamma.push_back(g);
+    beam->candela.push_back(std::pow(std::cos(g * M_PI / 180), 20));
+  }
+  VirtualLamp spot = v;
+  spot.photometry = beam;
+  glm::dvec2 table, wall;
+  ASSERT_TRUE(mainCamera().project(glm::dvec3(1.95, 2.65, 0.74), table));
+  ASSERT_TRUE(mainCamera().project(glm::dvec3(3.3, 5.2, 0.8), wall));  // the back wall, low
+  auto increase = [&](const VirtualLamp& lamp, const glm::dvec2& px) {
+    RelightSession s(room().scene, room().data, {lamp});
+    const float lit = s.render(mainCamera(), RelightMethod::Full).at(int(px.x), int(px.y)).y;
+    s.setVirtualLampRadiance(0, glm::dvec3(0.0));
+    s.update();
+    return lit - s.render(mainCamera(), RelightMethod::Full).at(int(px.x), int(px.y)).y;
+  };
+  EXPECT_GT(increase(spot, table), 4.0 * increase(v, table));
+  EXPECT_LT(increase(spot, wall), 0.5 * increase(v, wall));
+}
+
 TEST(Relight, ProjectRoundTripRelightsTheSame) {
   QTemporaryDir dir;
   const std::string folder = dir.filePath("p").toStdString();

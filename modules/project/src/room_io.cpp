@@ -258,6 +258,8 @@ void readVariants(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
       l.name = str(lo["name"].toString());
       l.radiance = jr.vec3(lo["radiance_rgb"], where, "virtual_lights radiance_rgb");
       l.twoSided = twoSidedOf(lo, jr, where);
+      l.photometryFile = jr.path(lo["photometry"], where, "virtual_lights photometry");
+      if (!l.photometryFile.empty()) l.photometry = photometryOf(jr, l.photometryFile, where);
       v.virtualLamps.push_back(l);
       v.virtualLampPolygons.push_back(jr.vertices(lo["polygon"], where));
     }

@@ -354,6 +354,7 @@ RelightSession::RelightSession(const Scene& scene, const RelightData& data, std:
     s.vertices = v.polygon;
     s.exitance = std::numbers::pi * v.radiance;
     s.twoSided = v.twoSided;
+    s.photometry = v.photometry;
     im.vlampSurfaces.push_back(int(surfaces.size()));
     im.vlampExitance.push_back(s.exitance);
     surfaces.push_back(s);
@@ -495,6 +496,7 @@ int RelightSession::addVirtualLamp(const VirtualLamp& lamp, Progress& progress) 
   s.vertices = lamp.polygon;
   s.exitance = std::numbers::pi * lamp.radiance;
   s.twoSided = lamp.twoSided;
+  s.photometry = lamp.photometry;
   const int id = im.h->addSurfaces({s}, progress).at(0);
   im.vlampSurfaces.push_back(id);
   im.vlampExitance.push_back(s.exitance);

@@ -81,6 +81,9 @@ struct VirtualLamp {
   std::vector<glm::dvec3> polygon;
   glm::dvec3 radiance{0.0};
   bool twoSided = false;  // emits from both faces (the same radiance on each)
+  // A luminaire's photometric distribution (IES / EULUMDAT), its nadir along the polygon's normal:
+  // the lamp then emits pi x radiance x area in all, shaped by it (see radiosity::EmitterShape).
+  std::shared_ptr<const PhotometricDistribution> photometry;
 };
 // A virtual object: a closed set of outward-facing convex polygons with one albedo.
 // The most faces a virtual object's mesh may have (each face becomes elements and links of the
