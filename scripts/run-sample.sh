@@ -31,6 +31,7 @@ $relume relight out/sample.relume --lamp A=0 --lamp C=1.6,1.1,0.6 -o out/relit_w
 $relume relight out/sample.relume --virtual-object resources/examples/virtual_box.json -o out/relit_virtual_box.png
 $relume relight out/sample.relume --lamp A=0 --lamp B=0 --lamp C=0 --virtual-lamp resources/examples/virtual_lamp.json \
   -o out/relit_virtual_lamp.png
+$relume relight out/sample.relume --virtual-lamp resources/examples/virtual_downlight.json -o out/relit_virtual_downlight.png
 $relume relight out/sample.relume --lamp A=0 --method ratio-only -o out/relit_A_off_ratio_only.png
 $relume evaluate "$room" --out out/evaluation
 $relume render "$room" --camera main --show leaves -o out/main_leaves.png
