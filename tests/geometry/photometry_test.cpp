@@ -81,6 +81,15 @@ std::string errorOf(const std::function<void()>& call) {
   return "";
 }
 
+// `base` with its first `from` replaced by `to` (a failed expectation when `from` is not there).
+std::string with(const std::string& base, const std::string& from, const std::string& to) {
+  std::string s = base;
+  const size_t at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) s.replace(at, from.size(), to);
+  return s;
+}
+
 // `parse` on `bytes` throws an error naming bad.<ext> that contains `words`.
 template <typename Parse>
 void expectError(Parse parse, const std::string& ext, const std::string& bytes, const std::string& words) {
@@ -201,28 +210,16 @@ TEST(Photometry, EachMalformedIesFileIsNamedWithItsProblem) {
   negative.replace(negative.rfind("800 "), 4, "-800 ");
   expectIesError(negative, "cannot be negative");
   // Multipliers that overflow, and a luminaire that emits nothing.
-  std::string huge = good;
-  huge.replace(huge.find("1 -1 1 19"), 9, "1 -1 1e300 19");
-  expectIesError(huge, "beyond any luminaire");
+  expectIesError(with(good, "1 -1 1 19", "1 -1 1e300 19"), "beyond any luminaire");
   std::string dark = iesFile([](double, double) { return 0.0; }, steps(0, 90, 5), {0.0});
   expectIesError(dark, "emits nothing");
   // Unknown TILT, and a tilt file elsewhere.
-  std::string tilt = good;
-  tilt.replace(tilt.find("TILT=NONE"), 9, "TILT=SOMETIMES");
-  expectIesError(tilt, "TILT=SOMETIMES is not supported");
-  tilt = good;
-  tilt.replace(tilt.find("TILT=NONE"), 9, "TILT=lamp.tlt");
-  expectIesError(tilt, "TILT=lamp.tlt is not supported");
+  expectIesError(with(good, "TILT=NONE", "TILT=SOMETIMES"), "TILT=SOMETIMES is not supported");
+  expectIesError(with(good, "TILT=NONE", "TILT=lamp.tlt"), "TILT=lamp.tlt is not supported");
   // Type B photometry, a word among the numbers, descending angles.
-  std::string typeB = good;
-  typeB.replace(typeB.find(" 19 2 1 "), 8, " 19 2 2 ");
-  expectIesError(typeB, "type B photometry");
-  std::string word = good;
-  word.replace(word.find("1 1 40"), 6, "1 x 40");
-  expectIesError(word, "'x' is not a number");
-  std::string descending = good;
-  descending.replace(descending.find("0 5 10 "), 7, "0 10 5 ");
-  expectIesError(descending, "must increase");
+  expectIesError(with(good, " 19 2 1 ", " 19 2 2 "), "type B photometry");
+  expectIesError(with(good, "1 1 40", "1 x 40"), "'x' is not a number");
+  expectIesError(with(good, "0 5 10 ", "0 10 5 "), "must increase");
 }
 
 TEST(Photometry, EachMalformedEulumdatFileIsNamedWithItsProblem) {
@@ -240,15 +237,9 @@ TEST(Photometry, EachMalformedEulumdatFileIsNamedWithItsProblem) {
   EXPECT_NE(errorOf([&] { parseEulumdat(fewer, "bad.ldt"); }), "");
   expectLdtError(good + "12\n", "more lines than the counts say");
   // Mc that the symmetry cannot halve or quarter, a symmetry indicator out of range.
-  std::string mc = good;
-  mc.replace(mc.find("\n2\n24\n"), 6, "\n2\n23\n");
-  expectLdtError(mc, "multiple of 2");
-  mc = good;
-  mc.replace(mc.find("\n2\n24\n"), 6, "\n4\n22\n");
-  expectLdtError(mc, "multiple of 4");
-  std::string isym = good;
-  isym.replace(isym.find("\n2\n24\n"), 6, "\n7\n24\n");
-  expectLdtError(isym, "symmetry indicator Isym");
+  expectLdtError(with(good, "\n2\n24\n", "\n2\n23\n"), "multiple of 2");
+  expectLdtError(with(good, "\n2\n24\n", "\n4\n22\n"), "multiple of 4");
+  expectLdtError(with(good, "\n2\n24\n", "\n7\n24\n"), "symmetry indicator Isym");
   // A negative intensity.
   std::string negative = good;
   negative.replace(negative.rfind("\n400\n"), 5, "\n-400\n");
