@@ -13,6 +13,7 @@
 
 #include "relume/geometry/error.h"
 #include "relume/geometry/photometry.h"
+#include "support/error_text.h"
 
 using namespace relume;
 
@@ -71,15 +72,7 @@ std::vector<double> steps(double from, double to, double step) {
   return out;
 }
 
-// The message of the relume::Error `call` throws ("" when it throws none).
-std::string errorOf(const std::function<void()>& call) {
-  try {
-    call();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::errorText;
 
 // `base` with its first `from` replaced by `to` (a failed expectation when `from` is not there).
 std::string with(const std::string& base, const std::string& from, const std::string& to) {
@@ -94,7 +87,7 @@ std::string with(const std::string& base, const std::string& from, const std::st
 template <typename Parse>
 void expectError(Parse parse, const std::string& ext, const std::string& bytes, const std::string& words) {
   const std::string file = "bad." + ext;
-  const std::string e = errorOf([&] { parse(bytes, file); });
+  const std::string e = errorText([&] { parse(bytes, file); });
   EXPECT_NE(e.find(file), std::string::npos) << e;
   EXPECT_NE(e.find(words), std::string::npos) << "wanted '" << words << "' in: " << e;
 }
@@ -202,7 +195,7 @@ TEST(Photometry, EachMalformedIesFileIsNamedWithItsProblem) {
   expectIesError(more, "ends before");
   fewer.replace(fewer.find(" 19 2 1 "), 8, " 18 2 1 ");
   expectIesError(fewer, "");  // the angles and values no longer line up: some error, named
-  EXPECT_NE(errorOf([&] { parseIes(fewer, "bad.ies"); }), "");
+  EXPECT_NE(errorText([&] { parseIes(fewer, "bad.ies"); }), "");
   std::string extra = good + "5 5 5\n";
   expectIesError(extra, "more than the counts say");
   // A negative candela value.
@@ -232,9 +225,9 @@ TEST(Photometry, EachMalformedEulumdatFileIsNamedWithItsProblem) {
   std::string more = good, fewer = good;
   more.replace(more.find("\n37\n"), 4, "\n38\n");
   expectLdtError(more, "");
-  EXPECT_NE(errorOf([&] { parseEulumdat(more, "bad.ldt"); }), "");
+  EXPECT_NE(errorText([&] { parseEulumdat(more, "bad.ldt"); }), "");
   fewer.replace(fewer.find("\n37\n"), 4, "\n36\n");
-  EXPECT_NE(errorOf([&] { parseEulumdat(fewer, "bad.ldt"); }), "");
+  EXPECT_NE(errorText([&] { parseEulumdat(fewer, "bad.ldt"); }), "");
   expectLdtError(good + "12\n", "more lines than the counts say");
   // Mc that the symmetry cannot halve or quarter, a symmetry indicator out of range.
   expectLdtError(with(good, "\n2\n24\n", "\n2\n23\n"), "multiple of 2");

@@ -10,6 +10,7 @@
 #include "relume/project/relight_store.h"
 #include "relume/project/room_io.h"
 #include "relume/project/save_hooks.h"
+#include "support/error_text.h"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -67,15 +68,7 @@ std::string replaced(const std::string& base, const std::string& from, const std
   return s;
 }
 
-// What `f` throws as relume::Error ("no error" when it throws nothing).
-std::string errorFrom(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using test::errorText;
 
 std::string errorOf(const std::string& folder) {
   try {
@@ -396,7 +389,7 @@ TEST(Project, EachMalformedProjectFieldIsNamed) {
        "radiance_rgb must be an array of 3 numbers"},
   };
   for (const auto& c : cases) {
-    const std::string msg = errorFrom([&] { parseProject(c.json, "p.json"); });
+    const std::string msg = errorText([&] { parseProject(c.json, "p.json"); });
     EXPECT_NE(msg.find(c.expect), std::string::npos) << c.what << ": " << msg;
   }
 }
@@ -423,7 +416,7 @@ TEST(Project, EachMalformedRelightFieldIsNamed) {
       {"JSON cut short", base.substr(0, base.size() / 2), "relight.json: is not valid JSON"},
   };
   for (const auto& c : cases) {
-    const std::string msg = errorFrom([&] { parseRelightJson(c.json, scene, "relight.json"); });
+    const std::string msg = errorText([&] { parseRelightJson(c.json, scene, "relight.json"); });
     EXPECT_NE(msg.find(c.expect), std::string::npos) << c.what << ": " << msg;
   }
 }

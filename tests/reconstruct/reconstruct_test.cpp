@@ -17,6 +17,7 @@
 #include "relume/reconstruct/multiview.h"
 #include "relume/reconstruct/photos.h"
 #include "relume/reconstruct/polygon_fit.h"
+#include "support/error_text.h"
 #include "support/checkerboard.h"
 
 namespace fs = std::filesystem;
@@ -32,14 +33,7 @@ fs::path tempDir(const std::string& name) {
   return d;
 }
 
-std::string errorText(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using relume::test::errorText;
 
 bool colmapAvailable() {
   try {

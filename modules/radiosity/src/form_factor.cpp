@@ -63,7 +63,7 @@ EmitterShape::EmitterShape(const std::vector<glm::dvec3>& polygon, bool twoSided
   c0 = glm::normalize(c0 - glm::dot(c0, nadir) * nadir);
   c90 = glm::cross(c0, nadir);
   peak = std::numbers::pi * *std::max_element(photometry->candela.begin(), photometry->candela.end()) / flux;
-  upward = photometry->flux() - photometry->downwardFlux() > 1e-6 * flux;
+  upward = flux - photometry->downwardFlux() > 1e-6 * flux;
 }
 
 double EmitterShape::weight(const glm::dvec3& p) const {

@@ -350,11 +350,12 @@ std::vector<PolygonTexture> dewarpPhotos(const Scene& scene, const RayScene& ray
       PolygonTexture& t = out[p];
       need.assign(t.source.size(), 0);
       for (size_t i = 0; i < need.size(); ++i) need[i] = t.source[i] == TexelSource::Smooth;
-      const std::vector<TexelSource> before = t.source;
       st.fromOther += sampleFromPhoto(t, scene.photos[q].camera, images[q], ids[q], rays, TexelSource::OtherPhoto, need);
-      for (size_t i = 0; i < need.size(); ++i)
-        if (before[i] != TexelSource::OtherPhoto && t.source[i] == TexelSource::OtherPhoto) t.original[i] *= scale;
+      for (size_t i = 0; i < need.size(); ++i)  // needed texels now from a photo came from this one
+        if (need[i] && t.source[i] == TexelSource::OtherPhoto) t.original[i] *= scale;
     }
+    images[q] = ImageRGB();  // each photo fills once: its pixels are not needed again
+    ids[q].clear();
   }
   for (auto& t : out) {
     st.smooth += size_t(std::count(t.source.begin(), t.source.end(), TexelSource::Smooth));
