@@ -14,6 +14,7 @@
 #include "relume/geometry/error.h"
 #include "relume/geometry/photometry.h"
 #include "support/error_text.h"
+#include "support/replaced.h"
 
 using namespace relume;
 
@@ -73,15 +74,8 @@ std::vector<double> steps(double from, double to, double step) {
 }
 
 using test::errorText;
+using test::replaced;
 
-// `base` with its first `from` replaced by `to` (a failed expectation when `from` is not there).
-std::string with(const std::string& base, const std::string& from, const std::string& to) {
-  std::string s = base;
-  const size_t at = s.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) s.replace(at, from.size(), to);
-  return s;
-}
 
 // `parse` on `bytes` throws an error naming bad.<ext> that contains `words`.
 template <typename Parse>
@@ -203,16 +197,16 @@ TEST(Photometry, EachMalformedIesFileIsNamedWithItsProblem) {
   negative.replace(negative.rfind("800 "), 4, "-800 ");
   expectIesError(negative, "cannot be negative");
   // Multipliers that overflow, and a luminaire that emits nothing.
-  expectIesError(with(good, "1 -1 1 19", "1 -1 1e300 19"), "beyond any luminaire");
+  expectIesError(replaced(good, "1 -1 1 19", "1 -1 1e300 19"), "beyond any luminaire");
   std::string dark = iesFile([](double, double) { return 0.0; }, steps(0, 90, 5), {0.0});
   expectIesError(dark, "emits nothing");
   // Unknown TILT, and a tilt file elsewhere.
-  expectIesError(with(good, "TILT=NONE", "TILT=SOMETIMES"), "TILT=SOMETIMES is not supported");
-  expectIesError(with(good, "TILT=NONE", "TILT=lamp.tlt"), "TILT=lamp.tlt is not supported");
+  expectIesError(replaced(good, "TILT=NONE", "TILT=SOMETIMES"), "TILT=SOMETIMES is not supported");
+  expectIesError(replaced(good, "TILT=NONE", "TILT=lamp.tlt"), "TILT=lamp.tlt is not supported");
   // Type B photometry, a word among the numbers, descending angles.
-  expectIesError(with(good, " 19 2 1 ", " 19 2 2 "), "type B photometry");
-  expectIesError(with(good, "1 1 40", "1 x 40"), "'x' is not a number");
-  expectIesError(with(good, "0 5 10 ", "0 10 5 "), "must increase");
+  expectIesError(replaced(good, " 19 2 1 ", " 19 2 2 "), "type B photometry");
+  expectIesError(replaced(good, "1 1 40", "1 x 40"), "'x' is not a number");
+  expectIesError(replaced(good, "0 5 10 ", "0 10 5 "), "must increase");
 }
 
 TEST(Photometry, EachMalformedEulumdatFileIsNamedWithItsProblem) {
@@ -230,9 +224,9 @@ TEST(Photometry, EachMalformedEulumdatFileIsNamedWithItsProblem) {
   EXPECT_NE(errorText([&] { parseEulumdat(fewer, "bad.ldt"); }), "");
   expectLdtError(good + "12\n", "more lines than the counts say");
   // Mc that the symmetry cannot halve or quarter, a symmetry indicator out of range.
-  expectLdtError(with(good, "\n2\n24\n", "\n2\n23\n"), "multiple of 2");
-  expectLdtError(with(good, "\n2\n24\n", "\n4\n22\n"), "multiple of 4");
-  expectLdtError(with(good, "\n2\n24\n", "\n7\n24\n"), "symmetry indicator Isym");
+  expectLdtError(replaced(good, "\n2\n24\n", "\n2\n23\n"), "multiple of 2");
+  expectLdtError(replaced(good, "\n2\n24\n", "\n4\n22\n"), "multiple of 4");
+  expectLdtError(replaced(good, "\n2\n24\n", "\n7\n24\n"), "symmetry indicator Isym");
   // A negative intensity.
   std::string negative = good;
   negative.replace(negative.rfind("\n400\n"), 5, "\n-400\n");

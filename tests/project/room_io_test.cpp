@@ -11,6 +11,7 @@
 #include "relume/project/room_io.h"
 #include "relume/project/save_hooks.h"
 #include "support/error_text.h"
+#include "support/replaced.h"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -59,14 +60,7 @@ std::string text(const fs::path& f) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-// `base` with its first `from` replaced by `to` (a failed expectation when `from` is not there).
-std::string replaced(const std::string& base, const std::string& from, const std::string& to) {
-  std::string s = base;
-  const size_t at = s.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) s.replace(at, from.size(), to);
-  return s;
-}
+using test::replaced;
 
 using test::errorText;
 
