@@ -7,7 +7,7 @@ pkgs=(cmake ninja-build ccache g++ pkg-config python3
       libqt6sql6-sqlite
       libqt6opengl6-dev libgl-dev libxkbcommon-dev qt6-tools-dev qt6-tools-dev-tools
       qt6-l10n-tools libgl1-mesa-dri xvfb xauth
-      libvtk9-dev qt6-charts-dev libceres-dev)
+      libvtk9-dev qt6-charts-dev libceres-dev zlib1g-dev)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

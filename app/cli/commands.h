@@ -35,6 +35,7 @@ int hdrMergeCommand(const QStringList& args, Progress& progress);
 int calibrateCommand(const QStringList& args, Progress& progress);
 int skyCommand(const QStringList& args, Progress& progress);
 int photometryCommand(const QStringList& args, Progress& progress);
+int ibrFanCommand(const QStringList& args, Progress& progress);
 }  // namespace relume::cli
 namespace relume {
 struct Scene;

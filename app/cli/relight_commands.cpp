@@ -13,6 +13,8 @@
 
 #include "commands.h"
 #include "relume/geometry/error.h"
+#include "relume/ibr/fan.h"
+#include "relume/ibr/relit_objects.h"
 #include "relume/image/image.h"
 #include "relume/project/relight_store.h"
 #include "relume/project/room_io.h"
@@ -196,9 +198,26 @@ void virtualsOf(const Variant& v, std::vector<VirtualLamp>& lamps, std::vector<V
                      v.virtualLampPolygons[i], v.virtualLamps[i].radiance, v.virtualLamps[i].twoSided,
                      v.virtualLamps[i].photometry});
   for (const auto& b : v.virtualObjects) {
+    if (!b.fan.empty()) continue;  // image-based: imageObjectsOf
     const std::string name = b.name.empty() ? "virtual_object_" + std::to_string(objects.size()) : b.name;
     if (b.mesh.empty()) objects.push_back(boxObject(name, b.boxMin, b.boxMax, b.albedo));
     else objects.push_back(VirtualObject{name, b.mesh, b.albedo});
+  }
+}
+
+// The image-based objects a virtual-object file places (fan files relative to it).
+void imageObjectsOf(const Variant& v, const std::string& file, std::vector<ibr::ImageObject>& out) {
+  const std::string dir = QFileInfo(QString::fromStdString(file)).absolutePath().toStdString();
+  for (const auto& b : v.virtualObjects) {
+    if (b.fan.empty()) continue;
+    ibr::ImageObject o;
+    o.name = b.name.empty() ? "image_object_" + std::to_string(out.size()) : b.name;
+    o.fanFile = b.fan.front() == '/' ? b.fan : dir + "/" + b.fan;
+    o.fan = ibr::readFan(o.fanFile);
+    o.place.position = b.position;
+    o.place.scale = b.scale;
+    o.place.yaw = b.rotationDegrees * std::numbers::pi / 180.0;
+    out.push_back(std::move(o));
   }
 }
 
@@ -255,7 +274,10 @@ int relightCommand(const QStringList& args, Progress& progress) {
   p.addPositionalArgument("PROJECT", "A project written by relume preprocess.");
   p.addOption({"lamp", "NAME=S or NAME=R,G,B: scale of a real lamp's emittance (0 off, 2 doubled).", "NAME=S"});
   p.addOption({"virtual-lamp", "JSON file with virtual_lights (as in a scene.json variant).", "FILE"});
-  p.addOption({"virtual-object", "JSON file with virtual_objects (box_min/box_max or obj, albedo).", "FILE"});
+  p.addOption({"virtual-object",
+               "JSON file with virtual_objects (box_min/box_max or obj, albedo; or an image-based object: fan, "
+               "position, scale, rotation_degrees).",
+               "FILE"});
   p.addOption({"method", "full (default) or ratio-only (original textures x B/B_orig).", "NAME"});
   p.addOption({"camera", "Photo whose camera to render (default: the textures' photo).", "NAME"});
   p.addOption({{"o", "output"}, "Output image (.exr linear radiance, .png at the photo's exposure).", "IMG"});
@@ -290,17 +312,27 @@ int relightCommand(const QStringList& args, Progress& progress) {
     if (v.virtualLamps.empty()) throw Error(str(f), "virtual_lights", "lists no virtual lamp");
     virtualsOf(v, vlamps, objects);
   }
+  std::vector<ibr::ImageObject> imageObjects;
   for (const QString& f : p.values("virtual-object")) {
     const Variant v = readVariantFile(str(f));
     if (v.virtualObjects.empty()) throw Error(str(f), "virtual_objects", "lists no virtual object");
     virtualsOf(v, vlamps, objects);
+    imageObjectsOf(v, str(f), imageObjects);
   }
+  for (const auto& o : imageObjects) ibr::checkImageObject(scene, o);
   const Photo& photo = photoNamedian(scene, p.isSet("camera") ? str(p.value("camera")) : data.photo);
   RelightSession session(scene, data, vlamps, objects, progress,
                          method == RelightMethod::Full ? SessionMesh::Refined : SessionMesh::Interactive);
   for (size_t l = 0; l < lampScale.size(); ++l) session.setLampScale(int(l), lampScale[l]);
   const auto st = session.update(progress);
-  const ImageRGB img = session.render(photo.camera, method, progress);
+  ImageRGB img = session.render(photo.camera, method, progress);
+  if (!imageObjects.empty()) {
+    progress.report(0.95, "drawing the image-based objects and their shadows");
+    const auto stats = ibr::drawImageObjects(session, imageObjects, photo.camera, img);
+    for (size_t i = 0; i < stats.size(); ++i)
+      std::fprintf(stderr, "image-based object '%s': fan view %d, %zu pixels, shadows on %zu pixels\n",
+                   imageObjects[i].name.c_str(), stats[i].view, stats[i].objectPixels, stats[i].shadowPixels);
+  }
   writeImage(str(out), img, float(data.photoExposure));
   std::fprintf(stderr, "relit in %d radiosity steps; wrote %s (%dx%d)\n", st.iterations, qPrintable(out), img.width, img.height);
   return 0;

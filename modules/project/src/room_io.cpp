@@ -267,6 +267,16 @@ void readVariants(const QJsonArray& arr, const JsonReader& jr, Scene& scene) {
       const QJsonObject oo = ov.toObject();
       VirtualBox b;
       b.name = str(oo["name"].toString());
+      if (oo.contains("fan")) {  // an image-based object: read by whoever draws it
+        b.fan = jr.path(oo["fan"], where, "fan");
+        if (b.fan.empty()) jr.fail(where, "fan must name an image fan file (relume ibr-fan writes them)");
+        b.position = jr.vec3(oo["position"], where, "position");
+        if (oo.contains("scale")) b.scale = jr.number(oo["scale"], where, "scale");
+        if (!(b.scale > 0) || b.scale > 1e3) jr.fail(where, "scale must be a number above 0 (and at most 1000)");
+        if (oo.contains("rotation_degrees")) b.rotationDegrees = jr.number(oo["rotation_degrees"], where, "rotation_degrees");
+        v.virtualObjects.push_back(b);
+        continue;
+      }
       if (oo.contains("obj")) {
         const std::string rel = jr.path(oo["obj"], where, "obj");
         if (rel.empty()) jr.fail(where, "obj must name a mesh file");

@@ -63,6 +63,35 @@ RayScene::RayScene(const std::vector<std::vector<glm::dvec3>>& polygons)
   rtcCommitScene(impl_->scene);
 }
 
+RayScene::RayScene(std::span<const glm::vec3> vertices, std::span<const glm::uvec3> triangles)
+    : impl_(std::make_unique<Impl>()), polygonCount_(int(triangles.size())) {
+  impl_->device = rtcNewDevice("threads=0");
+  if (!impl_->device) throw std::runtime_error("Embree: cannot create a device");
+  impl_->scene = rtcNewScene(impl_->device);
+  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_MEDIUM);
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  if (triangles.empty()) {
+    rtcCommitScene(impl_->scene);
+    return;
+  }
+  RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                         3 * sizeof(float), vertices.size()));
+  auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                            3 * sizeof(unsigned), triangles.size()));
+  for (size_t v = 0; v < vertices.size(); ++v)
+    for (int k = 0; k < 3; ++k) vb[3 * v + k] = vertices[v][k];
+  impl_->triangleToPolygon.resize(triangles.size());
+  for (size_t t = 0; t < triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) ib[3 * t + k] = triangles[t][k];
+    impl_->triangleToPolygon[t] = int(t);
+  }
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(impl_->scene, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(impl_->scene);
+}
+
 RayScene::~RayScene() {
   if (impl_->scene) rtcReleaseScene(impl_->scene);
   if (impl_->device) rtcReleaseDevice(impl_->device);
@@ -145,6 +174,8 @@ RayHit intersectOne(RTCScene scene, const std::vector<int>& triangleToPolygon, c
   RayHit h;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
   h.polygon = triangleToPolygon[rh.hit.primID];
+  h.triangle = int(rh.hit.primID);
+  h.barycentric = glm::vec2(rh.hit.u, rh.hit.v);
   h.t = rh.ray.tfar;
   h.point = ray.origin + h.t * ray.direction;
   const glm::vec3 ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);

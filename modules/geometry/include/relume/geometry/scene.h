@@ -41,6 +41,13 @@ struct VirtualBox {
   glm::dvec3 boxMin{0.0}, boxMax{0.0};
   glm::dvec3 albedo{0.5};
   std::vector<std::vector<glm::dvec3>> mesh;  // an OBJ mesh's polygons instead of the box, if any
+  // An image-based object instead (relume::ibr): its fan file (relative to the file that names
+  // it), where the bottom centre of its mesh's bounding box stands, its scale and its turn about
+  // +Z (degrees). Empty: a box or mesh object.
+  std::string fan;
+  glm::dvec3 position{0.0};
+  double scale = 1.0;
+  double rotationDegrees = 0.0;
 };
 
 struct Variant {

@@ -2,6 +2,7 @@
 // The one Embree 3 scene of all polygons: batched occlusion and intersection queries (TBB).
 #include <atomic>
 #include <cstdint>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <memory>
 #include <span>
@@ -23,12 +24,16 @@ struct RayHit {
   float t = 0.f;
   glm::vec3 point{0.f};
   glm::vec3 geometricNormal{0.f};
+  glm::vec2 barycentric{0.f};  // (u, v) on the hit triangle: point = (1-u-v) a + u b + v c
+  int triangle = -1;           // the triangle hit (its polygon's fan triangle)
 };
 
 class RayScene {
  public:
   // Each polygon is convex and planar; it is triangulated as a fan.
   explicit RayScene(const std::vector<std::vector<glm::dvec3>>& polygons);
+  // An indexed triangle mesh (a million triangles and more): polygon i is triangle i.
+  RayScene(std::span<const glm::vec3> vertices, std::span<const glm::uvec3> triangles);
   ~RayScene();
   RayScene(const RayScene&) = delete;
   RayScene& operator=(const RayScene&) = delete;

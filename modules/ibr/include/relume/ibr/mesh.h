@@ -1,0 +1,39 @@
+#pragma once
+// The meshes image-based objects are made from: triangles with per-corner normals and colours
+// where the file has them. Read from Wavefront OBJ (with its MTL's diffuse colours) and PLY
+// (ASCII and binary, vertex normals and colours); no limit on their size but memory.
+#include <cstdint>
+#include <functional>
+#include <glm/vec3.hpp>
+#include <string>
+#include <vector>
+
+namespace relume::ibr {
+
+struct Mesh {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::uvec3> triangles;
+  // Per triangle corner (3 x triangles, or empty: flat shading from the face's normal).
+  std::vector<glm::vec3> cornerNormals;
+  // Per triangle corner linear albedo (3 x triangles), or empty: triangleAlbedo.
+  std::vector<glm::vec3> cornerColours;
+  std::vector<glm::vec3> triangleAlbedo;  // per triangle (from its material; 0.8 grey without one)
+  std::string name;                       // the file it came from
+};
+
+inline constexpr float kDefaultAlbedo = 0.8f;
+
+// By extension (.obj, .ply). Throws relume::Error naming the file: unreadable, an unknown format,
+// a bad line or header, an index out of range, a coordinate that is not a finite number, no faces.
+Mesh readMesh(const std::string& path);
+// The same from bytes: `name` for the messages; an OBJ's MTL files are read through `mtl`
+// (given the name a `mtllib` line gives; returns the bytes, or throws), none when it is empty.
+Mesh parseObjMesh(const std::string& bytes, const std::string& name,
+                  const std::function<std::string(const std::string&)>& mtl = {});
+Mesh parsePlyMesh(const std::string& bytes, const std::string& name);
+
+// Checks what every mesh must be (triangles indexing existing vertices, finite coordinates, at
+// least one face of non-zero area); throws relume::Error naming `mesh.name`.
+void validateMesh(const Mesh& mesh);
+
+}  // namespace relume::ibr

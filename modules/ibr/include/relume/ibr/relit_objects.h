@@ -1,0 +1,36 @@
+#pragma once
+// Image-based objects in a relighting session: placed, checked against the room, lit by the
+// session's lamps (real at their current scales, virtual) and indirect light, drawn with their
+// shadows into the session's relit image. What `relume relight` and the workbench call.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "relume/ibr/ibr_object.h"
+
+namespace relume {
+class RelightSession;
+struct Scene;
+}  // namespace relume
+
+namespace relume::ibr {
+
+struct ImageObject {
+  std::string name;
+  std::shared_ptr<const ImageFan> fan;
+  Placement place;
+  std::string fanFile;  // for messages
+};
+
+// Throws relume::Error naming the object and its fan file when the object (its mesh's bounding
+// box, placed) leaves the room or cuts one of its polygons.
+void checkImageObject(const Scene& scene, const ImageObject& object);
+
+// Draws the objects and their shadows into `image`, the session's relit view through `camera`
+// (RelightSession::render): shadows first (onto the room), then the objects, farthest first.
+// Brings the engine's radiosity up to date (RelightSession::syncEngine) for the indirect light.
+// `mask` (optional) gets the objects' coverage per pixel.
+std::vector<DrawStats> drawImageObjects(RelightSession& session, const std::vector<ImageObject>& objects,
+                                        const Camera& camera, ImageRGB& image, std::vector<uint8_t>* mask = nullptr);
+
+}  // namespace relume::ibr

@@ -1,0 +1,491 @@
+#include "relume/ibr/ibr_object.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <numbers>
+
+#include "relume/image/image.h"
+#include "relume/radiosity/form_factor.h"
+#include "relume/radiosity/hierarchy.h"
+#include "relume/raytrace/ray_scene.h"
+
+namespace relume::ibr {
+
+namespace {
+
+glm::dvec3 bottomCentre(const ImageFan& fan) {
+  return glm::dvec3(0.5 * (fan.boundsMin.x + fan.boundsMax.x), 0.5 * (fan.boundsMin.y + fan.boundsMax.y), fan.boundsMin.z);
+}
+
+glm::dvec3 turn(const glm::dvec3& d, double a) {
+  const double c = std::cos(a), s = std::sin(a);
+  return glm::dvec3(c * d.x - s * d.y, s * d.x + c * d.y, d.z);
+}
+
+glm::dvec3 polygonCentre(const std::vector<glm::dvec3>& p) {
+  glm::dvec3 c(0.0);
+  for (const auto& v : p) c += v;
+  return c / double(p.size());
+}
+
+double polygonArea(const std::vector<glm::dvec3>& p) {
+  glm::dvec3 a(0.0);
+  for (size_t i = 1; i + 1 < p.size(); ++i) a += glm::cross(p[i] - p[0], p[i + 1] - p[0]);
+  return 0.5 * glm::length(a);
+}
+
+glm::dvec3 polygonNormal(const std::vector<glm::dvec3>& p) {
+  glm::dvec3 a(0.0);
+  for (size_t i = 1; i + 1 < p.size(); ++i) a += glm::cross(p[i] - p[0], p[i + 1] - p[0]);
+  const double l = glm::length(a);
+  return l > 0 ? a / l : glm::dvec3(0, 0, 1);
+}
+
+// The view frame of `view`: code normal -> object direction.
+glm::dvec3 fromView(const ImageFan& fan, int view, const glm::vec3& n) {
+  return double(n.x) * fan.right(view) + double(n.y) * fan.up(view) + double(n.z) * fan.toCamera(view);
+}
+
+float decode(uint8_t s) { return srgbToLinear(float(s) / 255.f); }
+
+}  // namespace
+
+glm::dvec3 Placement::toWorld(const ImageFan& fan, const glm::dvec3& p) const {
+  return position + scale * turn(p - bottomCentre(fan), yaw);
+}
+glm::dvec3 Placement::toObject(const ImageFan& fan, const glm::dvec3& w) const {
+  return bottomCentre(fan) + turn(w - position, -yaw) / scale;
+}
+glm::dvec3 Placement::toWorldDirection(const glm::dvec3& d) const { return turn(d, yaw); }
+glm::dvec3 Placement::toObjectDirection(const glm::dvec3& d) const { return turn(d, -yaw); }
+
+glm::dvec3 ObjectLamp::intensityTowards(const glm::dvec3& p) const {
+  const glm::dvec3 to = p - position;
+  const double d = glm::length(to);
+  if (!(d > 0) || polygon.size() < 3) return glm::dvec3(0.0);
+  const double cosT = glm::dot(polygonNormal(polygon), to / d);
+  double shape;
+  if (photometry) shape = radiosity::EmitterShape(polygon, twoSided, photometry).weight(p) * std::abs(cosT);
+  else shape = (twoSided || cosT > 0) ? std::abs(cosT) : 0.0;
+  return exitance / std::numbers::pi * polygonArea(polygon) * shape * visible;
+}
+
+ObjectLighting lightingAt(const radiosity::HierarchicalRadiosity& h, const glm::dvec3& c, int shRays) {
+  ObjectLighting out;
+  out.centre = c;
+  out.indirect = radiosity::incidentRadiance(h, c, false, shRays);
+  const auto& surfaces = h.surfaces();
+  for (size_t s = 0; s < surfaces.size(); ++s) {
+    const auto& surf = surfaces[s];
+    if (surf.vertices.size() < 3 || glm::dot(surf.exitance, surf.exitance) <= 0) continue;
+    ObjectLamp l;
+    l.surface = int(s);
+    l.polygon = surf.vertices;
+    l.exitance = surf.exitance;
+    l.twoSided = surf.twoSided;
+    l.photometry = surf.photometry;
+    l.position = polygonCentre(surf.vertices);
+    const glm::dvec3 toObj = c - l.position;
+    const double d = glm::length(toObj);
+    if (!(d > 0)) continue;
+    const double cosT = glm::dot(polygonNormal(surf.vertices), toObj / d);
+    // The fraction of the lamp the centre sees: a 4 x 4 grid of points across its polygon (fan
+    // triangles, by area), lifted off it so that it does not hide itself.
+    int seen = 0, total = 0;
+    const glm::dvec3 lift = (cosT >= 0 ? 1.0 : -1.0) * 1e-4 * polygonNormal(surf.vertices);
+    for (size_t t = 1; t + 1 < surf.vertices.size(); ++t)
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4 - i; ++j) {
+          const double a = (i + 1.0 / 3.0) / 4.0, b = (j + 1.0 / 3.0) / 4.0;
+          const glm::dvec3 p = surf.vertices[0] + a * (surf.vertices[t] - surf.vertices[0]) + b * (surf.vertices[t + 1] - surf.vertices[0]);
+          ++total;
+          seen += h.rayScene().occluded(glm::vec3(c), glm::vec3(p + lift)) ? 0 : 1;
+        }
+    l.visible = total ? double(seen) / total : 0.0;
+    l.intensity = l.intensityTowards(c);
+    out.lamps.push_back(std::move(l));
+  }
+  return out;
+}
+
+LampTables lampTables(const ImageFan& fan, int view, const Placement& place, const ObjectLamp& lamp, int cells) {
+  const FanView& v = fan.view(view);
+  const bool cached = cells == kTableCells;
+  LampTables out;
+  out.cells = cells;
+  out.table.resize(size_t(cells) * cells);
+  const auto& normals = byteToNormal();
+  const glm::dvec3 r = fan.right(view), u = fan.up(view), d = fan.toCamera(view);
+  for (int cy = 0; cy < cells; ++cy)
+    for (int cx = 0; cx < cells; ++cx) {
+      const double depth = cached ? double(v.cellDepth[size_t(cy) * cells + cx]) : fan.radius;
+      const double x = (cx + 0.5) / cells * fan.size, y = (cy + 0.5) / cells * fan.size;
+      const glm::dvec3 p = place.toWorld(fan, fan.pointAt(view, x, y, depth));
+      const glm::dvec3 toLamp = lamp.position - p;
+      const double dist = glm::length(toLamp);
+      const glm::dvec3 w = place.toObjectDirection(toLamp / dist);
+      const glm::dvec3 lv(glm::dot(w, r), glm::dot(w, u), glm::dot(w, d));
+      const glm::dvec3 i = lamp.intensityTowards(p);
+      LightTable& t = out.table[size_t(cy) * cells + cx];
+      for (int k = 0; k < kNormalCodes; ++k)
+        t[size_t(k)] = glm::vec3(i * std::max(0.0, glm::dot(glm::dvec3(normals[size_t(k)]), lv)));
+    }
+  return out;
+}
+
+LightTable indirectTable(const ImageFan& fan, int view, const Placement& place, const radiosity::SH9& sh) {
+  const auto& normals = byteToNormal();
+  LightTable t;
+  for (int k = 0; k < kNormalCodes; ++k)
+    t[size_t(k)] = glm::vec3(radiosity::shIrradiance(sh, place.toWorldDirection(fromView(fan, view, normals[size_t(k)]))));
+  return t;
+}
+
+RoomView roomView(const radiosity::HierarchicalRadiosity& h, const Camera& cam) {
+  RoomView v;
+  v.width = cam.width;
+  v.height = cam.height;
+  const size_t n = size_t(cam.width) * cam.height;
+  v.depth.assign(n, std::numeric_limits<float>::infinity());
+  v.point.assign(n, glm::vec3(0.f));
+  v.normal.assign(n, glm::vec3(0.f));
+  v.surface.assign(n, -1);
+  const glm::dvec3 eye = cam.center();
+  tbb::parallel_for(tbb::blocked_range<int>(0, cam.height, 8), [&](const tbb::blocked_range<int>& rows) {
+    std::vector<Ray> rays(size_t(cam.width));
+    std::vector<RayHit> hits(rays.size());
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      for (int x = 0; x < cam.width; ++x) rays[size_t(x)] = Ray{glm::vec3(eye), glm::vec3(cam.rayDirection(x + 0.5, y + 0.5)), 0.f, 1e30f};
+      h.rayScene().intersect(rays, hits);
+      for (int x = 0; x < cam.width; ++x) {
+        const RayHit& hit = hits[size_t(x)];
+        if (hit.polygon < 0) continue;
+        const size_t i = size_t(y) * cam.width + x;
+        v.depth[i] = hit.t;
+        v.point[i] = hit.point;
+        const auto& s = h.surfaces()[size_t(hit.polygon)];
+        const glm::dvec3 nrm = polygonNormal(s.vertices);
+        v.normal[i] = glm::vec3(nrm);
+        if (glm::dot(glm::dvec3(rays[size_t(x)].direction), nrm) < 0) v.surface[i] = hit.polygon;
+      }
+    }
+  });
+  return v;
+}
+
+namespace {
+
+struct ViewHit {
+  double t = 0;      // along the ray
+  size_t texel = 0;  // the fan pixel it meets
+};
+
+// A ray (object frame, o + t d) met with view k's depth image, a height field over the view's
+// image square: marched in steps of half a fan pixel, the crossing refined by bisection. The fan
+// image's pixels then stand where the object's surface is, not on a flat billboard: seen from
+// close by, a viewer's ray meets the surface point it would meet on the object itself (as far as
+// view k saw it).
+bool marchView(const ImageFan& fan, const FanView& v, int k, const glm::dvec3& o, const glm::dvec3& d, ViewHit& hit) {
+  const double R = fan.radius;
+  const int S = fan.size;
+  const glm::dvec3 q = o - fan.centre, r = fan.right(k), u = fan.up(k), c = fan.toCamera(k);
+  const double p0[3] = {glm::dot(q, r), glm::dot(q, u), R - glm::dot(q, c)};
+  const double dv[3] = {glm::dot(d, r), glm::dot(d, u), -glm::dot(d, c)};
+  const double lo[3] = {-R, -R, 0.0}, hi[3] = {R, R, 2.0 * R};
+  double t0 = 0.0, t1 = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    if (std::abs(dv[a]) < 1e-15) {
+      if (p0[a] < lo[a] || p0[a] > hi[a]) return false;
+      continue;
+    }
+    double ta = (lo[a] - p0[a]) / dv[a], tb = (hi[a] - p0[a]) / dv[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  if (!(t0 < t1)) return false;
+  const double px = S / (2.0 * R);
+  auto surfaceAt = [&](double t, size_t& ti) {
+    const int x = std::clamp(int(std::floor((p0[0] + t * dv[0] + R) * px)), 0, S - 1);
+    const int y = std::clamp(int(std::floor((R - (p0[1] + t * dv[1])) * px)), 0, S - 1);
+    ti = size_t(y) * S + x;
+    return v.alpha[ti] ? fan.depthMetres(v.depth[ti]) : std::numeric_limits<double>::infinity();
+  };
+  const double across = std::hypot(dv[0], dv[1]) * (t1 - t0) * px;
+  const int steps = std::max(1, int(std::ceil(2.0 * across)));
+  double prev = t0;
+  for (int i = 0; i <= steps; ++i) {
+    const double t = t0 + (t1 - t0) * i / steps;
+    size_t ti;
+    if (p0[2] + t * dv[2] < surfaceAt(t, ti)) {
+      prev = t;
+      continue;
+    }
+    double a = prev, b = t;  // in front at a (unless i == 0), behind at b
+    for (int it = 0; i > 0 && it < 10; ++it) {
+      const double m = 0.5 * (a + b);
+      size_t tm;
+      (p0[2] + m * dv[2] < surfaceAt(m, tm) ? a : b) = m;
+    }
+    surfaceAt(b, hit.texel);
+    hit.t = b;
+    return true;
+  }
+  return false;
+}
+
+// How much of a lamp reaches the object's point p (object frame) past the object itself: p
+// against the depth of the fan image nearest the lamp's direction, 3 x 3 pixels around p's own
+// (percentage-closer), p lit where it is no deeper than the surface there by more than a bias of
+// two pixels (the depth across a pixel of a surface turned away from the view, and the lamp's
+// offset from the view's direction).
+double selfShadow(const ImageFan& fan, const FanView& v, int k, const glm::dvec3& p) {
+  const double R = fan.radius;
+  const int S = fan.size;
+  const glm::dvec3 q = p - fan.centre;
+  const double px = S / (2.0 * R);
+  const double x = (glm::dot(q, fan.right(k)) + R) * px, y = (R - glm::dot(q, fan.up(k))) * px;
+  const double depth = R - glm::dot(q, fan.toCamera(k));
+  const double bias = 2.0 / px;
+  const int ix = int(std::floor(x)), iy = int(std::floor(y));
+  int lit = 0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int xx = ix + dx, yy = iy + dy;
+      if (xx < 0 || yy < 0 || xx >= S || yy >= S) {
+        ++lit;
+        continue;
+      }
+      const size_t i = size_t(yy) * S + xx;
+      lit += (!v.alpha[i] || depth <= fan.depthMetres(v.depth[i]) + bias) ? 1 : 0;
+    }
+  return lit / 9.0;
+}
+
+}  // namespace
+
+DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLighting& light, const Camera& cam,
+                     const RoomView& room, ImageRGB& image, std::vector<uint8_t>* mask) {
+  DrawStats st;
+  const glm::dvec3 eye = cam.center();
+  const glm::dvec3 cw = place.toWorld(fan, fan.centre);
+  const glm::dvec3 toEye = eye - cw;
+  const double dist = glm::length(toEye);
+  const double rs = fan.radius * place.scale;
+  if (!(dist > rs)) return st;  // the camera is inside the object's sphere
+  // The two fan images nearest the viewer's direction: the nearest drawn, the next where the
+  // nearest did not see the surface the ray meets.
+  const glm::dvec3 vObj = place.toObjectDirection(toEye / dist);
+  int views[2] = {fan.nearestView(vObj), -1};
+  double second = -2;
+  for (int k = 0; k < fan.viewCount(); ++k)
+    if (k != views[0] && glm::dot(fan.toCamera(k), vObj) > second) {
+      second = glm::dot(fan.toCamera(k), vObj);
+      views[1] = k;
+    }
+  st.view = views[0];
+  // Its bounds on screen: the bounding sphere's cube.
+  int ix0 = 0, iy0 = 0, ix1 = cam.width - 1, iy1 = cam.height - 1;
+  {
+    double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+    bool all = true;
+    for (int c = 0; c < 8 && all; ++c) {
+      glm::dvec2 p;
+      all = cam.project(cw + rs * glm::dvec3(c & 1 ? 1 : -1, c & 2 ? 1 : -1, c & 4 ? 1 : -1), p);
+      x0 = std::min(x0, p.x);
+      x1 = std::max(x1, p.x);
+      y0 = std::min(y0, p.y);
+      y1 = std::max(y1, p.y);
+    }
+    if (all) {
+      ix0 = std::max(ix0, int(std::floor(x0)));
+      ix1 = std::min(ix1, int(std::ceil(x1)));
+      iy0 = std::max(iy0, int(std::floor(y0)));
+      iy1 = std::min(iy1, int(std::ceil(y1)));
+    }
+  }
+  if (ix0 > ix1 || iy0 > iy1) return st;
+  // The tables of both views (§3: recomputed per frame from the lights).
+  struct Lit {
+    std::vector<LampTables> lamps;
+    LightTable indirect;
+    const FanView* view;
+  } lit[2];
+  struct Shadow {  // a lamp's fan image, as a shadow map of the object on itself
+    glm::dvec3 position;
+    int view;
+    const FanView* image;
+  };
+  std::vector<Shadow> lamps;
+  for (int j = 0; j < 2; ++j) {
+    lit[j].indirect = indirectTable(fan, views[j], place, light.indirect);
+    lit[j].view = &fan.view(views[j]);
+  }
+  for (const auto& lamp : light.lamps) {
+    if (glm::dot(lamp.intensity, lamp.intensity) <= 0 && lamp.visible <= 0) continue;
+    for (int j = 0; j < 2; ++j) lit[j].lamps.push_back(lampTables(fan, views[j], place, lamp));
+    const int kl = fan.nearestView(place.toObjectDirection(glm::normalize(lamp.position - cw)));
+    lamps.push_back({lamp.position, kl, &fan.view(kl)});
+  }
+  const glm::dvec3 eyeObj = place.toObject(fan, eye);
+  const int S = fan.size;
+  // Fan pixels per screen pixel at the object's distance (1 to 4 across).
+  const double texel = 2.0 * rs / S, pixel = dist / std::max(cam.fx(), 1e-9);
+  const int foot = std::clamp(int(std::lround(pixel / texel)), 1, 4);
+  std::atomic<size_t> drawn{0};
+  tbb::parallel_for(tbb::blocked_range<int>(iy0, iy1 + 1, 4), [&](const tbb::blocked_range<int>& rows) {
+    size_t count = 0;
+    std::vector<double> falloff(lamps.size());
+    for (int y = rows.begin(); y < rows.end(); ++y)
+      for (int x = ix0; x <= ix1; ++x) {
+        const glm::dvec3 r = cam.rayDirection(x + 0.5, y + 0.5);
+        const glm::dvec3 dObj = place.toObjectDirection(r) / place.scale;  // t stays the world distance
+        ViewHit hit;
+        int j = 0;
+        while (j < 2 && !marchView(fan, *lit[j].view, views[j], eyeObj, dObj, hit)) ++j;
+        if (j == 2) continue;
+        const size_t pi = size_t(y) * cam.width + x;
+        if (double(room.depth[pi]) < hit.t - 1e-4) continue;  // the room is nearer
+        const FanView& v = *lit[j].view;
+        if (!v.alpha[hit.texel] || v.code[hit.texel] == kNoNormal) continue;
+        const glm::dvec3 pWorld = eye + hit.t * r;
+        const glm::dvec3 pObj = eyeObj + hit.t * dObj;
+        // Per lamp: its falloff from this point and the object's own shadow here.
+        for (size_t l = 0; l < lamps.size(); ++l) {
+          const glm::dvec3 dl = lamps[l].position - pWorld;
+          falloff[l] = selfShadow(fan, *lamps[l].image, lamps[l].view, pObj) / std::max(glm::dot(dl, dl), 1e-8);
+        }
+        // The four nearest cells' tables, bilinearly.
+        const int tx = int(hit.texel % size_t(S)), ty = int(hit.texel / size_t(S));
+        const double gx = std::clamp((tx + 0.5) * kTableCells / S - 0.5, 0.0, kTableCells - 1.0);
+        const double gy = std::clamp((ty + 0.5) * kTableCells / S - 0.5, 0.0, kTableCells - 1.0);
+        const int cx = std::min(int(gx), kTableCells - 2), cy = std::min(int(gy), kTableCells - 2);
+        const double fx = gx - cx, fy = gy - cy;
+        const size_t c00 = size_t(cy) * kTableCells + cx;
+        const double w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+        const size_t cell[4] = {c00, c00 + 1, c00 + kTableCells, c00 + kTableCells + 1};
+        // The pixel's footprint in the fan image: its texels shaded and averaged (a dithered
+        // normal image is meant to be averaged; point sampling it where the fan is finer than
+        // the screen only aliases the dither).
+        glm::dvec3 sum(0.0);
+        double alphaSum = 0;
+        for (int oy = -foot / 2; oy < foot - foot / 2; ++oy)
+          for (int ox = -foot / 2; ox < foot - foot / 2; ++ox) {
+            const int xx = tx + ox, yy = ty + oy;
+            if (xx < 0 || yy < 0 || xx >= S || yy >= S) continue;
+            const size_t ti = size_t(yy) * S + xx;
+            const uint8_t code = v.code[ti];
+            if (!v.alpha[ti] || code == kNoNormal) continue;
+            glm::dvec3 e = glm::dvec3(lit[j].indirect[code]);
+            for (size_t l = 0; l < lamps.size(); ++l) {
+              const auto& t = lit[j].lamps[l].table;
+              glm::dvec3 entry(0.0);
+              for (int c = 0; c < 4; ++c) entry += w[c] * glm::dvec3(t[cell[c]][code]);
+              e += entry * falloff[l];
+            }
+            const glm::dvec3 albedo(decode(v.colour[3 * ti]), decode(v.colour[3 * ti + 1]), decode(v.colour[3 * ti + 2]));
+            const double a = v.alpha[ti] / 255.0;
+            sum += a * albedo / std::numbers::pi * e;
+            alphaSum += a;
+          }
+        if (!(alphaSum > 0)) continue;
+        const double al = alphaSum / (foot * foot);
+        const glm::dvec3 radiance = sum / alphaSum;
+        const glm::dvec3 under(image.at(x, y));
+        image.set(x, y, glm::vec3(al * radiance + (1.0 - al) * under));
+        if (mask) (*mask)[pi] = std::max((*mask)[pi], uint8_t(std::lround(255 * al)));
+        ++count;
+      }
+    drawn += count;
+  });
+  st.objectPixels = drawn.load();
+  return st;
+}
+
+DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectLighting& light,
+                      const radiosity::HierarchicalRadiosity& h, const Camera& cam, const RoomView& room,
+                      const IrradianceAt& irradiance, ImageRGB& image) {
+  DrawStats st;
+  const glm::dvec3 cw = place.toWorld(fan, fan.centre);
+  const double rs = fan.radius * place.scale;
+  struct LampView {
+    size_t lamp;
+    int view;
+    glm::dvec3 rw, uw, nw;  // the view's image axes and direction (world)
+    radiosity::EmitterShape shape;
+  };
+  std::vector<LampView> views;
+  for (size_t l = 0; l < light.lamps.size(); ++l) {
+    const ObjectLamp& lamp = light.lamps[l];
+    if (glm::dot(lamp.exitance, lamp.exitance) <= 0) continue;
+    const glm::dvec3 toLamp = lamp.position - cw;
+    const double d = glm::length(toLamp);
+    if (!(d > rs)) continue;  // a lamp inside the object's sphere: no silhouette to cast
+    const int k = fan.nearestView(place.toObjectDirection(toLamp / d));
+    views.push_back({l, k, place.toWorldDirection(fan.right(k)), place.toWorldDirection(fan.up(k)),
+                     place.toWorldDirection(fan.toCamera(k)),
+                     radiosity::EmitterShape(lamp.polygon, lamp.twoSided, lamp.photometry)});
+  }
+  if (views.empty()) return st;
+  const int S = fan.size;
+  std::atomic<size_t> shaded{0};
+  tbb::parallel_for(tbb::blocked_range<int>(0, cam.height, 8), [&](const tbb::blocked_range<int>& rows) {
+    size_t count = 0;
+    for (int y = rows.begin(); y < rows.end(); ++y)
+      for (int x = 0; x < cam.width; ++x) {
+        const size_t pi = size_t(y) * cam.width + x;
+        const int surface = room.surface[pi];
+        if (surface < 0) continue;
+        const glm::dvec3 X(room.point[pi]);
+        glm::dvec3 taken(0.0);
+        glm::dvec3 total(-1.0);
+        for (const LampView& lv : views) {
+          const ObjectLamp& lamp = light.lamps[lv.lamp];
+          if (surface == lamp.surface) continue;
+          // The segment X -> lamp must pass within the object's sphere.
+          const glm::dvec3 seg = lamp.position - X;
+          const double len2 = glm::dot(seg, seg);
+          const double s = std::clamp(glm::dot(cw - X, seg) / len2, 0.0, 1.0);
+          const glm::dvec3 closest = X + s * seg - cw;
+          if (glm::dot(closest, closest) > rs * rs) continue;
+          // Where the line meets the plane of the lamp's view through the centre.
+          const double den = glm::dot(seg, lv.nw);
+          if (std::abs(den) < 1e-12) continue;
+          const double u = glm::dot(cw - X, lv.nw) / den;
+          if (u <= 0 || u >= 1) continue;
+          const glm::dvec3 q = X + u * seg - cw;
+          const double fx = (glm::dot(q, lv.rw) / rs + 1.0) * 0.5 * S, fy = (1.0 - glm::dot(q, lv.uw) / rs) * 0.5 * S;
+          const int tx = int(std::floor(fx)), ty = int(std::floor(fy));
+          if (tx < 0 || ty < 0 || tx >= S || ty >= S) continue;
+          const FanView& v = fan.view(lv.view);
+          const size_t ti = size_t(ty) * S + tx;
+          if (!v.alpha[ti]) continue;
+          // The silhouette's point must lie between X and the lamp (not behind X).
+          const glm::dvec3 p = place.toWorld(fan, fan.pointAt(lv.view, tx + 0.5, ty + 0.5, fan.depthMetres(v.depth[ti])));
+          if (glm::dot(p - X, seg) <= 1e-3 * std::sqrt(len2)) continue;
+          const glm::dvec3 n(room.normal[pi]);
+          // The lamp's direct irradiance at X, if the room lets it through.
+          const glm::dvec3 lift = X + 1e-4 * n;
+          if (h.rayScene().occluded(glm::vec3(lift), glm::vec3(lamp.position))) continue;
+          const double f = radiosity::emitterFormFactor(X, n, lamp.polygon, lv.shape);
+          if (!(f > 0)) continue;
+          if (total.x < 0) total = irradiance(surface, X);
+          taken += (v.alpha[ti] / 255.0) * f * lamp.exitance;
+        }
+        if (taken == glm::dvec3(0.0) || total.x < 0) continue;
+        glm::dvec3 keep;
+        for (int c = 0; c < 3; ++c) keep[c] = total[c] > 0 ? std::clamp(1.0 - taken[c] / total[c], 0.0, 1.0) : 1.0;
+        image.set(x, y, glm::vec3(glm::dvec3(image.at(x, y)) * keep));
+        ++count;
+      }
+    shaded += count;
+  });
+  st.shadowPixels = shaded.load();
+  return st;
+}
+
+}  // namespace relume::ibr

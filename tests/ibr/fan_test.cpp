@@ -1,0 +1,398 @@
+// Image fans and image-based objects (Dinh, Metoyer, Turk): meshes read, fans rendered, written
+// and read back (bad files refused with the file named), and the object drawn from its fan held
+// against a reference renderer that ray-casts the mesh itself (exact normals, the same lamps with
+// shadow rays, the same indirect light) — shading and shadows.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <glm/geometric.hpp>
+#include <numbers>
+
+#include "relume/geometry/error.h"
+#include "relume/ibr/fan.h"
+#include "relume/ibr/ibr_object.h"
+#include "relume/ibr/mesh.h"
+#include "relume/image/image.h"
+#include "relume/radiosity/form_factor.h"
+#include "relume/radiosity/hierarchy.h"
+#include "relume/raytrace/ray_scene.h"
+#include "support/error_text.h"
+#include "support/test_rooms.h"
+
+using namespace relume;
+using namespace relume::ibr;
+
+namespace {
+
+// A smooth bumpy blob standing on z = 0 (radius about r), its normals averaged from its faces,
+// its colour varying with height.
+Mesh blob(int nu = 160, int nv = 80, double r = 0.3, double bump = 0.1) {
+  Mesh m;
+  m.name = "blob";
+  auto radius = [&](double th, double ph) { return r * (1 + bump * std::sin(3 * th) * std::cos(4 * ph)); };
+  auto at = [&](double th, double ph) {
+    const double rr = radius(th, ph);
+    return glm::vec3(float(rr * std::sin(th) * std::cos(ph)), float(rr * std::sin(th) * std::sin(ph)),
+                     float(rr * std::cos(th) + r * (1 + bump)));
+  };
+  m.positions.push_back(at(0, 0));
+  for (int j = 1; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) m.positions.push_back(at(std::numbers::pi * j / nv, 2 * std::numbers::pi * i / nu));
+  m.positions.push_back(at(std::numbers::pi, 0));
+  const unsigned bottom = unsigned(m.positions.size() - 1);
+  auto ring = [&](int j, int i) { return unsigned(1 + (j - 1) * nu + (i % nu)); };
+  for (int i = 0; i < nu; ++i) m.triangles.push_back({0u, ring(1, i), ring(1, i + 1)});
+  for (int j = 1; j + 1 < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      m.triangles.push_back({ring(j, i), ring(j + 1, i), ring(j + 1, i + 1)});
+      m.triangles.push_back({ring(j, i), ring(j + 1, i + 1), ring(j, i + 1)});
+    }
+  for (int i = 0; i < nu; ++i) m.triangles.push_back({bottom, ring(nv - 1, i + 1), ring(nv - 1, i)});
+  std::vector<glm::vec3> vn(m.positions.size(), glm::vec3(0.f));
+  for (const auto& t : m.triangles) {
+    const glm::vec3 n = glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
+    for (int k = 0; k < 3; ++k) vn[t[k]] += n;
+  }
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) {
+      m.cornerNormals.push_back(glm::normalize(vn[t[k]]));
+      const float z = m.positions[t[k]].z;
+      m.cornerColours.push_back(glm::vec3(0.7f, 0.45f + 0.25f * std::sin(8.f * z), 0.3f));
+    }
+  return m;
+}
+
+// A closed 4 x 4 x 2.8 m room (normals inward), walls of three colours, and small lamps.
+std::vector<radiosity::Surface> room(const std::vector<std::vector<glm::dvec3>>& lamps, glm::dvec3 exitance) {
+  const double W = 4, D = 4, H = 2.8;
+  std::vector<radiosity::Surface> s;
+  auto add = [&](const char* name, std::vector<glm::dvec3> v, glm::dvec3 rho) { s.push_back({name, v, rho, glm::dvec3(0.0)}); };
+  add("floor", test::quad({0, 0, 0}, {W, 0, 0}, {0, D, 0}), glm::dvec3(0.5));
+  add("ceiling", test::quad({0, 0, H}, {0, D, 0}, {W, 0, 0}), glm::dvec3(0.7));
+  add("wall_x0", test::quad({0, 0, 0}, {0, D, 0}, {0, 0, H}), glm::dvec3(0.7, 0.3, 0.3));
+  add("wall_x1", test::quad({W, 0, 0}, {0, 0, H}, {0, D, 0}), glm::dvec3(0.3, 0.6, 0.3));
+  add("wall_y0", test::quad({0, 0, 0}, {0, 0, H}, {W, 0, 0}), glm::dvec3(0.6));
+  add("wall_y1", test::quad({0, D, 0}, {W, 0, 0}, {0, 0, H}), glm::dvec3(0.6));
+  for (size_t i = 0; i < lamps.size(); ++i) s.push_back({"lamp" + std::to_string(i), lamps[i], glm::dvec3(0.0), exitance});
+  return s;
+}
+
+// A square lamp of side `side` at `c` facing `n` (one of +-x, +-y, -z).
+std::vector<glm::dvec3> lampAt(glm::dvec3 c, glm::dvec3 n, double side) {
+  glm::dvec3 u = std::abs(n.z) > 0.5 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 0, 1);
+  glm::dvec3 v = glm::cross(n, u);
+  u = glm::cross(v, n);
+  return test::quad(c - 0.5 * side * (u + v), u * side, v * side);
+}
+
+FanOptions testFan(std::vector<double> rings, bool dither, int size = 192) {
+  FanOptions o;
+  o.viewsPerRing = 96;
+  o.size = size;
+  o.ringElevations = std::move(rings);
+  o.dither = dither;
+  return o;
+}
+
+// The reference: the placed mesh ray-cast, per pixel albedo / pi x (direct light of each lamp with
+// a shadow ray past the mesh and the room + the indirect irradiance from the same SH).
+ImageRGB reference(const Mesh& m, const ImageFan& fan, const Placement& place, const ObjectLighting& light,
+                   const radiosity::HierarchicalRadiosity& h, const Camera& cam, std::vector<uint8_t>& hitMask) {
+  std::vector<glm::vec3> world;
+  for (const auto& p : m.positions) world.push_back(glm::vec3(place.toWorld(fan, glm::dvec3(p))));
+  const RayScene mesh(std::span<const glm::vec3>(world), std::span<const glm::uvec3>(m.triangles));
+  ImageRGB img(cam.width, cam.height);
+  hitMask.assign(size_t(cam.width) * cam.height, 0);
+  const glm::dvec3 eye = cam.center();
+  for (int y = 0; y < cam.height; ++y)
+    for (int x = 0; x < cam.width; ++x) {
+      const glm::dvec3 d = cam.rayDirection(x + 0.5, y + 0.5);
+      const RayHit hit = mesh.intersect(Ray{glm::vec3(eye), glm::vec3(d), 0.f, 1e30f});
+      if (hit.polygon < 0) continue;
+      hitMask[size_t(y) * cam.width + x] = 1;
+      const size_t t = size_t(hit.triangle);
+      const float u = hit.barycentric.x, v = hit.barycentric.y, a = 1 - u - v;
+      glm::dvec3 n = place.toWorldDirection(glm::dvec3(glm::normalize(
+          a * m.cornerNormals[3 * t] + u * m.cornerNormals[3 * t + 1] + v * m.cornerNormals[3 * t + 2])));
+      const glm::dvec3 albedo(a * m.cornerColours[3 * t] + u * m.cornerColours[3 * t + 1] + v * m.cornerColours[3 * t + 2]);
+      const glm::dvec3 p = eye + double(hit.t) * d;
+      glm::dvec3 e = radiosity::shIrradiance(light.indirect, n);
+      for (const auto& l : light.lamps) {
+        const glm::dvec3 toL = l.position - p;
+        const double dist = glm::length(toL);
+        const glm::dvec3 w = toL / dist;
+        glm::dvec3 ln(0.0);
+        for (size_t i = 1; i + 1 < l.polygon.size(); ++i) ln += glm::cross(l.polygon[i] - l.polygon[0], l.polygon[i + 1] - l.polygon[0]);
+        const double area = 0.5 * glm::length(ln);
+        const double cosL = std::max(0.0, -glm::dot(glm::normalize(ln), w));
+        const double cosP = std::max(0.0, glm::dot(n, w));
+        if (cosL <= 0 || cosP <= 0) continue;
+        const glm::vec3 from(p + 1e-4 * n);
+        if (mesh.occluded(from, glm::vec3(l.position)) || h.rayScene().occluded(from, glm::vec3(l.position))) continue;
+        e += l.exitance / std::numbers::pi * area * cosL * cosP / (dist * dist);
+      }
+      img.set(x, y, glm::vec3(albedo / std::numbers::pi * e));
+    }
+  return img;
+}
+
+// PSNR over the pixels both images cover fully (and their 3 x 3 neighbours), after a 3 x 3 box
+// filter, the peak the reference's brightest value there.
+double maskedPsnr(const ImageRGB& a, const ImageRGB& ref, const std::vector<uint8_t>& mask) {
+  const int w = ref.width, hgt = ref.height;
+  double peak = 0, se = 0;
+  size_t n = 0;
+  for (int y = 1; y + 1 < hgt; ++y)
+    for (int x = 1; x + 1 < w; ++x) {
+      bool inside = true;
+      glm::dvec3 sa(0.0), sr(0.0);
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          inside = inside && mask[size_t(y + dy) * w + x + dx];
+          sa += glm::dvec3(a.at(x + dx, y + dy));
+          sr += glm::dvec3(ref.at(x + dx, y + dy));
+        }
+      if (!inside) continue;
+      sa /= 9.0;
+      sr /= 9.0;
+      for (int c = 0; c < 3; ++c) {
+        se += (sa[c] - sr[c]) * (sa[c] - sr[c]);
+        peak = std::max(peak, sr[c]);
+      }
+      n += 3;
+    }
+  EXPECT_GT(n, 3000u) << "too few object pixels to compare";
+  return 10 * std::log10(peak * peak / (se / double(n)));
+}
+
+struct Scenario {
+  const char* name;
+  glm::dvec3 lampCentre, lampNormal;
+};
+
+}  // namespace
+
+TEST(ImageFan, MeshesAreReadFromObjAndPlyAndBadOnesRefusedWithTheFileNamed) {
+  const auto dir = std::filesystem::temp_directory_path() / "relume_ibr_mesh";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream(dir / "m.mtl") << "newmtl green\nKd 0.1 0.6 0.2\n";
+    std::ofstream(dir / "m.obj") << "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nusemtl green\nf 1//1 2//1 3//1 4//1\n";
+  }
+  const Mesh obj = readMesh((dir / "m.obj").string());
+  ASSERT_EQ(obj.triangles.size(), 2u);
+  EXPECT_NEAR(obj.triangleAlbedo[0].g, 0.6f, 1e-6f);
+  ASSERT_EQ(obj.cornerNormals.size(), 6u);
+  EXPECT_NEAR(obj.cornerNormals[0].z, 1.f, 1e-6f);
+  // The same quad as ASCII and as binary PLY, with 8-bit (sRGB) vertex colours.
+  const std::string header = "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                             "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+                             "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  {
+    std::ofstream(dir / "a.ply") << "ply\nformat ascii 1.0\n" << header
+                                 << "0 0 0 255 128 0\n1 0 0 255 128 0\n1 1 0 255 128 0\n0 1 0 255 128 0\n4 0 1 2 3\n";
+    std::ofstream b(dir / "b.ply", std::ios::binary);
+    b << "ply\nformat binary_little_endian 1.0\n" << header;
+    const float xyz[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    for (const auto& p : xyz) {
+      b.write(reinterpret_cast<const char*>(p), 12);
+      const unsigned char c[3] = {255, 128, 0};
+      b.write(reinterpret_cast<const char*>(c), 3);
+    }
+    const unsigned char n = 4;
+    b.write(reinterpret_cast<const char*>(&n), 1);
+    for (int32_t i : {0, 1, 2, 3}) b.write(reinterpret_cast<const char*>(&i), 4);
+  }
+  const Mesh a = readMesh((dir / "a.ply").string()), b = readMesh((dir / "b.ply").string());
+  ASSERT_EQ(a.triangles.size(), 2u);
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.positions, b.positions);
+  ASSERT_EQ(a.cornerColours.size(), 6u);
+  EXPECT_NEAR(a.cornerColours[0].r, 1.f, 1e-6f);
+  EXPECT_NEAR(a.cornerColours[0].g, 0.2158f, 1e-3f);  // sRGB 128 in linear light
+  EXPECT_EQ(a.cornerColours, b.cornerColours);
+  // Bad meshes: each refused, naming the file and what is wrong.
+  struct Bad {
+    const char* file;
+    std::string text, says;
+  };
+  const Bad bad[] = {{"empty.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces"},
+                     {"nan.obj", "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "not a finite number"},
+                     {"index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "does not exist"},
+                     {"flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", "zero area"},
+                     {"short.ply", "ply\nformat ascii 1.0\n" + header + "0 0 0 1 1 1\n", "ends before"},
+                     {"nohead.ply", "ply\nformat ascii 1.0\nelement vertex 3\n", "end_header"},
+                     {"mesh.stl", "solid x\n", "not a mesh Relume reads"}};
+  for (const auto& x : bad) {
+    std::ofstream(dir / x.file) << x.text;
+    const std::string path = (dir / x.file).string();
+    const std::string e = test::errorText([&] { readMesh(path); });
+    EXPECT_NE(e.find(path), std::string::npos) << e;
+    EXPECT_NE(e.find(x.says), std::string::npos) << x.file << ": " << e;
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ImageFan, ViewsHoldTheObjectsCoverageDepthNormalsAndColour) {
+  // A sphere of radius 0.3 standing on the floor: seen from any view, a disc of radius 0.3 whose
+  // centre pixel lies 0.3 in front of the sphere's centre and faces the viewer.
+  Mesh m = blob(96, 48, 0.3, 0.0);
+  const auto fan = buildFan(m, testFan({15, 45}, true, 96));
+  EXPECT_EQ(fan->viewCount(), 192);
+  EXPECT_NEAR(fan->radius, 0.3, 0.002);
+  EXPECT_NEAR(fan->centre.z, 0.3, 1e-3);
+  for (int k : {0, 37, 96 + 50}) {
+    const FanView& v = fan->view(k);
+    double covered = 0;
+    for (uint8_t a : v.alpha) covered += a / 255.0;
+    const double expected = std::numbers::pi * 0.25 * 96 * 96 * (0.3 / fan->radius) * (0.3 / fan->radius);
+    EXPECT_NEAR(covered / expected, 1.0, 0.02) << "view " << k;
+    const size_t c = size_t(48) * 96 + 48;
+    EXPECT_NEAR(fan->depthMetres(v.depth[c]), fan->radius - 0.3, 0.01);
+    EXPECT_GT(byteToNormal()[v.code[c]].z, 0.99f);
+    // The point at the centre pixel lies on the sphere, towards the view's camera.
+    const glm::dvec3 p = fan->pointAt(k, 48.5, 48.5, fan->depthMetres(v.depth[c]));
+    EXPECT_NEAR(glm::length(p - fan->centre), 0.3, 0.01);
+    EXPECT_GT(glm::dot(p - fan->centre, fan->toCamera(k)), 0.29);
+    // Colour: the blob's albedo at that height, sRGB-encoded.
+    EXPECT_NEAR(srgbToLinear(v.colour[3 * c] / 255.f), 0.7f, 0.01f);
+  }
+}
+
+TEST(ImageFan, FilesRoundTripAndTruncatedOrForeignOrDamagedFilesAreRefused) {
+  const auto fan = buildFan(blob(48, 24), testFan({30}, true, 32));
+  const auto bytes = fanBytes(*fan);
+  const auto back = parseFan(bytes, "x.fan");
+  ASSERT_EQ(back->viewCount(), fan->viewCount());
+  EXPECT_EQ(back->radius, fan->radius);
+  EXPECT_EQ(back->boundsMin, fan->boundsMin);
+  EXPECT_EQ(back->ringElevations, fan->ringElevations);
+  for (int k = 0; k < fan->viewCount(); k += 7) {
+    EXPECT_EQ(back->view(k).code, fan->view(k).code);
+    EXPECT_EQ(back->view(k).depth, fan->view(k).depth);
+    EXPECT_EQ(back->view(k).alpha, fan->view(k).alpha);
+    EXPECT_EQ(back->view(k).colour, fan->view(k).colour);
+  }
+  const auto dir = std::filesystem::temp_directory_path() / "relume_ibr_fan";
+  std::filesystem::create_directories(dir);
+  writeFan(*fan, (dir / "ok.fan").string());
+  EXPECT_EQ(readFan((dir / "ok.fan").string())->viewCount(), fan->viewCount());
+  EXPECT_FALSE(std::filesystem::exists(dir / "ok.fan.part"));
+  auto refused = [&](std::vector<uint8_t> b, const std::string& says) {
+    std::ofstream((dir / "bad.fan"), std::ios::binary).write(reinterpret_cast<const char*>(b.data()), std::streamsize(b.size()));
+    const std::string e = test::errorText([&] { readFan((dir / "bad.fan").string()); });
+    EXPECT_NE(e.find((dir / "bad.fan").string()), std::string::npos) << e;
+    EXPECT_NE(e.find(says), std::string::npos) << e;
+  };
+  for (size_t cut : {size_t(5), size_t(40), bytes.size() / 2, bytes.size() - 2})
+    refused(std::vector<uint8_t>(bytes.begin(), bytes.begin() + long(cut)), cut < 8 ? "not an image fan" : "truncated");
+  auto other = bytes;
+  other[8] = 2;  // version 2
+  refused(other, "version 2");
+  auto damaged = bytes;
+  damaged[bytes.size() / 2] ^= 0x40;
+  refused(damaged, "damaged");
+  refused(std::vector<uint8_t>{'P', 'K', 3, 4, 0, 0, 0, 0, 0, 0}, "not an image fan");
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ImageBasedObject, ShadedLikeTheMeshItselfUnderThreeLampPlacements) {
+  // The measure: from a view halfway between two fan images, >= 28 dB on the object's
+  // pixels after a 3 x 3 box filter. (Dithering against plain coding, where coding is the only
+  // error, is in normal_code_test.cpp.)
+  const Mesh m = blob();
+  const auto fan = buildFan(m, testFan({15, 45, 75}, true));
+  Placement place;
+  place.position = glm::dvec3(2.0, 2.0, 0.0);
+  place.yaw = 0.3;
+  const glm::dvec3 c = place.toWorld(*fan, fan->centre);
+  // Halfway between views 10 and 11 of the 45 deg ring (azimuth in the object's frame).
+  const double az = (10.5 * 2 * std::numbers::pi / 96) + place.yaw, el = std::numbers::pi / 4;
+  const glm::dvec3 eye = c + 2.0 * glm::dvec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+  const Camera cam = Camera::lookAt(eye, c, 320, 240, 300);
+  const Scenario scenarios[] = {{"ceiling, behind left", {1.0, 1.2, 2.79}, {0, 0, -1}},
+                                {"ceiling, front right", {3.3, 2.9, 2.79}, {0, 0, -1}},
+                                {"wall lamp, low", {0.01, 2.5, 1.2}, {1, 0, 0}}};
+  for (const auto& s : scenarios) {
+    radiosity::HierarchicalRadiosity h(room({lampAt(s.lampCentre, s.lampNormal, 0.3)}, glm::dvec3(40.0, 36.0, 30.0)));
+    h.solve();
+    const ObjectLighting light = lightingAt(h, c);
+    ASSERT_EQ(light.lamps.size(), 1u);
+    std::vector<uint8_t> hit;
+    const ImageRGB ref = reference(m, *fan, place, light, h, cam, hit);
+    ImageRGB img(cam.width, cam.height);
+    std::vector<uint8_t> mask(hit.size(), 0);
+    const DrawStats st = drawObject(*fan, place, light, cam, roomView(h, cam), img, &mask);
+    EXPECT_GT(st.objectPixels, 5000u);
+    std::vector<uint8_t> both(hit.size());
+    for (size_t i = 0; i < both.size(); ++i) both[i] = hit[i] && mask[i] == 255;
+    const double psnr = maskedPsnr(img, ref, both);
+    if (const char* dump = std::getenv("RELUME_TEST_DUMP")) {
+      writeImage(std::string(dump) + "/" + s.name + ".ibr.exr", img);
+      writeImage(std::string(dump) + "/" + s.name + ".reference.exr", ref);
+    }
+    std::printf("%s: %.2f dB (3x3 box filter, object pixels)\n", s.name, psnr);
+    EXPECT_GE(psnr, 28.0) << s.name;
+  }
+}
+
+TEST(ImageBasedObject, ShadowsOnTheFloorAndAWallMatchTheMeshsOwnShadow) {
+  // A small lamp (its shadow hard but for the lamp's size) within 10 deg of a ring's elevation:
+  // the strip of the fan seen from the lamp, met by each pixel's line to the lamp, against shadow
+  // rays to the lamp's centre past the mesh itself. Intersection over union >= 0.8 on each surface.
+  const Mesh m = blob();
+  const auto fan = buildFan(m, testFan({15, 45}, true));
+  struct Case {
+    const char* name;
+    glm::dvec3 object;
+    double elevationDeg, azimuthDeg, distance;
+    const char* surface;
+  };
+  const Case cases[] = {{"floor", {2.0, 2.0, 0.0}, 50, 200, 1.7, "floor"},
+                        {"wall", {2.0, 0.75, 0.0}, 20, 95, 1.8, "wall_y0"}};
+  for (const auto& cs : cases) {
+    Placement place;
+    place.position = cs.object;
+    const glm::dvec3 c = place.toWorld(*fan, fan->centre);
+    const double el = cs.elevationDeg * std::numbers::pi / 180, az = cs.azimuthDeg * std::numbers::pi / 180;
+    const glm::dvec3 toLamp(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    const glm::dvec3 lampC = c + cs.distance * toLamp;
+    radiosity::HierarchicalRadiosity h(room({lampAt(lampC, -toLamp, 0.05)}, glm::dvec3(200.0)));
+    h.solve();
+    const ObjectLighting light = lightingAt(h, c);
+    const Camera cam = Camera::lookAt(glm::dvec3(2.0, 3.9, 2.6), c - glm::dvec3(0, 0.6, 0.3), 320, 240, 220);
+    const RoomView rv = roomView(h, cam);
+    ImageRGB img(cam.width, cam.height);
+    std::fill(img.pixels.begin(), img.pixels.end(), 1.f);
+    // The display's irradiance: the lamp's own direct light, so that a fully blocked pixel goes black.
+    const radiosity::EmitterShape shape(false);
+    const auto& lampPoly = h.surfaces().back().vertices;
+    const IrradianceAt irradiance = [&](int surface, const glm::dvec3& x) {
+      const auto& v = h.surfaces()[size_t(surface)].vertices;
+      const glm::dvec3 n = glm::normalize(glm::cross(v[1] - v[0], v[2] - v[0]));
+      return radiosity::emitterFormFactor(x, n, lampPoly, shape) * h.surfaces().back().exitance;
+    };
+    drawShadows(*fan, place, light, h, cam, rv, irradiance, img);
+    std::vector<glm::vec3> world;
+    for (const auto& p : m.positions) world.push_back(glm::vec3(place.toWorld(*fan, glm::dvec3(p))));
+    const RayScene mesh(std::span<const glm::vec3>(world), std::span<const glm::uvec3>(m.triangles));
+    int target = -1;
+    for (size_t i = 0; i < h.surfaces().size(); ++i)
+      if (h.surfaces()[i].name == cs.surface) target = int(i);
+    size_t inter = 0, uni = 0, truth = 0;
+    for (size_t i = 0; i < rv.surface.size(); ++i) {
+      if (rv.surface[i] != target) continue;
+      const bool ibr = img.pixels[3 * i + 1] < 0.5f;
+      const bool ref = mesh.occluded(rv.point[i] + 1e-4f * rv.normal[i], glm::vec3(lampC));
+      inter += ibr && ref;
+      uni += ibr || ref;
+      truth += ref;
+    }
+    const double iou = uni ? double(inter) / double(uni) : 0.0;
+    std::printf("shadow on the %s: %zu pixels in the mesh's shadow, intersection over union %.3f\n", cs.name, truth, iou);
+    EXPECT_GT(truth, 500u) << cs.name;
+    EXPECT_GE(iou, 0.8) << cs.name;
+  }
+}
