@@ -33,9 +33,15 @@ $relume relight out/sample.relume --lamp A=0 --lamp B=0 --lamp C=0 --virtual-lam
   -o out/relit_virtual_lamp.png
 $relume relight out/sample.relume --virtual-lamp resources/examples/virtual_downlight.json -o out/relit_virtual_downlight.png
 $relume relight out/sample.relume --lamp A=0 --method ratio-only -o out/relit_A_off_ratio_only.png
+# An image-based object (Dinh, Metoyer, Turk): the example vase's image fan, placed by
+# resources/examples/image_object.json, drawn into the relit photo with its shadows, lamps A and B off.
+$relume ibr-fan resources/examples/vase.obj -o out/vase.fan
+cp resources/examples/image_object.json out/image_object.json
+$relume relight out/sample.relume --lamp A=0 --lamp B=0 --virtual-object out/image_object.json -o out/relit_vase.png
 $relume evaluate "$room" --out out/evaluation
 $relume render "$room" --camera main --show leaves -o out/main_leaves.png
 echo "Wrote the COLMAP workspace out/workspace (camera errors in camera_errors.json), the project built from"
-echo "clicks out/from_clicks.relume, the relit images out/relit_*.png, the project out/sample.relume and"
+echo "clicks out/from_clicks.relume, the relit images out/relit_*.png (out/relit_vase.png: an image-based vase),"
+echo "the project out/sample.relume and"
 echo "out/evaluation/report.json"
 echo "(out/evaluation/*.png: photo | ratio-only | full | truth, side by side)."

@@ -118,5 +118,30 @@ check "a virtual lamp with a photometric file relights" "[ -s '$tmp/downlight.ex
 printf 'IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 10\n0 45 90\n0\n100 -50 0\n' >"$tmp/bad.ies"
 cli_error "a photometric file with a negative intensity is named" "bad.ies: intensity 2" photometry "$tmp/bad.ies"
 
+# Image-based objects: a fan rendered from the example vase (few small views, to be quick), placed
+# in the room and drawn into the relit image with its shadows; bad fans and places refused.
+"$relume" ibr-fan "$examples/vase.obj" -o "$tmp/vase.fan" --views 24 --size 64 --rings 20,60 2>"$tmp/fan.err"
+check "ibr-fan writes a fan and prints progress" "[ $? -eq 0 ] && [ -s '$tmp/vase.fan' ] && grep -q 'image fan: view' '$tmp/fan.err'"
+sed 's/"position": \[[^]]*\]/"position": [0.8, 2.3, 0.0]/' "$examples/image_object.json" > "$tmp/vase.json"
+"$relume" relight "$tmp/lit.relume" --lamp A=0 --lamp B=0 -o "$tmp/novase.exr" 2>/dev/null
+"$relume" relight "$tmp/lit.relume" --lamp A=0 --lamp B=0 --virtual-object "$tmp/vase.json" -o "$tmp/vase.exr" 2>"$tmp/vase.err"
+check "relight draws an image-based object and its shadows" \
+  "[ $? -eq 0 ] && grep -q \"image-based object 'floor_vase'\" '$tmp/vase.err' && grep -Eq 'shadows on [1-9][0-9]* pixels' '$tmp/vase.err'"
+"$relume" compare "$tmp/vase.exr" "$tmp/novase.exr" > "$tmp/vase_cmp.txt" 2>/dev/null
+check "the image-based object changes the relit image" "awk '{exit !(\$2 < 40)}' '$tmp/vase_cmp.txt'"
+head -c 3000 "$tmp/vase.fan" > "$tmp/cut.fan"
+sed 's/vase.fan/cut.fan/' "$tmp/vase.json" > "$tmp/cut.json"
+"$relume" relight "$tmp/lit.relume" --virtual-object "$tmp/cut.json" -o "$tmp/cut.png" 2>"$tmp/cut.err"
+check "a truncated fan is an error naming it, nothing written" \
+  "[ $? -eq 1 ] && grep -q 'cut.fan' '$tmp/cut.err' && grep -q 'truncated' '$tmp/cut.err' && [ ! -e '$tmp/cut.png' ]"
+sed 's/"position": \[[^]]*\]/"position": [0.1, 2.3, 0.0]/' "$examples/image_object.json" > "$tmp/vase_wall.json"
+cp "$tmp/vase.fan" "$tmp/vase_wall.fan" 2>/dev/null; sed -i 's/vase.fan/vase_wall.fan/' "$tmp/vase_wall.json"
+"$relume" relight "$tmp/lit.relume" --virtual-object "$tmp/vase_wall.json" -o "$tmp/wall_vase.png" 2>"$tmp/wall_vase.err"
+check "an image-based object through a wall is an error naming it, nothing written" \
+  "[ $? -eq 1 ] && grep -q 'floor_vase' '$tmp/wall_vase.err' && grep -q 'wall_left' '$tmp/wall_vase.err' && [ ! -e '$tmp/wall_vase.png' ]"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\n' > "$tmp/nofaces.obj"
+cli_error "a mesh with no faces is named, no fan written" "nofaces.obj" ibr-fan "$tmp/nofaces.obj" -o "$tmp/nofaces.fan"
+check "and no fan file is left" "[ ! -e '$tmp/nofaces.fan' ]"
+
 if [ $fail -eq 0 ]; then echo "cli: all passed"; fi
 exit $fail

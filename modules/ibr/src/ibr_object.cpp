@@ -45,6 +45,22 @@ glm::dvec3 polygonNormal(const std::vector<glm::dvec3>& p) {
   return l > 0 ? a / l : glm::dvec3(0, 0, 1);
 }
 
+// Points spread over a convex polygon, with weights (their share of its area) summing to 1: in
+// each triangle of its fan, the centres of the n (n + 1) / 2 upright triangles of its n-fold
+// subdivision.
+std::vector<std::pair<glm::dvec3, double>> pointsOn(const std::vector<glm::dvec3>& poly, int n) {
+  std::vector<std::pair<glm::dvec3, double>> out;
+  const double area = polygonArea(poly);
+  for (size_t t = 1; t + 1 < poly.size(); ++t) {
+    const glm::dvec3 a = poly[t] - poly[0], b = poly[t + 1] - poly[0];
+    const double share = area > 0 ? 0.5 * glm::length(glm::cross(a, b)) / area : 1.0 / double(poly.size() - 2);
+    const double each = share / (n * (n + 1) / 2);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n - i; ++j) out.push_back({poly[0] + (i + 1.0 / 3.0) / n * a + (j + 1.0 / 3.0) / n * b, each});
+  }
+  return out;
+}
+
 // The view frame of `view`: code normal -> object direction.
 glm::dvec3 fromView(const ImageFan& fan, int view, const glm::vec3& n) {
   return double(n.x) * fan.right(view) + double(n.y) * fan.up(view) + double(n.z) * fan.toCamera(view);
@@ -93,19 +109,12 @@ ObjectLighting lightingAt(const radiosity::HierarchicalRadiosity& h, const glm::
     const double d = glm::length(toObj);
     if (!(d > 0)) continue;
     const double cosT = glm::dot(polygonNormal(surf.vertices), toObj / d);
-    // The fraction of the lamp the centre sees: a 4 x 4 grid of points across its polygon (fan
-    // triangles, by area), lifted off it so that it does not hide itself.
-    int seen = 0, total = 0;
+    // The share of the lamp the centre sees (points over its area, lifted off it so that it does
+    // not hide itself).
     const glm::dvec3 lift = (cosT >= 0 ? 1.0 : -1.0) * 1e-4 * polygonNormal(surf.vertices);
-    for (size_t t = 1; t + 1 < surf.vertices.size(); ++t)
-      for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4 - i; ++j) {
-          const double a = (i + 1.0 / 3.0) / 4.0, b = (j + 1.0 / 3.0) / 4.0;
-          const glm::dvec3 p = surf.vertices[0] + a * (surf.vertices[t] - surf.vertices[0]) + b * (surf.vertices[t + 1] - surf.vertices[0]);
-          ++total;
-          seen += h.rayScene().occluded(glm::vec3(c), glm::vec3(p + lift)) ? 0 : 1;
-        }
-    l.visible = total ? double(seen) / total : 0.0;
+    l.visible = 0;
+    for (const auto& [p, w] : pointsOn(surf.vertices, 4))
+      if (!h.rayScene().occluded(glm::vec3(c), glm::vec3(p + lift))) l.visible += w;
     l.intensity = l.intensityTowards(c);
     out.lamps.push_back(std::move(l));
   }
@@ -417,6 +426,8 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
     int view;
     glm::dvec3 rw, uw, nw;  // the view's image axes and direction (world)
     radiosity::EmitterShape shape;
+    const FanView* image;
+    std::vector<std::pair<glm::dvec3, double>> samples;  // points on the lamp, weights summing to 1
   };
   std::vector<LampView> views;
   for (size_t l = 0; l < light.lamps.size(); ++l) {
@@ -428,7 +439,8 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
     const int k = fan.nearestView(place.toObjectDirection(toLamp / d));
     views.push_back({l, k, place.toWorldDirection(fan.right(k)), place.toWorldDirection(fan.up(k)),
                      place.toWorldDirection(fan.toCamera(k)),
-                     radiosity::EmitterShape(lamp.polygon, lamp.twoSided, lamp.photometry)});
+                     radiosity::EmitterShape(lamp.polygon, lamp.twoSided, lamp.photometry), &fan.view(k),
+                     pointsOn(lamp.polygon, 3)});
   }
   if (views.empty()) return st;
   const int S = fan.size;
@@ -446,27 +458,32 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
         for (const LampView& lv : views) {
           const ObjectLamp& lamp = light.lamps[lv.lamp];
           if (surface == lamp.surface) continue;
-          // The segment X -> lamp must pass within the object's sphere.
-          const glm::dvec3 seg = lamp.position - X;
-          const double len2 = glm::dot(seg, seg);
-          const double s = std::clamp(glm::dot(cw - X, seg) / len2, 0.0, 1.0);
-          const glm::dvec3 closest = X + s * seg - cw;
-          if (glm::dot(closest, closest) > rs * rs) continue;
-          // Where the line meets the plane of the lamp's view through the centre.
-          const double den = glm::dot(seg, lv.nw);
-          if (std::abs(den) < 1e-12) continue;
-          const double u = glm::dot(cw - X, lv.nw) / den;
-          if (u <= 0 || u >= 1) continue;
-          const glm::dvec3 q = X + u * seg - cw;
-          const double fx = (glm::dot(q, lv.rw) / rs + 1.0) * 0.5 * S, fy = (1.0 - glm::dot(q, lv.uw) / rs) * 0.5 * S;
-          const int tx = int(std::floor(fx)), ty = int(std::floor(fy));
-          if (tx < 0 || ty < 0 || tx >= S || ty >= S) continue;
-          const FanView& v = fan.view(lv.view);
-          const size_t ti = size_t(ty) * S + tx;
-          if (!v.alpha[ti]) continue;
-          // The silhouette's point must lie between X and the lamp (not behind X).
-          const glm::dvec3 p = place.toWorld(fan, fan.pointAt(lv.view, tx + 0.5, ty + 0.5, fan.depthMetres(v.depth[ti])));
-          if (glm::dot(p - X, seg) <= 1e-3 * std::sqrt(len2)) continue;
+          // The lamp's points (a soft shadow: the share of its area the silhouette hides).
+          double blocked = 0;
+          for (const auto& [point, weight] : lv.samples) {
+            // The segment X -> the point must pass within the object's sphere.
+            const glm::dvec3 seg = point - X;
+            const double len2 = glm::dot(seg, seg);
+            const double s = std::clamp(glm::dot(cw - X, seg) / len2, 0.0, 1.0);
+            const glm::dvec3 closest = X + s * seg - cw;
+            if (glm::dot(closest, closest) > rs * rs) continue;
+            // Where the line meets the plane of the lamp's view through the centre.
+            const double den = glm::dot(seg, lv.nw);
+            if (std::abs(den) < 1e-12) continue;
+            const double u = glm::dot(cw - X, lv.nw) / den;
+            if (u <= 0 || u >= 1) continue;
+            const glm::dvec3 q = X + u * seg - cw;
+            const double fx = (glm::dot(q, lv.rw) / rs + 1.0) * 0.5 * S, fy = (1.0 - glm::dot(q, lv.uw) / rs) * 0.5 * S;
+            const int tx = int(std::floor(fx)), ty = int(std::floor(fy));
+            if (tx < 0 || ty < 0 || tx >= S || ty >= S) continue;
+            const size_t ti = size_t(ty) * S + tx;
+            if (!lv.image->alpha[ti]) continue;
+            // The silhouette's point must lie between X and the lamp (not behind X).
+            const glm::dvec3 p = place.toWorld(fan, fan.pointAt(lv.view, tx + 0.5, ty + 0.5, fan.depthMetres(lv.image->depth[ti])));
+            if (glm::dot(p - X, seg) <= 1e-3 * std::sqrt(len2)) continue;
+            blocked += weight * (lv.image->alpha[ti] / 255.0);
+          }
+          if (!(blocked > 0)) continue;
           const glm::dvec3 n(room.normal[pi]);
           // The lamp's direct irradiance at X, if the room lets it through.
           const glm::dvec3 lift = X + 1e-4 * n;
@@ -474,7 +491,7 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
           const double f = radiosity::emitterFormFactor(X, n, lamp.polygon, lv.shape);
           if (!(f > 0)) continue;
           if (total.x < 0) total = irradiance(surface, X);
-          taken += (v.alpha[ti] / 255.0) * f * lamp.exitance;
+          taken += blocked * f * lamp.exitance;
         }
         if (taken == glm::dvec3(0.0) || total.x < 0) continue;
         glm::dvec3 keep;
