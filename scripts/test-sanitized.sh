@@ -9,7 +9,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 targets=(geometry_tests raytrace_tests project_tests radiosity_tests reconstruct_tests relight_tests
-         daylight_tests)
+         daylight_tests ibr_tests)
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRELUME_SANITIZE=ON ${RELUME_CMAKE_ARGS:-}
 cmake --build build-asan -j "$(nproc)" --target "${targets[@]}"
 export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1"
@@ -35,7 +35,7 @@ pids=()
 run radiosity_tests '*' & pids+=($!)
 run reconstruct_tests '*' & pids+=($!)
 for p in "${pids[@]}"; do wait "$p" || status=1; done
-for t in geometry_tests raytrace_tests project_tests daylight_tests; do run "$t" '*' || status=1; done
+for t in geometry_tests raytrace_tests project_tests daylight_tests ibr_tests; do run "$t" '*' || status=1; done
 run relight_tests "$quick_relight" || status=1
 # The fuzzing corpora and every crash input found (tests/fuzz/regressions), replayed through the
 # parsers' harnesses under the same sanitizers (g++; libFuzzer's engine is not needed to replay).

@@ -346,6 +346,8 @@ int benchCommand(const QStringList& args, Progress& progress) {
   if (!scene.lamps.empty() && !scene.photos.empty()) {
     ProgressScope rp(progress, 0.7, 1.0);
     out["relight"] = relightBench(scene, runs, rp);
+    ProgressScope ip(progress, 0.85, 0.97);
+    out["image_based_objects"] = ibrBench(scene, runs, ip);
   }
   {
     ProgressScope rp(progress, 0.97, 1.0);

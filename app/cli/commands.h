@@ -47,5 +47,8 @@ Scene openRoom(const QString& path);
 QJsonObject relightBench(const Scene& scene, int runs, Progress& progress);
 // The reconstruction figures: COLMAP on the room's photos, triangulation and polygon fitting.
 QJsonObject reconstructBench(const Scene& scene, int runs, Progress& progress);
+// The image-based object figures: a 1M-triangle mesh's fan, tables for a new lamp setting, one
+// object and its shadows composited into a relit 640 x 480 image (medians of `runs`).
+QJsonObject ibrBench(const Scene& scene, int runs, Progress& progress);
 
 }  // namespace relume::cli

@@ -1,10 +1,18 @@
 // relume ibr-fan: the image fan of a mesh (Dinh, Metoyer, Turk), for image-based virtual objects.
+// The image-based object figures of relume bench.
 #include <QCommandLineParser>
+#include <QJsonObject>
+#include <cmath>
 #include <cstdio>
+#include <glm/geometric.hpp>
+#include <numbers>
 
 #include "commands.h"
 #include "relume/geometry/error.h"
 #include "relume/ibr/fan.h"
+#include "relume/ibr/ibr_object.h"
+#include "relume/ibr/relit_objects.h"
+#include "relume/relight/relighter.h"
 
 namespace relume::cli {
 
@@ -58,6 +66,129 @@ int ibrFanCommand(const QStringList& args, Progress& progress) {
   std::fprintf(stderr, "%zu triangles: %d views of %d x %d in %.1f s (radius %.3f m); wrote %s\n", m.triangles.size(),
                fan->viewCount(), fan->size, fan->size, seconds(t0), fan->radius, out.c_str());
   return 0;
+}
+
+}  // namespace relume::cli
+
+// ---- relume bench: the image-based object figures ----
+
+namespace relume::cli {
+
+namespace {
+
+// A smooth bumpy ball of about 2 * nu * nv triangles, 0.5 m across, standing on z = 0.
+ibr::Mesh benchMesh(int nu, int nv) {
+  ibr::Mesh m;
+  m.name = "bench ball";
+  const double r = 0.25;
+  auto at = [&](double th, double ph) {
+    const double rr = r * (1 + 0.08 * std::sin(5 * th) * std::cos(6 * ph));
+    return glm::vec3(float(rr * std::sin(th) * std::cos(ph)), float(rr * std::sin(th) * std::sin(ph)),
+                     float(rr * std::cos(th) + 1.08 * r));
+  };
+  m.positions.push_back(at(0, 0));
+  for (int j = 1; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) m.positions.push_back(at(std::numbers::pi * j / nv, 2 * std::numbers::pi * i / nu));
+  m.positions.push_back(at(std::numbers::pi, 0));
+  const unsigned bottom = unsigned(m.positions.size() - 1);
+  auto ring = [&](int j, int i) { return unsigned(1 + (j - 1) * nu + (i % nu)); };
+  for (int i = 0; i < nu; ++i) m.triangles.push_back({0u, ring(1, i), ring(1, i + 1)});
+  for (int j = 1; j + 1 < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      m.triangles.push_back({ring(j, i), ring(j + 1, i), ring(j + 1, i + 1)});
+      m.triangles.push_back({ring(j, i), ring(j + 1, i + 1), ring(j, i + 1)});
+    }
+  for (int i = 0; i < nu; ++i) m.triangles.push_back({bottom, ring(nv - 1, i + 1), ring(nv - 1, i)});
+  m.triangleAlbedo.assign(m.triangles.size(), glm::vec3(0.6f, 0.4f, 0.3f));
+  return m;
+}
+
+double medianMs(std::vector<double> v) { return median(std::move(v)) * 1000.0; }
+
+}  // namespace
+
+QJsonObject ibrBench(const Scene& sceneIn, int runs, Progress& progress) {
+  QJsonObject out;
+  // A fan of a mesh of a million triangles, at the defaults (three rings of 96 views, 256 x 256).
+  {
+    progress.report(0.0, "bench: a 1M-triangle mesh's image fan");
+    const ibr::Mesh big = benchMesh(1000, 500);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto fan = ibr::buildFan(big, ibr::FanOptions{}, progress);
+    const size_t bytes = ibr::fanBytes(*fan).size();
+    out["fan"] = QJsonObject{{"triangles", qint64(big.triangles.size())}, {"views", fan->viewCount()},
+                             {"size", fan->size}, {"seconds", seconds(t0)}, {"file_bytes", qint64(bytes)}};
+  }
+  // One object in the relit room, seen through the main photo's camera at 640 x 480.
+  Scene scene = sceneIn;
+  progress.report(0.5, "bench: preprocessing the room for the image-based object");
+  const RelightData data = preprocessRoom(scene, RelightOptions{});
+  RelightSession session(scene, data);
+  session.update();
+  session.syncEngine();
+  const Photo* photo = scene.findPhoto(data.photo);
+  Camera cam = photo->camera;
+  const double sx = 640.0 / cam.width, sy = 480.0 / cam.height;
+  cam.K[0][0] *= sx;
+  cam.K[2][0] *= sx;
+  cam.K[1][1] *= sy;
+  cam.K[2][1] *= sy;
+  cam.width = 640;
+  cam.height = 480;
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const auto& p : scene.polygons)
+    for (const auto& v : p.vertices) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+  ibr::ImageObject object;
+  object.name = "bench ball";
+  object.fanFile = "(bench)";
+  object.fan = ibr::buildFan(benchMesh(200, 100), ibr::FanOptions{}, progress);
+  object.place.position = glm::dvec3(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z);
+  try {
+    ibr::checkImageObject(scene, object);
+  } catch (const Error& e) {
+    out["object"] = QString::fromStdString("not placed: " + std::string(e.what()));
+    return out;
+  }
+  const auto& h = session.engine();
+  const glm::dvec3 centre = object.place.toWorld(*object.fan, object.fan->centre);
+  std::vector<double> lighting, tables, roomViews, composite;
+  const ImageRGB relit = session.render(cam, RelightMethod::Full);
+  const ibr::IrradianceAt irradiance = [&](int surface, const glm::dvec3& p) {
+    return glm::dvec3(session.shading(h.findLeaf(surface, h.toUV(surface, p))));
+  };
+  size_t pixels = 0, shadowPixels = 0;
+  for (int r = 0; r < std::max(runs, 5); ++r) {
+    progress.report(0.8 + 0.2 * r / std::max(runs, 5), "bench: image-based object, run " + std::to_string(r + 1));
+    auto t0 = std::chrono::steady_clock::now();
+    const ibr::ObjectLighting light = ibr::lightingAt(h, centre);
+    lighting.push_back(seconds(t0));
+    // A new lamp setting: every lamp's tables and the indirect table for the drawn view.
+    const int view = object.fan->nearestView(glm::normalize(cam.center() - centre));
+    t0 = std::chrono::steady_clock::now();
+    for (const auto& lamp : light.lamps) (void)ibr::lampTables(*object.fan, view, object.place, lamp);
+    (void)ibr::indirectTable(*object.fan, view, object.place, light.indirect);
+    tables.push_back(seconds(t0));
+    t0 = std::chrono::steady_clock::now();
+    const ibr::RoomView room = ibr::roomView(h, cam);
+    roomViews.push_back(seconds(t0));
+    ImageRGB img = relit;
+    t0 = std::chrono::steady_clock::now();
+    shadowPixels = ibr::drawShadows(*object.fan, object.place, light, h, cam, room, irradiance, img).shadowPixels;
+    pixels = ibr::drawObject(*object.fan, object.place, light, cam, room, img).objectPixels;
+    composite.push_back(seconds(t0));
+  }
+  out["object"] = QJsonObject{{"lamps", qint64(scene.lamps.size())},
+                              {"object_pixels", qint64(pixels)},
+                              {"shadow_pixels", qint64(shadowPixels)},
+                              {"image", "640x480"},
+                              {"lighting_median_ms", medianMs(lighting)},
+                              {"tables_update_median_ms", medianMs(tables)},
+                              {"room_view_median_ms", medianMs(roomViews)},
+                              {"composite_median_ms", medianMs(composite)}};
+  return out;
 }
 
 }  // namespace relume::cli

@@ -114,7 +114,7 @@ def rooms():
     write("obj_json", "sample_room", pack(obj, compact(side)))
     write("obj_json", "virtual_mesh", pack(obj, compact(dict(side, variants=with_mesh["variants"])), BOX_OBJ))
     # Lighting changes, as `relume relight` reads them.
-    for name in ("virtual_box", "virtual_lamp"):
+    for name in ("virtual_box", "virtual_lamp", "image_object"):
         write("variant", name, pack(open(os.path.join(ROOT, "resources", "examples", name + ".json"), "rb").read(), b""))
     write("variant", "mesh", pack(compact({"name": "mesh", "lights": {"A": 0.5}, "virtual_objects": [
         {"name": "box", "obj": "box.obj", "albedo": [0.6, 0.5, 0.4]}]}), BOX_OBJ))
@@ -127,6 +127,7 @@ def rooms():
                                                  "left_out": ["blurry"], "points": 5321, "metric": True,
                                                  "seconds": {"features": 4.2, "matching": 1.1, "mapping": 9.8}}))
     photometry_seeds()
+    mesh_seeds()
 
 
 def photometry_seeds():
@@ -152,6 +153,26 @@ def photometry_seeds():
     ldt += [str(g) for g in range(0, 181, 15)]
     ldt += [str(round(800 * max(0.0, math.cos(math.radians(g))) * 1000 / 2513, 3)) for g in range(0, 181, 15)]
     write("ldt", "cosine", ("\r\n".join(ldt) + "\r\n").encode())
+
+
+def mesh_seeds():
+    """Meshes for image-based objects: the first byte picks OBJ ('0') or PLY ('1'). The fan seeds
+    (corpus/fan) are fans of a tetrahedron written by relume itself:
+    relume ibr-fan tet.obj -o tetrahedron.fan --views 3 --size 8 --rings 30, and
+    relume ibr-fan tet.obj -o two_rings_plain.fan --views 4 --size 12 --rings 10,70 --no-dither."""
+    write("mesh", "obj_quad", b"0mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nusemtl red\n"
+          b"f 1//1 2//1 3//1 4//1\nf -4 -2 -1\n")
+    write("mesh", "ply_ascii", b"1ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+          b"property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nelement face 1\n"
+          b"property list uchar int vertex_indices\nend_header\n0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n3 0 1 2\n")
+    for order, name in (("<", "binary_little_endian"), (">", "binary_big_endian")):
+        hdr = ("ply\nformat %s 1.0\ncomment seed\nelement vertex 3\nproperty float x\nproperty float y\n"
+               "property float z\nproperty float nx\nproperty float ny\nproperty float nz\nelement face 1\n"
+               "property list uchar int vertex_indices\nelement extra 1\nproperty list uchar float stuff\n"
+               "property double w\nend_header\n" % name).encode()
+        body = b"".join(struct.pack(order + "6f", *v) for v in [(0, 0, 0, 0, 0, 1), (1, 0, 0, 0, 0, 1), (0, 1, 0, 0, 0, 1)])
+        body += struct.pack(order + "B3i", 3, 0, 1, 2) + struct.pack(order + "B2fd", 2, 1.0, 2.0, 3.0)
+        write("mesh", "ply_binary" if order == "<" else "ply_big_endian", b"1" + hdr + body)
 
 
 if __name__ == "__main__":

@@ -396,3 +396,45 @@ TEST(ImageBasedObject, ShadowsOnTheFloorAndAWallMatchTheMeshsOwnShadow) {
     EXPECT_GE(iou, 0.8) << cs.name;
   }
 }
+
+TEST(ImageBasedObject, ADimmedLampCastsAShadowAsMuchLighterAndALampSwitchedOffNone) {
+  // Two lamps on either side of the object; the display's pixels are the room's radiance B / pi and
+  // its irradiance B / rho, as the relit photo's are proportional to its irradiance. The darkening
+  // lamp 0's shadow adds (all pixels' sum) halves when lamp 0 is dimmed to half, and is gone when
+  // it is off; lamp 1's shadow stays.
+  const Mesh m = blob(64, 32);
+  const auto fan = buildFan(m, testFan({15, 45, 75}, true, 96));
+  Placement place;
+  place.position = glm::dvec3(2.0, 2.0, 0.0);
+  const glm::dvec3 c = place.toWorld(*fan, fan->centre);
+  radiosity::HierarchicalRadiosity h(room({lampAt({1.0, 2.0, 2.79}, {0, 0, -1}, 0.2), lampAt({3.0, 2.2, 2.79}, {0, 0, -1}, 0.2)},
+                                          glm::dvec3(30.0)));
+  h.solve();
+  const int lamp0 = int(h.surfaces().size()) - 2;
+  const Camera cam = Camera::lookAt(glm::dvec3(2.0, 3.9, 2.6), glm::dvec3(2.0, 1.6, 0.0), 320, 240, 220);
+  const RoomView rv = roomView(h, cam);
+  auto darkening = [&](double scale0) {
+    h.setExitance(lamp0, glm::dvec3(30.0 * scale0));
+    h.iterate();
+    ImageRGB img(cam.width, cam.height);
+    for (size_t i = 0; i < rv.surface.size(); ++i)
+      if (rv.surface[i] >= 0) {
+        const int leaf = h.findLeaf(rv.surface[i], h.toUV(rv.surface[i], glm::dvec3(rv.point[i])));
+        img.set(int(i % size_t(cam.width)), int(i / size_t(cam.width)), h.radiosity(leaf) / float(std::numbers::pi));
+      }
+    const ImageRGB before = img;
+    const IrradianceAt irradiance = [&](int surface, const glm::dvec3& x) {
+      const glm::dvec3 b(h.radiosity(h.findLeaf(surface, h.toUV(surface, x))));
+      return b / h.surfaces()[size_t(surface)].reflectance;
+    };
+    drawShadows(*fan, place, lightingAt(h, c, 256), h, cam, rv, irradiance, img);
+    double sum = 0;
+    for (size_t i = 0; i < img.pixels.size(); ++i) sum += before.pixels[i] - img.pixels[i];
+    return sum;
+  };
+  const double full = darkening(1.0), half = darkening(0.5), off = darkening(0.0);
+  std::printf("darkening: lamp 0 full %.4f, half %.4f, off (lamp 1's shadow alone) %.4f\n", full, half, off);
+  EXPECT_GT(off, 0.0);              // lamp 1 still casts its shadow
+  EXPECT_GT(full - off, 0.2 * off);  // lamp 0's shadow is there
+  EXPECT_NEAR((half - off) / (full - off), 0.5, 0.05);
+}

@@ -428,6 +428,7 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
     radiosity::EmitterShape shape;
     const FanView* image;
     std::vector<std::pair<glm::dvec3, double>> samples;  // points on the lamp, weights summing to 1
+    double lampRadius;  // the farthest vertex from its centre
   };
   std::vector<LampView> views;
   for (size_t l = 0; l < light.lamps.size(); ++l) {
@@ -440,7 +441,8 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
     views.push_back({l, k, place.toWorldDirection(fan.right(k)), place.toWorldDirection(fan.up(k)),
                      place.toWorldDirection(fan.toCamera(k)),
                      radiosity::EmitterShape(lamp.polygon, lamp.twoSided, lamp.photometry), &fan.view(k),
-                     pointsOn(lamp.polygon, 3)});
+                     pointsOn(lamp.polygon, 3), 0.0});
+    for (const auto& v : lamp.polygon) views.back().lampRadius = std::max(views.back().lampRadius, glm::length(v - lamp.position));
   }
   if (views.empty()) return st;
   const int S = fan.size;
@@ -458,6 +460,16 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
         for (const LampView& lv : views) {
           const ObjectLamp& lamp = light.lamps[lv.lamp];
           if (surface == lamp.surface) continue;
+          // Nothing to hide unless the line to the lamp's centre passes within the object's
+          // sphere widened by the lamp's own radius (every line to a point of the lamp lies within
+          // that radius of it).
+          {
+            const glm::dvec3 seg = lamp.position - X;
+            const double s = std::clamp(glm::dot(cw - X, seg) / glm::dot(seg, seg), 0.0, 1.0);
+            const glm::dvec3 closest = X + s * seg - cw;
+            const double reach = rs + lv.lampRadius;
+            if (glm::dot(closest, closest) > reach * reach) continue;
+          }
           // The lamp's points (a soft shadow: the share of its area the silhouette hides).
           double blocked = 0;
           for (const auto& [point, weight] : lv.samples) {
