@@ -31,7 +31,8 @@ int ibrFanCommand(const QStringList& args, Progress& progress) {
   p.setApplicationDescription(
       "Render a mesh's image fan: rings of orthographic views around it, per pixel coverage, normal code (225 "
       "codes, dithered), depth and albedo, for an image-based virtual object (relume relight --virtual-object).");
-  p.addPositionalArgument("MESH", "The mesh (.obj with its .mtl colours, or .ply), metres, +Z up unless --up y.");
+  p.addPositionalArgument("MESH", "The mesh (.obj with its .mtl colours, .ply, or glTF 2 .gltf/.glb), metres, +Z up unless "
+                                 "--up y (glTF is turned from its +Y up by itself).");
   p.addOption({{"o", "output"}, "The fan file to write (.fan).", "FAN"});
   p.addOption({"views", "Views per ring (default 96).", "N"});
   p.addOption({"size", "Pixels across a view (default 256).", "PX"});

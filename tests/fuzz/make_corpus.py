@@ -173,6 +173,29 @@ def mesh_seeds():
         body = b"".join(struct.pack(order + "6f", *v) for v in [(0, 0, 0, 0, 0, 1), (1, 0, 0, 0, 0, 1), (0, 1, 0, 0, 0, 1)])
         body += struct.pack(order + "B3i", 3, 0, 1, 2) + struct.pack(order + "B2fd", 2, 1.0, 2.0, 3.0)
         write("mesh", "ply_binary" if order == "<" else "ply_big_endian", b"1" + hdr + body)
+    # glTF: one quad, as JSON with a base64 buffer and as GLB ('2' picks the format).
+    buf = struct.pack("<12f", 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0) + struct.pack("<12f", *([0, 0, 1] * 4))
+    buf += struct.pack("<6H", 0, 1, 2, 0, 2, 3)
+    def gltf(buffer):
+        return compact({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+                        "nodes": [{"children": [1], "rotation": [0, 0.7071, 0, 0.7071]}, {"mesh": 0, "scale": [2, 2, 2]}],
+                        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2, "material": 0}]}],
+                        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.1, 0.05, 1]}}],
+                        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3"},
+                                      {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+                                      {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+                        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
+                                        {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+                                        {"buffer": 0, "byteOffset": 96, "byteLength": 12}],
+                        "buffers": [dict({"byteLength": len(buf)}, **buffer)]})
+    import base64
+    write("mesh", "gltf_base64", b"2" + gltf({"uri": "data:application/octet-stream;base64," + base64.b64encode(buf).decode()}))
+    chunk = gltf({})
+    chunk += b" " * (-len(chunk) % 4)
+    binary = buf + b"\0" * (-len(buf) % 4)
+    glb = b"glTF" + struct.pack("<2I", 2, 12 + 8 + len(chunk) + 8 + len(binary))
+    glb += struct.pack("<2I", len(chunk), 0x4E4F534A) + chunk + struct.pack("<2I", len(binary), 0x004E4942) + binary
+    write("mesh", "glb", b"2" + glb)
 
 
 if __name__ == "__main__":

@@ -4,6 +4,8 @@
 // shadow rays, the same indirect light) — shading and shadows.
 #include <gtest/gtest.h>
 
+#include <QByteArray>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -213,6 +215,60 @@ TEST(ImageFan, MeshesAreReadFromObjAndPlyAndBadOnesRefusedWithTheFileNamed) {
   EXPECT_NEAR(a.cornerColours[0].r, 1.f, 1e-6f);
   EXPECT_NEAR(a.cornerColours[0].g, 0.2158f, 1e-3f);  // sRGB 128 in linear light
   EXPECT_EQ(a.cornerColours, b.cornerColours);
+  // The same quad as glTF 2.0 (+Y up: its y becomes z), a translated node, a red material; as
+  // .gltf with a base64 buffer and as .glb with a binary chunk.
+  {
+    std::string buf;
+    auto put = [&](const void* p, size_t n) { buf.append(static_cast<const char*>(p), n); };
+    const float pos[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    const float nrm[4][3] = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+    const uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
+    put(pos, sizeof pos);
+    put(nrm, sizeof nrm);
+    put(idx, sizeof idx);
+    auto json = [&](const std::string& buffer) {
+      return std::string(R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
+                         R"("nodes":[{"mesh":0,"translation":[0,0,-2]}],)"
+                         R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"NORMAL":1},"indices":2,"material":0}]}],)"
+                         R"("materials":[{"pbrMetallicRoughness":{"baseColorFactor":[0.9,0.1,0.05,1]}}],)"
+                         R"("accessors":[{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3"},)"
+                         R"({"bufferView":1,"componentType":5126,"count":4,"type":"VEC3"},)"
+                         R"({"bufferView":2,"componentType":5123,"count":6,"type":"SCALAR"}],)"
+                         R"("bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":48},{"buffer":0,"byteOffset":48,"byteLength":48},)"
+                         R"({"buffer":0,"byteOffset":96,"byteLength":12}],)"
+                         R"("buffers":[{"byteLength":108)") + buffer + "}]}";
+    };
+    const QByteArray b64 = QByteArray(buf.data(), qsizetype(buf.size())).toBase64();
+    std::ofstream(dir / "q.gltf") << json(R"(,"uri":"data:application/octet-stream;base64,)" + b64.toStdString() + "\"");
+    std::string chunk = json("");
+    while (chunk.size() % 4) chunk += ' ';
+    std::string bin = buf;
+    while (bin.size() % 4) bin += '\0';
+    std::string glb = "glTF";
+    auto u32 = [](std::string& s, uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); };
+    u32(glb, 2);
+    u32(glb, uint32_t(12 + 8 + chunk.size() + 8 + bin.size()));
+    u32(glb, uint32_t(chunk.size()));
+    u32(glb, 0x4E4F534A);
+    glb += chunk;
+    u32(glb, uint32_t(bin.size()));
+    u32(glb, 0x004E4942);
+    glb += bin;
+    std::ofstream(dir / "q.glb", std::ios::binary) << glb;
+    const Mesh g = readMesh((dir / "q.gltf").string()), gb = readMesh((dir / "q.glb").string());
+    ASSERT_EQ(g.triangles.size(), 2u);
+    EXPECT_EQ(g.positions, gb.positions);
+    EXPECT_EQ(g.cornerNormals, gb.cornerNormals);
+    // glTF (1, 1, 0) + (0, 0, -2) = (1, 1, -2), +Y up -> (1, 2, 1) with +Z up.
+    EXPECT_NEAR(glm::length(g.positions[2] - glm::vec3(1, 2, 1)), 0.f, 1e-6f);
+    EXPECT_NEAR(glm::length(g.cornerNormals[0] - glm::vec3(0, -1, 0)), 0.f, 1e-6f);
+    EXPECT_NEAR(g.triangleAlbedo[1].r, 0.9f, 1e-6f);
+    // Cut short: refused, naming the file.
+    std::ofstream(dir / "cut.glb", std::ios::binary) << glb.substr(0, glb.size() - 20);
+    const std::string e = test::errorText([&] { readMesh((dir / "cut.glb").string()); });
+    EXPECT_NE(e.find("cut.glb"), std::string::npos) << e;
+    EXPECT_NE(e.find("truncated"), std::string::npos) << e;
+  }
   // Bad meshes: each refused, naming the file and what is wrong.
   struct Bad {
     const char* file;

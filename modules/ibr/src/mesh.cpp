@@ -447,10 +447,19 @@ Mesh parsePlyMesh(const std::string& bytes, const std::string& name) {
 Mesh readMesh(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  if (ext != ".obj" && ext != ".ply") throw Error(path, "", "not a mesh Relume reads (.obj or .ply)");
+  if (ext != ".obj" && ext != ".ply" && ext != ".gltf" && ext != ".glb")
+    throw Error(path, "", "not a mesh Relume reads (.obj, .ply, .gltf or .glb)");
   const std::string bytes = readAll(path);
   if (ext == ".ply") return parsePlyMesh(bytes, path);
   const auto dir = std::filesystem::path(path).parent_path();
+  if (ext == ".gltf" || ext == ".glb")
+    return parseGltfMesh(bytes, path, [&](const std::string& rel) {
+      try {
+        return readAll((dir / rel).string());
+      } catch (const Error&) {
+        throw Error(path, "buffer " + rel, "the buffer file cannot be read");
+      }
+    });
   return parseObjMesh(bytes, path, [&](const std::string& lib) {
     const auto p = dir / lib;
     try {

@@ -1,7 +1,8 @@
 #pragma once
 // The meshes image-based objects are made from: triangles with per-corner normals and colours
 // where the file has them. Read from Wavefront OBJ (with its MTL's diffuse colours) and PLY
-// (ASCII and binary, vertex normals and colours); no limit on their size but memory.
+// (ASCII and binary, vertex normals and colours) and glTF 2.0 (.gltf with its buffers, .glb);
+// no limit on their size but memory.
 #include <cstdint>
 #include <functional>
 #include <glm/vec3.hpp>
@@ -23,7 +24,7 @@ struct Mesh {
 
 inline constexpr float kDefaultAlbedo = 0.8f;
 
-// By extension (.obj, .ply). Throws relume::Error naming the file: unreadable, an unknown format,
+// By extension (.obj, .ply, .gltf, .glb). Throws relume::Error naming the file: unreadable, an unknown format,
 // a bad line or header, an index out of range, a coordinate that is not a finite number, no faces.
 Mesh readMesh(const std::string& path);
 // The same from bytes: `name` for the messages; an OBJ's MTL files are read through `mtl`
@@ -31,6 +32,13 @@ Mesh readMesh(const std::string& path);
 Mesh parseObjMesh(const std::string& bytes, const std::string& name,
                   const std::function<std::string(const std::string&)>& mtl = {});
 Mesh parsePlyMesh(const std::string& bytes, const std::string& name);
+// glTF 2.0, JSON or binary (.glb): the default scene's nodes with their transforms, triangle
+// primitives' POSITION, NORMAL, COLOR_0 and indices, each material's base colour factor (linear)
+// as the albedo (textures are not read); turned from glTF's +Y up to +Z up. Buffers given as
+// files are read through `files` (relative to the .gltf), data URIs and the .glb's own chunk
+// directly.
+Mesh parseGltfMesh(const std::string& bytes, const std::string& name,
+                   const std::function<std::string(const std::string&)>& files = {});
 
 // Checks what every mesh must be (triangles indexing existing vertices, finite coordinates, at
 // least one face of non-zero area); throws relume::Error naming `mesh.name`.
