@@ -427,7 +427,7 @@ QJsonObject relightBench(const Scene& sceneIn, int runs, Progress& progress) {
         hi = glm::max(hi, v);
       }
     const glm::dvec3 c(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z + 0.7 * (hi.z - lo.z) + z);
-    VirtualLamp v{"bench_lamp", {c + glm::dvec3(0, 0.3, 0), c + glm::dvec3(0.3, 0.3, 0), c + glm::dvec3(0.3, 0, 0), c}, glm::dvec3(20.0)};
+    VirtualLamp v{"bench_lamp", {c + glm::dvec3(0, 0.3, 0), c + glm::dvec3(0.3, 0.3, 0), c + glm::dvec3(0.3, 0, 0), c}, glm::dvec3(20.0), false, nullptr};
     std::vector<double> t;
     for (int r = 0; r < std::max(1, std::min(runs, 3)); ++r) {
       RelightSession s(scene, data, {v});

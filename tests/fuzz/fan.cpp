@@ -14,8 +14,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       const relume::ibr::FanView& v = fan->view(k);
       const size_t n = size_t(fan->size) * size_t(fan->size);
       if (v.alpha.size() != n || v.code.size() != n || v.depth.size() != n || v.colour.size() != 3 * n) std::abort();
-      for (uint8_t c : v.code)
-        if (c >= relume::ibr::kNormalCodes && c != relume::ibr::kNoNormal) return 0;  // a code out of range: tolerated
+      for (uint8_t c : v.code)  // a code out of range would index past the tables
+        if (c >= relume::ibr::kNormalCodes && c != relume::ibr::kNoNormal) std::abort();
     }
   } catch (const relume::Error&) {
   }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <QByteArray>
+#include <zlib.h>
 
 #include <cmath>
 #include <filesystem>
@@ -345,13 +346,32 @@ TEST(ImageFan, FilesRoundTripAndTruncatedOrForeignOrDamagedFilesAreRefused) {
   for (size_t cut : {size_t(5), size_t(40), bytes.size() / 2, bytes.size() - 2})
     refused(std::vector<uint8_t>(bytes.begin(), bytes.begin() + long(cut)), cut < 8 ? "not an image fan" : "truncated");
   auto other = bytes;
-  other[8] = 2;  // version 2
+  other[8] = 2;  // a fan of version 2, intact (its checksum made anew)
+  const uint32_t crc = uint32_t(crc32_z(0L, other.data(), other.size() - 4));
+  for (int k = 0; k < 4; ++k) other[other.size() - 4 + size_t(k)] = uint8_t(crc >> (8 * k));
   refused(other, "version 2");
+  other[8] = 3;  // ... and one whose version byte was damaged
+  refused(other, "damaged");
   auto damaged = bytes;
   damaged[bytes.size() / 2] ^= 0x40;
   refused(damaged, "damaged");
   refused(std::vector<uint8_t>{'P', 'K', 3, 4, 0, 0, 0, 0, 0, 0}, "not an image fan");
   std::filesystem::remove_all(dir);
+  // A fan of one view draws (with no second view to fall back on); a view that does not exist is
+  // an error, not a crash.
+  const auto one = buildFan(blob(48, 24), [] {
+    FanOptions o = testFan({30}, true, 32);
+    o.viewsPerRing = 1;
+    return o;
+  }());
+  radiosity::HierarchicalRadiosity h(room({lampAt({2.0, 2.0, 2.79}, {0, 0, -1}, 0.3)}, glm::dvec3(30.0)));
+  h.solve();
+  Placement place;
+  place.position = glm::dvec3(2.0, 2.0, 0.0);
+  const Camera cam = Camera::lookAt(glm::dvec3(3.5, 2.0, 1.2), glm::dvec3(2.0, 2.0, 0.3), 160, 120, 150);
+  ImageRGB img(cam.width, cam.height);
+  EXPECT_GT(drawObject(*one, place, lightingAt(h, place.toWorld(*one, one->centre), 256), cam, roomView(h, cam), img).objectPixels, 100u);
+  EXPECT_NE(test::errorText([&] { one->view(1); }).find("no such view"), std::string::npos);
 }
 
 TEST(ImageBasedObject, ShadedLikeTheMeshItselfUnderThreeLampPlacements) {

@@ -5,6 +5,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -131,24 +132,34 @@ glm::dvec3 ImageFan::pointAt(int k, double x, double y, double depth) const {
 }
 
 const FanView& ImageFan::view(int k) const {
+  if (k < 0 || size_t(k) >= compressed.size())
+    throw Error(source, "image fan view " + std::to_string(k), "the fan has no such view (it has " +
+                                                                  std::to_string(compressed.size()) + ")");
   std::lock_guard<std::mutex> lock(mutex_);
   if (decoded_.size() != compressed.size()) decoded_.resize(compressed.size());
   if (!decoded_[size_t(k)]) {
+    const std::string where = "image fan view " + std::to_string(k);
     const size_t n = size_t(size) * size_t(size);
+    const auto& c = compressed[size_t(k)];
+    // Deflate packs at most about 1032 bytes into one: a short view claiming a big image is damaged
+    // (checked before the image's memory is taken).
+    if (pixelBytes(size) > 1100 * c.size() + 64) throw Error(source, where, "the view's pixels are damaged (too few bytes)");
     std::vector<uint8_t> raw(pixelBytes(size));
     uLongf len = uLongf(raw.size());
-    const auto& c = compressed[size_t(k)];
     if (uncompress(raw.data(), &len, c.data(), uLong(c.size())) != Z_OK || len != raw.size())
-      throw Error(meshName, "image fan view " + std::to_string(k), "the view's pixels are damaged");
+      throw Error(source, where, "the view's pixels are damaged");
     auto v = std::make_unique<FanView>();
-    v->alpha.assign(raw.begin(), raw.begin() + n);
-    v->code.assign(raw.begin() + n, raw.begin() + 2 * n);
+    v->alpha.assign(raw.begin(), raw.begin() + long(n));
+    v->code.assign(raw.begin() + long(n), raw.begin() + 2 * long(n));
+    for (size_t i = 0; i < n; ++i)
+      if ((v->code[i] >= kNormalCodes && v->code[i] != kNoNormal) || ((v->code[i] == kNoNormal) != (v->alpha[i] == 0)))
+        throw Error(source, where, "the view's pixels are damaged (a normal code out of range)");
     v->depth.resize(n);
     for (size_t i = 0; i < n; ++i) {
       const uint16_t d = uint16_t((raw[2 * n + i] << 8) | raw[3 * n + i]);
       v->depth[i] = uint16_t(d + (i % size_t(size) ? v->depth[i - 1] : 0));
     }
-    v->colour.assign(raw.begin() + 4 * n, raw.end());
+    v->colour.assign(raw.begin() + 4 * long(n), raw.end());
     std::vector<double> sum(kTableCells * kTableCells, 0.0), count(sum.size(), 0.0);
     for (int y = 0; y < size; ++y)
       for (int x = 0; x < size; ++x) {
@@ -185,15 +196,21 @@ std::vector<uint8_t> fanBytes(const ImageFan& fan) {
     w.u32(uint32_t(c.size()));
     w.raw(c.data(), c.size());
   }
-  w.u32(uint32_t(crc32(0L, w.b.data(), uInt(w.b.size()))));
+  w.u32(uint32_t(crc32_z(0L, w.b.data(), w.b.size())));
   return w.b;
 }
 
 void writeFan(const ImageFan& fan, const std::string& path) {
   const std::vector<uint8_t> bytes = fanBytes(fan);
-  const std::string tmp = path + ".part";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  // A temporary name of this process's own (two writers never share one), renamed into place.
+  static std::atomic<unsigned> serial{0};
+  const std::string tmp = path + ".part" + std::to_string(::getpid()) + "." + std::to_string(serial++);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) throw Error(path, "", std::string("cannot be written: ") + std::strerror(errno));
+  auto abandon = [&](int e, const char* what) {
+    std::remove(tmp.c_str());
+    throw Error(path, "", std::string("cannot be written: ") + what + std::strerror(e));
+  };
   size_t done = 0;
   while (done < bytes.size()) {
     const ssize_t k = ::write(fd, bytes.data() + done, bytes.size() - done);
@@ -201,20 +218,23 @@ void writeFan(const ImageFan& fan, const std::string& path) {
       if (errno == EINTR) continue;
       const int e = errno;
       ::close(fd);
-      std::remove(tmp.c_str());
-      throw Error(path, "", std::string("cannot be written: ") + std::strerror(e));
+      abandon(e, "");
     }
     done += size_t(k);
   }
-  if (::fsync(fd) != 0 || ::close(fd) != 0) {
-    std::remove(tmp.c_str());
-    throw Error(path, "", "cannot be written (the disk refused to keep it)");
+  if (::fsync(fd) != 0) {
+    const int e = errno;
+    ::close(fd);
+    abandon(e, "the disk refused to keep it: ");
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw Error(path, "", "cannot be written: " + ec.message());
+  if (::close(fd) != 0) abandon(errno, "the disk refused to keep it: ");
+  if (::rename(tmp.c_str(), path.c_str()) != 0) abandon(errno, "");
+  // The rename itself kept: the folder's entry synced.
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  const int dfd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
   }
 }
 
@@ -222,13 +242,17 @@ std::unique_ptr<ImageFan> parseFan(const std::vector<uint8_t>& b, const std::str
   if (b.size() < 8 || std::memcmp(b.data(), kMagic, 8) != 0) throw Error(name, "", "not an image fan file (relume ibr-fan writes them)");
   Reader r{b, 8, name};
   const uint32_t version = r.u32("header");
-  if (version != kFanVersion)
-    throw Error(name, "header", "an image fan of version " + std::to_string(version) + "; this Relume reads version " +
-                                    std::to_string(kFanVersion) + " (build the fan again with relume ibr-fan)");
   if (b.size() < 12 + 4) throw Error(name, "header", "the file is truncated");
   const uint32_t crcStored = uint32_t(b[b.size() - 4]) | uint32_t(b[b.size() - 3]) << 8 | uint32_t(b[b.size() - 2]) << 16 |
                              uint32_t(b[b.size() - 1]) << 24;
+  const bool intact = uint32_t(crc32_z(0L, b.data(), b.size() - 4)) == crcStored;
+  if (version != kFanVersion) {
+    if (!intact) throw Error(name, "", "the file is damaged (its checksum does not match)");
+    throw Error(name, "header", "an image fan of version " + std::to_string(version) + "; this Relume reads version " +
+                                    std::to_string(kFanVersion) + " (build the fan again with relume ibr-fan)");
+  }
   auto fan = std::make_unique<ImageFan>();
+  fan->source = name;
   const uint32_t size = r.u32("header"), perRing = r.u32("header"), rings = r.u32("header"), flags = r.u32("header");
   if (size < 8 || size > kMaxSize || perRing < 1 || perRing > kMaxViewsPerRing || rings < 1 || rings > kMaxRings || flags > 1)
     throw Error(name, "header", "the header is damaged (sizes out of range)");
@@ -244,7 +268,12 @@ std::unique_ptr<ImageFan> parseFan(const std::vector<uint8_t>& b, const std::str
   fan->radius = r.f64("header");
   for (int k = 0; k < 3; ++k) fan->boundsMin[k] = r.f64("header");
   for (int k = 0; k < 3; ++k) fan->boundsMax[k] = r.f64("header");
-  if (!(fan->radius > 0)) throw Error(name, "header", "the object's radius is not positive");
+  // A sphere from a micrometre to a kilometre across, holding the box.
+  if (!(fan->radius >= 1e-6 && fan->radius <= 1e3)) throw Error(name, "header", "the object's radius is out of range (damaged)");
+  for (int k = 0; k < 3; ++k)
+    if (!(fan->boundsMin[k] <= fan->boundsMax[k]) || std::abs(fan->boundsMin[k] - fan->centre[k]) > 1.01 * fan->radius + 1e-9 ||
+        std::abs(fan->boundsMax[k] - fan->centre[k]) > 1.01 * fan->radius + 1e-9)
+      throw Error(name, "header", "the object's bounding box does not fit its sphere (damaged)");
   fan->meshTriangles = r.u64("header");
   const uint32_t nameLen = r.u32("header");
   r.need(nameLen, "header");
@@ -259,7 +288,7 @@ std::unique_ptr<ImageFan> parseFan(const std::vector<uint8_t>& b, const std::str
   }
   r.need(4, "checksum");
   if (r.pos + 4 != b.size()) throw Error(name, "", "the file has bytes after its end (damaged)");
-  if (uint32_t(crc32(0L, b.data(), uInt(r.pos))) != crcStored) throw Error(name, "", "the file is damaged (its checksum does not match)");
+  if (!intact) throw Error(name, "", "the file is damaged (its checksum does not match)");
   return fan;
 }
 

@@ -43,6 +43,7 @@ std::unique_ptr<ImageFan> buildFan(const Mesh& meshIn, const FanOptions& o, Prog
   fan->dithered = o.dither;
   fan->meshTriangles = mesh->triangles.size();
   fan->meshName = std::filesystem::path(mesh->name).filename().string();
+  fan->source = mesh->name;
   glm::dvec3 lo(1e300), hi(-1e300);
   std::vector<char> used(mesh->positions.size(), 0);
   for (const auto& t : mesh->triangles)
@@ -64,7 +65,9 @@ std::unique_ptr<ImageFan> buildFan(const Mesh& meshIn, const FanOptions& o, Prog
   const int S = o.size, ss = o.samplesPerAxis;
   const size_t n = size_t(S) * S;
   const double R = fan->radius;
-  std::vector<Ray> rays(n * ss * ss);
+  // Rays in bands of rows (at most about a million at a time, whatever the size).
+  const int bandRows = std::max(1, std::min(S, int(1'000'000 / (size_t(S) * ss * ss))));
+  std::vector<Ray> rays(size_t(bandRows) * S * ss * ss);
   std::vector<RayHit> hits(rays.size());
   std::vector<glm::vec2> nxy(n);
   std::vector<uint8_t> mask(n);
@@ -75,55 +78,62 @@ std::unique_ptr<ImageFan> buildFan(const Mesh& meshIn, const FanOptions& o, Prog
     else
       progress.poll();
     const glm::dvec3 d = fan->toCamera(k), rt = fan->right(k), upv = fan->up(k);
-    for (int y = 0; y < S; ++y)
-      for (int x = 0; x < S; ++x)
-        for (int sy = 0; sy < ss; ++sy)
-          for (int sx = 0; sx < ss; ++sx) {
-            const double px = x + (sx + 0.5) / ss, py = y + (sy + 0.5) / ss;
-            const glm::dvec3 from = fan->pointAt(k, px, py, 0.0);
-            rays[((size_t(y) * S + x) * ss + sy) * ss + sx] = Ray{glm::vec3(from), glm::vec3(-d), 0.f, float(2.0 * R)};
-          }
-    scene.intersect(rays, hits);
     FanView v;
     v.alpha.assign(n, 0);
     v.code.assign(n, kNoNormal);
     v.depth.assign(n, kNoDepth);
     v.colour.assign(3 * n, 0);
-    for (size_t i = 0; i < n; ++i) {
-      int count = 0;
-      glm::dvec3 nsum(0.0), csum(0.0);
-      double tsum = 0;
-      for (int s = 0; s < ss * ss; ++s) {
-        const RayHit& h = hits[i * ss * ss + s];
-        if (h.polygon < 0) continue;
-        ++count;
-        const size_t tri = size_t(h.polygon);
-        const float u = h.barycentric.x, w = h.barycentric.y, a = 1.f - u - w;
-        glm::vec3 ng = h.geometricNormal;
-        const bool back = glm::dot(glm::dvec3(ng), d) < 0;
-        glm::vec3 nrm = mesh->cornerNormals.empty()
-                            ? ng
-                            : a * mesh->cornerNormals[3 * tri] + u * mesh->cornerNormals[3 * tri + 1] + w * mesh->cornerNormals[3 * tri + 2];
-        if (back) nrm = -nrm;  // a face seen from behind: its other side faces the viewer
-        const float l = glm::length(nrm);
-        nsum += l > 0 ? glm::dvec3(nrm / l) : d;
-        csum += mesh->cornerColours.empty()
-                    ? glm::dvec3(mesh->triangleAlbedo[tri])
-                    : glm::dvec3(a * mesh->cornerColours[3 * tri] + u * mesh->cornerColours[3 * tri + 1] + w * mesh->cornerColours[3 * tri + 2]);
-        tsum += h.t;
+    for (int y0 = 0; y0 < S; y0 += bandRows) {
+      const int rowsHere = std::min(bandRows, S - y0);
+      const size_t count0 = size_t(rowsHere) * S * ss * ss;
+      for (int y = y0; y < y0 + rowsHere; ++y)
+        for (int x = 0; x < S; ++x)
+          for (int sy = 0; sy < ss; ++sy)
+            for (int sx = 0; sx < ss; ++sx) {
+              const double px = x + (sx + 0.5) / ss, py = y + (sy + 0.5) / ss;
+              const glm::dvec3 from = fan->pointAt(k, px, py, 0.0);
+              rays[((size_t(y - y0) * S + x) * ss + sy) * ss + sx] = Ray{glm::vec3(from), glm::vec3(-d), 0.f, float(2.0 * R)};
+            }
+      scene.intersect(std::span<const Ray>(rays.data(), count0), std::span<RayHit>(hits.data(), count0));
+      for (size_t i = size_t(y0) * S; i < size_t(y0 + rowsHere) * S; ++i) {
+        int count = 0;
+        glm::dvec3 nsum(0.0), csum(0.0);
+        double tsum = 0;
+        for (int s = 0; s < ss * ss; ++s) {
+          const RayHit& h = hits[(i - size_t(y0) * S) * ss * ss + s];
+          if (h.polygon < 0) continue;
+          ++count;
+          const size_t tri = size_t(h.polygon);
+          const float u = h.barycentric.x, w = h.barycentric.y, a = 1.f - u - w;
+          glm::vec3 ng = h.geometricNormal;
+          glm::vec3 nrm = ng;
+          if (!mesh->cornerNormals.empty()) {
+            nrm = a * mesh->cornerNormals[3 * tri] + u * mesh->cornerNormals[3 * tri + 1] + w * mesh->cornerNormals[3 * tri + 2];
+            // The face's side is its normals' (whatever its winding, which a file may get wrong).
+            if (glm::dot(ng, nrm) < 0) ng = -ng;
+          }
+          if (glm::dot(glm::dvec3(ng), d) < 0) nrm = -nrm;  // seen from behind: its other side faces the viewer
+          const float l = glm::length(nrm);
+          nsum += l > 0 ? glm::dvec3(nrm / l) : d;
+          csum += mesh->cornerColours.empty()
+                      ? glm::dvec3(mesh->triangleAlbedo[tri])
+                      : glm::dvec3(a * mesh->cornerColours[3 * tri] + u * mesh->cornerColours[3 * tri + 1] +
+                                   w * mesh->cornerColours[3 * tri + 2]);
+          tsum += h.t;
+        }
+        mask[i] = count > 0;
+        if (!count) {
+          nxy[i] = glm::vec2(0.f);
+          continue;
+        }
+        v.alpha[i] = uint8_t(std::lround(255.0 * count / (ss * ss)));
+        const double nl = glm::length(nsum);
+        const glm::dvec3 nv = nl > 0 ? nsum / nl : d;
+        nxy[i] = glm::vec2(float(glm::dot(nv, rt)), float(glm::dot(nv, upv)));
+        const double t = tsum / count;
+        v.depth[i] = uint16_t(std::clamp(std::lround(t / (2.0 * R) * 65534.0), 0L, 65534L));
+        for (int c = 0; c < 3; ++c) v.colour[3 * i + c] = uint8_t(std::lround(255.f * srgbEncode(float(csum[c] / count))));
       }
-      mask[i] = count > 0;
-      if (!count) {
-        nxy[i] = glm::vec2(0.f);
-        continue;
-      }
-      v.alpha[i] = uint8_t(std::lround(255.0 * count / (ss * ss)));
-      const double nl = glm::length(nsum);
-      const glm::dvec3 nv = nl > 0 ? nsum / nl : d;
-      nxy[i] = glm::vec2(float(glm::dot(nv, rt)), float(glm::dot(nv, upv)));
-      const double t = tsum / count;
-      v.depth[i] = uint16_t(std::clamp(std::lround(t / (2.0 * R) * 65534.0), 0L, 65534L));
-      for (int c = 0; c < 3; ++c) v.colour[3 * i + c] = uint8_t(std::lround(255.f * srgbEncode(float(csum[c] / count))));
     }
     encodeNormalImage(nxy, mask, S, S, o.dither, v.code);
     fan->compressed[size_t(k)] = packView(v);

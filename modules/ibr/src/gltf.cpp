@@ -20,6 +20,9 @@ namespace relume::ibr {
 
 namespace {
 
+// Instancing a mesh many times could multiply it without end: a cap far above any furniture.
+constexpr size_t kMaxTriangles = 50'000'000;
+
 uint32_t le32(const std::string& b, size_t at) {
   uint32_t v = 0;
   for (int k = 0; k < 4; ++k) v |= uint32_t(uint8_t(b[at + k])) << (8 * k);
@@ -67,8 +70,15 @@ class Gltf {
       roots = scenes[s].toObject()["nodes"].toArray();
     }
     const QJsonArray nodes = root_["nodes"].toArray();
-    if (roots.isEmpty() && !nodes.isEmpty())
-      for (int i = 0; i < nodes.size(); ++i) roots.append(i);
+    if (roots.isEmpty() && !nodes.isEmpty()) {  // no scene: every node that is nobody's child
+      std::vector<char> child(size_t(nodes.size()), 0);
+      for (const auto& n : nodes)
+        for (const auto& c : n.toObject()["children"].toArray())
+          if (c.toInt(-1) >= 0 && c.toInt(-1) < nodes.size()) child[size_t(c.toInt())] = 1;
+      for (int i = 0; i < nodes.size(); ++i)
+        if (!child[size_t(i)]) roots.append(i);
+    }
+    visited_.assign(size_t(nodes.size()), 0);
     // glTF's +Y up to +Z up: (x, y, z) -> (x, -z, y).
     const glm::dmat4 up(glm::dvec4(1, 0, 0, 0), glm::dvec4(0, 0, 1, 0), glm::dvec4(0, -1, 0, 0), glm::dvec4(0, 0, 0, 1));
     int depth = 0;
@@ -82,7 +92,9 @@ class Gltf {
   void visit(int n, const glm::dmat4& parent, Mesh& m, int& depth) {
     const QJsonArray nodes = root_["nodes"].toArray();
     if (n < 0 || n >= nodes.size()) fail("nodes", "a node names a node that does not exist");
-    if (++depth > 64) fail("nodes", "nodes nest more than 64 deep (a cycle?)");
+    if (visited_[size_t(n)]) fail("node " + std::to_string(n), "appears twice in the scene (glTF allows a node one parent)");
+    visited_[size_t(n)] = 1;
+    if (++depth > 64) fail("nodes", "nodes nest more than 64 deep");
     const QJsonObject node = nodes[n].toObject();
     glm::dmat4 local(1.0);
     if (node.contains("matrix")) {
@@ -147,8 +159,7 @@ class Gltf {
     const double countD = o["count"].toDouble(-1);
     if (!(countD >= 0) || countD > 1e9) fail(what, "an accessor's count is not a count");
     const size_t count = size_t(countD);
-    std::vector<double> out(count * size_t(comps), 0.0);
-    if (!o.contains("bufferView")) return out;  // all zeros (sparse accessors are not read)
+    if (!o.contains("bufferView")) fail(what, "an accessor without a buffer view (sparse accessors are not read)");
     const QJsonArray views = root_["bufferViews"].toArray();
     const int vi = o["bufferView"].toInt(-1);
     if (vi < 0 || vi >= views.size()) fail(what, "names a buffer view that does not exist");
@@ -160,6 +171,7 @@ class Gltf {
       fail(what, "a buffer view runs past its buffer's end");
     if (count > 0 && off + double(stride) * double(count - 1) + double(csize) * n > viewLen)
       fail(what, "an accessor runs past its buffer view's end");
+    std::vector<double> out(count * size_t(comps), 0.0);  // its bytes are there (checked above)
     const bool normalized = o["normalized"].toBool(false);
     const char* base = b.data() + size_t(viewOff) + size_t(off);
     for (size_t i = 0; i < count; ++i)
@@ -183,6 +195,7 @@ class Gltf {
     const QJsonArray meshes = root_["meshes"].toArray();
     if (mi < 0 || mi >= meshes.size()) fail("nodes", "a node names a mesh that does not exist");
     const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(world)));
+    const bool mirrored = glm::determinant(glm::dmat3(world)) < 0;  // glTF: the winding flips too
     const QJsonArray prims = meshes[mi].toObject()["primitives"].toArray();
     for (int pi = 0; pi < prims.size(); ++pi) {
       const QJsonObject prim = prims[pi].toObject();
@@ -219,9 +232,13 @@ class Gltf {
           if (!(v >= 0) || v >= double(nv)) fail(what + " indices", "an index names a vertex that does not exist");
           tri[k] = unsigned(base + size_t(v));
         }
+        if (mirrored) std::swap(tri[1], tri[2]);
+        if (m.triangles.size() >= kMaxTriangles)
+          fail("meshes", "more than " + std::to_string(kMaxTriangles / 1000000) + " million triangles");
         m.triangles.push_back(tri);
         m.triangleAlbedo.push_back(albedo);
-        for (int k = 0; k < 3; ++k) {
+        for (int kk = 0; kk < 3; ++kk) {
+          const int k = mirrored && kk > 0 ? 3 - kk : kk;  // the corners in the triangle's order
           const size_t v = size_t(idx[t + size_t(k)]);
           cornerN_.push_back(nrm.empty() ? glm::vec3(0.f) : glm::vec3(normalMatrix * glm::dvec3(nrm[3 * v], nrm[3 * v + 1], nrm[3 * v + 2])));
           cornerC_.push_back(col.empty() ? albedo * 1.f : glm::clamp(glm::vec3(col[3 * v], col[3 * v + 1], col[3 * v + 2]) * albedo, glm::vec3(0.f), glm::vec3(1.f)));
@@ -251,6 +268,7 @@ class Gltf {
   std::string glb_;
   std::map<int, std::string> buffers_;
   std::vector<glm::vec3> cornerN_, cornerC_;
+  std::vector<char> visited_;
   bool anyNormal_ = false, anyColour_ = false;
 };
 

@@ -297,6 +297,7 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
       views[1] = k;
     }
   st.view = views[0];
+  const int nViews = views[1] >= 0 ? 2 : 1;  // a fan of one view has no second
   // Its bounds on screen: the bounding sphere's cube.
   int ix0 = 0, iy0 = 0, ix1 = cam.width - 1, iy1 = cam.height - 1;
   {
@@ -330,13 +331,13 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
     const FanView* image;
   };
   std::vector<Shadow> lamps;
-  for (int j = 0; j < 2; ++j) {
+  for (int j = 0; j < nViews; ++j) {
     lit[j].indirect = indirectTable(fan, views[j], place, light.indirect);
     lit[j].view = &fan.view(views[j]);
   }
   for (const auto& lamp : light.lamps) {
     if (glm::dot(lamp.intensity, lamp.intensity) <= 0 && lamp.visible <= 0) continue;
-    for (int j = 0; j < 2; ++j) lit[j].lamps.push_back(lampTables(fan, views[j], place, lamp));
+    for (int j = 0; j < nViews; ++j) lit[j].lamps.push_back(lampTables(fan, views[j], place, lamp));
     const int kl = fan.nearestView(place.toObjectDirection(glm::normalize(lamp.position - cw)));
     lamps.push_back({lamp.position, kl, &fan.view(kl)});
   }
@@ -355,8 +356,8 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
         const glm::dvec3 dObj = place.toObjectDirection(r) / place.scale;  // t stays the world distance
         ViewHit hit;
         int j = 0;
-        while (j < 2 && !marchView(fan, *lit[j].view, views[j], eyeObj, dObj, hit)) ++j;
-        if (j == 2) continue;
+        while (j < nViews && !marchView(fan, *lit[j].view, views[j], eyeObj, dObj, hit)) ++j;
+        if (j == nViews) continue;
         const size_t pi = size_t(y) * cam.width + x;
         if (double(room.depth[pi]) < hit.t - 1e-4) continue;  // the room is nearer
         const FanView& v = *lit[j].view;

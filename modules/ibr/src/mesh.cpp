@@ -60,7 +60,7 @@ std::string lineText(size_t line) { return "line " + std::to_string(line); }
 // A 1-based (or negative, relative) OBJ index into n items; -1 when out of range.
 long objIndex(long i, size_t n) {
   if (i > 0 && size_t(i) <= n) return i - 1;
-  if (i < 0 && size_t(-i) <= n) return long(n) + i;
+  if (i < 0 && i >= -long(n)) return long(n) + i;
   return -1;
 }
 
@@ -84,6 +84,22 @@ std::map<std::string, glm::vec3> parseMtl(const std::string& bytes) {
     }
   }
   return kd;
+}
+
+// A file a mesh names (an MTL, a glTF buffer): a plain file in the mesh's folder or below it,
+// named by a relative path without "..".
+std::string besideFile(const std::string& mesh, const std::filesystem::path& dir, const std::string& rel,
+                       const std::string& element) {
+  const std::filesystem::path p(rel);
+  if (rel.empty() || p.is_absolute() || std::any_of(p.begin(), p.end(), [](const auto& part) { return part == ".."; }))
+    throw Error(mesh, element, "names a file outside the mesh's folder");
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(dir / p, ec)) throw Error(mesh, element, "names a file that is not there");
+  try {
+    return readAll((dir / p).string());
+  } catch (const Error&) {
+    throw Error(mesh, element, "the file it names cannot be read");
+  }
 }
 
 }  // namespace
@@ -335,8 +351,14 @@ Mesh parsePlyMesh(const std::string& bytes, const std::string& name) {
   m.name = name;
   // Bound the counts by what the body can hold (a value is at least one byte, or two characters).
   const size_t bodyBytes = all.size() - bodyStart;
-  for (const auto& el : elements)
+  int vertexElements = 0, faceElements = 0;
+  for (const auto& el : elements) {
     if (el.count > bodyBytes) throw Error(name, "element " + el.name, "more elements than the file has bytes for");
+    vertexElements += el.name == "vertex";
+    faceElements += el.name == "face";
+  }
+  if (vertexElements != 1) throw Error(name, "header", "needs exactly one vertex element");
+  if (faceElements > 1) throw Error(name, "header", "more than one face element");
   PlyReader r(all.substr(bodyStart), format, name);
   std::vector<glm::vec3> vertexNormal, vertexColour;
   bool hasNormal = false, hasColour = false;
@@ -382,6 +404,7 @@ Mesh parsePlyMesh(const std::string& bytes, const std::string& name) {
         }
       }
     } else if (el.name == "face") {
+      if (m.positions.empty() && el.count > 0) throw Error(name, "element face", "faces come before the vertices they name");
       int ix = -1;
       for (size_t k = 0; k < el.props.size(); ++k)
         if (el.props[k].list && (el.props[k].name == "vertex_indices" || el.props[k].name == "vertex_index")) ix = int(k);
@@ -411,7 +434,7 @@ Mesh parsePlyMesh(const std::string& bytes, const std::string& name) {
             m.triangles.push_back(glm::uvec3(unsigned(idx[0]), unsigned(idx[i]), unsigned(idx[i + 1])));
         }
       }
-    } else {
+    } else if (el.name != "face" && !el.props.empty()) {  // other elements: read past
       for (size_t i = 0; i < el.count; ++i)
         for (const auto& p : el.props) {
           if (!p.list) {
@@ -453,21 +476,8 @@ Mesh readMesh(const std::string& path) {
   if (ext == ".ply") return parsePlyMesh(bytes, path);
   const auto dir = std::filesystem::path(path).parent_path();
   if (ext == ".gltf" || ext == ".glb")
-    return parseGltfMesh(bytes, path, [&](const std::string& rel) {
-      try {
-        return readAll((dir / rel).string());
-      } catch (const Error&) {
-        throw Error(path, "buffer " + rel, "the buffer file cannot be read");
-      }
-    });
-  return parseObjMesh(bytes, path, [&](const std::string& lib) {
-    const auto p = dir / lib;
-    try {
-      return readAll(p.string());
-    } catch (const Error&) {
-      throw Error(path, "mtllib " + lib, "the material file cannot be read");
-    }
-  });
+    return parseGltfMesh(bytes, path, [&](const std::string& rel) { return besideFile(path, dir, rel, "buffer " + rel); });
+  return parseObjMesh(bytes, path, [&](const std::string& lib) { return besideFile(path, dir, lib, "mtllib " + lib); });
 }
 
 }  // namespace relume::ibr

@@ -55,6 +55,7 @@ class ImageFan {
   glm::dvec3 boundsMin{0.0}, boundsMax{0.0};  // the mesh's bounding box
   uint64_t meshTriangles = 0;
   std::string meshName;
+  std::string source;  // the fan file it was read from (for messages; the mesh's name when built)
 
   int viewCount() const { return viewsPerRing * int(ringElevations.size()); }
   // View k = ring * viewsPerRing + j, at azimuth 2 pi j / viewsPerRing.
@@ -66,7 +67,8 @@ class ImageFan {
   glm::dvec3 pointAt(int view, double x, double y, double depth) const;
   double depthMetres(uint16_t code) const { return double(code) / 65534.0 * 2.0 * radius; }
 
-  // A view's pixels, decoded on first use (thread-safe).
+  // A view's pixels, decoded on first use (thread-safe). Throws relume::Error naming `source`
+  // for a view that does not exist or whose pixels are damaged.
   const FanView& view(int k) const;
 
   // --- storage ---
