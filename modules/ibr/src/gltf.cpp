@@ -208,6 +208,8 @@ class Gltf {
       std::vector<double> nrm, col;
       if (attr.contains("NORMAL")) nrm = accessor(attr["NORMAL"].toInt(-1), 3, what + " NORMAL");
       if (attr.contains("COLOR_0")) col = accessor(attr["COLOR_0"].toInt(-1), 3, what + " COLOR_0");
+      if ((!nrm.empty() && nrm.size() != pos.size()) || (!col.empty() && col.size() != pos.size()))
+        fail(what, "its NORMAL or COLOR_0 has not one value per vertex");
       std::vector<double> idx;
       if (prim.contains("indices")) idx = accessor(prim["indices"].toInt(-1), 1, what + " indices");
       else for (size_t i = 0; i < nv; ++i) idx.push_back(double(i));
