@@ -158,7 +158,7 @@ QJsonObject ibrBench(const Scene& sceneIn, int runs, Progress& progress) {
   std::vector<double> lighting, tables, roomViews, composite;
   const ImageRGB relit = session.render(cam, RelightMethod::Full);
   const ibr::IrradianceAt irradiance = [&](int surface, const glm::dvec3& p) {
-    return glm::dvec3(session.shading(h.findLeaf(surface, h.toUV(surface, p))));
+    return glm::dvec3(h.irradiance(h.findLeaf(surface, h.toUV(surface, p))));
   };
   size_t pixels = 0, shadowPixels = 0;
   for (int r = 0; r < std::max(runs, 5); ++r) {

@@ -446,6 +446,9 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
     for (const auto& v : lamp.polygon) views.back().lampRadius = std::max(views.back().lampRadius, glm::length(v - lamp.position));
   }
   if (views.empty()) return st;
+  std::vector<char> emitters(h.surfaces().size(), 0);
+  for (size_t i = 0; i < emitters.size(); ++i)
+    emitters[i] = glm::dot(h.surfaces()[i].exitance, h.surfaces()[i].exitance) > 0 || h.surfaces()[i].photometry != nullptr;
   const int S = fan.size;
   std::atomic<size_t> shaded{0};
   tbb::parallel_for(tbb::blocked_range<int>(0, cam.height, 8), [&](const tbb::blocked_range<int>& rows) {
@@ -454,7 +457,8 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
       for (int x = 0; x < cam.width; ++x) {
         const size_t pi = size_t(y) * cam.width + x;
         const int surface = room.surface[pi];
-        if (surface < 0) continue;
+        // Lamps keep their glow: a shadow falls on what reflects.
+        if (surface < 0 || emitters[size_t(surface)]) continue;
         const glm::dvec3 X(room.point[pi]);
         glm::dvec3 taken(0.0);
         glm::dvec3 total(-1.0);

@@ -41,8 +41,11 @@ std::vector<DrawStats> drawImageObjects(RelightSession& session, const std::vect
   if (mask) mask->assign(size_t(camera.width) * camera.height, 0);
   std::vector<ObjectLighting> lights;
   for (const auto& o : objects) lights.push_back(lightingAt(h, o.place.toWorld(*o.fan, o.fan->centre)));
+  // The light arriving there: on real surfaces what the display's B / D is made of (irradiance),
+  // and on a virtual object's faces too (their radiosity is reflectance x irradiance, so the share
+  // taken off is the same).
   const IrradianceAt irradiance = [&](int surface, const glm::dvec3& p) {
-    return glm::dvec3(session.shading(h.findLeaf(surface, h.toUV(surface, p))));
+    return glm::dvec3(h.irradiance(h.findLeaf(surface, h.toUV(surface, p))));
   };
   for (size_t i = 0; i < objects.size(); ++i)
     stats[i].shadowPixels =
