@@ -98,6 +98,18 @@ void writeJsonAtomically(const QString& path, const QJsonObject& obj) {
   if (!f.commit()) throw Error(str(path), "", "cannot write: " + str(f.errorString()));
 }
 
+Camera resized(const Camera& c, int width, int height) {
+  Camera out = c;
+  const double sx = double(width) / c.width, sy = double(height) / c.height;
+  out.K[0][0] *= sx;
+  out.K[2][0] *= sx;
+  out.K[1][1] *= sy;
+  out.K[2][1] *= sy;
+  out.width = width;
+  out.height = height;
+  return out;
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   if (v.empty()) return 0;

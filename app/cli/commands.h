@@ -5,6 +5,7 @@
 #include <chrono>
 #include <vector>
 
+#include "relume/geometry/camera.h"
 #include "relume/geometry/progress.h"
 
 class QCommandLineParser;
@@ -15,6 +16,9 @@ namespace relume::cli {
 void writeJsonAtomically(const QString& path, const QJsonObject& obj);
 double median(std::vector<double> v);
 double seconds(std::chrono::steady_clock::time_point since);
+
+// The same camera seeing the same view at another resolution (focal length and principal point scaled).
+Camera resized(const Camera& camera, int width, int height);
 
 // Parses `args` (help printed on --help); throws relume::Error unless `positional` arguments remain.
 void parseOrThrow(QCommandLineParser& p, const QStringList& args, int positional, const char* usage);

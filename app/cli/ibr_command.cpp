@@ -77,33 +77,6 @@ namespace relume::cli {
 
 namespace {
 
-// A smooth bumpy ball of about 2 * nu * nv triangles, 0.5 m across, standing on z = 0.
-ibr::Mesh benchMesh(int nu, int nv) {
-  ibr::Mesh m;
-  m.name = "bench ball";
-  const double r = 0.25;
-  auto at = [&](double th, double ph) {
-    const double rr = r * (1 + 0.08 * std::sin(5 * th) * std::cos(6 * ph));
-    return glm::vec3(float(rr * std::sin(th) * std::cos(ph)), float(rr * std::sin(th) * std::sin(ph)),
-                     float(rr * std::cos(th) + 1.08 * r));
-  };
-  m.positions.push_back(at(0, 0));
-  for (int j = 1; j < nv; ++j)
-    for (int i = 0; i < nu; ++i) m.positions.push_back(at(std::numbers::pi * j / nv, 2 * std::numbers::pi * i / nu));
-  m.positions.push_back(at(std::numbers::pi, 0));
-  const unsigned bottom = unsigned(m.positions.size() - 1);
-  auto ring = [&](int j, int i) { return unsigned(1 + (j - 1) * nu + (i % nu)); };
-  for (int i = 0; i < nu; ++i) m.triangles.push_back({0u, ring(1, i), ring(1, i + 1)});
-  for (int j = 1; j + 1 < nv; ++j)
-    for (int i = 0; i < nu; ++i) {
-      m.triangles.push_back({ring(j, i), ring(j + 1, i), ring(j + 1, i + 1)});
-      m.triangles.push_back({ring(j, i), ring(j + 1, i + 1), ring(j, i + 1)});
-    }
-  for (int i = 0; i < nu; ++i) m.triangles.push_back({bottom, ring(nv - 1, i + 1), ring(nv - 1, i)});
-  m.triangleAlbedo.assign(m.triangles.size(), glm::vec3(0.6f, 0.4f, 0.3f));
-  return m;
-}
-
 double medianMs(std::vector<double> v) { return median(std::move(v)) * 1000.0; }
 
 }  // namespace
@@ -113,7 +86,7 @@ QJsonObject ibrBench(const Scene& sceneIn, int runs, Progress& progress) {
   // A fan of a mesh of a million triangles, at the defaults (three rings of 96 views, 256 x 256).
   {
     progress.report(0.0, "bench: a 1M-triangle mesh's image fan");
-    const ibr::Mesh big = benchMesh(1000, 500);
+    const ibr::Mesh big = ibr::bumpyBall(1000, 500, 0.25, 0.08);
     const auto t0 = std::chrono::steady_clock::now();
     const auto fan = ibr::buildFan(big, ibr::FanOptions{}, progress);
     const size_t bytes = ibr::fanBytes(*fan).size();
@@ -128,14 +101,7 @@ QJsonObject ibrBench(const Scene& sceneIn, int runs, Progress& progress) {
   session.update();
   session.syncEngine();
   const Photo* photo = scene.findPhoto(data.photo);
-  Camera cam = photo->camera;
-  const double sx = 640.0 / cam.width, sy = 480.0 / cam.height;
-  cam.K[0][0] *= sx;
-  cam.K[2][0] *= sx;
-  cam.K[1][1] *= sy;
-  cam.K[2][1] *= sy;
-  cam.width = 640;
-  cam.height = 480;
+  const Camera cam = resized(photo->camera, 640, 480);
   glm::dvec3 lo(1e300), hi(-1e300);
   for (const auto& p : scene.polygons)
     for (const auto& v : p.vertices) {
@@ -145,7 +111,7 @@ QJsonObject ibrBench(const Scene& sceneIn, int runs, Progress& progress) {
   ibr::ImageObject object;
   object.name = "bench ball";
   object.fanFile = "(bench)";
-  object.fan = ibr::buildFan(benchMesh(200, 100), ibr::FanOptions{}, progress);
+  object.fan = ibr::buildFan(ibr::bumpyBall(200, 100, 0.25, 0.08), ibr::FanOptions{}, progress);
   object.place.position = glm::dvec3(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z);
   try {
     ibr::checkImageObject(scene, object);

@@ -353,14 +353,7 @@ QJsonObject relightBench(const Scene& sceneIn, int runs, Progress& progress) {
   }
   QJsonObject out{{"preprocess_median_seconds", median(pre)}};
   const Camera& cam0 = photoNamedian(scene, data.photo).camera;
-  Camera cam = cam0;  // the main view at 640 x 480
-  const double sx = 640.0 / cam0.width, sy = 480.0 / cam0.height;
-  cam.K[0][0] *= sx;
-  cam.K[2][0] *= sx;
-  cam.K[1][1] *= sy;
-  cam.K[2][1] *= sy;
-  cam.width = 640;
-  cam.height = 480;
+  const Camera cam = resized(cam0, 640, 480);  // the main view at 640 x 480
   for (auto mesh : {SessionMesh::Refined, SessionMesh::Interactive}) {
     const char* name = mesh == SessionMesh::Refined ? "refined_mesh" : "interactive_mesh";
     progress.report(0.4, std::string("bench: relighting on the ") + name);

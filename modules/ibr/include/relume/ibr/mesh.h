@@ -40,6 +40,11 @@ Mesh parsePlyMesh(const std::string& bytes, const std::string& name);
 Mesh parseGltfMesh(const std::string& bytes, const std::string& name,
                    const std::function<std::string(const std::string&)>& files = {});
 
+// A smooth bumpy ball standing on z = 0 (radius r (1 + bump sin 3 theta cos 4 phi)), 2 nu (nv - 1)
+// triangles, its normals averaged from its faces, albedo 0.8 grey: a mesh of any size for
+// benchmarks and tests.
+Mesh bumpyBall(int nu, int nv, double radius, double bump);
+
 // Checks what every mesh must be (triangles indexing existing vertices, finite coordinates, at
 // least one face of non-zero area); throws relume::Error naming `mesh.name`.
 void validateMesh(const Mesh& mesh);
