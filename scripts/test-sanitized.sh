@@ -35,8 +35,11 @@ pids=()
 run radiosity_tests '*' & pids+=($!)
 run reconstruct_tests '*' & pids+=($!)
 for p in "${pids[@]}"; do wait "$p" || status=1; done
-for t in geometry_tests raytrace_tests project_tests daylight_tests ibr_tests; do run "$t" '*' || status=1; done
-run relight_tests "$quick_relight" || status=1
+for t in geometry_tests raytrace_tests project_tests daylight_tests; do run "$t" '*' || status=1; done
+pids=()
+run ibr_tests '*' & pids+=($!)
+run relight_tests "$quick_relight" & pids+=($!)
+for p in "${pids[@]}"; do wait "$p" || status=1; done
 # The fuzzing corpora and every crash input found (tests/fuzz/regressions), replayed through the
 # parsers' harnesses under the same sanitizers (g++; libFuzzer's engine is not needed to replay).
 cmake -S tests/fuzz -B build-asan/fuzz-replay -G Ninja -DRELUME_FUZZ_REPLAY=ON > /dev/null
