@@ -121,7 +121,7 @@ QJsonObject ibrBench(const Scene& sceneIn, int runs, Progress& progress) {
   }
   const auto& h = session.engine();
   const glm::dvec3 centre = object.place.toWorld(*object.fan, object.fan->centre);
-  std::vector<double> lighting, tables, roomViews, composite;
+  std::vector<double> lighting, tables, roomViews, composite, shadows, drawing;
   const ImageRGB relit = session.render(cam, RelightMethod::Full);
   const ibr::IrradianceAt irradiance = [&](int surface, const glm::dvec3& p) {
     return glm::dvec3(h.irradiance(h.findLeaf(surface, h.toUV(surface, p))));
@@ -144,7 +144,10 @@ QJsonObject ibrBench(const Scene& sceneIn, int runs, Progress& progress) {
     ImageRGB img = relit;
     t0 = std::chrono::steady_clock::now();
     shadowPixels = ibr::drawShadows(*object.fan, object.place, light, h, cam, room, irradiance, img).shadowPixels;
+    shadows.push_back(seconds(t0));
+    const auto t1 = std::chrono::steady_clock::now();
     pixels = ibr::drawObject(*object.fan, object.place, light, cam, room, img).objectPixels;
+    drawing.push_back(seconds(t1));
     composite.push_back(seconds(t0));
   }
   out["object"] = QJsonObject{{"lamps", qint64(scene.lamps.size())},
@@ -154,7 +157,9 @@ QJsonObject ibrBench(const Scene& sceneIn, int runs, Progress& progress) {
                               {"lighting_median_ms", medianMs(lighting)},
                               {"tables_update_median_ms", medianMs(tables)},
                               {"room_view_median_ms", medianMs(roomViews)},
-                              {"composite_median_ms", medianMs(composite)}};
+                              {"composite_median_ms", medianMs(composite)},
+                              {"shadows_median_ms", medianMs(shadows)},
+                              {"object_median_ms", medianMs(drawing)}};
   return out;
 }
 

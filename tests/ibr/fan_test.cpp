@@ -352,9 +352,10 @@ TEST(ImageBasedObject, ShadedLikeTheMeshItselfUnderThreeLampPlacements) {
   // error, is in normal_code_test.cpp.)
   const Mesh m = blob();
   const auto fan = buildFan(m, testFan({15, 45, 75}, true));
-  Placement place;
+  Placement place;  // turned and scaled, as a user places it
   place.position = glm::dvec3(2.0, 2.0, 0.0);
   place.yaw = 0.3;
+  place.scale = 1.3;
   const glm::dvec3 c = place.toWorld(*fan, fan->centre);
   // Halfway between views 10 and 11 of the 45 deg ring (azimuth in the object's frame).
   const double az = (10.5 * 2 * std::numbers::pi / 96) + place.yaw, el = std::numbers::pi / 4;

@@ -198,10 +198,11 @@ struct ViewHit {
 // image's pixels then stand where the object's surface is, not on a flat billboard: seen from
 // close by, a viewer's ray meets the surface point it would meet on the object itself (as far as
 // view k saw it).
-bool marchView(const ImageFan& fan, const FanView& v, int k, const glm::dvec3& o, const glm::dvec3& d, ViewHit& hit) {
+bool marchView(const ImageFan& fan, const FanView& v, const ImageFan::Axes& ax, const glm::dvec3& o, const glm::dvec3& d,
+               ViewHit& hit) {
   const double R = fan.radius;
   const int S = fan.size;
-  const glm::dvec3 q = o - fan.centre, r = fan.right(k), u = fan.up(k), c = fan.toCamera(k);
+  const glm::dvec3 q = o - fan.centre, r = ax.right, u = ax.up, c = ax.toCamera;
   const double p0[3] = {glm::dot(q, r), glm::dot(q, u), R - glm::dot(q, c)};
   const double dv[3] = {glm::dot(d, r), glm::dot(d, u), -glm::dot(d, c)};
   const double lo[3] = {-R, -R, 0.0}, hi[3] = {R, R, 2.0 * R};
@@ -252,13 +253,13 @@ bool marchView(const ImageFan& fan, const FanView& v, int k, const glm::dvec3& o
 // (percentage-closer), p lit where it is no deeper than the surface there by more than a bias of
 // two pixels (the depth across a pixel of a surface turned away from the view, and the lamp's
 // offset from the view's direction).
-double selfShadow(const ImageFan& fan, const FanView& v, int k, const glm::dvec3& p) {
+double selfShadow(const ImageFan& fan, const FanView& v, const ImageFan::Axes& ax, const glm::dvec3& p) {
   const double R = fan.radius;
   const int S = fan.size;
   const glm::dvec3 q = p - fan.centre;
   const double px = S / (2.0 * R);
-  const double x = (glm::dot(q, fan.right(k)) + R) * px, y = (R - glm::dot(q, fan.up(k))) * px;
-  const double depth = R - glm::dot(q, fan.toCamera(k));
+  const double x = (glm::dot(q, ax.right) + R) * px, y = (R - glm::dot(q, ax.up)) * px;
+  const double depth = R - glm::dot(q, ax.toCamera);
   const double bias = 2.0 / px;
   const int ix = int(std::floor(x)), iy = int(std::floor(y));
   int lit = 0;
@@ -324,24 +325,27 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
     std::vector<LampTables> lamps;
     LightTable indirect;
     const FanView* view;
+    ImageFan::Axes axes;
   } lit[2];
   struct Shadow {  // a lamp's fan image, as a shadow map of the object on itself
     glm::dvec3 position;
-    int view;
+    ImageFan::Axes axes;
     const FanView* image;
   };
   std::vector<Shadow> lamps;
   for (int j = 0; j < nViews; ++j) {
     lit[j].indirect = indirectTable(fan, views[j], place, light.indirect);
     lit[j].view = &fan.view(views[j]);
+    lit[j].axes = fan.axes(views[j]);
   }
   for (const auto& lamp : light.lamps) {
     if (glm::dot(lamp.intensity, lamp.intensity) <= 0 && lamp.visible <= 0) continue;
     for (int j = 0; j < nViews; ++j) lit[j].lamps.push_back(lampTables(fan, views[j], place, lamp));
     const int kl = fan.nearestView(place.toObjectDirection(glm::normalize(lamp.position - cw)));
-    lamps.push_back({lamp.position, kl, &fan.view(kl)});
+    lamps.push_back({lamp.position, fan.axes(kl), &fan.view(kl)});
   }
   const glm::dvec3 eyeObj = place.toObject(fan, eye);
+  const double cosYaw = std::cos(place.yaw) / place.scale, sinYaw = std::sin(place.yaw) / place.scale;
   const int S = fan.size;
   // Fan pixels per screen pixel at the object's distance (1 to 4 across).
   const double texel = 2.0 * rs / S, pixel = dist / std::max(cam.fx(), 1e-9);
@@ -353,10 +357,10 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
     for (int y = rows.begin(); y < rows.end(); ++y)
       for (int x = ix0; x <= ix1; ++x) {
         const glm::dvec3 r = cam.rayDirection(x + 0.5, y + 0.5);
-        const glm::dvec3 dObj = place.toObjectDirection(r) / place.scale;  // t stays the world distance
+        const glm::dvec3 dObj(cosYaw * r.x + sinYaw * r.y, -sinYaw * r.x + cosYaw * r.y, r.z / place.scale);  // t stays the world distance
         ViewHit hit;
         int j = 0;
-        while (j < nViews && !marchView(fan, *lit[j].view, views[j], eyeObj, dObj, hit)) ++j;
+        while (j < nViews && !marchView(fan, *lit[j].view, lit[j].axes, eyeObj, dObj, hit)) ++j;
         if (j == nViews) continue;
         const size_t pi = size_t(y) * cam.width + x;
         if (double(room.depth[pi]) < hit.t - 1e-4) continue;  // the room is nearer
@@ -367,7 +371,7 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
         // Per lamp: its falloff from this point and the object's own shadow here.
         for (size_t l = 0; l < lamps.size(); ++l) {
           const glm::dvec3 dl = lamps[l].position - pWorld;
-          falloff[l] = selfShadow(fan, *lamps[l].image, lamps[l].view, pObj) / std::max(glm::dot(dl, dl), 1e-8);
+          falloff[l] = selfShadow(fan, *lamps[l].image, lamps[l].axes, pObj) / std::max(glm::dot(dl, dl), 1e-8);
         }
         // The four nearest cells' tables, bilinearly.
         const int tx = int(hit.texel % size_t(S)), ty = int(hit.texel / size_t(S));
@@ -496,7 +500,8 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
             const size_t ti = size_t(ty) * S + tx;
             if (!lv.image->alpha[ti]) continue;
             // The silhouette's point must lie between X and the lamp (not behind X).
-            const glm::dvec3 p = place.toWorld(fan, fan.pointAt(lv.view, tx + 0.5, ty + 0.5, fan.depthMetres(lv.image->depth[ti])));
+            const double a = ((tx + 0.5) / S * 2.0 - 1.0) * fan.radius, b = (1.0 - (ty + 0.5) / S * 2.0) * fan.radius;
+            const glm::dvec3 p = cw + place.scale * (a * lv.rw + b * lv.uw + (fan.radius - fan.depthMetres(lv.image->depth[ti])) * lv.nw);
             if (glm::dot(p - X, seg) <= 1e-3 * std::sqrt(len2)) continue;
             blocked += weight * (lv.image->alpha[ti] / 255.0);
           }

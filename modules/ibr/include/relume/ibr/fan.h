@@ -63,6 +63,11 @@ class ImageFan {
   glm::dvec3 right(int view) const;     // image x
   glm::dvec3 up(int view) const;        // image -y
   int nearestView(const glm::dvec3& toCameraDirection) const;
+  // The three at once (a view's frame: x right, y up, z towards its camera).
+  struct Axes {
+    glm::dvec3 right, up, toCamera;
+  };
+  Axes axes(int view) const { return {right(view), up(view), toCamera(view)}; }
   // The object-frame point at pixel coordinates (x, y) (pixel centres at + 0.5) and depth (m).
   glm::dvec3 pointAt(int view, double x, double y, double depth) const;
   double depthMetres(uint16_t code) const { return double(code) / 65534.0 * 2.0 * radius; }
