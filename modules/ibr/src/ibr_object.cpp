@@ -434,6 +434,9 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
     const FanView* image;
     std::vector<std::pair<glm::dvec3, double>> samples;  // points on the lamp, weights summing to 1
     double lampRadius;  // the farthest vertex from its centre
+    bool cone = false;  // the cone test below applies (the lamp lies outside the widened sphere)
+    glm::vec3 apex{0.f}, axis{0.f};
+    float cos2 = 0.f, nearSide = 0.f;
   };
   std::vector<LampView> views;
   for (size_t l = 0; l < light.lamps.size(); ++l) {
@@ -447,7 +450,17 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
                      place.toWorldDirection(fan.toCamera(k)),
                      radiosity::EmitterShape(lamp.polygon, lamp.twoSided, lamp.photometry), &fan.view(k),
                      pointsOn(lamp.polygon, 3), 0.0});
-    for (const auto& v : lamp.polygon) views.back().lampRadius = std::max(views.back().lampRadius, glm::length(v - lamp.position));
+    LampView& made = views.back();
+    for (const auto& v : lamp.polygon) made.lampRadius = std::max(made.lampRadius, glm::length(v - lamp.position));
+    const double reach = rs + made.lampRadius;
+    if (d > reach * 1.0001) {
+      const double sinT = reach / d;
+      made.cone = true;
+      made.apex = glm::vec3(lamp.position);
+      made.axis = glm::vec3(-toLamp / d);
+      made.cos2 = float((1.0 - sinT * sinT) * (1.0 - 1e-4));  // a hair wider than exact
+      made.nearSide = float(d - reach) - 1e-3f;
+    }
   }
   if (views.empty()) return st;
   std::vector<char> emitters(h.surfaces().size(), 0);
@@ -471,13 +484,12 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
           if (surface == lamp.surface) continue;
           // Nothing to hide unless the line to the lamp's centre passes within the object's
           // sphere widened by the lamp's own radius (every line to a point of the lamp lies within
-          // that radius of it).
-          {
-            const glm::dvec3 seg = lamp.position - X;
-            const double s = std::clamp(glm::dot(cw - X, seg) / glm::dot(seg, seg), 0.0, 1.0);
-            const glm::dvec3 closest = X + s * seg - cw;
-            const double reach = rs + lv.lampRadius;
-            if (glm::dot(closest, closest) > reach * reach) continue;
+          // that radius of it): X inside the cone from the lamp's centre around that sphere, and
+          // beyond its near side. (Single precision: it only picks the pixels tested exactly.)
+          if (lv.cone) {
+            const glm::vec3 v = room.point[pi] - lv.apex;
+            const float d = glm::dot(v, lv.axis);
+            if (d < lv.nearSide || d * d < lv.cos2 * glm::dot(v, v)) continue;
           }
           // The lamp's points (a soft shadow: the share of its area the silhouette hides).
           double blocked = 0;
