@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 #include <numbers>
 
+#include "relume/geometry/polygon.h"
 #include "relume/image/image.h"
 #include "relume/radiosity/form_factor.h"
 #include "relume/radiosity/hierarchy.h"
@@ -24,25 +25,6 @@ glm::dvec3 bottomCentre(const ImageFan& fan) {
 glm::dvec3 turn(const glm::dvec3& d, double a) {
   const double c = std::cos(a), s = std::sin(a);
   return glm::dvec3(c * d.x - s * d.y, s * d.x + c * d.y, d.z);
-}
-
-glm::dvec3 polygonCentre(const std::vector<glm::dvec3>& p) {
-  glm::dvec3 c(0.0);
-  for (const auto& v : p) c += v;
-  return c / double(p.size());
-}
-
-double polygonArea(const std::vector<glm::dvec3>& p) {
-  glm::dvec3 a(0.0);
-  for (size_t i = 1; i + 1 < p.size(); ++i) a += glm::cross(p[i] - p[0], p[i + 1] - p[0]);
-  return 0.5 * glm::length(a);
-}
-
-glm::dvec3 polygonNormal(const std::vector<glm::dvec3>& p) {
-  glm::dvec3 a(0.0);
-  for (size_t i = 1; i + 1 < p.size(); ++i) a += glm::cross(p[i] - p[0], p[i + 1] - p[0]);
-  const double l = glm::length(a);
-  return l > 0 ? a / l : glm::dvec3(0, 0, 1);
 }
 
 // Points spread over a convex polygon, with weights (their share of its area) summing to 1: in
@@ -104,7 +86,7 @@ ObjectLighting lightingAt(const radiosity::HierarchicalRadiosity& h, const glm::
     l.exitance = surf.exitance;
     l.twoSided = surf.twoSided;
     l.photometry = surf.photometry;
-    l.position = polygonCentre(surf.vertices);
+    l.position = polygonCentroid(surf.vertices);
     const glm::dvec3 toObj = c - l.position;
     const double d = glm::length(toObj);
     if (!(d > 0)) continue;
@@ -164,6 +146,8 @@ RoomView roomView(const radiosity::HierarchicalRadiosity& h, const Camera& cam) 
   v.normal.assign(n, glm::vec3(0.f));
   v.surface.assign(n, -1);
   const glm::dvec3 eye = cam.center();
+  std::vector<glm::dvec3> normals;  // per surface, once
+  for (const auto& surf : h.surfaces()) normals.push_back(surf.vertices.size() >= 3 ? polygonNormal(surf.vertices) : glm::dvec3(0.0));
   tbb::parallel_for(tbb::blocked_range<int>(0, cam.height, 8), [&](const tbb::blocked_range<int>& rows) {
     std::vector<Ray> rays(size_t(cam.width));
     std::vector<RayHit> hits(rays.size());
@@ -176,8 +160,7 @@ RoomView roomView(const radiosity::HierarchicalRadiosity& h, const Camera& cam) 
         const size_t i = size_t(y) * cam.width + x;
         v.depth[i] = hit.t;
         v.point[i] = hit.point;
-        const auto& s = h.surfaces()[size_t(hit.polygon)];
-        const glm::dvec3 nrm = polygonNormal(s.vertices);
+        const glm::dvec3& nrm = normals[size_t(hit.polygon)];
         v.normal[i] = glm::vec3(nrm);
         if (glm::dot(glm::dvec3(rays[size_t(x)].direction), nrm) < 0) v.surface[i] = hit.polygon;
       }
