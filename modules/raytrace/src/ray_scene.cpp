@@ -15,29 +15,46 @@ struct RayScene::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   std::vector<int> triangleToPolygon;
+
+  explicit Impl(RTCBuildQuality quality) {
+    device = rtcNewDevice("threads=0");
+    if (!device) throw std::runtime_error("Embree: cannot create a device");
+    scene = rtcNewScene(device);
+    rtcSetSceneBuildQuality(scene, quality);
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+  }
+  // A triangle geometry of nv vertices and nt triangles: fill vb (x, y, z) and ib, then attach().
+  RTCGeometry triangles(size_t nv, size_t nt, float*& vb, unsigned*& ib) const {
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+    ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nt));
+    return geom;
+  }
+  // Attaches it (if any) and builds the scene.
+  void commit(RTCGeometry geom) {
+    if (geom) {
+      rtcCommitGeometry(geom);
+      rtcAttachGeometry(scene, geom);
+      rtcReleaseGeometry(geom);
+    }
+    rtcCommitScene(scene);
+  }
 };
 
 RayScene::RayScene(const std::vector<std::vector<glm::dvec3>>& polygons)
-    : impl_(std::make_unique<Impl>()), polygonCount_(int(polygons.size())) {
-  impl_->device = rtcNewDevice("threads=0");
-  if (!impl_->device) throw std::runtime_error("Embree: cannot create a device");
-  impl_->scene = rtcNewScene(impl_->device);
-  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
-  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+    : impl_(std::make_unique<Impl>(RTC_BUILD_QUALITY_HIGH)), polygonCount_(int(polygons.size())) {
   size_t nv = 0, nt = 0;
   for (const auto& p : polygons) {
     nv += p.size();
     nt += p.size() >= 3 ? p.size() - 2 : 0;
   }
   if (nt == 0) {
-    rtcCommitScene(impl_->scene);
+    impl_->commit(nullptr);
     return;
   }
-  RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                         RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
-  auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0,
-                                                            RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nt));
+  float* vb;
+  unsigned* ib;
+  RTCGeometry geom = impl_->triangles(nv, nt, vb, ib);
   impl_->triangleToPolygon.reserve(nt);
   size_t v = 0, t = 0;
   for (size_t pi = 0; pi < polygons.size(); ++pi) {
@@ -57,28 +74,18 @@ RayScene::RayScene(const std::vector<std::vector<glm::dvec3>>& polygons)
       ++t;
     }
   }
-  rtcCommitGeometry(geom);
-  rtcAttachGeometry(impl_->scene, geom);
-  rtcReleaseGeometry(geom);
-  rtcCommitScene(impl_->scene);
+  impl_->commit(geom);
 }
 
 RayScene::RayScene(std::span<const glm::vec3> vertices, std::span<const glm::uvec3> triangles)
-    : impl_(std::make_unique<Impl>()), polygonCount_(int(triangles.size())) {
-  impl_->device = rtcNewDevice("threads=0");
-  if (!impl_->device) throw std::runtime_error("Embree: cannot create a device");
-  impl_->scene = rtcNewScene(impl_->device);
-  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_MEDIUM);
-  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+    : impl_(std::make_unique<Impl>(RTC_BUILD_QUALITY_MEDIUM)), polygonCount_(int(triangles.size())) {
   if (triangles.empty()) {
-    rtcCommitScene(impl_->scene);
+    impl_->commit(nullptr);
     return;
   }
-  RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                         3 * sizeof(float), vertices.size()));
-  auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                            3 * sizeof(unsigned), triangles.size()));
+  float* vb;
+  unsigned* ib;
+  RTCGeometry geom = impl_->triangles(vertices.size(), triangles.size(), vb, ib);
   for (size_t v = 0; v < vertices.size(); ++v)
     for (int k = 0; k < 3; ++k) vb[3 * v + k] = vertices[v][k];
   impl_->triangleToPolygon.resize(triangles.size());
@@ -86,10 +93,7 @@ RayScene::RayScene(std::span<const glm::vec3> vertices, std::span<const glm::uve
     for (int k = 0; k < 3; ++k) ib[3 * t + k] = triangles[t][k];
     impl_->triangleToPolygon[t] = int(t);
   }
-  rtcCommitGeometry(geom);
-  rtcAttachGeometry(impl_->scene, geom);
-  rtcReleaseGeometry(geom);
-  rtcCommitScene(impl_->scene);
+  impl_->commit(geom);
 }
 
 RayScene::~RayScene() {
