@@ -1,5 +1,6 @@
-// (The renderer prepends "#version 330 core" and the variant's MODE, OUTPUT, GLOW and CHECKER:
-// each program does only its own work, as branches on uniforms cost every fragment on llvmpipe.)
+// (The renderer prepends "#version 330 core", the variant's MODE, OUTPUT, GLOW, CHECKER and
+// SHADOWS, and display.glsl: each program does only its own work, as branches on uniforms cost
+// every fragment on llvmpipe.)
 // Loscos 2000 §2.4: displayed radiance = texture x B / D (B and D from the vertices, see
 // relight.vert), plus, in the photo's own view, each lamp's glow layer scaled with its lamp
 // (the CPU renderer does the same). Then the display transform in the same pass: linear out
@@ -30,35 +31,99 @@ uniform vec4 glowBox;           // the glow's pixels lie in [x0, x1) x [y0, y1),
 uniform vec3 lampScale[32];
 uniform vec2 viewOrigin;        // bottom-left of the drawn rectangle in framebuffer pixels
 uniform vec2 viewSize;
-// OUTPUT: 0 linear, 1 exposed sRGB, 2 false colour
-uniform float exposure;
-uniform float falseMin;         // log10 luminance at the bottom and top of the colour scale
-uniform float falseMax;
 out vec4 colour;
 
 const float INV_PI = 0.31830988618379067;
 
+#if SHADOWS
+// Shadows of image-based objects (Dinh, Metoyer, Turk §4, onto any real surface; as the CPU
+// renderer's ibr::drawShadows): per caster (one object seen from one lamp's direction, its fan
+// image nearest that direction as a silhouette) the lines from this point to points spread over
+// the lamp meet the plane of that image through the object's centre; where the silhouette covers
+// the crossing, and its surface lies between the point and the lamp, that share of the lamp is
+// blocked. The lamp's direct irradiance here (its points as small patches) times the blocked
+// share, over the irradiance shown (B), is taken off: a dimmed lamp's shadow is lighter, a lamp
+// switched off casts none. Only where the room itself lets the lamp through (vVis, per vertex).
+in vec4 vVis0;
+in vec4 vVis1;
+uniform usampler2DArray silhouettes;  // per caster layer: code, depth (0..65534 = 0..2 R), coverage
+uniform int casterCount;
+uniform vec4 casterSphere[16];   // the object's centre (world), radius x scale
+uniform vec4 casterRight[16];    // its image's x axis (world), the fan's radius
+uniform vec4 casterUp[16];       // its image's y axis, the object's scale
+uniform vec4 casterAxis[16];     // its image's direction towards the lamp, pixels across
+uniform vec4 casterLight[16];    // the lamp's exitance (W/m^2, RGB), its area
+uniform vec4 casterLamp[16];     // the lamp's normal, weight (0 one face; < 0 both faces, |w| the photometric weight)
+uniform vec4 casterCone[16];     // cone: axis, cos^2 of its half angle (0: no cone test)
+uniform vec4 casterApex[16];     // cone: apex, near side
+uniform ivec4 casterIndex[16];   // layer, lamp (in the visibility list), the lamp's surface, first sample
+uniform int casterSamples[16];   // samples on the lamp
+uniform vec4 lampSamples[256];   // point, weight (summing to 1 per caster)
+uniform int surfaceId;           // this range's engine surface
+uniform int receives;            // 1: a real surface that is no lamp
+
+float lampVisible(int l) {
+  if (l < 4) return vVis0[l];
+  return l < 8 ? vVis1[l - 4] : 1.0;
+}
+
+vec3 objectShadowKeep(vec3 X, vec3 n, vec3 E) {
+  vec3 taken = vec3(0.0);
+  for (int c = 0; c < casterCount; ++c) {
+    ivec4 I = casterIndex[c];
+    if (I.z == surfaceId) continue;
+    float vis = lampVisible(I.y);
+    if (vis <= 0.0) continue;
+    vec4 cone = casterCone[c];
+    if (cone.w > 0.0) {
+      vec3 v = X - casterApex[c].xyz;
+      float d = dot(v, cone.xyz);
+      if (d < casterApex[c].w || d * d < cone.w * dot(v, v)) continue;
+    }
+    vec3 cw = casterSphere[c].xyz;
+    float rs = casterSphere[c].w;
+    vec3 Rw = casterRight[c].xyz, Uw = casterUp[c].xyz, Nw = casterAxis[c].xyz;
+    float fanR = casterRight[c].w, scale = casterUp[c].w;
+    int S = int(casterAxis[c].w);
+    vec3 lampN = casterLamp[c].xyz;
+    float wgt = casterLamp[c].w;
+    float blocked = 0.0, f = 0.0;
+    for (int i = 0; i < casterSamples[c]; ++i) {
+      vec4 smp = lampSamples[I.w + i];
+      vec3 seg = smp.xyz - X;
+      float len2 = dot(seg, seg);
+      vec3 dir = seg * inversesqrt(len2);
+      float cosL = -dot(lampN, dir);
+      cosL = wgt < 0.0 ? abs(cosL) * -wgt : max(cosL, 0.0);
+      f += smp.w * max(dot(n, dir), 0.0) * cosL / len2;
+      float s = clamp(dot(cw - X, seg) / len2, 0.0, 1.0);
+      vec3 closest = X + s * seg - cw;
+      if (dot(closest, closest) > rs * rs) continue;
+      float den = dot(seg, Nw);
+      if (abs(den) < 1e-12) continue;
+      float u = dot(cw - X, Nw) / den;
+      if (u <= 0.0 || u >= 1.0) continue;
+      vec3 q = X + u * seg - cw;
+      int tx = int(floor((dot(q, Rw) / rs + 1.0) * 0.5 * float(S)));
+      int ty = int(floor((1.0 - dot(q, Uw) / rs) * 0.5 * float(S)));
+      if (tx < 0 || ty < 0 || tx >= S || ty >= S) continue;
+      uvec4 t = texelFetch(silhouettes, ivec3(tx, ty, I.x), 0);
+      if (t.b == 0u) continue;
+      float a = ((float(tx) + 0.5) / float(S) * 2.0 - 1.0) * fanR, b = (1.0 - (float(ty) + 0.5) / float(S) * 2.0) * fanR;
+      vec3 p = cw + scale * (a * Rw + b * Uw + (fanR - float(t.g) / 65534.0 * 2.0 * fanR) * Nw);
+      if (dot(p - X, seg) <= 1e-3 * sqrt(len2)) continue;
+      blocked += smp.w * float(t.b) / 255.0;
+    }
+    if (blocked <= 0.0) continue;
+    taken += blocked * vis * f * casterLight[c].w * INV_PI * casterLight[c].xyz;
+  }
+  return vec3(E.r > 0.0 ? clamp(1.0 - taken.r / E.r, 0.0, 1.0) : 1.0, E.g > 0.0 ? clamp(1.0 - taken.g / E.g, 0.0, 1.0) : 1.0,
+              E.b > 0.0 ? clamp(1.0 - taken.b / E.b, 0.0, 1.0) : 1.0);
+}
+#endif
+
 vec3 ratio(vec3 b, vec3 d) {
   return vec3(d.r > 1e-12 ? b.r / d.r : 1.0, d.g > 1e-12 ? b.g / d.g : 1.0, d.b > 1e-12 ? b.b / d.b : 1.0);
-}
-
-// The sRGB encoding: a fit of 1.055 v^(1/2.4) - 0.055 by v^(1/2), v^(1/4) and v^(1/8) (within
-// 0.25 / 255 of it on [0.0031308, 1]): three square roots cost llvmpipe far less than pow.
-vec3 srgb(vec3 v) {
-  v = clamp(v, 0.0, 1.0);
-  vec3 s1 = sqrt(v), s2 = sqrt(s1), s3 = sqrt(s2);
-  vec3 curve = 0.662002687 * s1 + 0.684122060 * s2 - 0.323583601 * s3 - 0.0225411470 * v;
-  return mix(curve, 12.92 * v, lessThanEqual(v, vec3(0.0031308)));
-}
-
-vec3 heat(float t) {  // blue -> cyan -> green -> yellow -> red
-  t = clamp(t, 0.0, 1.0);
-  vec3 a = vec3(0.05, 0.1, 0.6), b = vec3(0.1, 0.7, 0.9), c = vec3(0.15, 0.8, 0.2), d = vec3(0.95, 0.9, 0.1),
-       e = vec3(0.9, 0.1, 0.1);
-  if (t < 0.25) return mix(a, b, t * 4.0);
-  if (t < 0.5) return mix(b, c, t * 4.0 - 1.0);
-  if (t < 0.75) return mix(c, d, t * 4.0 - 2.0);
-  return mix(d, e, t * 4.0 - 3.0);
 }
 
 vec3 radiance() {
@@ -80,6 +145,9 @@ vec3 radiance() {
   result = kind == 2 ? vec3(0.0) : t.rgb;
 #else
   result = kind == 2 ? vB * INV_PI : (kind == 1 ? t.rgb : t.rgb * ratio(vB, vDen));
+#endif
+#if SHADOWS && (MODE == 0 || MODE == 1)
+  if (receives == 1) result *= objectShadowKeep(vWorld, normal, vB);
 #endif
 #if CHECKER
   if (kind != 2 && t.a < 1.0) {
@@ -117,15 +185,5 @@ vec3 radiance() {
 }
 
 void main() {
-  vec3 L = radiance();
-#if OUTPUT == 0
-  colour = vec4(L, 1.0);
-#elif OUTPUT == 1
-  vec3 e = L * exposure;
-  colour = vec4(srgb(e), 1.0);
-#else
-  float Y = dot(L, vec3(0.2126, 0.7152, 0.0722));
-  float t = (log(max(Y, 1e-8)) / log(10.0) - falseMin) / max(falseMax - falseMin, 1e-6);
-  colour = vec4(heat(t), 1.0);
-#endif
+  colour = displayColour(radiance());
 }

@@ -18,6 +18,7 @@
 #include "relume/project/relight_store.h"
 #include "relume/project/room_io.h"
 #include "relume/project/save_hooks.h"
+#include "relume/radiosity/hierarchy.h"
 
 namespace relume {
 
@@ -226,6 +227,40 @@ class MoveObjectCommand : public VirtualCommand {
   double turn_;
 };
 
+// An image-based object added (no before), removed (no after) or placed anew; applied before it
+// is pushed (its first redo is skipped).
+class ImageObjectCommand : public QUndoCommand {
+ public:
+  ImageObjectCommand(Document* doc, std::string name, std::optional<ibr::ImageObject> before,
+                     std::optional<ibr::ImageObject> after, int gesture)
+      : doc_(doc), name_(std::move(name)), before_(std::move(before)), after_(std::move(after)), gesture_(gesture) {
+    const QString n = QString::fromStdString(name_);
+    setText(!before_ ? Document::tr("add %1").arg(n) : !after_ ? Document::tr("remove %1").arg(n) : Document::tr("move %1").arg(n));
+  }
+  int id() const override { return 5; }
+  bool mergeWith(const QUndoCommand* other) override {
+    const auto* o = static_cast<const ImageObjectCommand*>(other);
+    if (gesture_ == 0 || o->gesture_ != gesture_ || o->name_ != name_ || !before_ || !after_ || !o->after_) return false;
+    after_ = o->after_;
+    return true;
+  }
+  void redo() override {
+    if (skip_) {
+      skip_ = false;
+      return;
+    }
+    doc_->applyImageObject(name_, after_);
+  }
+  void undo() override { doc_->applyImageObject(name_, before_); }
+
+ private:
+  Document* doc_;
+  std::string name_;
+  std::optional<ibr::ImageObject> before_, after_;
+  int gesture_;
+  bool skip_ = true;
+};
+
 class ReferenceCommand : public QUndoCommand {
  public:
   ReferenceCommand(Document* doc, std::string polygon, std::optional<glm::dvec2> before, std::optional<glm::dvec2> after)
@@ -326,6 +361,26 @@ std::unique_ptr<LoadedRoom> loadRoomForWorkbench(const QString& path, Progress& 
     ob.albedo = readRgb(o["albedo"], stateFile, "virtual object '" + ob.name + "' albedo");
     objects.push_back(ob);
   }
+  if (room->state.contains("image_objects") && !room->state["image_objects"].isArray())
+    throw Error(stateFile, "image_objects", "must be a list");
+  for (const auto& v : room->state["image_objects"].toArray()) {
+    const QJsonObject o = v.toObject();
+    ibr::ImageObject io;
+    io.name = o["name"].toString().toStdString();
+    if (io.name.empty()) throw Error(stateFile, "image_objects", "an image-based object has no name");
+    const std::string where = "image-based object '" + io.name + "'";
+    const QJsonArray pos = o["position"].toArray();
+    if (pos.size() != 3 || !pos[0].isDouble() || !pos[1].isDouble() || !pos[2].isDouble())
+      throw Error(stateFile, where, "position must be [x, y, z] in metres");
+    io.place.position = glm::dvec3(pos[0].toDouble(), pos[1].toDouble(), pos[2].toDouble());
+    io.place.scale = o["scale"].toDouble(1.0);
+    if (!(io.place.scale > 0) || !std::isfinite(io.place.scale)) throw Error(stateFile, where, "scale must be a number > 0");
+    io.place.yaw = o["rotation_degrees"].toDouble(0.0) * std::numbers::pi / 180.0;
+    io.fanFile = fileInFolder(room->projectPath.toStdString(), o["fan"].toString().toStdString(), stateFile, where + " fan");
+    io.fan = ibr::readFan(io.fanFile);
+    ibr::checkImageObject(room->scene, io);
+    room->imageObjects.push_back(std::move(io));
+  }
   if (room->state.contains("mesh") && !room->state["mesh"].isString()) throw Error(stateFile, "mesh", "must be a string");
   const QString meshName = room->state["mesh"].toString("refined");
   if (meshName != "refined" && meshName != "interactive")
@@ -350,7 +405,8 @@ std::unique_ptr<LoadedRoom> loadRoomForWorkbench(const QString& path, Progress& 
 Document::Document(QObject* parent) : QObject(parent) {
   connect(&undo_, &QUndoStack::cleanChanged, this, [this](bool) { emit dirtyChanged(isDirty()); });
   for (auto signal : {&Document::lightingChanged, &Document::meshChanged, &Document::virtualsChanged,
-                      &Document::referencesChanged, &Document::relightingReplaced, &Document::opened})
+                      &Document::referencesChanged, &Document::relightingReplaced, &Document::opened,
+                      &Document::imageObjectsChanged})
     connect(this, signal, this, [this] { ++changes_; });
 }
 
@@ -367,6 +423,7 @@ void Document::adopt(std::unique_ptr<LoadedRoom> room) {
   view_ = room->state["view"].toObject();
   objectTurn_.clear();
   objectPivot_.clear();
+  imageObjects_ = std::move(room->imageObjects);
   mesh_ = room->mesh;
   overrides_ = data_.referenceOverride;
   if (room->state.contains("reference_overrides")) {
@@ -406,6 +463,7 @@ void Document::close() {
   lampScale_.clear();
   objectTurn_.clear();
   objectPivot_.clear();
+  imageObjects_.clear();
   overrides_.clear();
   regions_.clear();
   lampMount_.clear();
@@ -455,9 +513,21 @@ QJsonObject Document::editsJson() const {
     objects.append(QJsonObject{{"name", QString::fromStdString(o.name)}, {"albedo", rgb(o.albedo)}, {"polygons", polys},
                                {"turn_degrees", objectTurn(o.name)}});
   }
+  QJsonArray images;
+  for (size_t i = 0; i < imageObjects_.size(); ++i) {
+    const auto& o = imageObjects_[i];
+    const glm::dvec3& p = o.place.position;
+    images.append(QJsonObject{{"name", QString::fromStdString(o.name)},
+                              {"fan", QString("objects/image_%1.fan").arg(i + 1)},
+                              {"position", QJsonArray{p.x, p.y, p.z}},
+                              {"scale", o.place.scale},
+                              {"rotation_degrees", o.place.yaw * 180.0 / std::numbers::pi}});
+  }
   QJsonObject refs;
   for (const auto& [name, uv] : overrides_) refs[QString::fromStdString(name)] = QJsonArray{uv.x, uv.y};
-  return QJsonObject{{"format", "relume-workbench"}, {"version", kWorkbenchStateVersion}, {"lamps", lamps},
+  // Version 3 only when it holds image-based objects (older workbenches read the rest).
+  return QJsonObject{{"format", "relume-workbench"}, {"version", images.isEmpty() ? 2 : kWorkbenchStateVersion},
+                     {"image_objects", images}, {"lamps", lamps},
                      {"virtual_lights", vlamps}, {"virtual_objects", objects}, {"reference_overrides", refs},
                      {"reference_regions", referenceRegionsJson(regions_)},
                      {"mesh", mesh_ == SessionMesh::Interactive ? "interactive" : "refined"}, {"view", view_}};
@@ -496,7 +566,7 @@ glm::dvec3 Document::defaultLampRadiance(double size) const {
 std::string Document::newName(const QString& stem) const {
   for (int k = 1;; ++k) {
     const std::string n = QString("%1 %2").arg(stem).arg(k).toStdString();
-    if (virtualLampIndex(n) < 0 && objectIndex(n) < 0) return n;
+    if (virtualLampIndex(n) < 0 && objectIndex(n) < 0 && imageObjectIndex(n) < 0) return n;
   }
 }
 
@@ -655,6 +725,56 @@ bool Document::tryMoveObject(const std::string& name, const glm::dvec3& offset, 
   return true;
 }
 
+int Document::imageObjectIndex(const std::string& name) const {
+  for (size_t i = 0; i < imageObjects_.size(); ++i)
+    if (imageObjects_[i].name == name) return int(i);
+  return -1;
+}
+
+bool Document::tryAddImageObject(const ibr::ImageObject& object, QString* error) {
+  if (!session_ || !object.fan) return false;
+  if (!attempt([&] { ibr::checkImageObject(scene_, object); }, error)) return false;
+  applyImageObject(object.name, object);
+  undo_.push(new ImageObjectCommand(this, object.name, std::nullopt, object, 0));
+  return true;
+}
+
+bool Document::tryPlaceImageObject(const std::string& name, const ibr::Placement& place, int gesture, QString* error) {
+  const int i = imageObjectIndex(name);
+  if (i < 0) return false;
+  ibr::ImageObject moved = imageObjects_[size_t(i)];
+  moved.place = place;
+  if (!attempt([&] { ibr::checkImageObject(scene_, moved); }, error)) return false;
+  const ibr::ImageObject before = imageObjects_[size_t(i)];
+  applyImageObject(name, moved);
+  undo_.push(new ImageObjectCommand(this, name, before, moved, gesture));
+  return true;
+}
+
+void Document::removeImageObject(const std::string& name) {
+  const int i = imageObjectIndex(name);
+  if (i < 0) return;
+  const ibr::ImageObject before = imageObjects_[size_t(i)];
+  applyImageObject(name, std::nullopt);
+  undo_.push(new ImageObjectCommand(this, name, before, std::nullopt, 0));
+}
+
+void Document::applyImageObject(const std::string& name, const std::optional<ibr::ImageObject>& object) {
+  const int i = imageObjectIndex(name);
+  if (object && i >= 0) imageObjects_[size_t(i)] = *object;
+  else if (object) imageObjects_.push_back(*object);
+  else if (i >= 0) imageObjects_.erase(imageObjects_.begin() + i);
+  emit imageObjectsChanged();
+}
+
+std::vector<ibr::ObjectLighting> Document::imageObjectLighting() {
+  std::vector<ibr::ObjectLighting> out;
+  if (!session_ || imageObjects_.empty()) return out;
+  session_->syncEngine();
+  for (const auto& o : imageObjects_) out.push_back(ibr::lightingAt(session_->engine(), o.place.toWorld(*o.fan, o.fan->centre)));
+  return out;
+}
+
 void Document::applyAddVirtualLamp(const VirtualLamp& lamp) {
   timed([&] { session_->addVirtualLamp(lamp); });
   emit meshChanged();
@@ -747,8 +867,16 @@ std::function<void(Progress&)> Document::saveWork(const QString& folder) const {
   auto scene = std::make_shared<Scene>(scene_);
   auto data = std::make_shared<RelightData>(data_);
   const QByteArray edits = QJsonDocument(editsJson()).toJson();
-  return [scene, data, edits, folder](Progress& progress) {
+  std::vector<std::shared_ptr<const ibr::ImageFan>> fans;  // objects/image_N.fan, as editsJson names them
+  for (const auto& o : imageObjects_) fans.push_back(o.fan);
+  return [scene, data, edits, folder, fans](Progress& progress) {
     saveRelightProject(*scene, *data, folder.toStdString(), progress, [&](const std::string& staging) {
+      if (!fans.empty() && !QDir().mkpath(QString::fromStdString(staging) + "/objects"))
+        throw Error(folder.toStdString(), "objects", "cannot create the folder for the image fans");
+      for (size_t i = 0; i < fans.size(); ++i) {
+        ibr::writeFan(*fans[i], staging + "/objects/image_" + std::to_string(i + 1) + ".fan");
+        detail::saveStep("image fan written");
+      }
       QSaveFile f(QString::fromStdString(staging) + "/workbench.json");
       if (!f.open(QIODevice::WriteOnly) || f.write(edits) < 0 || !f.commit())
         throw Error(folder.toStdString(), "workbench.json", "cannot write: " + f.errorString().toStdString());

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "relume/geometry/scene.h"
+#include "relume/ibr/relit_objects.h"
 #include "relume/relight/relighter.h"
 
 namespace relume {
@@ -31,6 +32,7 @@ struct LoadedRoom {
   QJsonObject state;     // the workbench's saved edits (workbench.json), empty if none
   std::vector<ReferenceRegion> regions;  // painted reference regions (the state's, else the data's)
   SessionMesh mesh = SessionMesh::Refined;  // the mesh the session was built on (the state's choice)
+  std::vector<ibr::ImageObject> imageObjects;  // the state's image-based objects, their fans read
 };
 
 // Reads a room or project; preprocesses it when it holds no relighting data; builds the session
@@ -105,6 +107,20 @@ class Document : public QObject {
   void applyMoveObject(const std::string& name, const glm::dvec3& offset, double turnDegrees);
   void applyUnmoveObject(const std::string& name, const glm::dvec3& offset, double turnDegrees);
 
+  // --- image-based objects (Dinh, Metoyer, Turk): drawn from their fans, lit by the session's
+  // light, not part of its radiosity solution; named like the other virtual things ---
+  const std::vector<ibr::ImageObject>& imageObjects() const { return imageObjects_; }
+  int imageObjectIndex(const std::string& name) const;
+  // Undoable. Placing checks the object against the room (ibr::checkImageObject): false with the
+  // library's message in `error` when it would leave the room or cut a wall, nothing changed.
+  // Consecutive placements of one object with the same nonzero `gesture` merge into one step.
+  bool tryAddImageObject(const ibr::ImageObject& object, QString* error = nullptr);
+  bool tryPlaceImageObject(const std::string& name, const ibr::Placement& place, int gesture = 0, QString* error = nullptr);
+  void removeImageObject(const std::string& name);
+  void applyImageObject(const std::string& name, const std::optional<ibr::ImageObject>& object);
+  // The light at each image-based object now (the engine's radiosity made current first).
+  std::vector<ibr::ObjectLighting> imageObjectLighting();
+
   // --- reference patches (Loscos 2000 §4.3): the user's choice per polygon, plane uv ---
   const std::map<std::string, glm::dvec2>& referenceOverrides() const { return overrides_; }
   // Undoable; `uv` empty clears the override (back to the automatic choice). Takes effect on
@@ -158,6 +174,7 @@ class Document : public QObject {
   void lightingChanged();
   void meshChanged();
   void virtualsChanged();  // virtual lamps or objects added, removed, edited
+  void imageObjectsChanged();  // image-based objects added, removed, placed
   void referencesChanged();  // an override set or cleared, or recomputed
   void relightingReplaced();  // new relighting data and session (textures changed)
   void dirtyChanged(bool dirty);
@@ -172,6 +189,7 @@ class Document : public QObject {
   std::vector<glm::dvec3> lampScale_;
   QJsonObject view_;
   std::map<std::string, double> objectTurn_;
+  std::vector<ibr::ImageObject> imageObjects_;
   std::map<std::string, glm::dvec2> overrides_;
   std::vector<ReferenceRegion> regions_;
   SessionMesh mesh_ = SessionMesh::Refined;
@@ -194,6 +212,6 @@ class Document : public QObject {
   void timed(const std::function<void()>& f);
 };
 
-inline constexpr int kWorkbenchStateVersion = 2;  // 2: virtual lamps and objects
+inline constexpr int kWorkbenchStateVersion = 3;  // 2: virtual lamps and objects; 3: image-based objects
 
 }  // namespace relume

@@ -6,6 +6,7 @@
 
 #include "document.h"
 #include "relume/geometry/polygon.h"
+#include "relume/ibr/relit_objects.h"
 
 namespace relume {
 
@@ -34,7 +35,8 @@ void EditTool::setMode(Mode m) {
   emit modeChanged(m);
   if (m == Mode::PlaceLamp) emit message(tr("Click a surface to put a virtual lamp 2 cm in front of it."));
   if (m == Mode::PlaceBox) emit message(tr("Click a floor or a table top to stand the box on it."));
-  if (m == Mode::PlaceMesh) emit message(tr("Click a floor or a table top to stand %1 on it.").arg(meshStem_));
+  if (m == Mode::PlaceMesh || m == Mode::PlaceImage)
+    emit message(tr("Click a floor or a table top to stand %1 on it.").arg(meshStem_));
 }
 
 void EditTool::pickReferenceOn(const std::string& polygon) {
@@ -61,6 +63,16 @@ void EditTool::placeMesh(const QString& stem, const VirtualObject& mesh) {
   setMode(Mode::PlaceMesh);
 }
 
+void EditTool::placeImageObject(const QString& stem, std::shared_ptr<const ibr::ImageFan> fan, const std::string& fanFile,
+                                double scale) {
+  meshStem_ = stem;
+  imageFan_ = std::move(fan);
+  imageFanFile_ = fanFile;
+  imageScale_ = scale;
+  mode_ = Mode::Select;
+  setMode(Mode::PlaceImage);
+}
+
 void EditTool::setBoxTemplate(const glm::dvec3& size, const glm::dvec3& albedo) {
   boxSize_ = size;
   boxAlbedo_ = albedo;
@@ -82,16 +94,43 @@ std::string EditTool::objectAt(const ViewportPick& pick) const {
   return {};
 }
 
+std::string EditTool::imageObjectAt(const ViewportPick& pick) const {
+  std::string best;
+  double bestT = pick.hit() ? glm::length(pick.point - pick.origin) / std::max(glm::length(pick.direction), 1e-12) : 1e300;
+  for (const auto& o : doc_->imageObjects()) {
+    // The ray in the object's frame (o + t d there is origin + t direction in the world).
+    const glm::dvec3 org = o.place.toObject(*o.fan, pick.origin);
+    const glm::dvec3 dir = o.place.toObjectDirection(pick.direction) / o.place.scale;
+    double t0 = 0, t1 = 1e300;
+    for (int a = 0; a < 3; ++a) {
+      if (std::abs(dir[a]) < 1e-15) {
+        if (org[a] < o.fan->boundsMin[a] || org[a] > o.fan->boundsMax[a]) t0 = 1e301;
+        continue;
+      }
+      double ta = (o.fan->boundsMin[a] - org[a]) / dir[a], tb = (o.fan->boundsMax[a] - org[a]) / dir[a];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    if (t0 <= t1 && t0 < bestT) {
+      bestT = t0;
+      best = o.name;
+    }
+  }
+  return best;
+}
+
 Qt::CursorShape EditTool::hoverCursor(const ViewportPick& pick) const {
   if (!enabled_) return Qt::BusyCursor;
   if (mode_ != Mode::Select) return pick.hit() ? Qt::CrossCursor : Qt::ForbiddenCursor;
-  if (!virtualLampAt(pick).empty() || !objectAt(pick).empty()) return Qt::OpenHandCursor;
+  if (!virtualLampAt(pick).empty() || !objectAt(pick).empty() || !imageObjectAt(pick).empty()) return Qt::OpenHandCursor;
   return Qt::ArrowCursor;
 }
 
 bool EditTool::press(const ViewportPick& pick, Qt::KeyboardModifiers) {
   dragLamp_.clear();
   dragObject_.clear();
+  dragImage_.clear();
   if (!doc_->isOpen() || !enabled_) return false;
   if (mode_ == Mode::PlaceLamp) {
     if (!pick.hit()) {
@@ -142,6 +181,27 @@ bool EditTool::press(const ViewportPick& pick, Qt::KeyboardModifiers) {
     emit message(tr("Reference region painted on %1: recompute to see it.").arg(QString::fromStdString(region.polygon)));
     return true;
   }
+  if (mode_ == Mode::PlaceImage) {
+    if (!pick.hit() || pick.normal.z < 0.7) {
+      emit message(tr("Objects stand on floors and tables: click a horizontal surface."));
+      return true;
+    }
+    ibr::ImageObject o;
+    o.name = doc_->newName(meshStem_);
+    o.fan = imageFan_;
+    o.fanFile = imageFanFile_;
+    o.place.position = pick.point + glm::dvec3(0, 0, 0.002);  // 2 mm above what it stands on
+    o.place.scale = imageScale_;
+    QString error;
+    if (doc_->tryAddImageObject(o, &error)) {
+      emit message(tr("Added %1.").arg(QString::fromStdString(o.name)));
+      emit selected(QString::fromStdString(o.name));
+    } else {
+      emit message(tr("%1 cannot stand there: %2").arg(QString::fromStdString(o.name), error));
+    }
+    setMode(Mode::Select);
+    return true;
+  }
   if (mode_ == Mode::PlaceBox || mode_ == Mode::PlaceMesh) {
     if (!pick.hit() || pick.normal.z < 0.7) {
       emit message(tr("Objects stand on floors and tables: click a horizontal surface."));
@@ -178,7 +238,23 @@ bool EditTool::press(const ViewportPick& pick, Qt::KeyboardModifiers) {
     setMode(Mode::Select);
     return true;
   }
-  // Select: grab a virtual lamp or object under the cursor.
+  // Select: grab an image-based object, a virtual lamp or an object under the cursor.
+  dragImage_ = imageObjectAt(pick);
+  if (!dragImage_.empty()) {  // slides on the horizontal plane it stands on
+    const auto& o = doc_->imageObjects()[size_t(doc_->imageObjectIndex(dragImage_))];
+    planePoint_ = o.place.position;
+    planeNormal_ = glm::dvec3(0, 0, 1);
+    if (!rayPlane(pick, planePoint_, planeNormal_, anchor_)) {
+      dragImage_.clear();
+      return false;
+    }
+    imageStart_ = o.place;
+    moved_ = glm::dvec3(0.0);
+    refused_ = false;
+    ++gesture_;
+    emit selected(QString::fromStdString(dragImage_));
+    return true;
+  }
   dragLamp_ = virtualLampAt(pick);
   dragObject_ = dragLamp_.empty() ? objectAt(pick) : std::string();
   if (dragLamp_.empty() && dragObject_.empty()) {
@@ -222,6 +298,22 @@ void EditTool::drag(const ViewportPick& pick) {
     emit strokeChanged();
     return;
   }
+  if (!dragImage_.empty()) {
+    glm::dvec3 q;
+    if (!rayPlane(pick, planePoint_, planeNormal_, q)) return;
+    ibr::Placement place = imageStart_;
+    place.position += q - anchor_;
+    if (glm::length((q - anchor_) - moved_) < 1e-4) return;
+    QString error;
+    if (doc_->tryPlaceImageObject(dragImage_, place, gesture_, &error)) {
+      moved_ = q - anchor_;
+      refused_ = false;
+    } else if (!refused_) {
+      refused_ = true;
+      emit message(tr("Not moved: %1").arg(error));
+    }
+    return;
+  }
   if (dragLamp_.empty() && dragObject_.empty()) return;
   glm::dvec3 q;
   if (!rayPlane(pick, planePoint_, planeNormal_, q)) return;
@@ -253,6 +345,7 @@ void EditTool::release(const ViewportPick& pick) {
   if (!dragObject_.empty()) doc_->settleObject(dragObject_);
   dragLamp_.clear();
   dragObject_.clear();
+  dragImage_.clear();
 }
 
 }  // namespace relume

@@ -9,6 +9,9 @@
 #include <glm/vec3.hpp>
 #include <string>
 
+#include <memory>
+
+#include "relume/ibr/ibr_object.h"
 #include "relume/relight/relighter.h"
 #include "relume/viewport/viewport_widget.h"
 
@@ -19,7 +22,7 @@ class Document;
 class EditTool : public QObject, public ViewportGestures {
   Q_OBJECT
  public:
-  enum class Mode { Select, PlaceLamp, PlaceBox, PlaceMesh, PickReference, PaintRegion };
+  enum class Mode { Select, PlaceLamp, PlaceBox, PlaceMesh, PlaceImage, PickReference, PaintRegion };
   explicit EditTool(Document* doc, QObject* parent = nullptr);
 
   void setMode(Mode m);
@@ -30,6 +33,10 @@ class EditTool : public QObject, public ViewportGestures {
   // A mesh the next click places (Mode::PlaceMesh): standing on the point clicked, its footprint
   // centred there. `stem` names it ("chair" -> "chair 1").
   void placeMesh(const QString& stem, const VirtualObject& mesh);
+  // An image-based object (its fan) the next click places (Mode::PlaceImage), standing on the
+  // point clicked at `scale`; `fanFile` names it in messages.
+  void placeImageObject(const QString& stem, std::shared_ptr<const ibr::ImageFan> fan, const std::string& fanFile,
+                        double scale = 1.0);
   static constexpr double kLampSize = 0.3, kLampOffset = 0.02;
   // The polygon whose reference patch the next click (Mode::PickReference) chooses.
   void pickReferenceOn(const std::string& polygon);
@@ -47,6 +54,8 @@ class EditTool : public QObject, public ViewportGestures {
   // What a pick hit among the virtual things (empty when nothing virtual).
   std::string virtualLampAt(const ViewportPick& pick) const;
   std::string objectAt(const ViewportPick& pick) const;
+  // The image-based object whose placed bounding box the ray meets first, if the room is not nearer.
+  std::string imageObjectAt(const ViewportPick& pick) const;
 
  signals:
   void modeChanged(Mode m);
@@ -68,11 +77,15 @@ class EditTool : public QObject, public ViewportGestures {
   bool painting_ = false, strokeDone_ = false;
   QString meshStem_;
   VirtualObject mesh_;
+  std::shared_ptr<const ibr::ImageFan> imageFan_;
+  std::string imageFanFile_;
+  double imageScale_ = 1.0;
   // The drag under way: what, the plane it slides on, where the cursor's ray met it at the press,
   // and how far the thing has moved since.
-  std::string dragLamp_, dragObject_;
+  std::string dragLamp_, dragObject_, dragImage_;
   glm::dvec3 planePoint_{0.0}, planeNormal_{0.0}, anchor_{0.0}, moved_{0.0};
   int gesture_ = 1000000;
+  ibr::Placement imageStart_;  // where the image-based object dragged stood at the press
   bool refused_ = false;
 };
 

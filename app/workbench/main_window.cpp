@@ -77,7 +77,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   lightsScroll->setWidget(lights_);
   lightsDock->setWidget(lightsScroll);
   addDockWidget(Qt::RightDockWidgetArea, lightsDock);
-  objects_ = new ObjectsPanel(doc_, tool_, this);
+  objects_ = new ObjectsPanel(doc_, tool_, jobs_, this);
   auto* objectsDock = new QDockWidget(tr("Objects"), this);
   objectsDock->setObjectName("ObjectsDock");
   objectsDock->setWidget(objects_);
@@ -221,6 +221,17 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   });
   connect(doc_, &Document::lightingChanged, viewport_, &ViewportWidget::lightingChanged);
   connect(doc_, &Document::meshChanged, viewport_, &ViewportWidget::meshChanged);
+  // Image-based objects follow their document and its light (once per turn of the event loop).
+  for (auto signal : {&Document::opened, &Document::relightingReplaced, &Document::imageObjectsChanged,
+                      &Document::lightingChanged, &Document::meshChanged})
+    connect(doc_, signal, this, [this] {
+      if (imagesPending_) return;
+      imagesPending_ = true;
+      QTimer::singleShot(0, this, [this] {
+        imagesPending_ = false;
+        if (doc_->isOpen()) viewport_->setImageObjects(doc_->imageObjects(), doc_->imageObjectLighting());
+      });
+    });
   connect(doc_, &Document::virtualsChanged, this, [this] { updateStatus(); });
   connect(doc_, &Document::relightingReplaced, this, [this] {
     const QSignalBlocker block(interactiveMesh_);

@@ -121,6 +121,7 @@ class MainWindow : public QMainWindow {
   QAction* interactiveMesh_ = nullptr;
   QAction *undoAction_ = nullptr, *redoAction_ = nullptr;
   void setEditing(bool on);
+  bool imagesPending_ = false;  // the viewport's image-based objects are to be brought up to date
 };
 
 }  // namespace relume

@@ -14,9 +14,14 @@
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "document.h"
 #include "edit_tool.h"
+#include "job_runner.h"
+#include "relume/geometry/progress.h"
+#include "relume/ibr/fan.h"
+#include "relume/ibr/mesh.h"
 #include "relume/project/room_io.h"
 
 namespace relume {
@@ -25,8 +30,8 @@ namespace {
 QString swatch(const QColor& c) { return QString("background-color: %1; border: 1px solid #555; min-width: 28px;").arg(c.name()); }
 }  // namespace
 
-ObjectsPanel::ObjectsPanel(Document* doc, EditTool* tool, QWidget* parent)
-    : QWidget(parent), doc_(doc), tool_(tool) {
+ObjectsPanel::ObjectsPanel(Document* doc, EditTool* tool, JobRunner* jobs, QWidget* parent)
+    : QWidget(parent), doc_(doc), tool_(tool), jobs_(jobs) {
   auto* layout = new QVBoxLayout(this);
   auto* box = new QGroupBox(tr("New box"), this);
   auto* form = new QFormLayout(box);
@@ -63,11 +68,36 @@ ObjectsPanel::ObjectsPanel(Document* doc, EditTool* tool, QWidget* parent)
     const QString f = QFileDialog::getOpenFileName(this, tr("Place an OBJ mesh"), {}, tr("Wavefront OBJ (*.obj)"));
     if (!f.isEmpty()) placeObj(f);
   });
+  auto* image = new QGroupBox(tr("Image-based object"), this);
+  auto* imageForm = new QFormLayout(image);
+  imageScaleTemplate_ = new QDoubleSpinBox(image);
+  imageScaleTemplate_->setRange(0.05, 20.0);
+  imageScaleTemplate_->setSingleStep(0.1);
+  imageScaleTemplate_->setDecimals(2);
+  imageScaleTemplate_->setValue(1.0);
+  imageScaleTemplate_->setPrefix(tr("x "));
+  imageScaleTemplate_->setToolTip(tr("The mesh's units times this are metres"));
+  imageForm->addRow(tr("Scale"), imageScaleTemplate_);
+  placeImage_ = new QPushButton(tr("Place an image-based object..."), image);
+  placeImage_->setToolTip(tr("An image fan (relume ibr-fan writes them) or a mesh of any size (OBJ, PLY, glTF), drawn "
+                             "from images relit by the room's lamps; it stands where you click."));
+  imageForm->addRow(placeImage_);
+  layout->addWidget(image);
+  connect(placeImage_, &QPushButton::clicked, this, [this] {
+    const QString f = QFileDialog::getOpenFileName(this, tr("Place an image-based object"), {},
+                                                   tr("Image fans and meshes (*.fan *.obj *.ply *.gltf *.glb)"));
+    if (!f.isEmpty()) placeImageFile(f);
+  });
   auto* placed = new QGroupBox(tr("Objects in the room"), this);
   list_ = new QVBoxLayout(placed);
   empty_ = new QLabel(tr("None yet."), placed);
   list_->addWidget(empty_);
   layout->addWidget(placed);
+  auto* images = new QGroupBox(tr("Image-based objects in the room"), this);
+  imageList_ = new QVBoxLayout(images);
+  imageEmpty_ = new QLabel(tr("None yet."), images);
+  imageList_->addWidget(imageEmpty_);
+  layout->addWidget(images);
   layout->addStretch(1);
 
   connect(albedo_, &QPushButton::clicked, this, [this] {
@@ -89,8 +119,120 @@ ObjectsPanel::ObjectsPanel(Document* doc, EditTool* tool, QWidget* parent)
   connect(doc_, &Document::opened, this, &ObjectsPanel::rebuild);
   connect(doc_, &Document::closed, this, &ObjectsPanel::rebuild);
   connect(doc_, &Document::relightingReplaced, this, &ObjectsPanel::rebuild);
+  connect(doc_, &Document::imageObjectsChanged, this, [this] {
+    bool same = imageRows_.size() == doc_->imageObjects().size();
+    for (size_t i = 0; same && i < imageRows_.size(); ++i) same = imageRows_[i].name == doc_->imageObjects()[i].name;
+    same ? refreshImages() : rebuildImages();
+  });
+  connect(doc_, &Document::opened, this, &ObjectsPanel::rebuildImages);
+  connect(doc_, &Document::closed, this, &ObjectsPanel::rebuildImages);
   pushTemplate();
   rebuild();
+  rebuildImages();
+}
+
+bool ObjectsPanel::placeImageFile(const QString& path) {
+  const QString stem = QFileInfo(path).completeBaseName();
+  const double scale = imageScaleTemplate_->value();
+  if (QFileInfo(path).suffix().compare("fan", Qt::CaseInsensitive) == 0) {
+    try {
+      std::shared_ptr<const ibr::ImageFan> fan = ibr::readFan(path.toStdString());
+      tool_->placeImageObject(stem, fan, path.toStdString(), scale);
+      return true;
+    } catch (const std::exception& e) {
+      emit message(QString::fromStdString(e.what()));
+      return false;
+    }
+  }
+  // A mesh: its fan rendered off the UI thread (the defaults of relume ibr-fan), then placed.
+  const std::string file = path.toStdString();
+  const bool started = jobs_->start(tr("Rendering the image fan of %1").arg(QFileInfo(path).fileName()),
+                                    [this, file, stem, scale](Progress& progress) {
+                                      const ibr::Mesh mesh = ibr::readMesh(file);
+                                      std::shared_ptr<ibr::ImageFan> fan = ibr::buildFan(mesh, ibr::FanOptions{}, progress);
+                                      fan->source = file;
+                                      return JobRunner::Continuation([this, fan, file, stem, scale] {
+                                        tool_->placeImageObject(stem, fan, file, scale);
+                                      });
+                                    });
+  if (!started) emit message(tr("Another job is running: wait for it, or cancel it."));
+  return started;
+}
+
+void ObjectsPanel::rebuildImages() {
+  for (auto& r : imageRows_) {
+    r.turn->parentWidget()->hide();
+    r.turn->parentWidget()->deleteLater();
+  }
+  imageRows_.clear();
+  for (const auto& o : doc_->imageObjects()) {
+    auto* row = new QWidget(this);
+    auto* grid = new QGridLayout(row);
+    grid->setContentsMargins(0, 2, 0, 2);
+    ImageRow r;
+    r.name = o.name;
+    auto* name = new QLabel(QString::fromStdString(o.name), row);
+    name->setToolTip(QString::fromStdString(o.fanFile));
+    r.turn = new QSpinBox(row);
+    r.turn->setRange(-180, 180);
+    r.turn->setSingleStep(15);
+    r.turn->setWrapping(true);
+    r.turn->setKeyboardTracking(false);
+    r.turn->setSuffix(tr("°"));
+    r.turn->setToolTip(tr("Turn about the vertical"));
+    r.scale = new QDoubleSpinBox(row);
+    r.scale->setRange(0.05, 20.0);
+    r.scale->setSingleStep(0.1);
+    r.scale->setDecimals(2);
+    r.scale->setPrefix(tr("x "));
+    r.scale->setKeyboardTracking(false);
+    r.scale->setToolTip(tr("Scale (it keeps standing where it stands)"));
+    r.remove = new QPushButton(tr("Delete"), row);
+    grid->addWidget(name, 0, 0);
+    grid->addWidget(r.turn, 0, 1);
+    grid->addWidget(r.scale, 0, 2);
+    grid->addWidget(r.remove, 0, 3);
+    grid->setColumnStretch(0, 1);
+    imageList_->addWidget(row);
+    const std::string n = o.name;
+    auto place = [this, n](double turnDegrees, double scale) {
+      if (updating_) return;
+      const int i = doc_->imageObjectIndex(n);
+      if (i < 0) return;
+      ibr::Placement p = doc_->imageObjects()[size_t(i)].place;
+      p.yaw = turnDegrees * std::numbers::pi / 180.0;
+      p.scale = scale;
+      QString error;
+      if (!doc_->tryPlaceImageObject(n, p, 0, &error)) {
+        emit message(tr("Not changed: %1").arg(error));
+        refreshImages();
+      }
+    };
+    connect(r.turn, &QSpinBox::valueChanged, this, [this, n, place](int deg) {
+      const int i = doc_->imageObjectIndex(n);
+      if (i >= 0) place(deg, doc_->imageObjects()[size_t(i)].place.scale);
+    });
+    connect(r.scale, &QDoubleSpinBox::valueChanged, this, [this, n, place](double s) {
+      const int i = doc_->imageObjectIndex(n);
+      if (i >= 0) place(doc_->imageObjects()[size_t(i)].place.yaw * 180.0 / std::numbers::pi, s);
+    });
+    connect(r.remove, &QPushButton::clicked, this, [this, n] { doc_->removeImageObject(n); });
+    imageRows_.push_back(r);
+  }
+  imageEmpty_->setVisible(imageRows_.empty());
+  refreshImages();
+}
+
+void ObjectsPanel::refreshImages() {
+  updating_ = true;
+  for (auto& r : imageRows_) {
+    const int i = doc_->imageObjectIndex(r.name);
+    if (i < 0) continue;
+    const ibr::Placement& p = doc_->imageObjects()[size_t(i)].place;
+    r.turn->setValue(int(std::lround(std::remainder(p.yaw * 180.0 / std::numbers::pi, 360.0))));
+    r.scale->setValue(p.scale);
+  }
+  updating_ = false;
 }
 
 bool ObjectsPanel::placeObj(const QString& path) {

@@ -1,7 +1,9 @@
 #pragma once
 // The Objects panel: a box of chosen size and albedo placed by clicking a floor or table in the
 // viewport; per object its turn about the vertical and a Delete button. Objects are dragged in
-// the viewport (EditTool) along the surface they stand on.
+// the viewport (EditTool) along the surface they stand on. Image-based objects (Dinh, Metoyer,
+// Turk): an image fan, or a mesh whose fan is rendered first (a job, with progress and Cancel),
+// placed the same way; per object its turn, its scale and a Delete button.
 #include <QColor>
 #include <QWidget>
 #include <string>
@@ -17,16 +19,23 @@ namespace relume {
 
 class Document;
 class EditTool;
+class JobRunner;
 
 class ObjectsPanel : public QWidget {
   Q_OBJECT
  public:
-  ObjectsPanel(Document* doc, EditTool* tool, QWidget* parent = nullptr);
+  ObjectsPanel(Document* doc, EditTool* tool, JobRunner* jobs, QWidget* parent = nullptr);
   QPushButton* placeButton() const { return place_; }
   // Reads an OBJ mesh (metres) and arms the tool to place it; false (with a message) on error.
   bool placeObj(const QString& path);
   QSpinBox* turn(int object) const { return rows_.at(size_t(object)).turn; }
   QPushButton* deleteButton(int object) const { return rows_.at(size_t(object)).remove; }
+  // An image fan (.fan) or a mesh (OBJ, PLY, glTF: its fan rendered first, as a job); then the
+  // tool is armed to place it. False (with a message) when it cannot be read or a job runs.
+  bool placeImageFile(const QString& path);
+  QSpinBox* imageTurn(int object) const { return imageRows_.at(size_t(object)).turn; }
+  QDoubleSpinBox* imageScale(int object) const { return imageRows_.at(size_t(object)).scale; }
+  QPushButton* imageDeleteButton(int object) const { return imageRows_.at(size_t(object)).remove; }
 
  signals:
   void message(const QString& text);
@@ -36,6 +45,8 @@ class ObjectsPanel : public QWidget {
   void rebuild();
   void refresh();
   void pushTemplate();
+  void rebuildImages();
+  void refreshImages();
 
   struct Row {
     std::string name;
@@ -52,6 +63,18 @@ class ObjectsPanel : public QWidget {
   QVBoxLayout* list_;
   QLabel* empty_;
   std::vector<Row> rows_;
+  struct ImageRow {
+    std::string name;
+    QSpinBox* turn = nullptr;
+    QDoubleSpinBox* scale = nullptr;
+    QPushButton* remove = nullptr;
+  };
+  JobRunner* jobs_;
+  QPushButton* placeImage_;
+  QDoubleSpinBox* imageScaleTemplate_;
+  QVBoxLayout* imageList_;
+  QLabel* imageEmpty_;
+  std::vector<ImageRow> imageRows_;
   bool updating_ = false;
 };
 

@@ -136,6 +136,84 @@ LightTable indirectTable(const ImageFan& fan, int view, const Placement& place, 
   return t;
 }
 
+std::array<int, 2> viewsToward(const ImageFan& fan, const Placement& place, const glm::dvec3& eye) {
+  const glm::dvec3 toEye = eye - place.toWorld(fan, fan.centre);
+  const double dist = glm::length(toEye);
+  if (!(dist > fan.radius * place.scale)) return {-1, -1};  // the eye is inside the object's sphere
+  const glm::dvec3 vObj = place.toObjectDirection(toEye / dist);
+  std::array<int, 2> views{fan.nearestView(vObj), -1};
+  double second = -2;
+  for (int k = 0; k < fan.viewCount(); ++k)
+    if (k != views[0] && glm::dot(fan.toCamera(k), vObj) > second) {
+      second = glm::dot(fan.toCamera(k), vObj);
+      views[1] = k;
+    }
+  return views;
+}
+
+int lampView(const ImageFan& fan, const Placement& place, const glm::dvec3& lampPosition) {
+  const glm::dvec3 to = lampPosition - place.toWorld(fan, fan.centre);
+  const double d = glm::length(to);
+  return fan.nearestView(d > 0 ? place.toObjectDirection(to / d) : glm::dvec3(0, 0, 1));
+}
+
+std::vector<glm::vec3> viewTables(const ImageFan& fan, int view, const Placement& place, const ObjectLighting& light) {
+  std::vector<glm::vec3> rows;
+  rows.reserve(size_t(kNormalCodes) * (1 + light.lamps.size() * kTableCells * kTableCells));
+  const LightTable ind = indirectTable(fan, view, place, light.indirect);
+  rows.insert(rows.end(), ind.begin(), ind.end());
+  for (const auto& lamp : light.lamps)
+    for (const auto& t : lampTables(fan, view, place, lamp).table) rows.insert(rows.end(), t.begin(), t.end());
+  return rows;
+}
+
+std::vector<ShadowCaster> shadowCasters(const ImageFan& fan, const Placement& place, const ObjectLighting& light) {
+  std::vector<ShadowCaster> out;
+  const glm::dvec3 cw = place.toWorld(fan, fan.centre);
+  const double rs = fan.radius * place.scale;
+  for (size_t l = 0; l < light.lamps.size(); ++l) {
+    const ObjectLamp& lamp = light.lamps[l];
+    if (glm::dot(lamp.exitance, lamp.exitance) <= 0) continue;
+    const glm::dvec3 toLamp = lamp.position - cw;
+    const double d = glm::length(toLamp);
+    if (!(d > rs)) continue;  // a lamp inside the object's sphere: no silhouette to cast
+    ShadowCaster c;
+    c.lamp = l;
+    c.view = fan.nearestView(place.toObjectDirection(toLamp / d));
+    c.right = place.toWorldDirection(fan.right(c.view));
+    c.up = place.toWorldDirection(fan.up(c.view));
+    c.toCamera = place.toWorldDirection(fan.toCamera(c.view));
+    c.samples = pointsOn(lamp.polygon, 3);
+    for (const auto& v : lamp.polygon) c.lampRadius = std::max(c.lampRadius, glm::length(v - lamp.position));
+    const double reach = rs + c.lampRadius;
+    if (d > reach * 1.0001) {
+      const double sinT = reach / d;
+      c.cone = true;
+      c.apex = lamp.position;
+      c.axis = -toLamp / d;
+      c.cos2 = (1.0 - sinT * sinT) * (1.0 - 1e-4);  // a hair wider than exact
+      c.nearSide = d - reach - 1e-3;
+    }
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+std::vector<float> lampVisibility(const radiosity::HierarchicalRadiosity& h, const std::vector<glm::vec3>& points,
+                                  const std::vector<glm::vec3>& normals, const std::vector<glm::dvec3>& lamps) {
+  std::vector<Segment> segs;
+  segs.reserve(points.size() * lamps.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    const glm::vec3 from = points[i] + 1e-4f * (i < normals.size() ? normals[i] : glm::vec3(0.f));
+    for (const auto& l : lamps) segs.push_back({from, glm::vec3(l)});
+  }
+  std::vector<uint8_t> blocked(segs.size(), 0);
+  h.rayScene().occluded(segs, blocked);
+  std::vector<float> out(blocked.size());
+  for (size_t i = 0; i < out.size(); ++i) out[i] = blocked[i] ? 0.f : 1.f;
+  return out;
+}
+
 RoomView roomView(const radiosity::HierarchicalRadiosity& h, const Camera& cam) {
   RoomView v;
   v.width = cam.width;
@@ -180,8 +258,14 @@ struct ViewHit {
 // image square: marched in steps of half a fan pixel, the crossing refined by bisection. The fan
 // image's pixels then stand where the object's surface is, not on a flat billboard: seen from
 // close by, a viewer's ray meets the surface point it would meet on the object itself (as far as
-// view k saw it).
-bool marchView(const ImageFan& fan, const FanView& v, const ImageFan::Axes& ax, const glm::dvec3& o, const glm::dvec3& d,
+// view k saw it). A crossing where the ray ends up well behind the surface (more than a few
+// pixels' depth) is no crossing of it but of the "curtain" a height field hangs behind every
+// depth edge: the ray passes behind a part view k saw in front of what the ray really meets, so
+// view k cannot tell (Hidden), and the next view is asked.
+enum class March { Miss, Hit, Hidden };
+constexpr double kCurtainPixels = 1.5;  // how far behind the surface (in fan pixels) a ray may end up
+
+March marchView(const ImageFan& fan, const FanView& v, const ImageFan::Axes& ax, const glm::dvec3& o, const glm::dvec3& d,
                ViewHit& hit) {
   const double R = fan.radius;
   const int S = fan.size;
@@ -192,7 +276,7 @@ bool marchView(const ImageFan& fan, const FanView& v, const ImageFan::Axes& ax, 
   double t0 = 0.0, t1 = std::numeric_limits<double>::infinity();
   for (int a = 0; a < 3; ++a) {
     if (std::abs(dv[a]) < 1e-15) {
-      if (p0[a] < lo[a] || p0[a] > hi[a]) return false;
+      if (p0[a] < lo[a] || p0[a] > hi[a]) return March::Miss;
       continue;
     }
     double ta = (lo[a] - p0[a]) / dv[a], tb = (hi[a] - p0[a]) / dv[a];
@@ -200,7 +284,7 @@ bool marchView(const ImageFan& fan, const FanView& v, const ImageFan::Axes& ax, 
     t0 = std::max(t0, ta);
     t1 = std::min(t1, tb);
   }
-  if (!(t0 < t1)) return false;
+  if (!(t0 < t1)) return March::Miss;
   const double px = S / (2.0 * R);
   auto surfaceAt = [&](double t, size_t& ti) {
     const int x = std::clamp(int(std::floor((p0[0] + t * dv[0] + R) * px)), 0, S - 1);
@@ -224,11 +308,11 @@ bool marchView(const ImageFan& fan, const FanView& v, const ImageFan::Axes& ax, 
       size_t tm;
       (p0[2] + m * dv[2] < surfaceAt(m, tm) ? a : b) = m;
     }
-    surfaceAt(b, hit.texel);
+    const double behind = p0[2] + b * dv[2] - surfaceAt(b, hit.texel);
     hit.t = b;
-    return true;
+    return behind > kCurtainPixels / px ? March::Hidden : March::Hit;
   }
-  return false;
+  return March::Miss;
 }
 
 // How much of a lamp reaches the object's point p (object frame) past the object itself: p
@@ -272,14 +356,7 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
   if (!(dist > rs)) return st;  // the camera is inside the object's sphere
   // The two fan images nearest the viewer's direction: the nearest drawn, the next where the
   // nearest did not see the surface the ray meets.
-  const glm::dvec3 vObj = place.toObjectDirection(toEye / dist);
-  int views[2] = {fan.nearestView(vObj), -1};
-  double second = -2;
-  for (int k = 0; k < fan.viewCount(); ++k)
-    if (k != views[0] && glm::dot(fan.toCamera(k), vObj) > second) {
-      second = glm::dot(fan.toCamera(k), vObj);
-      views[1] = k;
-    }
+  const std::array<int, 2> views = viewsToward(fan, place, eye);
   st.view = views[0];
   const int nViews = views[1] >= 0 ? 2 : 1;  // a fan of one view has no second
   // Its bounds on screen: the bounding sphere's cube.
@@ -324,7 +401,7 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
   for (const auto& lamp : light.lamps) {
     if (glm::dot(lamp.intensity, lamp.intensity) <= 0 && lamp.visible <= 0) continue;
     for (int j = 0; j < nViews; ++j) lit[j].lamps.push_back(lampTables(fan, views[j], place, lamp));
-    const int kl = fan.nearestView(place.toObjectDirection(glm::normalize(lamp.position - cw)));
+    const int kl = lampView(fan, place, lamp.position);
     lamps.push_back({lamp.position, fan.axes(kl), &fan.view(kl)});
   }
   const glm::dvec3 eyeObj = place.toObject(fan, eye);
@@ -341,9 +418,12 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
       for (int x = ix0; x <= ix1; ++x) {
         const glm::dvec3 r = cam.rayDirection(x + 0.5, y + 0.5);
         const glm::dvec3 dObj(cosYaw * r.x + sinYaw * r.y, -sinYaw * r.x + cosYaw * r.y, r.z / place.scale);  // t stays the world distance
+        // The first view that sees what the ray meets. A ray that every view sees passing behind
+        // some surface goes past the object: it ran behind the edge of a silhouette (drawing
+        // those hits hung translucent sheets beside a vase's neck, measured and looked at).
         ViewHit hit;
         int j = 0;
-        while (j < nViews && !marchView(fan, *lit[j].view, lit[j].axes, eyeObj, dObj, hit)) ++j;
+        while (j < nViews && marchView(fan, *lit[j].view, lit[j].axes, eyeObj, dObj, hit) != March::Hit) ++j;
         if (j == nViews) continue;
         const size_t pi = size_t(y) * cam.width + x;
         if (double(room.depth[pi]) < hit.t - 1e-4) continue;  // the room is nearer
@@ -409,41 +489,11 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
   DrawStats st;
   const glm::dvec3 cw = place.toWorld(fan, fan.centre);
   const double rs = fan.radius * place.scale;
-  struct LampView {
-    size_t lamp;
-    int view;
-    glm::dvec3 rw, uw, nw;  // the view's image axes and direction (world)
-    radiosity::EmitterShape shape;
-    const FanView* image;
-    std::vector<std::pair<glm::dvec3, double>> samples;  // points on the lamp, weights summing to 1
-    double lampRadius;  // the farthest vertex from its centre
-    bool cone = false;  // the cone test below applies (the lamp lies outside the widened sphere)
-    glm::vec3 apex{0.f}, axis{0.f};
-    float cos2 = 0.f, nearSide = 0.f;
-  };
-  std::vector<LampView> views;
-  for (size_t l = 0; l < light.lamps.size(); ++l) {
-    const ObjectLamp& lamp = light.lamps[l];
-    if (glm::dot(lamp.exitance, lamp.exitance) <= 0) continue;
-    const glm::dvec3 toLamp = lamp.position - cw;
-    const double d = glm::length(toLamp);
-    if (!(d > rs)) continue;  // a lamp inside the object's sphere: no silhouette to cast
-    const int k = fan.nearestView(place.toObjectDirection(toLamp / d));
-    views.push_back({l, k, place.toWorldDirection(fan.right(k)), place.toWorldDirection(fan.up(k)),
-                     place.toWorldDirection(fan.toCamera(k)),
-                     radiosity::EmitterShape(lamp.polygon, lamp.twoSided, lamp.photometry), &fan.view(k),
-                     pointsOn(lamp.polygon, 3), 0.0});
-    LampView& made = views.back();
-    for (const auto& v : lamp.polygon) made.lampRadius = std::max(made.lampRadius, glm::length(v - lamp.position));
-    const double reach = rs + made.lampRadius;
-    if (d > reach * 1.0001) {
-      const double sinT = reach / d;
-      made.cone = true;
-      made.apex = glm::vec3(lamp.position);
-      made.axis = glm::vec3(-toLamp / d);
-      made.cos2 = float((1.0 - sinT * sinT) * (1.0 - 1e-4));  // a hair wider than exact
-      made.nearSide = float(d - reach) - 1e-3f;
-    }
+  const std::vector<ShadowCaster> views = shadowCasters(fan, place, light);
+  std::vector<radiosity::EmitterShape> shapes;
+  for (const auto& c : views) {
+    const ObjectLamp& lamp = light.lamps[c.lamp];
+    shapes.emplace_back(lamp.polygon, lamp.twoSided, lamp.photometry);
   }
   if (views.empty()) return st;
   std::vector<char> emitters(h.surfaces().size(), 0);
@@ -462,7 +512,9 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
         const glm::dvec3 X(room.point[pi]);
         glm::dvec3 taken(0.0);
         glm::dvec3 total(-1.0);
-        for (const LampView& lv : views) {
+        for (size_t ci = 0; ci < views.size(); ++ci) {
+          const ShadowCaster& lv = views[ci];
+          const FanView& silhouette = fan.view(lv.view);
           const ObjectLamp& lamp = light.lamps[lv.lamp];
           if (surface == lamp.surface) continue;
           // Nothing to hide unless the line to the lamp's centre passes within the object's
@@ -470,9 +522,9 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
           // that radius of it): X inside the cone from the lamp's centre around that sphere, and
           // beyond its near side. (Single precision: it only picks the pixels tested exactly.)
           if (lv.cone) {
-            const glm::vec3 v = room.point[pi] - lv.apex;
-            const float d = glm::dot(v, lv.axis);
-            if (d < lv.nearSide || d * d < lv.cos2 * glm::dot(v, v)) continue;
+            const glm::vec3 v = room.point[pi] - glm::vec3(lv.apex);
+            const float d = glm::dot(v, glm::vec3(lv.axis));
+            if (d < float(lv.nearSide) || d * d < float(lv.cos2) * glm::dot(v, v)) continue;
           }
           // The lamp's points (a soft shadow: the share of its area the silhouette hides).
           double blocked = 0;
@@ -484,28 +536,28 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
             const glm::dvec3 closest = X + s * seg - cw;
             if (glm::dot(closest, closest) > rs * rs) continue;
             // Where the line meets the plane of the lamp's view through the centre.
-            const double den = glm::dot(seg, lv.nw);
+            const double den = glm::dot(seg, lv.toCamera);
             if (std::abs(den) < 1e-12) continue;
-            const double u = glm::dot(cw - X, lv.nw) / den;
+            const double u = glm::dot(cw - X, lv.toCamera) / den;
             if (u <= 0 || u >= 1) continue;
             const glm::dvec3 q = X + u * seg - cw;
-            const double fx = (glm::dot(q, lv.rw) / rs + 1.0) * 0.5 * S, fy = (1.0 - glm::dot(q, lv.uw) / rs) * 0.5 * S;
+            const double fx = (glm::dot(q, lv.right) / rs + 1.0) * 0.5 * S, fy = (1.0 - glm::dot(q, lv.up) / rs) * 0.5 * S;
             const int tx = int(std::floor(fx)), ty = int(std::floor(fy));
             if (tx < 0 || ty < 0 || tx >= S || ty >= S) continue;
             const size_t ti = size_t(ty) * S + tx;
-            if (!lv.image->alpha[ti]) continue;
+            if (!silhouette.alpha[ti]) continue;
             // The silhouette's point must lie between X and the lamp (not behind X).
             const double a = ((tx + 0.5) / S * 2.0 - 1.0) * fan.radius, b = (1.0 - (ty + 0.5) / S * 2.0) * fan.radius;
-            const glm::dvec3 p = cw + place.scale * (a * lv.rw + b * lv.uw + (fan.radius - fan.depthMetres(lv.image->depth[ti])) * lv.nw);
+            const glm::dvec3 p = cw + place.scale * (a * lv.right + b * lv.up + (fan.radius - fan.depthMetres(silhouette.depth[ti])) * lv.toCamera);
             if (glm::dot(p - X, seg) <= 1e-3 * std::sqrt(len2)) continue;
-            blocked += weight * (lv.image->alpha[ti] / 255.0);
+            blocked += weight * (silhouette.alpha[ti] / 255.0);
           }
           if (!(blocked > 0)) continue;
           const glm::dvec3 n(room.normal[pi]);
           // The lamp's direct irradiance at X, if the room lets it through.
           const glm::dvec3 lift = X + 1e-4 * n;
           if (h.rayScene().occluded(glm::vec3(lift), glm::vec3(lamp.position))) continue;
-          const double f = radiosity::emitterFormFactor(X, n, lamp.polygon, lv.shape);
+          const double f = radiosity::emitterFormFactor(X, n, lamp.polygon, shapes[ci]);
           if (!(f > 0)) continue;
           if (total.x < 0) total = irradiance(surface, X);
           taken += blocked * f * lamp.exitance;

@@ -33,14 +33,22 @@ void checkImageObject(const Scene& scene, const ImageObject& o) {
 
 std::vector<DrawStats> drawImageObjects(RelightSession& session, const std::vector<ImageObject>& objects,
                                         const Camera& camera, ImageRGB& image, std::vector<uint8_t>* mask) {
+  if (objects.empty()) return std::vector<DrawStats>();
+  session.syncEngine();
+  std::vector<ObjectLighting> lights;
+  for (const auto& o : objects) lights.push_back(lightingAt(session.engine(), o.place.toWorld(*o.fan, o.fan->centre)));
+  return drawImageObjects(static_cast<const RelightSession&>(session), objects, lights, camera, image, mask);
+}
+
+std::vector<DrawStats> drawImageObjects(const RelightSession& session, const std::vector<ImageObject>& objects,
+                                        const std::vector<ObjectLighting>& lights, const Camera& camera, ImageRGB& image,
+                                        std::vector<uint8_t>* mask) {
   std::vector<DrawStats> stats(objects.size());
   if (objects.empty()) return stats;
-  session.syncEngine();
+  if (lights.size() != objects.size()) throw Error("", "image-based objects", "one lighting per object expected");
   const auto& h = session.engine();
   const RoomView room = roomView(h, camera);
   if (mask) mask->assign(size_t(camera.width) * camera.height, 0);
-  std::vector<ObjectLighting> lights;
-  for (const auto& o : objects) lights.push_back(lightingAt(h, o.place.toWorld(*o.fan, o.fan->centre)));
   // The light arriving there: on real surfaces what the display's B / D is made of (irradiance),
   // and on a virtual object's faces too (their radiosity is reflectance x irradiance, so the share
   // taken off is the same).

@@ -12,11 +12,17 @@
 #include <algorithm>
 #include <chrono>
 #include <glm/mat4x4.hpp>
+#include <glm/geometric.hpp>
 #include <map>
+#include <set>
 #include <vector>
 
 #include "relume/geometry/error.h"
+#include "relume/geometry/polygon.h"
 #include "relume/geometry/scene.h"
+#include "relume/ibr/ibr_object.h"
+#include "relume/ibr/relit_objects.h"
+#include "relume/radiosity/form_factor.h"
 #include "relume/relight/relighter.h"
 
 static void initShaderResources() { Q_INIT_RESOURCE(shaders); }
@@ -26,6 +32,37 @@ namespace relume {
 namespace {
 
 constexpr int kMaxLamps = 32;
+// Image-based objects: lamps an object is lit by (their tables, own shadows), shadow casters (an
+// object seen from a lamp) and points on each lamp, as the shaders declare them.
+constexpr int kObjectLamps = 8, kMaxCasters = 16, kMaxLampSamples = 256, kSamplesPerCaster = 16;
+constexpr int kObjectLayers = 16;  // fan views kept on the GPU per object (2 drawn + its lamps' + spare)
+
+// A fan view as the shaders read it: code, depth, coverage (16-bit integers) and albedo (sRGB).
+void fanTexels(const ibr::FanView& v, int size, std::vector<uint16_t>& data, std::vector<uint8_t>* albedo) {
+  const size_t n = size_t(size) * size;
+  data.assign(n * 4, 0);
+  for (size_t i = 0; i < n; ++i) {
+    data[4 * i] = v.code[i];
+    data[4 * i + 1] = v.depth[i];
+    data[4 * i + 2] = v.alpha[i];
+  }
+  if (!albedo) return;
+  albedo->assign(n * 4, 0);
+  for (size_t i = 0; i < n; ++i) {
+    for (int c = 0; c < 3; ++c) (*albedo)[4 * i + c] = v.colour[3 * i + c];
+    (*albedo)[4 * i + 3] = v.alpha[i];
+  }
+}
+
+GLuint textureArray(QOpenGLFunctions_3_3_Core& gl, GLenum internal, GLenum format, GLenum type, int size, int layers) {
+  GLuint id = 0;
+  gl.glGenTextures(1, &id);
+  gl.glBindTexture(GL_TEXTURE_2D_ARRAY, id);
+  gl.glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GLint(internal), size, size, layers, 0, format, type, nullptr);
+  gl.glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  gl.glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  return id;
+}
 
 struct SurfaceTextures {
   GLuint original = 0, unoccluded = 0;
@@ -137,6 +174,226 @@ struct GlRelightRenderer::Impl {
   FloatTarget readback;
   double lastMs = 0;
 
+  // --- image-based objects ---
+  struct ObjectGpu {
+    std::shared_ptr<const ibr::ImageFan> fan;
+    ibr::Placement place;
+    std::vector<ibr::ObjectLamp> lamps;  // the first kObjectLamps of its lighting
+    std::vector<glm::vec3> tables;       // (kept for the drawn views)
+    GLuint data = 0, albedo = 0, tableTexture = 0;
+    std::vector<int> layerView;          // the fan view in each layer (-1: free)
+    std::vector<uint64_t> layerUsed;     // the frame that last needed it
+    std::array<int, 2> tableViews{-2, -2};
+    int rowsPerView = 0;
+    ibr::ObjectLighting light;
+  };
+  std::vector<ObjectGpu> objects;
+  uint64_t frame = 0;
+  GLuint silhouettes = 0, cubeVao = 0, cubeVbo = 0, visBuffer = 0, visTexture = 0;
+  int visLamps = 0;
+  std::vector<glm::dvec3> visLampPositions;  // the lamps of the visibility buffer
+  const radiosity::HierarchicalRadiosity* engine = nullptr;
+  std::set<int> emitters;
+  struct Casters {
+    int count = 0;
+    std::vector<glm::vec4> sphere, right, up, axis, light, lamp, cone, apex, samples;
+    std::vector<glm::ivec4> index;
+    std::vector<GLint> sampleCount;
+  } casters;
+  std::map<int, std::unique_ptr<QOpenGLShaderProgram>> objectPrograms;  // by output
+  QByteArray displaySource, objectVertexSource, objectFragmentSource;
+
+  void releaseObjects() {
+    for (auto& o : objects)
+      for (GLuint* t : {&o.data, &o.albedo, &o.tableTexture})
+        if (*t) gl->glDeleteTextures(1, t);
+    objects.clear();
+    if (silhouettes) gl->glDeleteTextures(1, &silhouettes);
+    silhouettes = 0;
+    casters = Casters{};
+  }
+
+  QOpenGLShaderProgram& objectProgram(DisplayOutput output) {
+    auto& p = objectPrograms[int(output)];
+    if (!p) {
+      const QByteArray defines = "#version 330 core\n#define OUTPUT " + QByteArray::number(int(output)) + "\n";
+      auto q = std::make_unique<QOpenGLShaderProgram>();
+      if (!q->addShaderFromSourceCode(QOpenGLShader::Vertex, defines + objectVertexSource) ||
+          !q->addShaderFromSourceCode(QOpenGLShader::Fragment, defines + displaySource + objectFragmentSource) || !q->link())
+        throw Error(":/shaders/ibr_object.frag", "shader", q->log().toStdString());
+      p = std::move(q);
+    }
+    return *p;
+  }
+
+  // The layer holding `view` of object o, uploaded if it is not there (the least recently needed
+  // layer makes room).
+  int layerFor(ObjectGpu& o, int view) {
+    for (size_t i = 0; i < o.layerView.size(); ++i)
+      if (o.layerView[i] == view) {
+        o.layerUsed[i] = frame;
+        return int(i);
+      }
+    size_t best = 0;
+    for (size_t i = 1; i < o.layerView.size(); ++i)
+      if (o.layerUsed[i] < o.layerUsed[best]) best = i;
+    const int S = o.fan->size;
+    std::vector<uint16_t> data;
+    std::vector<uint8_t> albedo;
+    fanTexels(o.fan->view(view), S, data, &albedo);
+    gl->glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    gl->glBindTexture(GL_TEXTURE_2D_ARRAY, o.data);
+    gl->glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, GLint(best), S, S, 1, GL_RGBA_INTEGER, GL_UNSIGNED_SHORT, data.data());
+    gl->glBindTexture(GL_TEXTURE_2D_ARRAY, o.albedo);
+    gl->glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, GLint(best), S, S, 1, GL_RGBA, GL_UNSIGNED_BYTE, albedo.data());
+    o.layerView[best] = view;
+    o.layerUsed[best] = frame;
+    return int(best);
+  }
+
+  // Per vertex of the display mesh, whether the room lets each lamp's centre through.
+  void updateVisibility() {
+    visLamps = 0;
+    if (objects.empty() || !engine || mesh.vertices.empty()) return;
+    visLamps = int(std::min<size_t>(visLampPositions.size(), kObjectLamps));
+    if (!visLamps) return;
+    std::vector<glm::vec3> points(mesh.vertices.size()), normals(mesh.vertices.size(), glm::vec3(0.f));
+    for (size_t i = 0; i < points.size(); ++i) points[i] = mesh.vertices[i].position;
+    for (const auto& r : mesh.ranges)
+      for (size_t k = r.first; k < r.first + r.count; ++k) normals[mesh.indices[k]] = r.normal;
+    const std::vector<glm::dvec3> lamps(visLampPositions.begin(), visLampPositions.begin() + visLamps);
+    const std::vector<float> vis = ibr::lampVisibility(*engine, points, normals, lamps);
+    if (!visBuffer) gl->glGenBuffers(1, &visBuffer);
+    if (!visTexture) gl->glGenTextures(1, &visTexture);
+    gl->glBindBuffer(GL_TEXTURE_BUFFER, visBuffer);
+    gl->glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(vis.size() * sizeof(float)), vis.data(), GL_STATIC_DRAW);
+    gl->glBindTexture(GL_TEXTURE_BUFFER, visTexture);
+    gl->glTexBuffer(GL_TEXTURE_BUFFER, GL_R32F, visBuffer);
+    gl->glBindBuffer(GL_TEXTURE_BUFFER, 0);
+  }
+
+  void setCasterUniforms(QOpenGLShaderProgram& p) {
+    const auto& c = casters;
+    p.setUniformValue("casterCount", c.count);
+    if (!c.count) return;
+    auto vec4s = [&](const char* name, const std::vector<glm::vec4>& v) {
+      p.setUniformValueArray(name, reinterpret_cast<const GLfloat*>(v.data()), int(v.size()), 4);
+    };
+    vec4s("casterSphere", c.sphere);
+    vec4s("casterRight", c.right);
+    vec4s("casterUp", c.up);
+    vec4s("casterAxis", c.axis);
+    vec4s("casterLight", c.light);
+    vec4s("casterLamp", c.lamp);
+    vec4s("casterCone", c.cone);
+    vec4s("casterApex", c.apex);
+    vec4s("lampSamples", c.samples);
+    gl->glUniform4iv(p.uniformLocation("casterIndex"), GLsizei(c.index.size()), &c.index[0].x);
+    gl->glUniform1iv(p.uniformLocation("casterSamples"), GLsizei(c.sampleCount.size()), c.sampleCount.data());
+    p.setUniformValue("lampVisibilityCount", visLamps);
+  }
+
+  void drawObjects(const Camera& camera, const glm::mat4& clip, const DisplaySettings& s) {
+    if (objects.empty()) return;
+    ++frame;
+    const glm::dvec3 eye = camera.center();
+    std::vector<size_t> order(objects.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    auto dist = [&](size_t i) { return glm::length(objects[i].place.toWorld(*objects[i].fan, objects[i].fan->centre) - eye); };
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return dist(a) > dist(b); });
+    auto& prog = objectProgram(s.output);
+    prog.bind();
+    prog.setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(clip)[0][0]));
+    prog.setUniformValue("eye", QVector3D(float(eye.x), float(eye.y), float(eye.z)));
+    prog.setUniformValue("exposure", float(s.exposure));
+    prog.setUniformValue("falseMin", float(s.falseMin));
+    prog.setUniformValue("falseMax", float(s.falseMax));
+    prog.setUniformValue("fanData", 0);
+    prog.setUniformValue("fanAlbedo", 1);
+    prog.setUniformValue("tables", 2);
+    gl->glEnable(GL_DEPTH_TEST);
+    gl->glDepthFunc(GL_LESS);
+    gl->glEnable(GL_BLEND);
+    gl->glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    gl->glEnable(GL_CULL_FACE);
+    gl->glCullFace(GL_FRONT);  // the cube's back faces: drawn wherever the eye is outside the sphere
+    gl->glBindVertexArray(cubeVao);
+    for (size_t i : order) {
+      ObjectGpu& o = objects[i];
+      const ibr::ImageFan& fan = *o.fan;
+      const std::array<int, 2> views = ibr::viewsToward(fan, o.place, eye);
+      if (views[0] < 0) continue;  // the eye is inside the object
+      const int nViews = views[1] >= 0 ? 2 : 1;
+      if (views != o.tableViews) {  // the tables of the views now drawn (the light's own change resets them)
+        std::vector<glm::vec3> rows;
+        for (int j = 0; j < nViews; ++j) {
+          const auto t = ibr::viewTables(fan, views[size_t(j)], o.place, o.light);
+          rows.insert(rows.end(), t.begin(), t.end());
+        }
+        o.rowsPerView = int(rows.size() / size_t(ibr::kNormalCodes) / size_t(nViews));
+        gl->glBindTexture(GL_TEXTURE_2D, o.tableTexture);
+        gl->glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        gl->glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, ibr::kNormalCodes, o.rowsPerView * nViews, 0, GL_RGB, GL_FLOAT, rows.data());
+        o.tableViews = views;
+      }
+      GLint layers[2] = {layerFor(o, views[0]), nViews > 1 ? layerFor(o, views[1]) : 0};
+      const int lampCount = int(std::min<size_t>(o.light.lamps.size(), kObjectLamps));
+      std::vector<GLint> lampLayers(kObjectLamps, 0);
+      std::vector<glm::vec3> lampPositions(kObjectLamps, glm::vec3(0.f)), lampAxes(3 * kObjectLamps, glm::vec3(0.f));
+      for (int l = 0; l < lampCount; ++l) {
+        const auto& lamp = o.light.lamps[size_t(l)];
+        const int k = ibr::lampView(fan, o.place, lamp.position);
+        lampLayers[size_t(l)] = layerFor(o, k);
+        lampPositions[size_t(l)] = glm::vec3(lamp.position);
+        const auto ax = fan.axes(k);
+        lampAxes[3 * size_t(l)] = glm::vec3(ax.right);
+        lampAxes[3 * size_t(l) + 1] = glm::vec3(ax.up);
+        lampAxes[3 * size_t(l) + 2] = glm::vec3(ax.toCamera);
+      }
+      std::vector<glm::vec3> viewAxes(6, glm::vec3(0.f));
+      for (int j = 0; j < nViews; ++j) {
+        const auto ax = fan.axes(views[size_t(j)]);
+        viewAxes[3 * size_t(j)] = glm::vec3(ax.right);
+        viewAxes[3 * size_t(j) + 1] = glm::vec3(ax.up);
+        viewAxes[3 * size_t(j) + 2] = glm::vec3(ax.toCamera);
+      }
+      const glm::dvec3 cw = o.place.toWorld(fan, fan.centre);
+      const double rs = fan.radius * o.place.scale;
+      const glm::dvec3 eyeObj = o.place.toObject(fan, eye);
+      // A world direction into the object frame: turned back by the yaw, divided by the scale.
+      const float c = float(std::cos(o.place.yaw) / o.place.scale), sn = float(std::sin(o.place.yaw) / o.place.scale);
+      const GLfloat toObject[9] = {c, -sn, 0.f, sn, c, 0.f, 0.f, 0.f, float(1.0 / o.place.scale)};  // columns
+      const double texel = 2.0 * rs / fan.size, pixel = glm::length(cw - eye) / std::max(camera.fx(), 1e-9);
+      prog.setUniformValue("sphere", QVector4D(float(cw.x), float(cw.y), float(cw.z), float(rs)));
+      prog.setUniformValue("eyeObject", QVector3D(float(eyeObj.x), float(eyeObj.y), float(eyeObj.z)));
+      gl->glUniformMatrix3fv(prog.uniformLocation("worldToObject"), 1, GL_FALSE, toObject);
+      prog.setUniformValue("fanCentre", QVector3D(float(fan.centre.x), float(fan.centre.y), float(fan.centre.z)));
+      prog.setUniformValue("fanRadius", float(fan.radius));
+      prog.setUniformValue("fanSize", fan.size);
+      prog.setUniformValue("rowsPerView", o.rowsPerView);
+      prog.setUniformValue("viewCount", nViews);
+      gl->glUniform1iv(prog.uniformLocation("viewLayer"), 2, layers);
+      prog.setUniformValueArray("viewAxes", &viewAxes[0].x, 6, 3);
+      prog.setUniformValue("lampCount", lampCount);
+      prog.setUniformValueArray("lampPosition", &lampPositions[0].x, kObjectLamps, 3);
+      gl->glUniform1iv(prog.uniformLocation("lampLayer"), kObjectLamps, lampLayers.data());
+      prog.setUniformValueArray("lampAxes", &lampAxes[0].x, 3 * kObjectLamps, 3);
+      prog.setUniformValue("footprint", std::clamp(int(std::lround(pixel / texel)), 1, 4));
+      gl->glActiveTexture(GL_TEXTURE0);
+      gl->glBindTexture(GL_TEXTURE_2D_ARRAY, o.data);
+      gl->glActiveTexture(GL_TEXTURE1);
+      gl->glBindTexture(GL_TEXTURE_2D_ARRAY, o.albedo);
+      gl->glActiveTexture(GL_TEXTURE2);
+      gl->glBindTexture(GL_TEXTURE_2D, o.tableTexture);
+      gl->glDrawArrays(GL_TRIANGLES, 0, 36);
+    }
+    gl->glBindVertexArray(0);
+    gl->glDisable(GL_CULL_FACE);
+    gl->glDisable(GL_BLEND);
+    gl->glActiveTexture(GL_TEXTURE0);
+    prog.release();
+  }
+
   void releaseRoom() {
     for (auto& t : textures) {
       gl->glDeleteTextures(1, &t.original);
@@ -149,16 +406,17 @@ struct GlRelightRenderer::Impl {
   }
 
   // The program for a view mode, output, glow on or off and checker on or off, compiled on first use.
-  QOpenGLShaderProgram& program(ViewMode mode, DisplayOutput output, bool glowOn, bool checker) {
-    const int key = int(mode) * 16 + int(output) * 4 + (glowOn ? 2 : 0) + (checker ? 1 : 0);
+  QOpenGLShaderProgram& program(ViewMode mode, DisplayOutput output, bool glowOn, bool checker, bool shadows = false) {
+    const int key = int(mode) * 32 + int(output) * 8 + (glowOn ? 4 : 0) + (checker ? 2 : 0) + (shadows ? 1 : 0);
     auto& p = programs[key];
     if (!p) {
       const QByteArray defines = "#version 330 core\n#define MODE " + QByteArray::number(int(mode)) + "\n#define OUTPUT " +
                                  QByteArray::number(int(output)) + "\n#define GLOW " + QByteArray::number(glowOn ? 1 : 0) +
-                                 "\n#define CHECKER " + QByteArray::number(checker ? 1 : 0) + "\n";
+                                 "\n#define CHECKER " + QByteArray::number(checker ? 1 : 0) +
+                                 "\n#define SHADOWS " + QByteArray::number(shadows ? 1 : 0) + "\n";
       auto q = std::make_unique<QOpenGLShaderProgram>();
       if (!q->addShaderFromSourceCode(QOpenGLShader::Vertex, defines + vertexSource) ||
-          !q->addShaderFromSourceCode(QOpenGLShader::Fragment, defines + fragmentSource) || !q->link())
+          !q->addShaderFromSourceCode(QOpenGLShader::Fragment, defines + displaySource + fragmentSource) || !q->link())
         throw Error(":/shaders/relight.frag", "shader", q->log().toStdString());
       p = std::move(q);
     }
@@ -191,9 +449,21 @@ struct GlRelightRenderer::Impl {
     const double nearZ = std::clamp(farZ * 1e-3, 0.005, 0.05);
     const bool glowOn = hasGlow && sameCamera(camera, photoCamera);
     // Away from the photo's own view, texels no photo saw are drawn as a checker.
-    auto& relight = program(mode, s.output, glowOn, !sameCamera(camera, photoCamera));
+    const bool objectsShown = !objects.empty() && (mode == ViewMode::Relit || mode == ViewMode::RatioOnly);
+    const bool shadows = objectsShown && casters.count > 0;
+    auto& relight = program(mode, s.output, glowOn, !sameCamera(camera, photoCamera), shadows);
     relight.bind();
-    relight.setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(worldToClip(camera, nearZ, farZ))[0][0]));
+    const glm::mat4 clip = worldToClip(camera, nearZ, farZ);
+    relight.setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(clip)[0][0]));
+    if (shadows) {
+      setCasterUniforms(relight);
+      relight.setUniformValue("silhouettes", 5);
+      relight.setUniformValue("lampVisibility", 6);
+      gl->glActiveTexture(GL_TEXTURE5);
+      gl->glBindTexture(GL_TEXTURE_2D_ARRAY, silhouettes);
+      gl->glActiveTexture(GL_TEXTURE6);
+      gl->glBindTexture(GL_TEXTURE_BUFFER, visTexture);
+    }
     relight.setUniformValue("eye", QVector3D(float(eye.x), float(eye.y), float(eye.z)));
     relight.setUniformValue("corners", 0);
     relight.setUniformValue("rects", 1);
@@ -221,6 +491,10 @@ struct GlRelightRenderer::Impl {
     gl->glBindVertexArray(vao);
     for (const auto& r : mesh.ranges) {
       relight.setUniformValue("kind", int(r.kind));
+      if (shadows) {
+        relight.setUniformValue("surfaceId", r.surface);
+        relight.setUniformValue("receives", r.kind == DisplaySurfaceKind::Textured && !emitters.count(r.surface) ? 1 : 0);
+      }
       relight.setUniformValue("normal", QVector3D(r.normal.x, r.normal.y, r.normal.z));
       if (size_t(r.surface) < textures.size()) {
         const auto& t = textures[r.surface];
@@ -236,9 +510,10 @@ struct GlRelightRenderer::Impl {
                          reinterpret_cast<const void*>(r.first * sizeof(uint32_t)));
     }
     gl->glBindVertexArray(0);
+    relight.release();
+    if (objectsShown) drawObjects(camera, clip, s);
     gl->glDisable(GL_DEPTH_TEST);
     gl->glActiveTexture(GL_TEXTURE0);
-    relight.release();
   }
 };
 
@@ -248,7 +523,12 @@ GlRelightRenderer::~GlRelightRenderer() {
   auto& im = *impl_;
   if (!im.gl || !QOpenGLContext::currentContext()) return;  // the context went first: GL frees it all
   im.releaseRoom();
+  im.releaseObjects();
   im.readback.release(*im.gl);
+  for (GLuint* b : {&im.cubeVbo, &im.visBuffer})
+    if (*b) im.gl->glDeleteBuffers(1, b);
+  if (im.visTexture) im.gl->glDeleteTextures(1, &im.visTexture);
+  if (im.cubeVao) im.gl->glDeleteVertexArrays(1, &im.cubeVao);
   for (GLuint* b : {&im.vbo, &im.ebo, &im.lightVbo, &im.cornerBuffer, &im.rectBuffer})
     if (*b) im.gl->glDeleteBuffers(1, b);
   for (GLuint* t : {&im.cornerTexture, &im.rectTexture})
@@ -271,7 +551,11 @@ void GlRelightRenderer::initialize() {
   };
   im.vertexSource = read(":/shaders/relight.vert");
   im.fragmentSource = read(":/shaders/relight.frag");
+  im.displaySource = read(":/shaders/display.glsl");
+  im.objectVertexSource = read(":/shaders/ibr_object.vert");
+  im.objectFragmentSource = read(":/shaders/ibr_object.frag");
   im.programs.clear();
+  im.objectPrograms.clear();
   im.program(ViewMode::Relit, DisplayOutput::Exposed, true, false);  // the usual view: errors show now
   auto& gl = *im.gl;
   gl.glGenVertexArrays(1, &im.vao);
@@ -299,6 +583,21 @@ void GlRelightRenderer::initialize() {
   }
   gl.glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, im.ebo);  // part of the vertex array's state
   gl.glBindVertexArray(0);
+  // The unit cube image-based objects are drawn on (36 corners, counter-clockwise outside).
+  std::vector<glm::vec3> cube;
+  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  auto corner = [](int i) { return glm::vec3(i & 1 ? 1.f : -1.f, i & 2 ? 1.f : -1.f, i & 4 ? 1.f : -1.f); };
+  for (const auto& f : faces)
+    for (int k : {0, 1, 2, 0, 2, 3}) cube.push_back(corner(f[k]));
+  gl.glGenVertexArrays(1, &im.cubeVao);
+  gl.glGenBuffers(1, &im.cubeVbo);
+  gl.glBindVertexArray(im.cubeVao);
+  gl.glBindBuffer(GL_ARRAY_BUFFER, im.cubeVbo);
+  gl.glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(cube.size() * sizeof(glm::vec3)), cube.data(), GL_STATIC_DRAW);
+  gl.glEnableVertexAttribArray(0);
+  gl.glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+  gl.glBindVertexArray(0);
+  im.objectProgram(DisplayOutput::Exposed);  // errors show now
 }
 
 void GlRelightRenderer::setRoom(const Scene& scene, const RelightData& data) {
@@ -377,6 +676,8 @@ void GlRelightRenderer::setMesh(const RelightSession& session) {
   gl.glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, im.cornerBuffer);
   gl.glBindBuffer(GL_TEXTURE_BUFFER, 0);
   im.meshReady = true;
+  im.engine = &session.engine();
+  im.updateVisibility();
   setLighting(session);
 }
 
@@ -425,5 +726,113 @@ ImageRGB GlRelightRenderer::renderLinear(const Camera& camera, ViewMode mode) {
     }
   return img;
 }
+
+void GlRelightRenderer::setImageObjects(const std::vector<ibr::ImageObject>& objects,
+                                        const std::vector<ibr::ObjectLighting>& lights,
+                                        const radiosity::HierarchicalRadiosity& engine) {
+  auto& im = *impl_;
+  auto& gl = *im.gl;
+  // Objects whose fan is already up keep their layers (a move or a new light needs no upload).
+  std::vector<Impl::ObjectGpu> before = std::move(im.objects);
+  im.objects.clear();
+  for (size_t i = 0; i < objects.size() && i < lights.size(); ++i) {
+    Impl::ObjectGpu o;
+    for (auto& b : before)
+      if (b.fan == objects[i].fan && b.data) {
+        o = std::move(b);
+        b.data = b.albedo = b.tableTexture = 0;
+        break;
+      }
+    o.fan = objects[i].fan;
+    o.place = objects[i].place;
+    o.light = lights[i];
+    o.tableViews = {-2, -2};
+    if (!o.data) {
+      const int S = o.fan->size;
+      o.data = textureArray(gl, GL_RGBA16UI, GL_RGBA_INTEGER, GL_UNSIGNED_SHORT, S, kObjectLayers);
+      o.albedo = textureArray(gl, GL_SRGB8_ALPHA8, GL_RGBA, GL_UNSIGNED_BYTE, S, kObjectLayers);
+      gl.glGenTextures(1, &o.tableTexture);
+      gl.glBindTexture(GL_TEXTURE_2D, o.tableTexture);
+      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      o.layerView.assign(kObjectLayers, -1);
+      o.layerUsed.assign(kObjectLayers, 0);
+    }
+    im.objects.push_back(std::move(o));
+  }
+  for (auto& b : before)
+    for (GLuint* t : {&b.data, &b.albedo, &b.tableTexture})
+      if (*t) gl.glDeleteTextures(1, t);
+  // The lamps: one list for the visibility buffer (by surface), the emitters that receive no shadow.
+  im.engine = &engine;
+  im.emitters.clear();
+  std::vector<int> lampSurfaces;
+  std::vector<glm::dvec3> lampPositions;
+  for (const auto& l : lights)
+    for (const auto& lamp : l.lamps) {
+      im.emitters.insert(lamp.surface);
+      if (std::find(lampSurfaces.begin(), lampSurfaces.end(), lamp.surface) == lampSurfaces.end()) {
+        lampSurfaces.push_back(lamp.surface);
+        lampPositions.push_back(lamp.position);
+      }
+    }
+  const bool sameLamps = lampPositions == im.visLampPositions;
+  im.visLampPositions = lampPositions;
+  // The casters: each object seen from each lamp (ibr::shadowCasters), at most kMaxCasters, their
+  // silhouettes in one texture array.
+  auto& c = im.casters;
+  c = Impl::Casters{};
+  int size = 1;
+  for (const auto& o : im.objects) size = std::max(size, o.fan->size);
+  struct Made {
+    size_t object;
+    ibr::ShadowCaster caster;
+  };
+  std::vector<Made> made;
+  for (size_t i = 0; i < im.objects.size(); ++i)
+    for (auto& k : ibr::shadowCasters(*im.objects[i].fan, im.objects[i].place, im.objects[i].light))
+      if (made.size() < size_t(kMaxCasters)) made.push_back({i, std::move(k)});
+  if (im.silhouettes) gl.glDeleteTextures(1, &im.silhouettes);
+  im.silhouettes = textureArray(gl, GL_RGBA16UI, GL_RGBA_INTEGER, GL_UNSIGNED_SHORT, size, std::max<int>(1, int(made.size())));
+  std::vector<uint16_t> data;
+  for (size_t m = 0; m < made.size(); ++m) {
+    const auto& o = im.objects[made[m].object];
+    const ibr::ShadowCaster& k = made[m].caster;
+    const ibr::ObjectLamp& lamp = o.light.lamps[k.lamp];
+    const ibr::ImageFan& fan = *o.fan;
+    fanTexels(fan.view(k.view), fan.size, data, nullptr);
+    gl.glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    gl.glBindTexture(GL_TEXTURE_2D_ARRAY, im.silhouettes);
+    gl.glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, GLint(m), fan.size, fan.size, 1, GL_RGBA_INTEGER, GL_UNSIGNED_SHORT, data.data());
+    const glm::dvec3 cw = o.place.toWorld(fan, fan.centre);
+    const double rs = fan.radius * o.place.scale;
+    c.sphere.push_back(glm::vec4(glm::vec3(cw), float(rs)));
+    c.right.push_back(glm::vec4(glm::vec3(k.right), float(fan.radius)));
+    c.up.push_back(glm::vec4(glm::vec3(k.up), float(o.place.scale)));
+    c.axis.push_back(glm::vec4(glm::vec3(k.toCamera), float(fan.size)));
+    c.light.push_back(glm::vec4(glm::vec3(lamp.exitance), float(polygonArea(lamp.polygon))));
+    // The lamp's shape towards the object: one face, both, or a photometric weight.
+    float weight = 0.f;
+    if (lamp.photometry) weight = -float(radiosity::EmitterShape(lamp.polygon, lamp.twoSided, lamp.photometry).weight(cw));
+    else if (lamp.twoSided) weight = -1.f;
+    c.lamp.push_back(glm::vec4(glm::vec3(polygonNormal(lamp.polygon)), weight));
+    c.cone.push_back(k.cone ? glm::vec4(glm::vec3(k.axis), float(k.cos2)) : glm::vec4(0.f));
+    c.apex.push_back(glm::vec4(glm::vec3(k.apex), float(k.nearSide)));
+    const int lampIndex = int(std::find(lampSurfaces.begin(), lampSurfaces.end(), lamp.surface) - lampSurfaces.begin());
+    // Points on the lamp: at most kSamplesPerCaster (every n-th of a finer set, reweighted).
+    const size_t step = (k.samples.size() + kSamplesPerCaster - 1) / kSamplesPerCaster;
+    const int first = int(c.samples.size());
+    double total = 0;
+    for (size_t q = 0; q < k.samples.size(); q += step) total += k.samples[q].second;
+    for (size_t q = 0; q < k.samples.size() && c.samples.size() < size_t(kMaxLampSamples); q += step)
+      c.samples.push_back(glm::vec4(glm::vec3(k.samples[q].first), float(k.samples[q].second / total)));
+    c.index.push_back(glm::ivec4(int(m), lampIndex < kObjectLamps ? lampIndex : kObjectLamps, lamp.surface, first));
+    c.sampleCount.push_back(int(c.samples.size()) - first);
+  }
+  c.count = int(made.size());
+  if (!sameLamps || im.visLamps == 0) im.updateVisibility();
+}
+
+size_t GlRelightRenderer::imageObjectCount() const { return impl_->objects.size(); }
 
 }  // namespace relume

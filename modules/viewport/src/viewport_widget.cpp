@@ -19,6 +19,7 @@
 
 #include "relume/geometry/error.h"
 #include "relume/geometry/scene.h"
+#include "relume/ibr/relit_objects.h"
 #include "relume/raytrace/ray_scene.h"
 #include "relume/relight/relighter.h"
 
@@ -52,6 +53,11 @@ void paintColourBar(QPainter& p, const QRect& area, double lo, double hi) {
 }
 
 }  // namespace
+
+struct ViewportWidget::ImageObjects {
+  std::vector<ibr::ImageObject> objects;
+  std::vector<ibr::ObjectLighting> lights;
+};
 
 // The native GL window the viewport shows its frames in (inside a window container): frames are
 // drawn straight into the window's own framebuffer and swapped, which on Mesa's llvmpipe under X
@@ -125,6 +131,8 @@ void ViewportWidget::setRoom(const Scene* scene, const RelightData* data, const 
   photo_.clear();
   if (glReady_) glError_.clear();  // a new room gets a new chance (an unusable context stays unusable)
   roomDirty_ = meshDirty_ = lightingDirty_ = true;
+  if (imageObjects_) *imageObjects_ = ImageObjects{};  // the new room's come with it
+  objectsDirty_ = true;
   resetOrbit();
   requestFrame();
 }
@@ -227,6 +235,15 @@ void ViewportWidget::initializeGL() {
   }
 }
 
+
+void ViewportWidget::setImageObjects(std::vector<ibr::ImageObject> objects, std::vector<ibr::ObjectLighting> lights) {
+  if (!imageObjects_) imageObjects_ = std::make_unique<ImageObjects>();
+  imageObjects_->objects = std::move(objects);
+  imageObjects_->lights = std::move(lights);
+  objectsDirty_ = true;
+  requestFrame();
+}
+
 void ViewportWidget::upload() {
   if (!glReady_) return;
   if (!scene_ || !data_ || !session_) return;
@@ -234,7 +251,9 @@ void ViewportWidget::upload() {
     if (roomDirty_) renderer_->setRoom(*scene_, *data_);
     if (roomDirty_ || meshDirty_) renderer_->setMesh(*session_);
     else if (lightingDirty_) renderer_->setLighting(*session_);
-    roomDirty_ = meshDirty_ = lightingDirty_ = false;
+    if (objectsDirty_ && imageObjects_)
+      renderer_->setImageObjects(imageObjects_->objects, imageObjects_->lights, session_->engine());
+    roomDirty_ = meshDirty_ = lightingDirty_ = objectsDirty_ = false;
   } catch (const std::exception& e) {
     glError_ = QString::fromStdString(e.what());
   }

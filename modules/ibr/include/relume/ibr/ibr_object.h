@@ -79,6 +79,41 @@ LampTables lampTables(const ImageFan& fan, int view, const Placement& place, con
 // The indirect irradiance for each code's normal.
 LightTable indirectTable(const ImageFan& fan, int view, const Placement& place, const radiosity::SH9& sh);
 
+// The fan images a viewer at `eye` sees the object in: the one nearest its direction and the
+// next nearest (-1 for a fan of one view); both -1 when the eye is inside the object's sphere.
+std::array<int, 2> viewsToward(const ImageFan& fan, const Placement& place, const glm::dvec3& eye);
+// The fan image nearest a lamp's direction: the object's own shadow map for that lamp.
+int lampView(const ImageFan& fan, const Placement& place, const glm::dvec3& lampPosition);
+
+// Everything that lights one drawn fan image, as the tables a display looks up: row 0 the
+// indirect table, then for each lamp of `light` in order its kTableCells^2 cell tables (row-major
+// cells); each row kNormalCodes RGB entries. (What drawObject computes per frame; a GPU display
+// uploads it as a texture.)
+std::vector<glm::vec3> viewTables(const ImageFan& fan, int view, const Placement& place, const ObjectLighting& light);
+
+// One lamp's silhouette of the object, what its shadows on the room are made from: the fan image
+// nearest the lamp's direction, its axes in the world, and points spread over the lamp.
+struct ShadowCaster {
+  size_t lamp = 0;  // in ObjectLighting::lamps
+  int view = -1;
+  glm::dvec3 right{0.0}, up{0.0}, toCamera{0.0};          // the view's image axes and direction, world
+  std::vector<std::pair<glm::dvec3, double>> samples;      // points on the lamp, weights summing to 1
+  double lampRadius = 0;                                   // its farthest vertex from its centre
+  // A point can be shadowed only inside the cone from the lamp's centre around the object's
+  // sphere widened by lampRadius, beyond its near side (cone false: the lamp is too close to tell).
+  bool cone = false;
+  glm::dvec3 apex{0.0}, axis{0.0};
+  double cos2 = 0, nearSide = 0;
+};
+// The casters of the lamps that shine (exitance > 0) from outside the object's sphere.
+std::vector<ShadowCaster> shadowCasters(const ImageFan& fan, const Placement& place, const ObjectLighting& light);
+
+// Whether each point, lifted 0.1 mm off its surface along its normal, sees each lamp's centre past
+// the room: points.size() x lamps.size() values, point-major, 1 or 0. A GPU display's shadows
+// take a lamp's light off only where the room lets it through, as drawShadows does per pixel.
+std::vector<float> lampVisibility(const radiosity::HierarchicalRadiosity& h, const std::vector<glm::vec3>& points,
+                                  const std::vector<glm::vec3>& normals, const std::vector<glm::dvec3>& lamps);
+
 // The room as a camera sees it: per pixel the distance to the first surface along the pixel's
 // (unit) ray, that point, and its surface (-1: nothing, or a back face).
 struct RoomView {

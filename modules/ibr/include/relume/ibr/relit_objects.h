@@ -32,5 +32,10 @@ void checkImageObject(const Scene& scene, const ImageObject& object);
 // `mask` (optional) gets the objects' coverage per pixel.
 std::vector<DrawStats> drawImageObjects(RelightSession& session, const std::vector<ImageObject>& objects,
                                         const Camera& camera, ImageRGB& image, std::vector<uint8_t>* mask = nullptr);
+// The same with each object's light given (lightingAt on the session's engine, whose radiosity
+// the caller made current): what a display that keeps the lights draws.
+std::vector<DrawStats> drawImageObjects(const RelightSession& session, const std::vector<ImageObject>& objects,
+                                        const std::vector<ObjectLighting>& lights, const Camera& camera, ImageRGB& image,
+                                        std::vector<uint8_t>* mask = nullptr);
 
 }  // namespace relume::ibr

@@ -5,6 +5,7 @@
 // It computes no light: B, D and the textures are the session's. Needs a current OpenGL 3.3
 // context for every call except the constructor.
 #include <memory>
+#include <vector>
 
 #include "relume/geometry/camera.h"
 #include "relume/image/image.h"
@@ -14,6 +15,13 @@ namespace relume {
 struct Scene;
 struct RelightData;
 class RelightSession;
+namespace radiosity {
+class HierarchicalRadiosity;
+}
+namespace ibr {
+struct ImageObject;
+struct ObjectLighting;
+}  // namespace ibr
 
 enum class ViewMode { Relit = 0, RatioOnly, Photo, Unoccluded, Radiosity, DisplayFactor, Leaves, References };
 enum class DisplayOutput { Linear = 0, Exposed = 1, FalseColour = 2 };
@@ -40,6 +48,14 @@ class GlRelightRenderer {
   void setRoom(const Scene& scene, const RelightData& data);
   void setMesh(const RelightSession& session);      // after the session's mesh changed
   void setLighting(const RelightSession& session);  // after any lighting change
+  // Image-based objects (Dinh, Metoyer, Turk) drawn into the relit and ratio-only views, with
+  // their shadows on the room: each with its light (ibr::lightingAt on `engine`, the session's).
+  // The light is the library's (its tables and lamps); the shaders look it up, as the CPU
+  // renderer (ibr::drawObject, ibr::drawShadows) does per pixel. Call after setMesh; again after
+  // any change of the objects or of the light.
+  void setImageObjects(const std::vector<ibr::ImageObject>& objects, const std::vector<ibr::ObjectLighting>& lights,
+                       const radiosity::HierarchicalRadiosity& engine);
+  size_t imageObjectCount() const;
   bool ready() const;
   // Clears `target` (a framebuffer object id; 0 the default; black for linear output, grey
   // otherwise) and draws `camera`'s view into it at `rect`.

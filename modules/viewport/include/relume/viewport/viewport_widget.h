@@ -23,6 +23,10 @@ namespace relume {
 struct Scene;
 struct RelightData;
 class RelightSession;
+namespace ibr {
+struct ImageObject;
+struct ObjectLighting;
+}  // namespace ibr
 
 // What lies under a point of the viewport: the engine surface hit (real polygon, virtual lamp or
 // object face), the point, and the surface normal turned towards the viewer.
@@ -69,6 +73,9 @@ class ViewportWidget : public QWidget {
   // Call after the session's mesh changed (objects moved, lamps added) / after any lighting edit.
   void meshChanged();
   void lightingChanged();
+  // Image-based objects with their light (ibr::lightingAt on the session's engine), drawn from the
+  // next frame on (see GlRelightRenderer::setImageObjects).
+  void setImageObjects(std::vector<ibr::ImageObject> objects, std::vector<ibr::ObjectLighting> lights);
 
   void setViewMode(ViewMode mode);
   ViewMode viewMode() const { return mode_; }
@@ -135,7 +142,9 @@ class ViewportWidget : public QWidget {
   const Scene* scene_ = nullptr;
   const RelightData* data_ = nullptr;
   const RelightSession* session_ = nullptr;
-  bool roomDirty_ = false, meshDirty_ = false, lightingDirty_ = false, glReady_ = false;
+  bool roomDirty_ = false, meshDirty_ = false, lightingDirty_ = false, objectsDirty_ = false, glReady_ = false;
+  struct ImageObjects;
+  std::unique_ptr<ImageObjects> imageObjects_;
   QString glError_;
   ViewMode mode_ = ViewMode::Relit;
   double ev_ = 0;
