@@ -1,9 +1,9 @@
 // (The renderer prepends "#version 330 core", OUTPUT and display.glsl.)
 // An image-based object (Dinh, Metoyer, Turk §3), drawn as the CPU renderer draws it
 // (ibr::drawObject): the fragment's ray from the eye, in the fan's object frame, is marched
-// through the depth of the fan image nearest the viewer (then the next nearest where the nearest
-// did not see the surface), so the fan's pixels stand where the object's surface is; the pixel
-// met is shaded by the tables of the 225 normal codes (computed by the library from the lights:
+// through the depth of the fan image nearest the viewer (then the next nearest, and the nearest on
+// another ring, where the one before did not see the surface), so the fan's pixels stand where
+// the object's surface is; the pixel met is shaded by the tables of the 225 normal codes (computed by the library from the lights:
 // row 0 the indirect light, then per lamp 4 x 4 cells, bilinear), each lamp's entry divided by
 // the squared distance from this point to the lamp and weighted by the object's own shadow (the
 // fan image nearest the lamp's direction as a shadow map, 3 x 3 percentage-closer), averaged over
@@ -20,9 +20,9 @@ uniform usampler2DArray fanData;   // per layer (one fan view): code, depth (0..
 uniform sampler2DArray fanAlbedo;  // its albedo (sRGB texels, decoded by the sampler)
 uniform sampler2D tables;          // kNormalCodes x rows, RGB; the drawn views' rows one after the other
 uniform int rowsPerView;
-uniform int viewCount;             // 1 or 2
-uniform int viewLayer[2];
-uniform vec3 viewAxes[6];          // right, up, towards the camera of each drawn view (object frame)
+uniform int viewCount;             // 1 to 3: the nearest, the next, the nearest on another ring
+uniform int viewLayer[3];
+uniform vec3 viewAxes[9];          // right, up, towards the camera of each drawn view (object frame)
 uniform int lampCount;             // at most 8
 uniform vec3 lampPosition[8];      // world
 uniform int lampLayer[8];          // the lamp's own-shadow view

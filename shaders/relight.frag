@@ -36,90 +36,12 @@ out vec4 colour;
 const float INV_PI = 0.31830988618379067;
 
 #if SHADOWS
-// Shadows of image-based objects (Dinh, Metoyer, Turk §4, onto any real surface; as the CPU
-// renderer's ibr::drawShadows): per caster (one object seen from one lamp's direction, its fan
-// image nearest that direction as a silhouette) the lines from this point to points spread over
-// the lamp meet the plane of that image through the object's centre; where the silhouette covers
-// the crossing, and its surface lies between the point and the lamp, that share of the lamp is
-// blocked. The lamp's direct irradiance here (its points as small patches) times the blocked
-// share, over the irradiance shown (B), is taken off: a dimmed lamp's shadow is lighter, a lamp
-// switched off casts none. Only where the room itself lets the lamp through (vVis, per vertex).
-in vec4 vVis0;
-in vec4 vVis1;
-uniform usampler2DArray silhouettes;  // per caster layer: code, depth (0..65534 = 0..2 R), coverage
-uniform int casterCount;
-uniform vec4 casterSphere[16];   // the object's centre (world), radius x scale
-uniform vec4 casterRight[16];    // its image's x axis (world), the fan's radius
-uniform vec4 casterUp[16];       // its image's y axis, the object's scale
-uniform vec4 casterAxis[16];     // its image's direction towards the lamp, pixels across
-uniform vec4 casterLight[16];    // the lamp's exitance (W/m^2, RGB), its area
-uniform vec4 casterLamp[16];     // the lamp's normal, weight (0 one face; < 0 both faces, |w| the photometric weight)
-uniform vec4 casterCone[16];     // cone: axis, cos^2 of its half angle (0: no cone test)
-uniform vec4 casterApex[16];     // cone: apex, near side
-uniform ivec4 casterIndex[16];   // layer, lamp (in the visibility list), the lamp's surface, first sample
-uniform int casterSamples[16];   // samples on the lamp
-uniform vec4 lampSamples[256];   // point, weight (summing to 1 per caster)
-uniform int surfaceId;           // this range's engine surface
-uniform int receives;            // 1: a real surface that is no lamp
-
-float lampVisible(int l) {
-  if (l < 4) return vVis0[l];
-  return l < 8 ? vVis1[l - 4] : 1.0;
-}
-
-vec3 objectShadowKeep(vec3 X, vec3 n, vec3 E) {
-  vec3 taken = vec3(0.0);
-  for (int c = 0; c < casterCount; ++c) {
-    ivec4 I = casterIndex[c];
-    if (I.z == surfaceId) continue;
-    float vis = lampVisible(I.y);
-    if (vis <= 0.0) continue;
-    vec4 cone = casterCone[c];
-    if (cone.w > 0.0) {
-      vec3 v = X - casterApex[c].xyz;
-      float d = dot(v, cone.xyz);
-      if (d < casterApex[c].w || d * d < cone.w * dot(v, v)) continue;
-    }
-    vec3 cw = casterSphere[c].xyz;
-    float rs = casterSphere[c].w;
-    vec3 Rw = casterRight[c].xyz, Uw = casterUp[c].xyz, Nw = casterAxis[c].xyz;
-    float fanR = casterRight[c].w, scale = casterUp[c].w;
-    int S = int(casterAxis[c].w);
-    vec3 lampN = casterLamp[c].xyz;
-    float wgt = casterLamp[c].w;
-    float blocked = 0.0, f = 0.0;
-    for (int i = 0; i < casterSamples[c]; ++i) {
-      vec4 smp = lampSamples[I.w + i];
-      vec3 seg = smp.xyz - X;
-      float len2 = dot(seg, seg);
-      vec3 dir = seg * inversesqrt(len2);
-      float cosL = -dot(lampN, dir);
-      cosL = wgt < 0.0 ? abs(cosL) * -wgt : max(cosL, 0.0);
-      f += smp.w * max(dot(n, dir), 0.0) * cosL / len2;
-      float s = clamp(dot(cw - X, seg) / len2, 0.0, 1.0);
-      vec3 closest = X + s * seg - cw;
-      if (dot(closest, closest) > rs * rs) continue;
-      float den = dot(seg, Nw);
-      if (abs(den) < 1e-12) continue;
-      float u = dot(cw - X, Nw) / den;
-      if (u <= 0.0 || u >= 1.0) continue;
-      vec3 q = X + u * seg - cw;
-      int tx = int(floor((dot(q, Rw) / rs + 1.0) * 0.5 * float(S)));
-      int ty = int(floor((1.0 - dot(q, Uw) / rs) * 0.5 * float(S)));
-      if (tx < 0 || ty < 0 || tx >= S || ty >= S) continue;
-      uvec4 t = texelFetch(silhouettes, ivec3(tx, ty, I.x), 0);
-      if (t.b == 0u) continue;
-      float a = ((float(tx) + 0.5) / float(S) * 2.0 - 1.0) * fanR, b = (1.0 - (float(ty) + 0.5) / float(S) * 2.0) * fanR;
-      vec3 p = cw + scale * (a * Rw + b * Uw + (fanR - float(t.g) / 65534.0 * 2.0 * fanR) * Nw);
-      if (dot(p - X, seg) <= 1e-3 * sqrt(len2)) continue;
-      blocked += smp.w * float(t.b) / 255.0;
-    }
-    if (blocked <= 0.0) continue;
-    taken += blocked * vis * f * casterLight[c].w * INV_PI * casterLight[c].xyz;
-  }
-  return vec3(E.r > 0.0 ? clamp(1.0 - taken.r / E.r, 0.0, 1.0) : 1.0, E.g > 0.0 ? clamp(1.0 - taken.g / E.g, 0.0, 1.0) : 1.0,
-              E.b > 0.0 ? clamp(1.0 - taken.b / E.b, 0.0, 1.0) : 1.0);
-}
+// Shadows of image-based objects (Dinh, Metoyer, Turk §4, onto any real surface): the share of
+// the light kept, mapped over this surface's plane by the library (ibr::shadowMaps, the light
+// each silhouette takes off over the irradiance shown), 1 where no shadow reaches.
+uniform sampler2D shadowMap;
+uniform int shadowed;           // 1: this surface has a map
+uniform vec4 shadowFrame;       // its origin (plane coordinates), 1 / its width and height in metres
 #endif
 
 vec3 ratio(vec3 b, vec3 d) {
@@ -147,7 +69,7 @@ vec3 radiance() {
   result = kind == 2 ? vB * INV_PI : (kind == 1 ? t.rgb : t.rgb * ratio(vB, vDen));
 #endif
 #if SHADOWS && (MODE == 0 || MODE == 1)
-  if (receives == 1) result *= objectShadowKeep(vWorld, normal, vB);
+  if (shadowed == 1) result *= texture(shadowMap, (vUV - shadowFrame.xy) * shadowFrame.zw).rgb;
 #endif
 #if CHECKER
   if (kind != 2 && t.a < 1.0) {

@@ -17,12 +17,6 @@ out vec2 vUV;
 out vec3 vWorld;
 out vec3 vB;
 out vec3 vDen;                  // D (relit), B_orig (ratio-only)
-#if SHADOWS
-uniform samplerBuffer lampVisibility;  // per vertex and lamp: 1 where the room lets the lamp's centre through
-uniform int lampVisibilityCount;       // lamps per vertex (at most 8 are read)
-out vec4 vVis0;
-out vec4 vVis1;
-#endif
 #if MODE == 6
 flat out vec4 vRect;
 #endif
@@ -44,12 +38,6 @@ void main() {
 #endif
 #if MODE == 7
   vCategory = texelFetch(corners, leaf * 12 + 4).a;
-#endif
-#if SHADOWS
-  float v[8];
-  for (int l = 0; l < 8; ++l) v[l] = l < lampVisibilityCount ? texelFetch(lampVisibility, gl_VertexID * lampVisibilityCount + l).r : 1.0;
-  vVis0 = vec4(v[0], v[1], v[2], v[3]);
-  vVis1 = vec4(v[4], v[5], v[6], v[7]);
 #endif
   gl_Position = worldToClip * vec4(position, 1.0);
 }

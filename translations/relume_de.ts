@@ -532,6 +532,10 @@
         <source>Now click the texel of %1 whose colour the painted shadow should take.</source>
         <translation>Klicken Sie jetzt das Texel von %1, dessen Farbe der gemalte Schatten übernehmen soll.</translation>
     </message>
+    <message>
+        <source>Added %1.</source>
+        <translation>%1 hinzugefügt.</translation>
+    </message>
 </context>
 <context>
     <name>relume::InspectorPanel</name>
@@ -1230,6 +1234,58 @@
     <message>
         <source>%1: %2 triangles; the radiosity engine takes meshes of up to %3.</source>
         <translation>%1: %2 Dreiecke; die Radiosity-Engine nimmt Netze mit bis zu %3.</translation>
+    </message>
+    <message>
+        <source>Image-based object</source>
+        <translation>Bildbasiertes Objekt</translation>
+    </message>
+    <message>
+        <source>x </source>
+        <translation>x </translation>
+    </message>
+    <message>
+        <source>The mesh&apos;s units times this are metres</source>
+        <translation>Die Einheiten des Netzes mal diesem Wert ergeben Meter</translation>
+    </message>
+    <message>
+        <source>Scale</source>
+        <translation>Maßstab</translation>
+    </message>
+    <message>
+        <source>Place an image-based object...</source>
+        <translation>Bildbasiertes Objekt platzieren...</translation>
+    </message>
+    <message>
+        <source>An image fan (relume ibr-fan writes them) or a mesh of any size (OBJ, PLY, glTF), drawn from images relit by the room&apos;s lamps; it stands where you click.</source>
+        <translation>Ein Bildfächer (relume ibr-fan schreibt sie) oder ein Netz beliebiger Größe (OBJ, PLY, glTF), gezeichnet aus Bildern, die die Lampen des Raums neu beleuchten; es steht dort, wo Sie klicken.</translation>
+    </message>
+    <message>
+        <source>Place an image-based object</source>
+        <translation>Bildbasiertes Objekt platzieren</translation>
+    </message>
+    <message>
+        <source>Image fans and meshes (*.fan *.obj *.ply *.gltf *.glb)</source>
+        <translation>Bildfächer und Netze (*.fan *.obj *.ply *.gltf *.glb)</translation>
+    </message>
+    <message>
+        <source>Image-based objects in the room</source>
+        <translation>Bildbasierte Objekte im Raum</translation>
+    </message>
+    <message>
+        <source>Rendering the image fan of %1</source>
+        <translation>Bildfächer von %1 wird gerendert</translation>
+    </message>
+    <message>
+        <source>Another job is running: wait for it, or cancel it.</source>
+        <translation>Eine andere Aufgabe läuft: warten Sie oder brechen Sie sie ab.</translation>
+    </message>
+    <message>
+        <source>Scale (it keeps standing where it stands)</source>
+        <translation>Maßstab (das Objekt bleibt stehen, wo es steht)</translation>
+    </message>
+    <message>
+        <source>Not changed: %1</source>
+        <translation>Nicht geändert: %1</translation>
     </message>
 </context>
 <context>

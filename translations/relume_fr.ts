@@ -532,6 +532,10 @@
         <source>Now click the texel of %1 whose colour the painted shadow should take.</source>
         <translation>Cliquez maintenant le texel de %1 dont l&apos;ombre peinte doit prendre la couleur.</translation>
     </message>
+    <message>
+        <source>Added %1.</source>
+        <translation>%1 ajouté.</translation>
+    </message>
 </context>
 <context>
     <name>relume::InspectorPanel</name>
@@ -1230,6 +1234,58 @@
     <message>
         <source>%1: %2 triangles; the radiosity engine takes meshes of up to %3.</source>
         <translation>%1 : %2 triangles ; le moteur de radiosité accepte des maillages d&apos;au plus %3.</translation>
+    </message>
+    <message>
+        <source>Image-based object</source>
+        <translation>Objet à base d&apos;images</translation>
+    </message>
+    <message>
+        <source>x </source>
+        <translation>x </translation>
+    </message>
+    <message>
+        <source>The mesh&apos;s units times this are metres</source>
+        <translation>Les unités du maillage multipliées par ceci donnent des mètres</translation>
+    </message>
+    <message>
+        <source>Scale</source>
+        <translation>Échelle</translation>
+    </message>
+    <message>
+        <source>Place an image-based object...</source>
+        <translation>Placer un objet à base d&apos;images...</translation>
+    </message>
+    <message>
+        <source>An image fan (relume ibr-fan writes them) or a mesh of any size (OBJ, PLY, glTF), drawn from images relit by the room&apos;s lamps; it stands where you click.</source>
+        <translation>Un éventail d&apos;images (relume ibr-fan les écrit) ou un maillage de toute taille (OBJ, PLY, glTF), dessiné à partir d&apos;images rééclairées par les lampes de la pièce ; il se pose là où vous cliquez.</translation>
+    </message>
+    <message>
+        <source>Place an image-based object</source>
+        <translation>Placer un objet à base d&apos;images</translation>
+    </message>
+    <message>
+        <source>Image fans and meshes (*.fan *.obj *.ply *.gltf *.glb)</source>
+        <translation>Éventails d&apos;images et maillages (*.fan *.obj *.ply *.gltf *.glb)</translation>
+    </message>
+    <message>
+        <source>Image-based objects in the room</source>
+        <translation>Objets à base d&apos;images dans la pièce</translation>
+    </message>
+    <message>
+        <source>Rendering the image fan of %1</source>
+        <translation>Rendu de l&apos;éventail d&apos;images de %1</translation>
+    </message>
+    <message>
+        <source>Another job is running: wait for it, or cancel it.</source>
+        <translation>Une autre tâche est en cours : attendez-la ou annulez-la.</translation>
+    </message>
+    <message>
+        <source>Scale (it keeps standing where it stands)</source>
+        <translation>Échelle (l&apos;objet reste posé là où il est)</translation>
+    </message>
+    <message>
+        <source>Not changed: %1</source>
+        <translation>Non modifié : %1</translation>
     </message>
 </context>
 <context>

@@ -404,6 +404,8 @@ std::unique_ptr<LoadedRoom> loadRoomForWorkbench(const QString& path, Progress& 
 
 Document::Document(QObject* parent) : QObject(parent) {
   connect(&undo_, &QUndoStack::cleanChanged, this, [this](bool) { emit dirtyChanged(isDirty()); });
+  for (auto signal : {&Document::lightingChanged, &Document::meshChanged, &Document::relightingReplaced, &Document::opened})
+    connect(this, signal, this, [this] { ++lightEpoch_; });
   for (auto signal : {&Document::lightingChanged, &Document::meshChanged, &Document::virtualsChanged,
                       &Document::referencesChanged, &Document::relightingReplaced, &Document::opened,
                       &Document::imageObjectsChanged})
@@ -770,8 +772,17 @@ void Document::applyImageObject(const std::string& name, const std::optional<ibr
 std::vector<ibr::ObjectLighting> Document::imageObjectLighting() {
   std::vector<ibr::ObjectLighting> out;
   if (!session_ || imageObjects_.empty()) return out;
-  session_->syncEngine();
-  for (const auto& o : imageObjects_) out.push_back(ibr::lightingAt(session_->engine(), o.place.toWorld(*o.fan, o.fan->centre)));
+  bool synced = false;
+  for (const auto& o : imageObjects_) {
+    const glm::dvec3 c = o.place.toWorld(*o.fan, o.fan->centre);
+    ObjectLight& cached = objectLights_[o.name];
+    if (!cached.light || cached.epoch != lightEpoch_ || glm::length(cached.centre - c) > 1e-9) {
+      if (!synced) session_->syncEngine();
+      synced = true;
+      cached = ObjectLight{c, lightEpoch_, std::make_shared<const ibr::ObjectLighting>(ibr::lightingAt(session_->engine(), c))};
+    }
+    out.push_back(*cached.light);
+  }
   return out;
 }
 

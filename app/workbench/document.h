@@ -190,6 +190,15 @@ class Document : public QObject {
   QJsonObject view_;
   std::map<std::string, double> objectTurn_;
   std::vector<ibr::ImageObject> imageObjects_;
+  // The light at each image-based object, kept until the room's light or mesh changes (a drag
+  // computes only the moved object's): per object centre, the lighting and the epoch it was for.
+  struct ObjectLight {
+    glm::dvec3 centre{0.0};
+    quint64 epoch = 0;
+    std::shared_ptr<const ibr::ObjectLighting> light;
+  };
+  std::map<std::string, ObjectLight> objectLights_;
+  quint64 lightEpoch_ = 1;
   std::map<std::string, glm::dvec2> overrides_;
   std::vector<ReferenceRegion> regions_;
   SessionMesh mesh_ = SessionMesh::Refined;

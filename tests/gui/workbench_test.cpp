@@ -722,7 +722,7 @@ class WorkbenchTest : public QObject {
     // The example vase's fan, coarser than the default (the test's time), built by the library.
     ibr::FanOptions opt;
     opt.viewsPerRing = 24;
-    opt.size = 160;
+    opt.size = 256;
     const auto fan = ibr::buildFan(ibr::readMesh(str(QStringLiteral(RELUME_SOURCE_DIR) + "/resources/examples/vase.obj")), opt);
     const QString fanFile = tmp_.path() + "/vase.fan";
     ibr::writeFan(*fan, str(fanFile));

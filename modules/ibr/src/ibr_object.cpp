@@ -132,22 +132,38 @@ LightTable indirectTable(const ImageFan& fan, int view, const Placement& place, 
   const auto& normals = byteToNormal();
   LightTable t;
   for (int k = 0; k < kNormalCodes; ++k)
-    t[size_t(k)] = glm::vec3(radiosity::shIrradiance(sh, place.toWorldDirection(fromView(fan, view, normals[size_t(k)]))));
+    // (Nine coefficients ring: towards what a strong source leaves dark the sum can dip below zero,
+    // which drew a vase's rim in the complement of the wall's colour; no light is negative.)
+    t[size_t(k)] = glm::vec3(glm::max(radiosity::shIrradiance(sh, place.toWorldDirection(fromView(fan, view, normals[size_t(k)]))),
+                                      glm::dvec3(0.0)));
   return t;
 }
 
-std::array<int, 2> viewsToward(const ImageFan& fan, const Placement& place, const glm::dvec3& eye) {
+std::array<int, kDrawnViews> viewsToward(const ImageFan& fan, const Placement& place, const glm::dvec3& eye) {
+  std::array<int, kDrawnViews> views{-1, -1, -1};
   const glm::dvec3 toEye = eye - place.toWorld(fan, fan.centre);
   const double dist = glm::length(toEye);
-  if (!(dist > fan.radius * place.scale)) return {-1, -1};  // the eye is inside the object's sphere
+  if (!(dist > fan.radius * place.scale)) return views;  // the eye is inside the object's sphere
   const glm::dvec3 vObj = place.toObjectDirection(toEye / dist);
-  std::array<int, 2> views{fan.nearestView(vObj), -1};
-  double second = -2;
-  for (int k = 0; k < fan.viewCount(); ++k)
-    if (k != views[0] && glm::dot(fan.toCamera(k), vObj) > second) {
-      second = glm::dot(fan.toCamera(k), vObj);
+  views[0] = fan.nearestView(vObj);
+  const int ring0 = views[0] / std::max(1, fan.viewsPerRing);
+  double best1 = -2, best2 = -2;
+  for (int k = 0; k < fan.viewCount(); ++k) {
+    if (k == views[0]) continue;
+    const double c = glm::dot(fan.toCamera(k), vObj);
+    if (c > best1) {
+      best1 = c;
       views[1] = k;
     }
+  }
+  for (int k = 0; k < fan.viewCount(); ++k) {
+    if (k == views[0] || k == views[1] || k / std::max(1, fan.viewsPerRing) == ring0) continue;
+    const double c = glm::dot(fan.toCamera(k), vObj);
+    if (c > best2) {
+      best2 = c;
+      views[2] = k;
+    }
+  }
   return views;
 }
 
@@ -196,21 +212,6 @@ std::vector<ShadowCaster> shadowCasters(const ImageFan& fan, const Placement& pl
     }
     out.push_back(std::move(c));
   }
-  return out;
-}
-
-std::vector<float> lampVisibility(const radiosity::HierarchicalRadiosity& h, const std::vector<glm::vec3>& points,
-                                  const std::vector<glm::vec3>& normals, const std::vector<glm::dvec3>& lamps) {
-  std::vector<Segment> segs;
-  segs.reserve(points.size() * lamps.size());
-  for (size_t i = 0; i < points.size(); ++i) {
-    const glm::vec3 from = points[i] + 1e-4f * (i < normals.size() ? normals[i] : glm::vec3(0.f));
-    for (const auto& l : lamps) segs.push_back({from, glm::vec3(l)});
-  }
-  std::vector<uint8_t> blocked(segs.size(), 0);
-  h.rayScene().occluded(segs, blocked);
-  std::vector<float> out(blocked.size());
-  for (size_t i = 0; i < out.size(); ++i) out[i] = blocked[i] ? 0.f : 1.f;
   return out;
 }
 
@@ -356,9 +357,10 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
   if (!(dist > rs)) return st;  // the camera is inside the object's sphere
   // The two fan images nearest the viewer's direction: the nearest drawn, the next where the
   // nearest did not see the surface the ray meets.
-  const std::array<int, 2> views = viewsToward(fan, place, eye);
+  const std::array<int, kDrawnViews> views = viewsToward(fan, place, eye);
   st.view = views[0];
-  const int nViews = views[1] >= 0 ? 2 : 1;  // a fan of one view has no second
+  int nViews = 1;  // a fan of one view has no second, one ring no third
+  while (nViews < kDrawnViews && views[size_t(nViews)] >= 0) ++nViews;
   // Its bounds on screen: the bounding sphere's cube.
   int ix0 = 0, iy0 = 0, ix1 = cam.width - 1, iy1 = cam.height - 1;
   {
@@ -386,7 +388,7 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
     LightTable indirect;
     const FanView* view;
     ImageFan::Axes axes;
-  } lit[2];
+  } lit[kDrawnViews];
   struct Shadow {  // a lamp's fan image, as a shadow map of the object on itself
     glm::dvec3 position;
     ImageFan::Axes axes;
@@ -483,23 +485,103 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
   return st;
 }
 
+ObjectShadows::ObjectShadows(const ImageFan& fan, const Placement& place, const ObjectLighting& light)
+    : fan_(&fan), place_(place), light_(&light), centre_(place.toWorld(fan, fan.centre)), radius_(fan.radius * place.scale),
+      casters_(shadowCasters(fan, place, light)) {
+  for (const auto& c : casters_) {
+    const ObjectLamp& lamp = light.lamps[c.lamp];
+    shapes_.emplace_back(lamp.polygon, lamp.twoSided, lamp.photometry);
+    silhouettes_.push_back(&fan.view(c.view));
+  }
+}
+
+bool ObjectShadows::mayShadow(const glm::dvec3& centre, double radius) const {
+  for (const auto& c : casters_) {
+    if (!c.cone) return true;
+    const glm::dvec3 v = centre - c.apex;
+    const double len = glm::length(v), d = glm::dot(v, c.axis);
+    if (len <= radius) return true;
+    if (d + radius < c.nearSide) continue;
+    const double half = std::acos(std::sqrt(std::clamp(c.cos2, 0.0, 1.0)));
+    const double angle = std::acos(std::clamp(d / len, -1.0, 1.0));
+    if (angle <= half + std::asin(std::min(1.0, radius / len)) + 1e-6) return true;
+  }
+  return false;
+}
+
+glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int surface, const glm::dvec3& X,
+                                const glm::dvec3& n) const {
+  const ImageFan& fan = *fan_;
+  const int S = fan.size;
+  const glm::dvec3 cw = centre_;
+  const double rs = radius_;
+  glm::dvec3 out(0.0);
+  for (size_t ci = 0; ci < casters_.size(); ++ci) {
+    const ShadowCaster& lv = casters_[ci];
+    const ObjectLamp& lamp = light_->lamps[lv.lamp];
+    if (surface == lamp.surface) continue;
+    // Nothing to hide unless the line to the lamp's centre passes within the object's sphere
+    // widened by the lamp's own radius (every line to a point of the lamp lies within that radius
+    // of it): X inside the cone from the lamp's centre around that sphere, and beyond its near
+    // side. (Single precision: it only picks the points tested exactly.)
+    if (lv.cone) {
+      const glm::vec3 v = glm::vec3(X) - glm::vec3(lv.apex);
+      const float d = glm::dot(v, glm::vec3(lv.axis));
+      if (d < float(lv.nearSide) || d * d < float(lv.cos2) * glm::dot(v, v)) continue;
+    }
+    const FanView& silhouette = *silhouettes_[ci];
+    // The lamp's points (a soft shadow: the share of its area the silhouette hides).
+    double blocked = 0;
+    for (const auto& [point, weight] : lv.samples) {
+      // The segment X -> the point must pass within the object's sphere.
+      const glm::dvec3 seg = point - X;
+      const double len2 = glm::dot(seg, seg);
+      const double s = std::clamp(glm::dot(cw - X, seg) / len2, 0.0, 1.0);
+      const glm::dvec3 closest = X + s * seg - cw;
+      if (glm::dot(closest, closest) > rs * rs) continue;
+      // Where the line meets the plane of the lamp's view through the centre.
+      const double den = glm::dot(seg, lv.toCamera);
+      if (std::abs(den) < 1e-12) continue;
+      const double u = glm::dot(cw - X, lv.toCamera) / den;
+      if (u <= 0 || u >= 1) continue;
+      const glm::dvec3 q = X + u * seg - cw;
+      const double fx = (glm::dot(q, lv.right) / rs + 1.0) * 0.5 * S, fy = (1.0 - glm::dot(q, lv.up) / rs) * 0.5 * S;
+      const int tx = int(std::floor(fx)), ty = int(std::floor(fy));
+      if (tx < 0 || ty < 0 || tx >= S || ty >= S) continue;
+      const size_t ti = size_t(ty) * S + tx;
+      if (!silhouette.alpha[ti]) continue;
+      // The silhouette's point must lie between X and the lamp (not behind X).
+      const double a = ((tx + 0.5) / S * 2.0 - 1.0) * fan.radius, b = (1.0 - (ty + 0.5) / S * 2.0) * fan.radius;
+      const glm::dvec3 p =
+          cw + place_.scale * (a * lv.right + b * lv.up + (fan.radius - fan.depthMetres(silhouette.depth[ti])) * lv.toCamera);
+      if (glm::dot(p - X, seg) <= 1e-3 * std::sqrt(len2)) continue;
+      blocked += weight * (silhouette.alpha[ti] / 255.0);
+    }
+    if (!(blocked > 0)) continue;
+    // The lamp's direct irradiance at X, if the room lets it through.
+    const glm::dvec3 lift = X + 1e-4 * n;
+    if (h.rayScene().occluded(glm::vec3(lift), glm::vec3(lamp.position))) continue;
+    const double f = radiosity::emitterFormFactor(X, n, lamp.polygon, shapes_[ci]);
+    if (!(f > 0)) continue;
+    out += blocked * f * lamp.exitance;
+  }
+  return out;
+}
+
+std::vector<char> emittingSurfaces(const radiosity::HierarchicalRadiosity& h) {
+  std::vector<char> emitters(h.surfaces().size(), 0);
+  for (size_t i = 0; i < emitters.size(); ++i)
+    emitters[i] = glm::dot(h.surfaces()[i].exitance, h.surfaces()[i].exitance) > 0 || h.surfaces()[i].photometry != nullptr;
+  return emitters;
+}
+
 DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectLighting& light,
                       const radiosity::HierarchicalRadiosity& h, const Camera& cam, const RoomView& room,
                       const IrradianceAt& irradiance, ImageRGB& image) {
   DrawStats st;
-  const glm::dvec3 cw = place.toWorld(fan, fan.centre);
-  const double rs = fan.radius * place.scale;
-  const std::vector<ShadowCaster> views = shadowCasters(fan, place, light);
-  std::vector<radiosity::EmitterShape> shapes;
-  for (const auto& c : views) {
-    const ObjectLamp& lamp = light.lamps[c.lamp];
-    shapes.emplace_back(lamp.polygon, lamp.twoSided, lamp.photometry);
-  }
-  if (views.empty()) return st;
-  std::vector<char> emitters(h.surfaces().size(), 0);
-  for (size_t i = 0; i < emitters.size(); ++i)
-    emitters[i] = glm::dot(h.surfaces()[i].exitance, h.surfaces()[i].exitance) > 0 || h.surfaces()[i].photometry != nullptr;
-  const int S = fan.size;
+  const ObjectShadows shadows(fan, place, light);
+  if (shadows.empty()) return st;
+  const std::vector<char> emitters = emittingSurfaces(h);
   std::atomic<size_t> shaded{0};
   tbb::parallel_for(tbb::blocked_range<int>(0, cam.height, 8), [&](const tbb::blocked_range<int>& rows) {
     size_t count = 0;
@@ -510,59 +592,9 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
         // Lamps keep their glow: a shadow falls on what reflects.
         if (surface < 0 || emitters[size_t(surface)]) continue;
         const glm::dvec3 X(room.point[pi]);
-        glm::dvec3 taken(0.0);
-        glm::dvec3 total(-1.0);
-        for (size_t ci = 0; ci < views.size(); ++ci) {
-          const ShadowCaster& lv = views[ci];
-          const FanView& silhouette = fan.view(lv.view);
-          const ObjectLamp& lamp = light.lamps[lv.lamp];
-          if (surface == lamp.surface) continue;
-          // Nothing to hide unless the line to the lamp's centre passes within the object's
-          // sphere widened by the lamp's own radius (every line to a point of the lamp lies within
-          // that radius of it): X inside the cone from the lamp's centre around that sphere, and
-          // beyond its near side. (Single precision: it only picks the pixels tested exactly.)
-          if (lv.cone) {
-            const glm::vec3 v = room.point[pi] - glm::vec3(lv.apex);
-            const float d = glm::dot(v, glm::vec3(lv.axis));
-            if (d < float(lv.nearSide) || d * d < float(lv.cos2) * glm::dot(v, v)) continue;
-          }
-          // The lamp's points (a soft shadow: the share of its area the silhouette hides).
-          double blocked = 0;
-          for (const auto& [point, weight] : lv.samples) {
-            // The segment X -> the point must pass within the object's sphere.
-            const glm::dvec3 seg = point - X;
-            const double len2 = glm::dot(seg, seg);
-            const double s = std::clamp(glm::dot(cw - X, seg) / len2, 0.0, 1.0);
-            const glm::dvec3 closest = X + s * seg - cw;
-            if (glm::dot(closest, closest) > rs * rs) continue;
-            // Where the line meets the plane of the lamp's view through the centre.
-            const double den = glm::dot(seg, lv.toCamera);
-            if (std::abs(den) < 1e-12) continue;
-            const double u = glm::dot(cw - X, lv.toCamera) / den;
-            if (u <= 0 || u >= 1) continue;
-            const glm::dvec3 q = X + u * seg - cw;
-            const double fx = (glm::dot(q, lv.right) / rs + 1.0) * 0.5 * S, fy = (1.0 - glm::dot(q, lv.up) / rs) * 0.5 * S;
-            const int tx = int(std::floor(fx)), ty = int(std::floor(fy));
-            if (tx < 0 || ty < 0 || tx >= S || ty >= S) continue;
-            const size_t ti = size_t(ty) * S + tx;
-            if (!silhouette.alpha[ti]) continue;
-            // The silhouette's point must lie between X and the lamp (not behind X).
-            const double a = ((tx + 0.5) / S * 2.0 - 1.0) * fan.radius, b = (1.0 - (ty + 0.5) / S * 2.0) * fan.radius;
-            const glm::dvec3 p = cw + place.scale * (a * lv.right + b * lv.up + (fan.radius - fan.depthMetres(silhouette.depth[ti])) * lv.toCamera);
-            if (glm::dot(p - X, seg) <= 1e-3 * std::sqrt(len2)) continue;
-            blocked += weight * (silhouette.alpha[ti] / 255.0);
-          }
-          if (!(blocked > 0)) continue;
-          const glm::dvec3 n(room.normal[pi]);
-          // The lamp's direct irradiance at X, if the room lets it through.
-          const glm::dvec3 lift = X + 1e-4 * n;
-          if (h.rayScene().occluded(glm::vec3(lift), glm::vec3(lamp.position))) continue;
-          const double f = radiosity::emitterFormFactor(X, n, lamp.polygon, shapes[ci]);
-          if (!(f > 0)) continue;
-          if (total.x < 0) total = irradiance(surface, X);
-          taken += blocked * f * lamp.exitance;
-        }
-        if (taken == glm::dvec3(0.0) || total.x < 0) continue;
+        const glm::dvec3 taken = shadows.taken(h, surface, X, glm::dvec3(room.normal[pi]));
+        if (taken == glm::dvec3(0.0)) continue;
+        const glm::dvec3 total = irradiance(surface, X);
         glm::dvec3 keep;
         for (int c = 0; c < 3; ++c) keep[c] = total[c] > 0 ? std::clamp(1.0 - taken[c] / total[c], 0.0, 1.0) : 1.0;
         image.set(x, y, glm::vec3(glm::dvec3(image.at(x, y)) * keep));

@@ -1,9 +1,13 @@
 #include "relume/ibr/relit_objects.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <cmath>
 #include <glm/geometric.hpp>
 
 #include "relume/geometry/error.h"
+#include "relume/geometry/polygon.h"
 #include "relume/radiosity/hierarchy.h"
 #include "relume/relight/relighter.h"
 
@@ -69,6 +73,87 @@ std::vector<DrawStats> drawImageObjects(const RelightSession& session, const std
     stats[i].objectPixels = d.objectPixels;
   }
   return stats;
+}
+
+std::vector<SurfaceShadow> shadowMaps(const radiosity::HierarchicalRadiosity& h, const std::vector<ImageObject>& objects,
+                                      const std::vector<ObjectLighting>& lights, double texel) {
+  if (objects.size() != lights.size()) throw Error("", "image-based objects", "one lighting per object expected");
+  std::vector<ObjectShadows> casters;
+  for (size_t i = 0; i < objects.size(); ++i) {
+    casters.emplace_back(*objects[i].fan, objects[i].place, lights[i]);
+    if (casters.back().empty()) casters.pop_back();
+  }
+  std::vector<SurfaceShadow> out;
+  if (casters.empty() || !(texel > 0)) return out;
+  const std::vector<char> emitters = emittingSurfaces(h);
+  const auto& surfaces = h.surfaces();
+  std::vector<SurfaceShadow> maps(surfaces.size());
+  tbb::parallel_for(size_t(0), surfaces.size(), [&](size_t s) {
+    const auto& surf = surfaces[s];
+    if (emitters[s] || surf.vertices.size() < 3) return;
+    const int sid = int(s);
+    glm::dvec2 lo(1e300), hi(-1e300);
+    for (const auto& v : surf.vertices) {
+      const glm::dvec2 uv = h.toUV(sid, v);
+      lo = glm::min(lo, uv);
+      hi = glm::max(hi, uv);
+    }
+    const int W = std::max(1, int(std::ceil((hi.x - lo.x) / texel))), H = std::max(1, int(std::ceil((hi.y - lo.y) / texel)));
+    if (size_t(W) * size_t(H) > 50'000'000) return;  // a surface of more than 11 000 m^2 at 1.5 cm: no map
+    const glm::dvec3 n = polygonNormal(surf.vertices);
+    std::vector<glm::vec3> keep(size_t(W) * H, glm::vec3(1.f));
+    int x0 = W, y0 = H, x1 = -1, y1 = -1;
+    // In tiles of 8 x 8 texels: only the objects whose shadow may reach a tile are asked about
+    // its texels (most of a room is out of every object's reach).
+    constexpr int kTile = 8;
+    std::vector<const ObjectShadows*> near;
+    for (int ty = 0; ty < H; ty += kTile)
+      for (int tx = 0; tx < W; tx += kTile) {
+        const int tw = std::min(kTile, W - tx), th = std::min(kTile, H - ty);
+        const glm::dvec2 mid = lo + texel * glm::dvec2(tx + 0.5 * tw, ty + 0.5 * th);
+        const double reach = 0.5 * texel * std::hypot(double(tw), double(th));
+        near.clear();
+        for (const auto& c : casters)
+          if (c.mayShadow(h.toWorld(sid, mid), reach)) near.push_back(&c);
+        if (near.empty()) continue;
+        for (int y = ty; y < ty + th; ++y)
+          for (int x = tx; x < tx + tw; ++x) {
+        const glm::dvec2 uv = lo + texel * glm::dvec2(x + 0.5, y + 0.5);
+        const glm::dvec3 X = h.toWorld(sid, uv);
+        glm::dvec3 taken(0.0);
+        for (const ObjectShadows* c : near) taken += c->taken(h, sid, X, n);
+        if (taken == glm::dvec3(0.0)) continue;
+        // The irradiance shown there (texels beyond the polygon's edge, which the display's
+        // filtering reads, take the leaf nearest inside).
+        const int leaf = h.findLeaf(sid, uv);
+        if (leaf < 0) continue;
+        const glm::dvec3 total(h.irradiance(leaf));
+        glm::vec3& k = keep[size_t(y) * W + x];
+        for (int ch = 0; ch < 3; ++ch) k[ch] = total[ch] > 0 ? float(std::clamp(1.0 - taken[ch] / total[ch], 0.0, 1.0)) : 1.f;
+        x0 = std::min(x0, x);
+        y0 = std::min(y0, y);
+        x1 = std::max(x1, x);
+        y1 = std::max(y1, y);
+          }
+      }
+    if (x1 < 0) return;
+    x0 = std::max(0, x0 - 1);
+    y0 = std::max(0, y0 - 1);
+    x1 = std::min(W - 1, x1 + 1);
+    y1 = std::min(H - 1, y1 + 1);
+    SurfaceShadow& m = maps[s];
+    m.surface = sid;
+    m.texel = texel;
+    m.origin = lo + texel * glm::dvec2(x0, y0);
+    m.width = x1 - x0 + 1;
+    m.height = y1 - y0 + 1;
+    m.keep.resize(size_t(m.width) * m.height);
+    for (int y = 0; y < m.height; ++y)
+      for (int x = 0; x < m.width; ++x) m.keep[size_t(y) * m.width + x] = keep[size_t(y + y0) * W + x + x0];
+  });
+  for (auto& m : maps)
+    if (m.surface >= 0) out.push_back(std::move(m));
+  return out;
 }
 
 }  // namespace relume::ibr

@@ -22,7 +22,6 @@
 #include "relume/geometry/scene.h"
 #include "relume/ibr/ibr_object.h"
 #include "relume/ibr/relit_objects.h"
-#include "relume/radiosity/form_factor.h"
 #include "relume/relight/relighter.h"
 
 static void initShaderResources() { Q_INIT_RESOURCE(shaders); }
@@ -32,10 +31,9 @@ namespace relume {
 namespace {
 
 constexpr int kMaxLamps = 32;
-// Image-based objects: lamps an object is lit by (their tables, own shadows), shadow casters (an
-// object seen from a lamp) and points on each lamp, as the shaders declare them.
-constexpr int kObjectLamps = 8, kMaxCasters = 16, kMaxLampSamples = 256, kSamplesPerCaster = 16;
-constexpr int kObjectLayers = 16;  // fan views kept on the GPU per object (2 drawn + its lamps' + spare)
+// Image-based objects: lamps an object is lit by (their tables, own shadows), as the shader declares them.
+constexpr int kObjectLamps = 8;
+constexpr int kObjectLayers = 16;  // fan views kept on the GPU per object (3 drawn + its lamps' + spare)
 
 // A fan view as the shaders read it: code, depth, coverage (16-bit integers) and albedo (sRGB).
 void fanTexels(const ibr::FanView& v, int size, std::vector<uint16_t>& data, std::vector<uint8_t>* albedo) {
@@ -183,23 +181,18 @@ struct GlRelightRenderer::Impl {
     GLuint data = 0, albedo = 0, tableTexture = 0;
     std::vector<int> layerView;          // the fan view in each layer (-1: free)
     std::vector<uint64_t> layerUsed;     // the frame that last needed it
-    std::array<int, 2> tableViews{-2, -2};
+    std::array<int, ibr::kDrawnViews> tableViews{-2, -2, -2};
     int rowsPerView = 0;
     ibr::ObjectLighting light;
   };
   std::vector<ObjectGpu> objects;
   uint64_t frame = 0;
-  GLuint silhouettes = 0, cubeVao = 0, cubeVbo = 0, visBuffer = 0, visTexture = 0;
-  int visLamps = 0;
-  std::vector<glm::dvec3> visLampPositions;  // the lamps of the visibility buffer
-  const radiosity::HierarchicalRadiosity* engine = nullptr;
-  std::set<int> emitters;
-  struct Casters {
-    int count = 0;
-    std::vector<glm::vec4> sphere, right, up, axis, light, lamp, cone, apex, samples;
-    std::vector<glm::ivec4> index;
-    std::vector<GLint> sampleCount;
-  } casters;
+  GLuint cubeVao = 0, cubeVbo = 0;
+  struct ShadowMap {  // the objects' shadows over one surface (ibr::shadowMaps)
+    GLuint texture = 0;
+    glm::vec4 frame{0.f};  // origin u, v; 1 / width, 1 / height (metres)
+  };
+  std::map<int, ShadowMap> shadowMaps;  // by engine surface
   std::map<int, std::unique_ptr<QOpenGLShaderProgram>> objectPrograms;  // by output
   QByteArray displaySource, objectVertexSource, objectFragmentSource;
 
@@ -208,9 +201,12 @@ struct GlRelightRenderer::Impl {
       for (GLuint* t : {&o.data, &o.albedo, &o.tableTexture})
         if (*t) gl->glDeleteTextures(1, t);
     objects.clear();
-    if (silhouettes) gl->glDeleteTextures(1, &silhouettes);
-    silhouettes = 0;
-    casters = Casters{};
+    releaseShadowMaps();
+  }
+
+  void releaseShadowMaps() {
+    for (auto& [s, m] : shadowMaps) gl->glDeleteTextures(1, &m.texture);
+    shadowMaps.clear();
   }
 
   QOpenGLShaderProgram& objectProgram(DisplayOutput output) {
@@ -251,48 +247,6 @@ struct GlRelightRenderer::Impl {
     return int(best);
   }
 
-  // Per vertex of the display mesh, whether the room lets each lamp's centre through.
-  void updateVisibility() {
-    visLamps = 0;
-    if (objects.empty() || !engine || mesh.vertices.empty()) return;
-    visLamps = int(std::min<size_t>(visLampPositions.size(), kObjectLamps));
-    if (!visLamps) return;
-    std::vector<glm::vec3> points(mesh.vertices.size()), normals(mesh.vertices.size(), glm::vec3(0.f));
-    for (size_t i = 0; i < points.size(); ++i) points[i] = mesh.vertices[i].position;
-    for (const auto& r : mesh.ranges)
-      for (size_t k = r.first; k < r.first + r.count; ++k) normals[mesh.indices[k]] = r.normal;
-    const std::vector<glm::dvec3> lamps(visLampPositions.begin(), visLampPositions.begin() + visLamps);
-    const std::vector<float> vis = ibr::lampVisibility(*engine, points, normals, lamps);
-    if (!visBuffer) gl->glGenBuffers(1, &visBuffer);
-    if (!visTexture) gl->glGenTextures(1, &visTexture);
-    gl->glBindBuffer(GL_TEXTURE_BUFFER, visBuffer);
-    gl->glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(vis.size() * sizeof(float)), vis.data(), GL_STATIC_DRAW);
-    gl->glBindTexture(GL_TEXTURE_BUFFER, visTexture);
-    gl->glTexBuffer(GL_TEXTURE_BUFFER, GL_R32F, visBuffer);
-    gl->glBindBuffer(GL_TEXTURE_BUFFER, 0);
-  }
-
-  void setCasterUniforms(QOpenGLShaderProgram& p) {
-    const auto& c = casters;
-    p.setUniformValue("casterCount", c.count);
-    if (!c.count) return;
-    auto vec4s = [&](const char* name, const std::vector<glm::vec4>& v) {
-      p.setUniformValueArray(name, reinterpret_cast<const GLfloat*>(v.data()), int(v.size()), 4);
-    };
-    vec4s("casterSphere", c.sphere);
-    vec4s("casterRight", c.right);
-    vec4s("casterUp", c.up);
-    vec4s("casterAxis", c.axis);
-    vec4s("casterLight", c.light);
-    vec4s("casterLamp", c.lamp);
-    vec4s("casterCone", c.cone);
-    vec4s("casterApex", c.apex);
-    vec4s("lampSamples", c.samples);
-    gl->glUniform4iv(p.uniformLocation("casterIndex"), GLsizei(c.index.size()), &c.index[0].x);
-    gl->glUniform1iv(p.uniformLocation("casterSamples"), GLsizei(c.sampleCount.size()), c.sampleCount.data());
-    p.setUniformValue("lampVisibilityCount", visLamps);
-  }
-
   void drawObjects(const Camera& camera, const glm::mat4& clip, const DisplaySettings& s) {
     if (objects.empty()) return;
     ++frame;
@@ -314,16 +268,19 @@ struct GlRelightRenderer::Impl {
     gl->glEnable(GL_DEPTH_TEST);
     gl->glDepthFunc(GL_LESS);
     gl->glEnable(GL_BLEND);
-    gl->glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    // Colour blended by coverage; the target's alpha stays 1 (a frame with see-through edges is
+    // composed over whatever lies behind the window: pale fringes).
+    gl->glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
     gl->glEnable(GL_CULL_FACE);
     gl->glCullFace(GL_FRONT);  // the cube's back faces: drawn wherever the eye is outside the sphere
     gl->glBindVertexArray(cubeVao);
     for (size_t i : order) {
       ObjectGpu& o = objects[i];
       const ibr::ImageFan& fan = *o.fan;
-      const std::array<int, 2> views = ibr::viewsToward(fan, o.place, eye);
+      const std::array<int, ibr::kDrawnViews> views = ibr::viewsToward(fan, o.place, eye);
       if (views[0] < 0) continue;  // the eye is inside the object
-      const int nViews = views[1] >= 0 ? 2 : 1;
+      int nViews = 1;
+      while (nViews < ibr::kDrawnViews && views[size_t(nViews)] >= 0) ++nViews;
       if (views != o.tableViews) {  // the tables of the views now drawn (the light's own change resets them)
         std::vector<glm::vec3> rows;
         for (int j = 0; j < nViews; ++j) {
@@ -336,7 +293,8 @@ struct GlRelightRenderer::Impl {
         gl->glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, ibr::kNormalCodes, o.rowsPerView * nViews, 0, GL_RGB, GL_FLOAT, rows.data());
         o.tableViews = views;
       }
-      GLint layers[2] = {layerFor(o, views[0]), nViews > 1 ? layerFor(o, views[1]) : 0};
+      GLint layers[ibr::kDrawnViews] = {0, 0, 0};
+      for (int j = 0; j < nViews; ++j) layers[j] = layerFor(o, views[size_t(j)]);
       const int lampCount = int(std::min<size_t>(o.light.lamps.size(), kObjectLamps));
       std::vector<GLint> lampLayers(kObjectLamps, 0);
       std::vector<glm::vec3> lampPositions(kObjectLamps, glm::vec3(0.f)), lampAxes(3 * kObjectLamps, glm::vec3(0.f));
@@ -350,7 +308,7 @@ struct GlRelightRenderer::Impl {
         lampAxes[3 * size_t(l) + 1] = glm::vec3(ax.up);
         lampAxes[3 * size_t(l) + 2] = glm::vec3(ax.toCamera);
       }
-      std::vector<glm::vec3> viewAxes(6, glm::vec3(0.f));
+      std::vector<glm::vec3> viewAxes(3 * ibr::kDrawnViews, glm::vec3(0.f));
       for (int j = 0; j < nViews; ++j) {
         const auto ax = fan.axes(views[size_t(j)]);
         viewAxes[3 * size_t(j)] = glm::vec3(ax.right);
@@ -372,8 +330,8 @@ struct GlRelightRenderer::Impl {
       prog.setUniformValue("fanSize", fan.size);
       prog.setUniformValue("rowsPerView", o.rowsPerView);
       prog.setUniformValue("viewCount", nViews);
-      gl->glUniform1iv(prog.uniformLocation("viewLayer"), 2, layers);
-      prog.setUniformValueArray("viewAxes", &viewAxes[0].x, 6, 3);
+      gl->glUniform1iv(prog.uniformLocation("viewLayer"), ibr::kDrawnViews, layers);
+      prog.setUniformValueArray("viewAxes", &viewAxes[0].x, 3 * ibr::kDrawnViews, 3);
       prog.setUniformValue("lampCount", lampCount);
       prog.setUniformValueArray("lampPosition", &lampPositions[0].x, kObjectLamps, 3);
       gl->glUniform1iv(prog.uniformLocation("lampLayer"), kObjectLamps, lampLayers.data());
@@ -450,20 +408,12 @@ struct GlRelightRenderer::Impl {
     const bool glowOn = hasGlow && sameCamera(camera, photoCamera);
     // Away from the photo's own view, texels no photo saw are drawn as a checker.
     const bool objectsShown = !objects.empty() && (mode == ViewMode::Relit || mode == ViewMode::RatioOnly);
-    const bool shadows = objectsShown && casters.count > 0;
+    const bool shadows = objectsShown && !shadowMaps.empty();
     auto& relight = program(mode, s.output, glowOn, !sameCamera(camera, photoCamera), shadows);
     relight.bind();
     const glm::mat4 clip = worldToClip(camera, nearZ, farZ);
     relight.setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(clip)[0][0]));
-    if (shadows) {
-      setCasterUniforms(relight);
-      relight.setUniformValue("silhouettes", 5);
-      relight.setUniformValue("lampVisibility", 6);
-      gl->glActiveTexture(GL_TEXTURE5);
-      gl->glBindTexture(GL_TEXTURE_2D_ARRAY, silhouettes);
-      gl->glActiveTexture(GL_TEXTURE6);
-      gl->glBindTexture(GL_TEXTURE_BUFFER, visTexture);
-    }
+    if (shadows) relight.setUniformValue("shadowMap", 5);
     relight.setUniformValue("eye", QVector3D(float(eye.x), float(eye.y), float(eye.z)));
     relight.setUniformValue("corners", 0);
     relight.setUniformValue("rects", 1);
@@ -492,8 +442,13 @@ struct GlRelightRenderer::Impl {
     for (const auto& r : mesh.ranges) {
       relight.setUniformValue("kind", int(r.kind));
       if (shadows) {
-        relight.setUniformValue("surfaceId", r.surface);
-        relight.setUniformValue("receives", r.kind == DisplaySurfaceKind::Textured && !emitters.count(r.surface) ? 1 : 0);
+        const auto m = r.kind == DisplaySurfaceKind::Window ? shadowMaps.end() : shadowMaps.find(r.surface);
+        relight.setUniformValue("shadowed", m == shadowMaps.end() ? 0 : 1);
+        if (m != shadowMaps.end()) {
+          gl->glActiveTexture(GL_TEXTURE5);
+          gl->glBindTexture(GL_TEXTURE_2D, m->second.texture);
+          relight.setUniformValue("shadowFrame", QVector4D(m->second.frame.x, m->second.frame.y, m->second.frame.z, m->second.frame.w));
+        }
       }
       relight.setUniformValue("normal", QVector3D(r.normal.x, r.normal.y, r.normal.z));
       if (size_t(r.surface) < textures.size()) {
@@ -525,9 +480,7 @@ GlRelightRenderer::~GlRelightRenderer() {
   im.releaseRoom();
   im.releaseObjects();
   im.readback.release(*im.gl);
-  for (GLuint* b : {&im.cubeVbo, &im.visBuffer})
-    if (*b) im.gl->glDeleteBuffers(1, b);
-  if (im.visTexture) im.gl->glDeleteTextures(1, &im.visTexture);
+  if (im.cubeVbo) im.gl->glDeleteBuffers(1, &im.cubeVbo);
   if (im.cubeVao) im.gl->glDeleteVertexArrays(1, &im.cubeVao);
   for (GLuint* b : {&im.vbo, &im.ebo, &im.lightVbo, &im.cornerBuffer, &im.rectBuffer})
     if (*b) im.gl->glDeleteBuffers(1, b);
@@ -676,8 +629,6 @@ void GlRelightRenderer::setMesh(const RelightSession& session) {
   gl.glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, im.cornerBuffer);
   gl.glBindBuffer(GL_TEXTURE_BUFFER, 0);
   im.meshReady = true;
-  im.engine = &session.engine();
-  im.updateVisibility();
   setLighting(session);
 }
 
@@ -746,7 +697,7 @@ void GlRelightRenderer::setImageObjects(const std::vector<ibr::ImageObject>& obj
     o.fan = objects[i].fan;
     o.place = objects[i].place;
     o.light = lights[i];
-    o.tableViews = {-2, -2};
+    o.tableViews = {-2, -2, -2};
     if (!o.data) {
       const int S = o.fan->size;
       o.data = textureArray(gl, GL_RGBA16UI, GL_RGBA_INTEGER, GL_UNSIGNED_SHORT, S, kObjectLayers);
@@ -763,74 +714,21 @@ void GlRelightRenderer::setImageObjects(const std::vector<ibr::ImageObject>& obj
   for (auto& b : before)
     for (GLuint* t : {&b.data, &b.albedo, &b.tableTexture})
       if (*t) gl.glDeleteTextures(1, t);
-  // The lamps: one list for the visibility buffer (by surface), the emitters that receive no shadow.
-  im.engine = &engine;
-  im.emitters.clear();
-  std::vector<int> lampSurfaces;
-  std::vector<glm::dvec3> lampPositions;
-  for (const auto& l : lights)
-    for (const auto& lamp : l.lamps) {
-      im.emitters.insert(lamp.surface);
-      if (std::find(lampSurfaces.begin(), lampSurfaces.end(), lamp.surface) == lampSurfaces.end()) {
-        lampSurfaces.push_back(lamp.surface);
-        lampPositions.push_back(lamp.position);
-      }
-    }
-  const bool sameLamps = lampPositions == im.visLampPositions;
-  im.visLampPositions = lampPositions;
-  // The casters: each object seen from each lamp (ibr::shadowCasters), at most kMaxCasters, their
-  // silhouettes in one texture array.
-  auto& c = im.casters;
-  c = Impl::Casters{};
-  int size = 1;
-  for (const auto& o : im.objects) size = std::max(size, o.fan->size);
-  struct Made {
-    size_t object;
-    ibr::ShadowCaster caster;
-  };
-  std::vector<Made> made;
-  for (size_t i = 0; i < im.objects.size(); ++i)
-    for (auto& k : ibr::shadowCasters(*im.objects[i].fan, im.objects[i].place, im.objects[i].light))
-      if (made.size() < size_t(kMaxCasters)) made.push_back({i, std::move(k)});
-  if (im.silhouettes) gl.glDeleteTextures(1, &im.silhouettes);
-  im.silhouettes = textureArray(gl, GL_RGBA16UI, GL_RGBA_INTEGER, GL_UNSIGNED_SHORT, size, std::max<int>(1, int(made.size())));
-  std::vector<uint16_t> data;
-  for (size_t m = 0; m < made.size(); ++m) {
-    const auto& o = im.objects[made[m].object];
-    const ibr::ShadowCaster& k = made[m].caster;
-    const ibr::ObjectLamp& lamp = o.light.lamps[k.lamp];
-    const ibr::ImageFan& fan = *o.fan;
-    fanTexels(fan.view(k.view), fan.size, data, nullptr);
-    gl.glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    gl.glBindTexture(GL_TEXTURE_2D_ARRAY, im.silhouettes);
-    gl.glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, GLint(m), fan.size, fan.size, 1, GL_RGBA_INTEGER, GL_UNSIGNED_SHORT, data.data());
-    const glm::dvec3 cw = o.place.toWorld(fan, fan.centre);
-    const double rs = fan.radius * o.place.scale;
-    c.sphere.push_back(glm::vec4(glm::vec3(cw), float(rs)));
-    c.right.push_back(glm::vec4(glm::vec3(k.right), float(fan.radius)));
-    c.up.push_back(glm::vec4(glm::vec3(k.up), float(o.place.scale)));
-    c.axis.push_back(glm::vec4(glm::vec3(k.toCamera), float(fan.size)));
-    c.light.push_back(glm::vec4(glm::vec3(lamp.exitance), float(polygonArea(lamp.polygon))));
-    // The lamp's shape towards the object: one face, both, or a photometric weight.
-    float weight = 0.f;
-    if (lamp.photometry) weight = -float(radiosity::EmitterShape(lamp.polygon, lamp.twoSided, lamp.photometry).weight(cw));
-    else if (lamp.twoSided) weight = -1.f;
-    c.lamp.push_back(glm::vec4(glm::vec3(polygonNormal(lamp.polygon)), weight));
-    c.cone.push_back(k.cone ? glm::vec4(glm::vec3(k.axis), float(k.cos2)) : glm::vec4(0.f));
-    c.apex.push_back(glm::vec4(glm::vec3(k.apex), float(k.nearSide)));
-    const int lampIndex = int(std::find(lampSurfaces.begin(), lampSurfaces.end(), lamp.surface) - lampSurfaces.begin());
-    // Points on the lamp: at most kSamplesPerCaster (every n-th of a finer set, reweighted).
-    const size_t step = (k.samples.size() + kSamplesPerCaster - 1) / kSamplesPerCaster;
-    const int first = int(c.samples.size());
-    double total = 0;
-    for (size_t q = 0; q < k.samples.size(); q += step) total += k.samples[q].second;
-    for (size_t q = 0; q < k.samples.size() && c.samples.size() < size_t(kMaxLampSamples); q += step)
-      c.samples.push_back(glm::vec4(glm::vec3(k.samples[q].first), float(k.samples[q].second / total)));
-    c.index.push_back(glm::ivec4(int(m), lampIndex < kObjectLamps ? lampIndex : kObjectLamps, lamp.surface, first));
-    c.sampleCount.push_back(int(c.samples.size()) - first);
+  // Their shadows on the room, as maps over the surfaces (the library's light).
+  im.releaseShadowMaps();
+  for (const auto& m : ibr::shadowMaps(engine, objects, lights)) {
+    Impl::ShadowMap t;
+    gl.glGenTextures(1, &t.texture);
+    gl.glBindTexture(GL_TEXTURE_2D, t.texture);
+    gl.glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    gl.glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB16F, m.width, m.height, 0, GL_RGB, GL_FLOAT, m.keep.data());
+    gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    t.frame = glm::vec4(float(m.origin.x), float(m.origin.y), float(1.0 / (m.texel * m.width)), float(1.0 / (m.texel * m.height)));
+    im.shadowMaps[m.surface] = t;
   }
-  c.count = int(made.size());
-  if (!sameLamps || im.visLamps == 0) im.updateVisibility();
 }
 
 size_t GlRelightRenderer::imageObjectCount() const { return impl_->objects.size(); }

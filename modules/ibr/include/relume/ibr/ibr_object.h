@@ -17,6 +17,7 @@
 #include "relume/ibr/fan.h"
 #include "relume/ibr/normal_code.h"
 #include "relume/image/image.h"
+#include "relume/radiosity/form_factor.h"
 #include "relume/radiosity/sh.h"
 
 namespace relume::radiosity {
@@ -79,9 +80,12 @@ LampTables lampTables(const ImageFan& fan, int view, const Placement& place, con
 // The indirect irradiance for each code's normal.
 LightTable indirectTable(const ImageFan& fan, int view, const Placement& place, const radiosity::SH9& sh);
 
-// The fan images a viewer at `eye` sees the object in: the one nearest its direction and the
-// next nearest (-1 for a fan of one view); both -1 when the eye is inside the object's sphere.
-std::array<int, 2> viewsToward(const ImageFan& fan, const Placement& place, const glm::dvec3& eye);
+// The fan images a viewer at `eye` sees the object in, in the order they are asked: the one
+// nearest its direction, the next nearest, and the nearest on another ring (it sees under a lip
+// or over a rim the two of one ring hide); -1 for those a fan lacks, all -1 when the eye is inside
+// the object's sphere.
+inline constexpr int kDrawnViews = 3;
+std::array<int, kDrawnViews> viewsToward(const ImageFan& fan, const Placement& place, const glm::dvec3& eye);
 // The fan image nearest a lamp's direction: the object's own shadow map for that lamp.
 int lampView(const ImageFan& fan, const Placement& place, const glm::dvec3& lampPosition);
 
@@ -107,12 +111,6 @@ struct ShadowCaster {
 };
 // The casters of the lamps that shine (exitance > 0) from outside the object's sphere.
 std::vector<ShadowCaster> shadowCasters(const ImageFan& fan, const Placement& place, const ObjectLighting& light);
-
-// Whether each point, lifted 0.1 mm off its surface along its normal, sees each lamp's centre past
-// the room: points.size() x lamps.size() values, point-major, 1 or 0. A GPU display's shadows
-// take a lamp's light off only where the room lets it through, as drawShadows does per pixel.
-std::vector<float> lampVisibility(const radiosity::HierarchicalRadiosity& h, const std::vector<glm::vec3>& points,
-                                  const std::vector<glm::vec3>& normals, const std::vector<glm::dvec3>& lamps);
 
 // The room as a camera sees it: per pixel the distance to the first surface along the pixel's
 // (unit) ray, that point, and its surface (-1: nothing, or a back face).
@@ -140,6 +138,34 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
 
 // The irradiance the display shows at a surface's point (what a pixel there is proportional to).
 using IrradianceAt = std::function<glm::dvec3(int surface, const glm::dvec3& point)>;
+
+// What an object's silhouettes take off the light at points of the room (§4, onto any surface,
+// beyond the paper): for each lamp, lines from the point to points spread over the lamp are met
+// with the fan image nearest the lamp's direction (the silhouette, its surface between the point
+// and the lamp); the share blocked times that lamp's direct irradiance there, where the room lets
+// the lamp through, is taken off. A lamp switched off or dimmed takes off as much less.
+class ObjectShadows {
+ public:
+  ObjectShadows(const ImageFan& fan, const Placement& place, const ObjectLighting& light);
+  bool empty() const { return casters_.empty(); }
+  // Whether some point within `radius` of `centre` may be shadowed (false: none is).
+  bool mayShadow(const glm::dvec3& centre, double radius) const;
+  // The irradiance (W/m^2, RGB) taken off point X (normal n) of engine surface `surface`.
+  glm::dvec3 taken(const radiosity::HierarchicalRadiosity& h, int surface, const glm::dvec3& X, const glm::dvec3& n) const;
+
+ private:
+  const ImageFan* fan_;
+  Placement place_;
+  const ObjectLighting* light_;
+  glm::dvec3 centre_{0.0};
+  double radius_ = 0;
+  std::vector<ShadowCaster> casters_;
+  std::vector<radiosity::EmitterShape> shapes_;
+  std::vector<const FanView*> silhouettes_;  // each caster's view, decoded once
+};
+
+// Per engine surface: whether it emits (a lamp keeps its glow: shadows fall on what reflects).
+std::vector<char> emittingSurfaces(const radiosity::HierarchicalRadiosity& h);
 
 // Shadows (§4, onto any surface): for each pixel and lamp, the line to the lamp is met with the
 // fan image nearest the lamp's direction (the silhouette, its depth in front of the pixel); where

@@ -38,4 +38,19 @@ std::vector<DrawStats> drawImageObjects(const RelightSession& session, const std
                                         const std::vector<ObjectLighting>& lights, const Camera& camera, ImageRGB& image,
                                         std::vector<uint8_t>* mask = nullptr);
 
+// The objects' shadows on the room's surfaces as maps in each surface's plane coordinates
+// (radiosity::HierarchicalRadiosity::toUV), for a display whose camera moves: per texel the
+// share of the displayed light kept, 1 - taken / irradiance (ObjectShadows, as drawShadows does
+// per pixel). Only surfaces a shadow reaches, cropped to where it does (a texel of border).
+struct SurfaceShadow {
+  int surface = -1;
+  glm::dvec2 origin{0.0};  // plane coordinates of texel (0, 0)'s corner
+  double texel = 0;        // metres
+  int width = 0, height = 0;
+  std::vector<glm::vec3> keep;  // row-major from origin, +u then +v
+};
+// `lights`: one per object (lightingAt on `h`, whose radiosity is current).
+std::vector<SurfaceShadow> shadowMaps(const radiosity::HierarchicalRadiosity& h, const std::vector<ImageObject>& objects,
+                                      const std::vector<ObjectLighting>& lights, double texel = 0.015);
+
 }  // namespace relume::ibr
