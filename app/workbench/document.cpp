@@ -375,7 +375,11 @@ std::unique_ptr<LoadedRoom> loadRoomForWorkbench(const QString& path, Progress& 
     io.place.position = glm::dvec3(pos[0].toDouble(), pos[1].toDouble(), pos[2].toDouble());
     io.place.scale = o["scale"].toDouble(1.0);
     if (!(io.place.scale > 0) || !std::isfinite(io.place.scale)) throw Error(stateFile, where, "scale must be a number > 0");
-    io.place.yaw = o["rotation_degrees"].toDouble(0.0) * std::numbers::pi / 180.0;
+    const double degrees = o["rotation_degrees"].toDouble(0.0);
+    if (!std::isfinite(degrees) || std::abs(degrees) > 1e6) throw Error(stateFile, where, "rotation_degrees must be a number");
+    io.place.yaw = degrees * std::numbers::pi / 180.0;
+    for (const auto& other : room->imageObjects)
+      if (other.name == io.name) throw Error(stateFile, where, "the name is given to two image-based objects");
     io.fanFile = fileInFolder(room->projectPath.toStdString(), o["fan"].toString().toStdString(), stateFile, where + " fan");
     io.fan = ibr::readFan(io.fanFile);
     ibr::checkImageObject(room->scene, io);

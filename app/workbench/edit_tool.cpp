@@ -299,6 +299,10 @@ void EditTool::drag(const ViewportPick& pick) {
     return;
   }
   if (!dragImage_.empty()) {
+    if (doc_->imageObjectIndex(dragImage_) < 0) {  // gone while dragged (undone): the drag ends
+      dragImage_.clear();
+      return;
+    }
     glm::dvec3 q;
     if (!rayPlane(pick, planePoint_, planeNormal_, q)) return;
     ibr::Placement place = imageStart_;

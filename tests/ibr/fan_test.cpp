@@ -17,6 +17,7 @@
 #include "relume/ibr/fan.h"
 #include "relume/ibr/ibr_object.h"
 #include "relume/ibr/mesh.h"
+#include "relume/ibr/relit_objects.h"
 #include "relume/image/image.h"
 #include "relume/radiosity/form_factor.h"
 #include "relume/radiosity/hierarchy.h"
@@ -486,4 +487,66 @@ TEST(ImageBasedObject, ADimmedLampCastsAShadowAsMuchLighterAndALampSwitchedOffNo
   EXPECT_GT(off, 0.0);              // lamp 1 still casts its shadow
   EXPECT_GT(full - off, 0.2 * off);  // lamp 0's shadow is there
   EXPECT_NEAR((half - off) / (full - off), 0.5, 0.05);
+}
+
+TEST(ImageBasedObject, ShadowMapsOverTheSurfacesShowWhatThePerPixelShadowsShow) {
+  // What the viewport multiplies the room by (ibr::shadowMaps, 1.5 cm texels over each surface's
+  // plane, any camera) against the CPU renderer's per-pixel shadows (drawShadows, one object after
+  // the other), seen through one camera: two objects, two lamps, their shadows overlapping.
+  const Mesh m = blob(64, 32);
+  const std::shared_ptr<const ImageFan> fan = buildFan(m, testFan({15, 45, 75}, true, 96));
+  radiosity::HierarchicalRadiosity h(room({lampAt({1.0, 2.0, 2.79}, {0, 0, -1}, 0.2), lampAt({3.0, 2.2, 2.79}, {0, 0, -1}, 0.2)},
+                                          glm::dvec3(30.0)));
+  h.solve();
+  std::vector<ImageObject> objects(2);
+  objects[0].name = "a";
+  objects[0].place.position = glm::dvec3(1.8, 2.0, 0.0);
+  objects[1].name = "b";
+  objects[1].place.position = glm::dvec3(2.3, 2.1, 0.0);
+  objects[1].place.yaw = 0.6;
+  std::vector<ObjectLighting> lights;
+  for (auto& o : objects) {
+    o.fan = fan;
+    lights.push_back(lightingAt(h, o.place.toWorld(*fan, fan->centre), 256));
+  }
+  const Camera cam = Camera::lookAt(glm::dvec3(2.0, 3.9, 2.6), glm::dvec3(2.0, 1.6, 0.0), 320, 240, 220);
+  const RoomView rv = roomView(h, cam);
+  const IrradianceAt irradiance = [&](int surface, const glm::dvec3& x) {
+    return glm::dvec3(h.irradiance(h.findLeaf(surface, h.toUV(surface, x))));
+  };
+  ImageRGB perPixel(cam.width, cam.height);
+  for (auto& p : perPixel.pixels) p = 1.f;
+  for (size_t i = 0; i < objects.size(); ++i) drawShadows(*fan, objects[i].place, lights[i], h, cam, rv, irradiance, perPixel);
+  const auto maps = shadowMaps(h, objects, lights);
+  ASSERT_FALSE(maps.empty());
+  // The maps looked up at each pixel's point, bilinearly as the display does.
+  auto mapped = [&](int surface, const glm::dvec3& x) {
+    for (const auto& mp : maps) {
+      if (mp.surface != surface) continue;
+      const glm::dvec2 t = (h.toUV(surface, x) - mp.origin) / mp.texel - 0.5;
+      const int x0 = std::clamp(int(std::floor(t.x)), 0, mp.width - 1), y0 = std::clamp(int(std::floor(t.y)), 0, mp.height - 1);
+      const int x1 = std::min(x0 + 1, mp.width - 1), y1 = std::min(y0 + 1, mp.height - 1);
+      const double fx = std::clamp(t.x - x0, 0.0, 1.0), fy = std::clamp(t.y - y0, 0.0, 1.0);
+      auto at = [&](int xx, int yy) { return double(mp.keep[size_t(yy) * mp.width + xx].y); };
+      return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x1, y0)) + fy * ((1 - fx) * at(x0, y1) + fx * at(x1, y1));
+    }
+    return 1.0;
+  };
+  double diff = 0, darkPixel = 0, darkMap = 0;
+  size_t n = 0, shadowed = 0;
+  for (size_t i = 0; i < rv.surface.size(); ++i) {
+    if (rv.surface[i] < 0) continue;
+    const double a = perPixel.pixels[3 * i + 1], b = mapped(rv.surface[i], glm::dvec3(rv.point[i]));
+    diff += std::abs(a - b);
+    darkPixel += 1 - a;
+    darkMap += 1 - b;
+    shadowed += a < 0.97;
+    ++n;
+  }
+  std::printf("shadow maps vs per-pixel shadows: mean |keep difference| %.4f over %zu pixels (%zu in shadow); light "
+              "taken off, maps / per pixel %.3f\n",
+              diff / double(n), n, shadowed, darkMap / darkPixel);
+  EXPECT_GT(shadowed, 1000u);
+  EXPECT_LT(diff / double(n), 0.005);
+  EXPECT_NEAR(darkMap / darkPixel, 1.0, 0.03);
 }

@@ -101,7 +101,7 @@ std::vector<SurfaceShadow> shadowMaps(const radiosity::HierarchicalRadiosity& h,
     const int W = std::max(1, int(std::ceil((hi.x - lo.x) / texel))), H = std::max(1, int(std::ceil((hi.y - lo.y) / texel)));
     if (size_t(W) * size_t(H) > 50'000'000) return;  // a surface of more than 11 000 m^2 at 1.5 cm: no map
     const glm::dvec3 n = polygonNormal(surf.vertices);
-    std::vector<glm::vec3> keep(size_t(W) * H, glm::vec3(1.f));
+    std::vector<glm::vec3> keep;  // allocated once some tile is within an object's reach
     int x0 = W, y0 = H, x1 = -1, y1 = -1;
     // In tiles of 8 x 8 texels: only the objects whose shadow may reach a tile are asked about
     // its texels (most of a room is out of every object's reach).
@@ -116,20 +116,28 @@ std::vector<SurfaceShadow> shadowMaps(const radiosity::HierarchicalRadiosity& h,
         for (const auto& c : casters)
           if (c.mayShadow(h.toWorld(sid, mid), reach)) near.push_back(&c);
         if (near.empty()) continue;
+        if (keep.empty()) keep.assign(size_t(W) * H, glm::vec3(1.f));
         for (int y = ty; y < ty + th; ++y)
           for (int x = tx; x < tx + tw; ++x) {
         const glm::dvec2 uv = lo + texel * glm::dvec2(x + 0.5, y + 0.5);
         const glm::dvec3 X = h.toWorld(sid, uv);
-        glm::dvec3 taken(0.0);
-        for (const ObjectShadows* c : near) taken += c->taken(h, sid, X, n);
-        if (taken == glm::dvec3(0.0)) continue;
-        // The irradiance shown there (texels beyond the polygon's edge, which the display's
-        // filtering reads, take the leaf nearest inside).
-        const int leaf = h.findLeaf(sid, uv);
-        if (leaf < 0) continue;
-        const glm::dvec3 total(h.irradiance(leaf));
-        glm::vec3& k = keep[size_t(y) * W + x];
-        for (int ch = 0; ch < 3; ++ch) k[ch] = total[ch] > 0 ? float(std::clamp(1.0 - taken[ch] / total[ch], 0.0, 1.0)) : 1.f;
+        // Each object's share kept, multiplied (as drawImageObjects applies one object's shadow
+        // after the other): where two hide the same lamp its light is not taken off twice.
+        glm::dvec3 kept(1.0), total(-1.0);
+        for (const ObjectShadows* c : near) {
+          const glm::dvec3 taken = c->taken(h, sid, X, n);
+          if (taken == glm::dvec3(0.0)) continue;
+          if (total.x < 0) {
+            // The irradiance shown there (texels beyond the polygon's edge, which the display's
+            // filtering reads, take the leaf nearest inside).
+            const int leaf = h.findLeaf(sid, uv);
+            if (leaf < 0) break;
+            total = glm::dvec3(h.irradiance(leaf));
+          }
+          for (int ch = 0; ch < 3; ++ch) kept[ch] *= total[ch] > 0 ? std::clamp(1.0 - taken[ch] / total[ch], 0.0, 1.0) : 1.0;
+        }
+        if (kept == glm::dvec3(1.0)) continue;
+        keep[size_t(y) * W + x] = glm::vec3(kept);
         x0 = std::min(x0, x);
         y0 = std::min(y0, y);
         x1 = std::max(x1, x);

@@ -387,6 +387,7 @@ struct GlRelightRenderer::Impl {
     // values are radiance, the workbench's grey on a display.
     gl->glDisable(GL_SCISSOR_TEST);
     gl->glDisable(GL_BLEND);
+    gl->glDisable(GL_CULL_FACE);
     if (s.output == DisplayOutput::Linear) gl->glClearColor(0.f, 0.f, 0.f, 1.f);
     else gl->glClearColor(0.16f, 0.16f, 0.17f, 1.f);
     gl->glClearDepth(1.0);
@@ -403,6 +404,8 @@ struct GlRelightRenderer::Impl {
       const glm::dvec3 p((k & 1) ? boundsHi.x : boundsLo.x, (k & 2) ? boundsHi.y : boundsLo.y, (k & 4) ? boundsHi.z : boundsLo.z);
       farZ = std::max(farZ, glm::length(p - eye));
     }
+    for (const auto& o : objects)  // an object's cube may reach beyond the room's walls
+      farZ = std::max(farZ, glm::length(o.place.toWorld(*o.fan, o.fan->centre) - eye) + 1.8 * o.fan->radius * o.place.scale);
     farZ = farZ * 1.05 + 0.1;
     const double nearZ = std::clamp(farZ * 1e-3, 0.005, 0.05);
     const bool glowOn = hasGlow && sameCamera(camera, photoCamera);
@@ -466,7 +469,19 @@ struct GlRelightRenderer::Impl {
     }
     gl->glBindVertexArray(0);
     relight.release();
-    if (objectsShown) drawObjects(camera, clip, s);
+    if (objectsShown) {
+      try {
+        drawObjects(camera, clip, s);
+      } catch (...) {  // (a fan view that cannot be read): the state the room's pass expects, then the error
+        gl->glBindVertexArray(0);
+        gl->glDisable(GL_CULL_FACE);
+        gl->glDisable(GL_BLEND);
+        gl->glDisable(GL_DEPTH_TEST);
+        gl->glActiveTexture(GL_TEXTURE0);
+        gl->glUseProgram(0);
+        throw;
+      }
+    }
     gl->glDisable(GL_DEPTH_TEST);
     gl->glActiveTexture(GL_TEXTURE0);
   }
@@ -697,6 +712,20 @@ void GlRelightRenderer::setImageObjects(const std::vector<ibr::ImageObject>& obj
     o.fan = objects[i].fan;
     o.place = objects[i].place;
     o.light = lights[i];
+    // The shader takes kObjectLamps lamps: those that reach the object, the strongest there first
+    // (the tables are built in this order). Beyond that many the weakest are left out.
+    {
+      auto& lamps = o.light.lamps;
+      const glm::dvec3 c = o.place.toWorld(*o.fan, o.fan->centre);
+      auto strength = [&](const ibr::ObjectLamp& l) {
+        const glm::dvec3 d = l.position - c;
+        return (l.intensity.x + l.intensity.y + l.intensity.z) / std::max(glm::dot(d, d), 1e-12);
+      };
+      std::erase_if(lamps, [&](const ibr::ObjectLamp& l) { return !(strength(l) > 0); });
+      std::stable_sort(lamps.begin(), lamps.end(),
+                       [&](const ibr::ObjectLamp& a, const ibr::ObjectLamp& b) { return strength(a) > strength(b); });
+      if (lamps.size() > size_t(kObjectLamps)) lamps.resize(kObjectLamps);
+    }
     o.tableViews = {-2, -2, -2};
     if (!o.data) {
       const int S = o.fan->size;

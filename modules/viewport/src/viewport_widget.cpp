@@ -251,9 +251,12 @@ void ViewportWidget::upload() {
     if (roomDirty_) renderer_->setRoom(*scene_, *data_);
     if (roomDirty_ || meshDirty_) renderer_->setMesh(*session_);
     else if (lightingDirty_) renderer_->setLighting(*session_);
-    if (objectsDirty_ && imageObjects_)
+    roomDirty_ = meshDirty_ = lightingDirty_ = false;
+    if (objectsDirty_ && imageObjects_) {
+      objectsDirty_ = false;
       renderer_->setImageObjects(imageObjects_->objects, imageObjects_->lights, session_->engine());
-    roomDirty_ = meshDirty_ = lightingDirty_ = objectsDirty_ = false;
+    }
+    objectsDirty_ = false;
   } catch (const std::exception& e) {
     glError_ = QString::fromStdString(e.what());
   }

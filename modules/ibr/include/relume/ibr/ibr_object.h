@@ -146,6 +146,7 @@ using IrradianceAt = std::function<glm::dvec3(int surface, const glm::dvec3& poi
 // the lamp through, is taken off. A lamp switched off or dimmed takes off as much less.
 class ObjectShadows {
  public:
+  // (Keeps references to `fan` and `light`: both must outlive it.)
   ObjectShadows(const ImageFan& fan, const Placement& place, const ObjectLighting& light);
   bool empty() const { return casters_.empty(); }
   // Whether some point within `radius` of `centre` may be shadowed (false: none is).

@@ -40,8 +40,8 @@ std::vector<DrawStats> drawImageObjects(const RelightSession& session, const std
 
 // The objects' shadows on the room's surfaces as maps in each surface's plane coordinates
 // (radiosity::HierarchicalRadiosity::toUV), for a display whose camera moves: per texel the
-// share of the displayed light kept, 1 - taken / irradiance (ObjectShadows, as drawShadows does
-// per pixel). Only surfaces a shadow reaches, cropped to where it does (a texel of border).
+// share of the displayed light kept, the product over the objects of 1 - taken / irradiance
+// (ObjectShadows, as drawShadows does per pixel, one object after the other). Only surfaces a shadow reaches, cropped to where it does (a texel of border).
 struct SurfaceShadow {
   int surface = -1;
   glm::dvec2 origin{0.0};  // plane coordinates of texel (0, 0)'s corner
