@@ -117,14 +117,17 @@ vec3 entry(int j, int row, uint code) { return texelFetch(tables, ivec2(int(code
 void main() {
   vec3 r = normalize(vWorld - eye);
   vec3 dObj = worldToObject * r;  // t stays the world distance
-  // The first view that sees what the ray meets (a ray that every view sees passing behind some
-  // surface goes past the object: it ran behind its silhouette's edge).
+  // The first view that sees what the ray meets: a ray in front of a view's depth all the way
+  // misses the object; one passing behind a surface there is asked of the next view; one that
+  // every view sees passing behind a surface went behind a silhouette's edge: no object either.
   float tHit = 0.0;
   ivec2 texel = ivec2(0);
-  int j = 0;
-  for (; j < viewCount; ++j)
-    if (marchView(j, eyeObject, dObj, tHit, texel) == 1) break;
-  if (j == viewCount) discard;
+  int j = 0, m = 0;
+  for (; j < viewCount; ++j) {
+    m = marchView(j, eyeObject, dObj, tHit, texel);
+    if (m != 2) break;
+  }
+  if (m != 1) discard;
   int layer = viewLayer[j];
   uvec4 hit = texelFetch(fanData, ivec3(texel, layer), 0);
   if (hit.b == 0u || hit.r == 255u) discard;

@@ -420,13 +420,16 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
       for (int x = ix0; x <= ix1; ++x) {
         const glm::dvec3 r = cam.rayDirection(x + 0.5, y + 0.5);
         const glm::dvec3 dObj(cosYaw * r.x + sinYaw * r.y, -sinYaw * r.x + cosYaw * r.y, r.z / place.scale);  // t stays the world distance
-        // The first view that sees what the ray meets. A ray that every view sees passing behind
-        // some surface goes past the object: it ran behind the edge of a silhouette (drawing
-        // those hits hung translucent sheets beside a vase's neck, measured and looked at).
+        // The first view that sees what the ray meets. A ray that stays in front of a view's depth
+        // all the way misses the object (every point of it lies at or behind that depth); one that
+        // passes behind some surface there is asked of the next view; one that every view sees
+        // passing behind a surface goes past the object too: it ran behind the edge of a
+        // silhouette (drawing those hits hung translucent sheets beside a vase's neck).
         ViewHit hit;
         int j = 0;
-        while (j < nViews && marchView(fan, *lit[j].view, lit[j].axes, eyeObj, dObj, hit) != March::Hit) ++j;
-        if (j == nViews) continue;
+        March m = March::Miss;
+        while (j < nViews && (m = marchView(fan, *lit[j].view, lit[j].axes, eyeObj, dObj, hit)) == March::Hidden) ++j;
+        if (m != March::Hit) continue;
         const size_t pi = size_t(y) * cam.width + x;
         if (double(room.depth[pi]) < hit.t - 1e-4) continue;  // the room is nearer
         const FanView& v = *lit[j].view;
@@ -583,10 +586,26 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
   if (shadows.empty()) return st;
   const std::vector<char> emitters = emittingSurfaces(h);
   std::atomic<size_t> shaded{0};
-  tbb::parallel_for(tbb::blocked_range<int>(0, cam.height, 8), [&](const tbb::blocked_range<int>& rows) {
+  // In tiles of 8 x 8 pixels: a tile whose points all lie out of every lamp's reach (the sphere
+  // around them, ObjectShadows::mayShadow) is passed over whole.
+  constexpr int kTile = 8;
+  const int tilesX = (cam.width + kTile - 1) / kTile, tilesY = (cam.height + kTile - 1) / kTile;
+  tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 4), [&](const tbb::blocked_range<int>& tiles) {
     size_t count = 0;
-    for (int y = rows.begin(); y < rows.end(); ++y)
-      for (int x = 0; x < cam.width; ++x) {
+    for (int tile = tiles.begin(); tile < tiles.end(); ++tile) {
+      const int tx0 = (tile % tilesX) * kTile, ty0 = (tile / tilesX) * kTile;
+      const int tx1 = std::min(cam.width, tx0 + kTile), ty1 = std::min(cam.height, ty0 + kTile);
+      glm::dvec3 lo(1e300), hi(-1e300);
+      for (int y = ty0; y < ty1; ++y)
+        for (int x = tx0; x < tx1; ++x) {
+          const size_t pi = size_t(y) * cam.width + x;
+          if (room.surface[pi] < 0) continue;
+          lo = glm::min(lo, glm::dvec3(room.point[pi]));
+          hi = glm::max(hi, glm::dvec3(room.point[pi]));
+        }
+      if (lo.x > hi.x || !shadows.mayShadow(0.5 * (lo + hi), 0.5 * glm::length(hi - lo) + 1e-6)) continue;
+      for (int y = ty0; y < ty1; ++y)
+        for (int x = tx0; x < tx1; ++x) {
         const size_t pi = size_t(y) * cam.width + x;
         const int surface = room.surface[pi];
         // Lamps keep their glow: a shadow falls on what reflects.
@@ -600,6 +619,7 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
         image.set(x, y, glm::vec3(glm::dvec3(image.at(x, y)) * keep));
         ++count;
       }
+    }
     shaded += count;
   });
   st.shadowPixels = shaded.load();
