@@ -855,6 +855,34 @@ class WorkbenchTest : public QObject {
     QVERIFY(std::abs(room->imageObjects[0].place.yaw - doc()->imageObjects()[0].place.yaw) < 1e-9);
     QCOMPARE(room->imageObjects[0].place.scale, 1.25);
     QCOMPARE(room->imageObjects[0].fan->viewCount(), fan->viewCount());
+    // A damaged fan is refused by name and arms nothing; a mesh gets its fan rendered as a job
+    // (progress, Cancel), then the tool is armed with it.
+    const QString damaged = tmp_.path() + "/damaged.fan";
+    QVERIFY(QFile::copy(fanFile, damaged));
+    {
+      QFile f(damaged);
+      QVERIFY(f.open(QIODevice::ReadWrite));
+      f.seek(f.size() / 2);
+      f.write("damage");
+    }
+    QString said;
+    auto saying = connect(window_->objectsPanel(), &ObjectsPanel::message, this, [&](const QString& m) { said = m; });
+    QVERIFY(!window_->objectsPanel()->placeImageFile(damaged));
+    qInfo("damaged fan: %s", qPrintable(said));
+    QVERIFY(said.contains("damaged.fan") && said.contains("damaged"));
+    QCOMPARE(window_->editTool()->mode(), EditTool::Mode::Select);
+    const QString tetra = tmp_.path() + "/tetra.obj";
+    {
+      QFile f(tetra);
+      QVERIFY(f.open(QIODevice::WriteOnly | QIODevice::Text));
+      f.write("v -0.2 -0.2 0\nv 0.3 -0.2 0\nv -0.2 0.1 0\nv -0.1 -0.1 0.4\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n");
+    }
+    QVERIFY(window_->objectsPanel()->placeImageFile(tetra));
+    QVERIFY(window_->jobs()->busy());
+    QVERIFY(waitForJob(120000));
+    QCOMPARE(window_->editTool()->mode(), EditTool::Mode::PlaceImage);
+    window_->editTool()->setMode(EditTool::Mode::Select);
+    disconnect(saying);
     // Undo everything back to before it was placed: no image-based object; the room as it was.
     while (!doc()->imageObjects().empty() && doc()->undoStack()->canUndo()) doc()->undoStack()->undo();
     QVERIFY(doc()->imageObjects().empty());
