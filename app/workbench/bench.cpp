@@ -145,21 +145,26 @@ QJsonObject benchRoom(const QString& room, int runs) {
     medianMs = median(ms);
     return (count - start) / (double(wall.nsecsElapsed()) * 1e-9);
   };
+  // An edit (run r of `runs`) to the next frame on screen, milliseconds.
+  auto toFrame = [&](const std::function<void(int)>& edit) {
+    std::vector<double> ms;
+    for (int r = 0; r < runs; ++r) {
+      QElapsedTimer e;
+      e.start();
+      const int before = viewportFrames;
+      edit(r);
+      while (viewportFrames == before && e.elapsed() < 10000) QApplication::processEvents(QEventLoop::AllEvents, 5);
+      ms.push_back(double(e.nsecsElapsed()) * 1e-6);
+    }
+    return ms;
+  };
   for (QSize s : {QSize(640, 480), QSize(1280, 960)}) {
     vp->resize(s);
     vp->show();
     double gpu = 0;
     const double fps = onScreen([&] { vp->requestFrame(); }, viewportFrames, viewportMs, gpu);
     // Slider event -> new frame on screen: the edit, the session's update, the upload, a frame.
-    std::vector<double> edit;
-    for (int r = 0; r < runs; ++r) {
-      QElapsedTimer e;
-      e.start();
-      const int before = viewportFrames;
-      doc->editLampScale(0, glm::dvec3(r % 2 ? 1.0 : 0.6), 0);
-      while (viewportFrames == before && e.elapsed() < 10000) QApplication::processEvents(QEventLoop::AllEvents, 5);
-      edit.push_back(double(e.nsecsElapsed()) * 1e-6);
-    }
+    const std::vector<double> edit = toFrame([&](int r) { doc->editLampScale(0, glm::dvec3(r % 2 ? 1.0 : 0.6), 0); });
     // The same frames through a QOpenGLWidget.
     double widgetFps = 0, widgetGpu = 0;
     {
@@ -213,28 +218,16 @@ QJsonObject benchRoom(const QString& room, int runs) {
     vp->show();
     double gpu = 0;
     const double fps = onScreen([&] { vp->requestFrame(); }, viewportFrames, viewportMs, gpu);
-    std::vector<double> edit;
-    for (int r = 0; r < runs; ++r) {
-      QElapsedTimer e;
-      e.start();
-      const int before = viewportFrames;
-      doc->editLampScale(0, glm::dvec3(r % 2 ? 1.0 : 0.6), 0);
-      while (viewportFrames == before && e.elapsed() < 10000) QApplication::processEvents(QEventLoop::AllEvents, 5);
-      edit.push_back(double(e.nsecsElapsed()) * 1e-6);
-    }
+    const std::vector<double> edit = toFrame([&](int r) { doc->editLampScale(0, glm::dvec3(r % 2 ? 1.0 : 0.6), 0); });
     // One object moved by 2 cm (a drag's step) to the frame on screen: its light, every shadow map.
     std::vector<double> move;
-    for (int r = 0; r < runs && placed > 0; ++r) {
-      const ibr::ImageObject& o = doc->imageObjects().front();
-      ibr::Placement p = o.place;
-      p.position.x += (r % 2 ? -0.02 : 0.02);
-      QElapsedTimer e;
-      e.start();
-      const int before = viewportFrames;
-      doc->tryPlaceImageObject(o.name, p, 0);
-      while (viewportFrames == before && e.elapsed() < 10000) QApplication::processEvents(QEventLoop::AllEvents, 5);
-      move.push_back(double(e.nsecsElapsed()) * 1e-6);
-    }
+    if (placed > 0)
+      move = toFrame([&](int r) {
+        const ibr::ImageObject& o = doc->imageObjects().front();
+        ibr::Placement p = o.place;
+        p.position.x += (r % 2 ? -0.02 : 0.02);
+        doc->tryPlaceImageObject(o.name, p, 0);
+      });
     images = QJsonObject{{"objects", placed},
                          {"move_one_to_frame_median_ms", move.empty() ? 0.0 : median(move)},
                          {"triangles_each", double(fan->meshTriangles)},
