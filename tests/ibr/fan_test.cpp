@@ -549,4 +549,19 @@ TEST(ImageBasedObject, ShadowMapsOverTheSurfacesShowWhatThePerPixelShadowsShow) 
   EXPECT_GT(shadowed, 1000u);
   EXPECT_LT(diff / double(n), 0.005);
   EXPECT_NEAR(darkMap / darkPixel, 1.0, 0.03);
+  // Made one object at a time and multiplied (what the viewport does when one object moves): the
+  // same maps as made together.
+  const auto a = shadowMaps(h, {objects[0]}, {lights[0]}), b = shadowMaps(h, {objects[1]}, {lights[1]});
+  const auto both = multiplyShadowMaps({&a, &b});
+  ASSERT_EQ(both.size(), maps.size());
+  double worst = 0;
+  for (size_t k = 0; k < maps.size(); ++k) {
+    ASSERT_EQ(both[k].surface, maps[k].surface);
+    ASSERT_EQ(both[k].width, maps[k].width);
+    ASSERT_EQ(both[k].height, maps[k].height);
+    EXPECT_LT(glm::length(both[k].origin - maps[k].origin), 1e-9);
+    for (size_t t = 0; t < maps[k].keep.size(); ++t)
+      worst = std::max(worst, double(glm::length(both[k].keep[t] - maps[k].keep[t])));
+  }
+  EXPECT_LT(worst, 1e-5);
 }

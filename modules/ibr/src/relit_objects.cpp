@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <glm/geometric.hpp>
 
@@ -161,6 +162,45 @@ std::vector<SurfaceShadow> shadowMaps(const radiosity::HierarchicalRadiosity& h,
   });
   for (auto& m : maps)
     if (m.surface >= 0) out.push_back(std::move(m));
+  return out;
+}
+
+std::vector<SurfaceShadow> multiplyShadowMaps(const std::vector<const std::vector<SurfaceShadow>*>& maps) {
+  std::map<int, std::vector<const SurfaceShadow*>> bySurface;
+  for (const auto* list : maps)
+    if (list)
+      for (const auto& m : *list) bySurface[m.surface].push_back(&m);
+  std::vector<SurfaceShadow> out;
+  for (const auto& [surface, parts] : bySurface) {
+    if (parts.size() == 1) {
+      out.push_back(*parts[0]);
+      continue;
+    }
+    // Texel offsets from the first map's origin (whole numbers: one grid per surface).
+    const SurfaceShadow& ref = *parts[0];
+    const double t = ref.texel;
+    auto offset = [&](const SurfaceShadow& m) {
+      return glm::ivec2(int(std::lround((m.origin.x - ref.origin.x) / t)), int(std::lround((m.origin.y - ref.origin.y) / t)));
+    };
+    glm::ivec2 lo(0), hi(ref.width, ref.height);
+    for (const auto* m : parts) {
+      lo = glm::min(lo, offset(*m));
+      hi = glm::max(hi, offset(*m) + glm::ivec2(m->width, m->height));
+    }
+    SurfaceShadow u;
+    u.surface = surface;
+    u.texel = t;
+    u.origin = ref.origin + t * glm::dvec2(lo);
+    u.width = hi.x - lo.x;
+    u.height = hi.y - lo.y;
+    u.keep.assign(size_t(u.width) * u.height, glm::vec3(1.f));
+    for (const auto* m : parts) {
+      const glm::ivec2 o = offset(*m) - lo;
+      for (int y = 0; y < m->height; ++y)
+        for (int x = 0; x < m->width; ++x) u.keep[size_t(y + o.y) * u.width + x + o.x] *= m->keep[size_t(y) * m->width + x];
+    }
+    out.push_back(std::move(u));
+  }
   return out;
 }
 

@@ -193,6 +193,16 @@ struct GlRelightRenderer::Impl {
     glm::vec4 frame{0.f};  // origin u, v; 1 / width, 1 / height (metres)
   };
   std::map<int, ShadowMap> shadowMaps;  // by engine surface
+  // Each object's own maps, kept while it stays where it is and the room's light and mesh stay
+  // (lightVersion counts their changes): a drag recomputes the moved object's alone.
+  struct ObjectShadowMaps {
+    std::shared_ptr<const ibr::ImageFan> fan;
+    ibr::Placement place;
+    uint64_t version = 0;
+    std::vector<ibr::SurfaceShadow> maps;
+  };
+  std::vector<ObjectShadowMaps> shadowCache;
+  uint64_t lightVersion = 1;
   std::map<int, std::unique_ptr<QOpenGLShaderProgram>> objectPrograms;  // by output
   QByteArray displaySource, objectVertexSource, objectFragmentSource;
 
@@ -604,6 +614,7 @@ void GlRelightRenderer::setRoom(const Scene& scene, const RelightData& data) {
     im.hasGlow = x1 > x0;
   }
   im.meshReady = im.lightingReady = false;
+  ++im.lightVersion;
 }
 
 void GlRelightRenderer::setMesh(const RelightSession& session) {
@@ -649,6 +660,7 @@ void GlRelightRenderer::setMesh(const RelightSession& session) {
 
 void GlRelightRenderer::setLighting(const RelightSession& session) {
   auto& im = *impl_;
+  ++im.lightVersion;  // (setMesh comes here too) the objects' shadows are to be made anew
   auto& gl = *im.gl;
   const auto light = session.displayVertexLight(im.mesh);
   gl.glBindBuffer(GL_ARRAY_BUFFER, im.lightVbo);
@@ -745,7 +757,25 @@ void GlRelightRenderer::setImageObjects(const std::vector<ibr::ImageObject>& obj
       if (*t) gl.glDeleteTextures(1, t);
   // Their shadows on the room, as maps over the surfaces (the library's light).
   im.releaseShadowMaps();
-  for (const auto& m : ibr::shadowMaps(engine, objects, lights)) {
+  std::vector<Impl::ObjectShadowMaps> cache;
+  for (size_t i = 0; i < objects.size() && i < lights.size(); ++i) {
+    const auto& p = objects[i].place;
+    Impl::ObjectShadowMaps c{objects[i].fan, p, im.lightVersion, {}};
+    bool found = false;
+    for (auto& old : im.shadowCache)
+      if (!found && old.fan == c.fan && old.version == c.version && old.place.position == p.position &&
+          old.place.scale == p.scale && old.place.yaw == p.yaw) {
+        c.maps = std::move(old.maps);
+        old.fan.reset();  // taken
+        found = true;
+      }
+    if (!found) c.maps = ibr::shadowMaps(engine, {objects[i]}, {lights[i]});
+    cache.push_back(std::move(c));
+  }
+  im.shadowCache = std::move(cache);
+  std::vector<const std::vector<ibr::SurfaceShadow>*> parts;
+  for (const auto& c : im.shadowCache) parts.push_back(&c.maps);
+  for (const auto& m : ibr::multiplyShadowMaps(parts)) {
     Impl::ShadowMap t;
     gl.glGenTextures(1, &t.texture);
     gl.glBindTexture(GL_TEXTURE_2D, t.texture);

@@ -52,5 +52,9 @@ struct SurfaceShadow {
 // `lights`: one per object (lightingAt on `h`, whose radiosity is current).
 std::vector<SurfaceShadow> shadowMaps(const radiosity::HierarchicalRadiosity& h, const std::vector<ImageObject>& objects,
                                       const std::vector<ObjectLighting>& lights, double texel = 0.015);
+// The product of maps made apart (shadowMaps of one object each, the same texel size): what
+// shadowMaps of them all gives, so that a display recomputes only the object that moved. Per
+// surface over the union of their rectangles (a surface's maps share its texel grid).
+std::vector<SurfaceShadow> multiplyShadowMaps(const std::vector<const std::vector<SurfaceShadow>*>& maps);
 
 }  // namespace relume::ibr
