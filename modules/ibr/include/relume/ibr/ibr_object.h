@@ -129,9 +129,9 @@ struct DrawStats {
 
 // Draws the object into `image` (linear radiance): albedo / pi x (sum over lamps of V_l T_l[code]
 // / |x_l - p|^2 + T_indirect[code]), p the pixel's 3-D point, met by the pixel's ray in the depth
-// of the nearest fan image (or the next one where the nearest did not see it); V_l the object's
-// own shadow (beyond the paper: the fan image nearest the lamp's direction as a shadow map,
-// 3 x 3 percentage-closer). Blended by its alpha, hidden where the room is nearer. `mask`
+// of the nearest fan image (or of the next of viewsToward's where the one before saw the ray pass
+// behind a surface); V_l the object's own shadow (beyond the paper: the fan image nearest the
+// lamp's direction as a shadow map, 3 x 3 percentage-closer). Blended by its alpha, hidden where the room is nearer. `mask`
 // (optional, width x height) gets the alpha drawn (0..255).
 DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLighting& light, const Camera& camera,
                      const RoomView& room, ImageRGB& image, std::vector<uint8_t>* mask = nullptr);
