@@ -122,6 +122,12 @@ void encodeNormalImage(std::span<const glm::vec2> normals, std::span<const uint8
     for (size_t i = 0; i < n; ++i) codes[i] = mask[i] ? encodeNormal(normals[i]) : kNoNormal;
     return;
   }
+  // Beyond the outermost codes no code lies further out: a wanted normal out there is taken at
+  // their radius, so that the error carried on is one the codes can pay back (along the rim),
+  // not an outward push that grows without end and holds one code along the whole rim.
+  float rimR = 0.f;
+  for (const auto& c : table) rimR = std::max(rimR, std::hypot(c.x, c.y));
+  const float rimR2 = rimR * rimR;
   // Errors carried to the next row and along this one (x, y components).
   std::vector<glm::vec2> next(size_t(width) + 2, glm::vec2(0.f)), cur(size_t(width) + 2, glm::vec2(0.f));
   for (int y = 0; y < height; ++y) {
@@ -136,7 +142,7 @@ void encodeNormalImage(std::span<const glm::vec2> normals, std::span<const uint8
       // The wanted normal (with the error carried here), kept on the disc.
       glm::vec2 want = normals[i] + cur[x + 1];
       const float r2 = glm::dot(want, want);
-      if (!(r2 <= 1.f)) want = r2 > 0.f && std::isfinite(r2) ? want / std::sqrt(r2) : glm::vec2(0.f);
+      if (!(r2 <= rimR2)) want = r2 > 0.f && std::isfinite(r2) ? want * (rimR / std::sqrt(r2)) : glm::vec2(0.f);
       const uint8_t c = nearestInPlane(want);
       codes[i] = c;
       const glm::vec2 err = want - glm::vec2(table[c].x, table[c].y);
