@@ -22,13 +22,15 @@ int skyCommand(const QStringList& args, Progress& progress) {
       "Read an HDR fisheye of the sky (looking up, image up = +Y, the circle filling the image unless given), find the "
       "sun, average the rest over the sky's regions and print the irradiance it gives.");
   p.addPositionalArgument("FISHEYE", "Linear HDR fisheye image (EXR).");
-  p.addOption({"projection", "equidistant (default) or equisolid.", "NAME"});
+  p.addOption({"projection", "equidistant (default), equisolid, or equirectangular (a 360 x 180 degree panorama, its "
+                             "centre column along +X, +Z up).", "NAME"});
+  p.addOption({"panorama", "With a daylight ROOM: read its sky's equirectangular panorama instead of its fisheye."});
   p.addOption({"fov", "Field of view across the image circle in degrees (default 180).", "DEG"});
   p.addOption({"circle", "The image circle as CX,CY,R in pixels (default: centred, filling the image).", "CX,CY,R"});
   p.addOption({"regions", "Number of sky regions (default 64).", "N"});
   p.addOption({"json", "Also write the regions, the sun and the irradiances as JSON.", "OUT.json"});
   p.addOption({"sky", "With a daylight ROOM: which of its skies (default: the one its photos were taken under).", "NAME"});
-  parseOrThrow(p, args, 1, "relume sky FISHEYE.exr|ROOM [--sky NAME] [--projection equidistant|equisolid] [--fov 180] [--regions 64]");
+  parseOrThrow(p, args, 1, "relume sky FISHEYE.exr|PANORAMA.exr|ROOM [--sky NAME] [--panorama] [--projection equidistant|equisolid|equirectangular] [--fov 180] [--regions 64]");
   std::string file = p.positionalArguments()[0].toStdString();
   std::string description;  // the lens in words, when a room's daylight section gives it
   if (!isRadianceFile(file)) {
@@ -39,10 +41,18 @@ int skyCommand(const QStringList& args, Progress& progress) {
     if (!cap) throw Error(room.sourceFile, "--sky", "the room has no sky named '" + want + "'");
     file = room.baseDir + "/" + cap->fisheye;
     description = cap->fisheyeModel;
+    if (p.isSet("panorama")) {
+      if (cap->panorama.empty()) throw Error(room.sourceFile, "--panorama", "the sky '" + want + "' has no panorama");
+      file = room.baseDir + "/" + cap->panorama;
+      description.clear();
+    }
+  } else if (p.isSet("panorama")) {
+    throw Error("", "--panorama", "needs a daylight room; for an image give --projection equirectangular");
   }
-  const QString proj = p.value("projection").isEmpty() ? "equidistant" : p.value("projection");
-  if (proj != "equidistant" && proj != "equisolid")
-    throw Error("", "--projection", "must be equidistant or equisolid, not '" + proj.toStdString() + "'");
+  QString proj = p.value("projection").isEmpty() ? "equidistant" : p.value("projection");
+  if (p.isSet("panorama")) proj = "equirectangular";
+  if (proj != "equidistant" && proj != "equisolid" && proj != "equirectangular")
+    throw Error("", "--projection", "must be equidistant, equisolid or equirectangular, not '" + proj.toStdString() + "'");
   bool ok = true;
   const double fov = p.isSet("fov") ? p.value("fov").toDouble(&ok) : 180.0;
   if (!ok || !(fov > 0 && fov <= 360)) throw Error("", "--fov", "must be a number of degrees in (0, 360]");
@@ -51,9 +61,11 @@ int skyCommand(const QStringList& args, Progress& progress) {
   int w = 0, h = 0;
   imageSize(file, w, h);
   dl::FisheyeModel model =
-      description.empty()
+      proj == "equirectangular" ? dl::equirectangular(w, h)
+      : description.empty()
           ? dl::fisheyeLookingUp(w, h, proj == "equisolid" ? dl::FisheyeProjection::Equisolid : dl::FisheyeProjection::Equidistant, fov)
           : dl::fisheyeFromDescription(description, w, h, file);
+  if (p.isSet("circle") && proj == "equirectangular") throw Error("", "--circle", "a panorama has no image circle");
   if (p.isSet("circle")) {
     const QStringList c = p.value("circle").split(',');
     bool a = false, b = false, r = false;

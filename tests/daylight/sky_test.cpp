@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <glm/geometric.hpp>
 #include <numbers>
 
@@ -22,11 +23,11 @@ glm::dvec3 fromElevAzim(double elevDeg, double azimDeg) {
 
 // A fisheye of the given sky function, each pixel the mean over 3 x 3 sub-pixels (41 x 41 within
 // 2 degrees of `hot`, where a sun's disc is smaller than a pixel).
-SkyImage render(int size, FisheyeProjection proj, const std::function<glm::dvec3(const glm::dvec3&)>& sky,
+SkyImage render(const FisheyeModel& model, int width, int height, const std::function<glm::dvec3(const glm::dvec3&)>& sky,
                 const glm::dvec3& hot = glm::dvec3(0.0)) {
-  SkyImage s{ImageRGB(size, size), fisheyeLookingUp(size, size, proj), "synthetic.exr"};
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
+  SkyImage s{ImageRGB(width, height), model, "synthetic.exr"};
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
       glm::dvec3 sum(0.0);
       int n = 0;
       const auto c = pixelDirection(s.model, x + 0.5, y + 0.5);
@@ -37,6 +38,10 @@ SkyImage render(int size, FisheyeProjection proj, const std::function<glm::dvec3
       if (n) s.image.set(x, y, glm::vec3(sum / double(n)));
     }
   return s;
+}
+SkyImage render(int size, FisheyeProjection proj, const std::function<glm::dvec3(const glm::dvec3&)>& sky,
+                const glm::dvec3& hot = glm::dvec3(0.0)) {
+  return render(fisheyeLookingUp(size, size, proj), size, size, sky, hot);
 }
 }  // namespace
 
@@ -173,4 +178,61 @@ TEST(Fisheye, ADescriptionInWordsGivesTheLensAndItsOrientation) {
   EXPECT_NE(error("equidistant, looking up, image up = +Y").find("field of view"), std::string::npos);
   EXPECT_NE(error("equidistant, 180 deg, looking down, image up = +Y").find("looking up"), std::string::npos);
   EXPECT_NE(error("equidistant, 180 deg, looking up").find("image's up"), std::string::npos);
+}
+
+TEST(Panorama, PixelsAndDirectionsAreInverseAndTheCellsCoverTheSphere) {
+  const FisheyeModel m = equirectangular(512, 256);
+  // The centre column looks along +X, a quarter of the way in along +Y (to the left of +X seen
+  // from inside, +Z up), the top row at the zenith.
+  EXPECT_LT(glm::length(*pixelDirection(m, 256, 128) - glm::dvec3(1, 0, 0)), 1e-12);
+  EXPECT_LT(glm::length(*pixelDirection(m, 128, 128) - glm::dvec3(0, 1, 0)), 1e-12);
+  EXPECT_GT(pixelDirection(m, 10.5, 0.5)->z, 0.9999);
+  for (int k = 0; k < 200; ++k) {
+    const glm::dvec3 d = fromElevAzim(-85 + 170.0 * ((k * 37) % 200) / 199.0, 360.0 * ((k * 53) % 200) / 200.0);
+    const auto p = directionPixel(m, d);
+    ASSERT_TRUE(p);
+    EXPECT_LT(glm::length(*pixelDirection(m, p->x, p->y) - d), 1e-9) << k;
+  }
+  double sphere = 0;
+  for (int y = 0; y < m.height; ++y)
+    for (int x = 0; x < m.width; ++x) sphere += pixelSolidAngle(m, x, y);
+  EXPECT_NEAR(sphere, 4 * kPi, 1e-9);
+}
+
+TEST(Panorama, ASkyReadFromAPanoramaGivesWhatItsFisheyeGives) {
+  // The same sky (brightening towards the zenith, a 0.53-degree sun at elevation 30, azimuth 120)
+  // seen by a 512 x 256 panorama and by a 512-pixel fisheye: regions, sun and irradiance agree.
+  const glm::dvec3 sunDir = fromElevAzim(30, 120);
+  const double sunRadius = 0.265 * kPi / 180, sunL = 2e5;
+  auto skyL = [](const glm::dvec3& d) { return glm::dvec3(0.5 + 0.5 * d.z, 0.6 + 0.5 * d.z, 0.9 + 0.5 * d.z); };
+  auto sky = [&](const glm::dvec3& d) {
+    if (d.z < 0) return glm::dvec3(0.2);  // the ground, which the panorama sees too
+    return glm::dot(d, sunDir) >= std::cos(sunRadius) ? glm::dvec3(sunL) : skyL(d);
+  };
+  const SkyImage pano = render(equirectangular(512, 256), 512, 256, sky, sunDir);
+  const SkyImage fish = render(512, FisheyeProjection::Equidistant, sky, sunDir);
+  checkSkyImage(pano);
+  const SkyRegions regions(64);
+  const SkyRadiance a = averageSky(pano, regions), b = averageSky(fish, regions);
+  ASSERT_TRUE(a.sun.found);
+  EXPECT_LT(std::acos(std::min(1.0, glm::dot(a.sun.direction, sunDir))) * 180 / kPi, 0.5);
+  const double expected = sunL * 2 * kPi * (1 - std::cos(sunRadius));
+  EXPECT_NEAR(a.sun.irradiance.x, expected, 0.05 * expected);
+  double worst = 0;
+  for (int k = 0; k < regions.size(); ++k)
+    worst = std::max(worst, glm::length(a.region[size_t(k)] - b.region[size_t(k)]) / glm::length(b.region[size_t(k)]));
+  std::printf("panorama vs fisheye: regions within %.3f %%, sun %.3f vs %.3f\n", 100 * worst, a.sun.irradiance.x,
+              b.sun.irradiance.x);
+  EXPECT_LT(worst, 0.01);
+  const glm::dvec3 up = planeIrradiance(regions, a, {0, 0, 1}), upFish = planeIrradiance(regions, b, {0, 0, 1});
+  EXPECT_NEAR(up.x, upFish.x, 0.01 * upFish.x);
+  // A panorama whose size is not the model's is refused by name.
+  SkyImage wrong = pano;
+  wrong.model = equirectangular(256, 128);
+  try {
+    checkSkyImage(wrong);
+    ADD_FAILURE() << "a panorama of another size was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("synthetic.exr"), std::string::npos);
+  }
 }

@@ -79,7 +79,24 @@ FisheyeModel fisheyeFromDescription(const std::string& text, int width, int heig
   return m;
 }
 
+FisheyeModel equirectangular(int width, int height, const glm::dmat3& axes) {
+  FisheyeModel m;
+  m.projection = FisheyeProjection::Equirectangular;
+  m.fovDeg = 360;
+  m.width = width;
+  m.height = height;
+  m.centre = {width / 2.0, height / 2.0};
+  m.radius = 0;
+  m.axes = axes;
+  return m;
+}
+
 std::optional<glm::dvec3> pixelDirection(const FisheyeModel& m, double px, double py) {
+  if (m.projection == FisheyeProjection::Equirectangular) {
+    if (m.width <= 0 || m.height <= 0 || py < 0 || py > m.height) return std::nullopt;
+    const double az = (0.5 - px / m.width) * 2.0 * kPi, el = (0.5 - py / m.height) * kPi;
+    return glm::normalize(m.axes * glm::dvec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)));
+  }
   const double dx = px - m.centre.x, dy = py - m.centre.y;
   const double r = std::sqrt(dx * dx + dy * dy);
   if (!(m.radius > 0) || r > m.radius) return std::nullopt;
@@ -91,6 +108,13 @@ std::optional<glm::dvec3> pixelDirection(const FisheyeModel& m, double px, doubl
 
 std::optional<glm::dvec2> directionPixel(const FisheyeModel& m, const glm::dvec3& direction) {
   const glm::dvec3 local = glm::transpose(m.axes) * glm::normalize(direction);
+  if (m.projection == FisheyeProjection::Equirectangular) {
+    if (m.width <= 0 || m.height <= 0) return std::nullopt;
+    double u = 0.5 - std::atan2(local.y, local.x) / (2.0 * kPi);
+    if (u >= 1.0) u -= 1.0;
+    const double v = 0.5 - std::asin(std::clamp(local.z, -1.0, 1.0)) / kPi;
+    return glm::dvec2(u * m.width, v * m.height);
+  }
   const double theta = std::acos(std::clamp(local.z, -1.0, 1.0));
   if (theta > thetaMax(m) + 1e-12) return std::nullopt;
   const double r = radiusOf(m, theta) * m.radius;
@@ -100,6 +124,11 @@ std::optional<glm::dvec2> directionPixel(const FisheyeModel& m, const glm::dvec3
 }
 
 double pixelSolidAngle(const FisheyeModel& m, int x, int y) {
+  if (m.projection == FisheyeProjection::Equirectangular) {  // exact: a cell of azimuth x sin(elevation)
+    if (m.width <= 0 || m.height <= 0 || x < 0 || y < 0 || x >= m.width || y >= m.height) return 0;
+    const double top = (0.5 - double(y) / m.height) * kPi, bottom = (0.5 - double(y + 1) / m.height) * kPi;
+    return 2.0 * kPi / m.width * (std::sin(top) - std::sin(bottom));
+  }
   // Numerically, over 4 x 4 sub-pixels: the solid angle of an image area dA at normalised
   // radius s is sin(theta) dtheta dphi with dphi = dA_tangential / r.
   constexpr int kSub = 4;
@@ -123,8 +152,14 @@ void checkSkyImage(const SkyImage& sky) {
   const ImageRGB& im = sky.image;
   const FisheyeModel& m = sky.model;
   if (im.width <= 0 || im.height <= 0) throw Error(sky.file, "", "the sky image has no pixels");
-  if (!(m.fovDeg > 0 && m.fovDeg <= 360)) throw Error(sky.file, "fisheye", "its field of view must lie in (0, 360] degrees");
-  if (!(m.radius > 0) || m.centre.x - m.radius < -0.5 || m.centre.y - m.radius < -0.5 ||
+  if (m.projection == FisheyeProjection::Equirectangular) {
+    if (m.width != im.width || m.height != im.height)
+      throw Error(sky.file, "panorama",
+                  "the model is for " + std::to_string(m.width) + "x" + std::to_string(m.height) + ", the image is " +
+                      std::to_string(im.width) + "x" + std::to_string(im.height));
+  } else if (!(m.fovDeg > 0 && m.fovDeg <= 360)) {
+    throw Error(sky.file, "fisheye", "its field of view must lie in (0, 360] degrees");
+  } else if (!(m.radius > 0) || m.centre.x - m.radius < -0.5 || m.centre.y - m.radius < -0.5 ||
       m.centre.x + m.radius > im.width + 0.5 || m.centre.y + m.radius > im.height + 0.5)
     throw Error(sky.file, "fisheye",
                 "the image circle (centre " + std::to_string(m.centre.x) + ", " + std::to_string(m.centre.y) + ", radius " +

@@ -20,6 +20,12 @@ namespace relume::daylight {
 enum class FisheyeProjection {
   Equidistant,  // r = f * theta (the common "f-theta" fisheye)
   Equisolid,    // r = 2 f * sin(theta / 2)
+  // A full panorama, 360 x 180 degrees: column x at azimuth (1/2 - (x + 1/2) / width) x 360
+  // degrees from `axes` column 0 towards column 1 (the centre column looks along column 0, the
+  // left edge behind it, +90 degrees a quarter of the way in), row y at elevation
+  // (1/2 - (y + 1/2) / height) x 180 degrees towards column 2 (the zenith at the top row). What a
+  // viewer turning round sees; day101's panoramas with the identity axes (centre along +X, +Z up).
+  Equirectangular,
 };
 
 struct FisheyeModel {
@@ -28,9 +34,14 @@ struct FisheyeModel {
   glm::dvec2 centre{0.0};  // the image circle's centre (pixels)
   double radius = 0;       // the image circle's radius (pixels): theta = fov / 2 there
   // Columns: the room-frame directions of the image's +x (right), of its up (-y) and of the
-  // optical axis. Looking up with image up = +Y: (+X, +Y, +Z).
+  // optical axis. Looking up with image up = +Y: (+X, +Y, +Z). (Equirectangular: see above.)
   glm::dmat3 axes{1.0};
+  int width = 0, height = 0;  // the image's size (equirectangular; the fisheye needs only the circle)
 };
+
+// An equirectangular panorama of width x height pixels: the centre column along `axes` column 0
+// (default +X), +Z up (see FisheyeProjection::Equirectangular).
+FisheyeModel equirectangular(int width, int height, const glm::dmat3& axes = glm::dmat3(1.0));
 
 // The day101 convention: equidistant (or `projection`), `fovDeg`, looking up (+Z), image up = +Y,
 // the circle filling the image (centre at its centre, radius half its smaller side).
