@@ -173,13 +173,7 @@ void ObjectsPanel::rebuildImages() {
     r.name = o.name;
     auto* name = new QLabel(QString::fromStdString(o.name), row);
     name->setToolTip(QString::fromStdString(o.fanFile));
-    r.turn = new QSpinBox(row);
-    r.turn->setRange(-180, 180);
-    r.turn->setSingleStep(15);
-    r.turn->setWrapping(true);
-    r.turn->setKeyboardTracking(false);
-    r.turn->setSuffix(tr("°"));
-    r.turn->setToolTip(tr("Turn about the vertical"));
+    r.turn = turnSpin(row);
     r.scale = new QDoubleSpinBox(row);
     r.scale->setRange(0.05, 20.0);
     r.scale->setSingleStep(0.1);
@@ -255,6 +249,17 @@ bool ObjectsPanel::placeObj(const QString& path) {
   }
 }
 
+QSpinBox* ObjectsPanel::turnSpin(QWidget* row) {
+  auto* turn = new QSpinBox(row);
+  turn->setRange(-180, 180);
+  turn->setSingleStep(15);
+  turn->setWrapping(true);
+  turn->setKeyboardTracking(false);  // a typed angle turns once, when it is complete
+  turn->setSuffix(tr("°"));
+  turn->setToolTip(tr("Turn about the vertical"));
+  return turn;
+}
+
 void ObjectsPanel::pushTemplate() {
   // Albedo in (0, 1): a physical surface never reflects everything.
   auto a = [](double v) { return std::clamp(v, 0.02, 0.95); };
@@ -286,13 +291,7 @@ void ObjectsPanel::rebuild() {
     colour->setStyleSheet(swatch(QColor::fromRgbF(float(o.albedo.x), float(o.albedo.y), float(o.albedo.z))));
     Row r;
     r.name = o.name;
-    r.turn = new QSpinBox(row);
-    r.turn->setRange(-180, 180);
-    r.turn->setSingleStep(15);
-    r.turn->setWrapping(true);
-    r.turn->setKeyboardTracking(false);  // a typed angle turns once, when it is complete
-    r.turn->setSuffix(tr("°"));
-    r.turn->setToolTip(tr("Turn about the vertical"));
+    r.turn = turnSpin(row);
     r.remove = new QPushButton(tr("Delete"), row);
     grid->addWidget(colour, 0, 0);
     grid->addWidget(name, 0, 1);

@@ -45,6 +45,7 @@ class ObjectsPanel : public QWidget {
   void rebuild();
   void refresh();
   void pushTemplate();
+  QSpinBox* turnSpin(QWidget* row);  // an object row's turn about the vertical, degrees
   void rebuildImages();
   void refreshImages();
 

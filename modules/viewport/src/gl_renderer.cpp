@@ -219,15 +219,22 @@ struct GlRelightRenderer::Impl {
     shadowMaps.clear();
   }
 
+  // A program of `defines` + the vertex source, and `defines` + the display transform + the
+  // fragment source; the shader log, naming `name`, when it does not compile or link.
+  std::unique_ptr<QOpenGLShaderProgram> compile(const QByteArray& defines, const QByteArray& vertex,
+                                                const QByteArray& fragment, const char* name) const {
+    auto q = std::make_unique<QOpenGLShaderProgram>();
+    if (!q->addShaderFromSourceCode(QOpenGLShader::Vertex, defines + vertex) ||
+        !q->addShaderFromSourceCode(QOpenGLShader::Fragment, defines + displaySource + fragment) || !q->link())
+      throw Error(name, "shader", q->log().toStdString());
+    return q;
+  }
+
   QOpenGLShaderProgram& objectProgram(DisplayOutput output) {
     auto& p = objectPrograms[int(output)];
     if (!p) {
       const QByteArray defines = "#version 330 core\n#define OUTPUT " + QByteArray::number(int(output)) + "\n";
-      auto q = std::make_unique<QOpenGLShaderProgram>();
-      if (!q->addShaderFromSourceCode(QOpenGLShader::Vertex, defines + objectVertexSource) ||
-          !q->addShaderFromSourceCode(QOpenGLShader::Fragment, defines + displaySource + objectFragmentSource) || !q->link())
-        throw Error(":/shaders/ibr_object.frag", "shader", q->log().toStdString());
-      p = std::move(q);
+      p = compile(defines, objectVertexSource, objectFragmentSource, ":/shaders/ibr_object.frag");
     }
     return *p;
   }
@@ -382,11 +389,7 @@ struct GlRelightRenderer::Impl {
                                  QByteArray::number(int(output)) + "\n#define GLOW " + QByteArray::number(glowOn ? 1 : 0) +
                                  "\n#define CHECKER " + QByteArray::number(checker ? 1 : 0) +
                                  "\n#define SHADOWS " + QByteArray::number(shadows ? 1 : 0) + "\n";
-      auto q = std::make_unique<QOpenGLShaderProgram>();
-      if (!q->addShaderFromSourceCode(QOpenGLShader::Vertex, defines + vertexSource) ||
-          !q->addShaderFromSourceCode(QOpenGLShader::Fragment, defines + displaySource + fragmentSource) || !q->link())
-        throw Error(":/shaders/relight.frag", "shader", q->log().toStdString());
-      p = std::move(q);
+      p = compile(defines, vertexSource, fragmentSource, ":/shaders/relight.frag");
     }
     return *p;
   }
