@@ -38,6 +38,7 @@ int triangulateCommand(const QStringList& args, Progress& progress);
 int hdrMergeCommand(const QStringList& args, Progress& progress);
 int calibrateCommand(const QStringList& args, Progress& progress);
 int skyCommand(const QStringList& args, Progress& progress);
+int daylightBasisCommand(const QStringList& args, Progress& progress);
 int photometryCommand(const QStringList& args, Progress& progress);
 int ibrFanCommand(const QStringList& args, Progress& progress);
 }  // namespace relume::cli

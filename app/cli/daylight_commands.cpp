@@ -1,4 +1,6 @@
-// relume sky: what a measured sky holds (its regions, its sun), as the daylight basis will use it.
+// relume sky: what a measured sky holds (its regions, its sun), as the daylight basis uses it.
+// relume daylight-basis: the room's basis radiosity solutions (one per sky region, the ground,
+// the sun) and what each of its measured skies gives, combined from them.
 #include <QCommandLineParser>
 #include <QJsonArray>
 #include <QJsonObject>
@@ -7,7 +9,11 @@
 #include <numbers>
 
 #include "commands.h"
+#include "relume/daylight/basis.h"
 #include "relume/daylight/sky.h"
+#include "relume/radiosity/form_factor.h"
+#include "relume/radiosity/hierarchy.h"
+#include "relume/relight/solution_render.h"
 #include "relume/geometry/error.h"
 #include "relume/geometry/scene.h"
 #include "relume/image/image.h"
@@ -15,6 +21,132 @@
 namespace relume::cli {
 
 namespace dl = relume::daylight;
+
+namespace {
+// A daylight room's measured sky by name (empty: the photos' own), its fisheye read and checked.
+dl::SkyImage roomSky(const Scene& room, const std::string& name) {
+  if (room.skies.empty()) throw Error(room.sourceFile, "daylight", "the room lists no measured sky");
+  const std::string want = !name.empty() ? name : room.photoSky.empty() ? room.skies.front().name : room.photoSky;
+  const SkyCapture* cap = room.findSky(want);
+  if (!cap) throw Error(room.sourceFile, "--sky", "the room has no sky named '" + want + "'");
+  const std::string file = room.baseDir + "/" + cap->fisheye;
+  int w = 0, h = 0;
+  imageSize(file, w, h);
+  return dl::readSkyImage(file, dl::fisheyeFromDescription(cap->fisheyeModel, w, h, file));
+}
+
+double luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+QJsonArray rgbJson(const glm::dvec3& v) { return QJsonArray{v.x, v.y, v.z}; }
+}  // namespace
+
+int daylightBasisCommand(const QStringList& args, Progress& progress) {
+  QCommandLineParser p;
+  p.setApplicationDescription(
+      "Solve a daylight room's basis radiosity solutions (Grosch, Eble, Mueller 2007): the windows as openings, one "
+      "solution per sky region at unit radiance, one for the ground, one for the sun of each sky; then combine them "
+      "for each of the room's measured skies and print each polygon's mean radiance.");
+  p.addPositionalArgument("ROOM", "A daylight room (bundle folder, project or .obj with its .json) with windows and skies.");
+  p.addOption({"regions", "Number of sky regions (default 64).", "N"});
+  p.addOption({"sky", "The sky to refine the links for (default: the one the photos were taken under).", "NAME"});
+  p.addOption({"exact", "Also solve the refining sky with its exact radiance per direction (the fisheye's pixels, "
+                        "the sun apart) and report how far the regions' combination is from it."});
+  p.addOption({"json", "Write the report as JSON.", "OUT.json"});
+  p.addOption({"render", "Write each sky's solution seen through the main photo's camera as DIR/SKY.exr (radiance "
+                         "B / pi of the model's own albedos: the simulation, not the relit photo).", "DIR"});
+  parseOrThrow(p, args, 1, "relume daylight-basis ROOM [--regions 64] [--sky NAME] [--exact] [--json OUT.json] [--render DIR]");
+  bool ok = true;
+  const int regions = p.isSet("regions") ? p.value("regions").toInt(&ok) : 64;
+  if (!ok || regions < 1 || regions > 4096) throw Error("", "--regions", "must be a whole number from 1 to 4096");
+  const Scene room = openRoom(p.positionalArguments()[0]);
+  const dl::SkyImage refineImage = roomSky(room, p.value("sky").toStdString());
+  const dl::SkyRegions cells(regions);
+  const dl::SkyRadiance refineSky = dl::averageSky(refineImage, cells);
+  dl::BasisOptions options;
+  options.regions = regions;
+  dl::DaylightBasis basis(room, refineSky, options, progress);
+  const auto& eng = basis.engine();
+  std::printf("%d basis solutions (%d regions and the ground) on %zu elements and %zu links: refined in %.1f s, "
+              "%.2f s per basis; ground albedo %.3f\n",
+              basis.basisCount(), regions, eng.nodes().size(), eng.links().size(), basis.refineSeconds(),
+              basis.secondsPerBasis(), basis.groundReflectance());
+  QJsonArray skies;
+  for (const auto& cap : room.skies) {
+    const dl::SkyImage image = roomSky(room, cap.name);
+    const dl::SkyRadiance sky = dl::averageSky(image, cells);
+    Progress stage(progress, 0, 1);
+    const auto b = basis.combine(sky, stage);
+    std::printf("sky %s%s:\n", cap.name.c_str(), sky.sun.found ? "" : " (no sun found)");
+    QJsonObject polys;
+    for (size_t s = 0; s < room.polygons.size(); ++s) {
+      if (room.polygons[s].kind == PolygonKind::Window || eng.isRemoved(int(s))) continue;
+      const glm::dvec3 l = basis.surfaceMean(b, int(s)) / std::numbers::pi;
+      std::printf("  %-20s %10.5f %10.5f %10.5f\n", room.polygons[s].name.c_str(), l.x, l.y, l.z);
+      polys[QString::fromStdString(room.polygons[s].name)] = rgbJson(l);
+    }
+    skies.append(QJsonObject{{"name", QString::fromStdString(cap.name)}, {"mean_radiance", polys}});
+    if (p.isSet("render")) {
+      const Photo* main = room.findPhoto(room.mainPhoto);
+      if (!main) throw Error(room.sourceFile, "--render", "the room has no main photo to look through");
+      const std::string out = p.value("render").toStdString() + "/" + cap.name + ".exr";
+      writeImage(out, renderRadiosity(eng, b, main->camera, stage));
+      std::printf("  wrote %s\n", out.c_str());
+    }
+  }
+  QJsonObject report{{"room", QString::fromStdString(room.sourceFile)},
+                     {"regions", regions},
+                     {"elements", double(eng.nodes().size())},
+                     {"links", double(eng.links().size())},
+                     {"refine_seconds", basis.refineSeconds()},
+                     {"seconds_per_basis", basis.secondsPerBasis()},
+                     {"ground_albedo", basis.groundReflectance()},
+                     {"skies", skies}};
+  if (p.isSet("exact")) {
+    // The refining sky's luminance per direction, the sun's pixels given their region's mean.
+    const dl::SkyRadiance& avg = refineSky;
+    auto exact = std::make_shared<radiosity::DistantLight>();
+    exact->pieceDeg = options.pieceDeg;
+    const dl::SkyImage* im = &refineImage;
+    const dl::SkyRegions* cellsPtr = &cells;
+    const double sunCos = std::cos(dl::SkyOptions{}.sunRadiusDeg * std::numbers::pi / 180);
+    // Both without the sun: the ground lit by the sky alone, in the exact solve as in the combination.
+    dl::SkyRadiance grey = avg;
+    for (auto& r : grey.region) r = glm::dvec3(luminance(r));
+    grey.sun.found = false;
+    const glm::dvec3 ground = basis.groundRadiance(grey);
+    exact->radiance = [im, cellsPtr, &avg, sunCos, ground](const glm::dvec3& d) {
+      const int k = cellsPtr->regionOf(d);
+      if (k < 0) return luminance(ground);
+      if (avg.sun.found && glm::dot(d, avg.sun.direction) > sunCos) return luminance(avg.region[size_t(k)]);
+      const auto px = dl::directionPixel(im->model, d);
+      if (!px) return luminance(avg.region[size_t(k)]);
+      const int x = std::clamp(int(px->x), 0, im->image.width - 1), y = std::clamp(int(px->y), 0, im->image.height - 1);
+      return luminance(glm::dvec3(im->image.at(x, y)));
+    };
+    progress.report(0, "solving the sky's exact radiance per direction");
+    const auto truth = basis.solveFor(exact, progress);
+    const auto combined = basis.combine(grey, progress);
+    double worst = 0, sum = 0;
+    int n = 0;
+    std::string where;
+    for (size_t s = 0; s < room.polygons.size(); ++s) {
+      if (room.polygons[s].kind == PolygonKind::Window || eng.isRemoved(int(s))) continue;
+      const double t = basis.surfaceMean(truth, int(s)).x, c = basis.surfaceMean(combined, int(s)).x;
+      if (!(t > 0)) continue;
+      const double e = std::abs(c / t - 1);
+      sum += e;
+      ++n;
+      if (e > worst) worst = e, where = room.polygons[s].name;
+    }
+    std::printf("regions vs the exact sky (no sun): per-polygon mean radiosity off by %.2f %% at worst (%s), %.2f %% "
+                "on average over %d polygons\n",
+                100 * worst, where.c_str(), n ? 100 * sum / n : 0.0, n);
+    report["exact_worst_percent"] = 100 * worst;
+    report["exact_mean_percent"] = n ? 100 * sum / n : 0.0;
+    report["exact_worst_polygon"] = QString::fromStdString(where);
+  }
+  if (p.isSet("json")) writeJsonAtomically(p.value("json"), report);
+  return 0;
+}
 
 int skyCommand(const QStringList& args, Progress& progress) {
   QCommandLineParser p;

@@ -32,6 +32,7 @@ void usage() {
                "  hdr-merge IMAGES... -o OUT.exr [--times T1,T2,..|--ev EV1,EV2,..]\n"
                "  calibrate CHECKERBOARD_DIR --pattern 9x6 --square 0.025 [-o intrinsics.json]\n"
                "  sky FISHEYE.exr [--projection equidistant|equisolid] [--fov 180] [--regions 64]  (sun, sky regions)\n"
+               "  daylight-basis ROOM [--regions 64] [--exact] [--json OUT.json]  (basis solutions per sky region)\n"
                "  photometry FILE.ies|FILE.ldt [--json OUT.json]  (a luminaire's flux and shape)\n"
                "  ibr-fan MESH -o FAN [--views 96] [--size 256] [--rings 15,45,75] [--no-dither] [--up y]\n"
                "          (an image-based object's fan, for relight --virtual-object)\n"
@@ -77,6 +78,7 @@ int main(int argc, char** argv) {
     if (cmd == "hdr-merge") return relume::cli::hdrMergeCommand(rest, progress);
     if (cmd == "calibrate") return relume::cli::calibrateCommand(rest, progress);
     if (cmd == "sky") return relume::cli::skyCommand(rest, progress);
+    if (cmd == "daylight-basis") return relume::cli::daylightBasisCommand(rest, progress);
     if (cmd == "photometry") return relume::cli::photometryCommand(rest, progress);
     if (cmd == "ibr-fan") return relume::cli::ibrFanCommand(rest, progress);
     std::fprintf(stderr, "relume: unknown command '%s'\n", qPrintable(cmd));

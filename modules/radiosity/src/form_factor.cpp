@@ -38,9 +38,132 @@ double pointToPolygonFormFactor(const glm::dvec3& p, const glm::dvec3& n,
   return std::abs(sum) / (2.0 * std::numbers::pi);
 }
 
+namespace {
+
+// Cuts the convex polygon `poly` into pieces that p sees no wider than `maxAngle` (radians) and
+// sums visit(piece, centroid direction) over them; pieces whose cone `light.mayShine` rules out
+// are skipped whole.
+template <class Visit>
+double overPieces(const glm::dvec3& p, const std::vector<glm::dvec3>& poly, const DistantLight& light,
+                  double maxAngle, int depth, Visit&& visit) {
+  if (poly.size() < 3) return 0.0;
+  const glm::dvec3 c = polygonCentroid(poly);
+  double radius = 0;
+  size_t far = 0;
+  for (size_t i = 0; i < poly.size(); ++i) {
+    const double r = glm::length(poly[i] - c);
+    if (r > radius) {
+      radius = r;
+      far = i;
+    }
+  }
+  const double dist = glm::length(c - p);
+  if (!(dist > 0)) return 0.0;
+  const glm::dvec3 axis = (c - p) / dist;
+  if (light.mayShine) {
+    const double half = radius >= dist ? std::numbers::pi : std::asin(radius / dist);
+    if (!light.mayShine(axis, half)) return 0.0;
+  }
+  if (2.0 * radius <= maxAngle * dist || depth >= 14) return visit(poly, axis);
+  // Halve across the longest extent (through the centroid).
+  const glm::dvec3 cut = glm::normalize(poly[far] - c);
+  return overPieces(p, clipToHalfSpace(poly, c, cut), light, maxAngle, depth + 1, visit) +
+         overPieces(p, clipToHalfSpace(poly, c, -cut), light, maxAngle, depth + 1, visit);
+}
+
+// Does the ray from p along d cross the convex polygon (normal nPoly)?
+bool rayThroughPolygon(const glm::dvec3& p, const glm::dvec3& d, const std::vector<glm::dvec3>& poly,
+                       const glm::dvec3& nPoly) {
+  const double dn = glm::dot(d, nPoly);
+  if (dn == 0.0) return false;
+  const double t = glm::dot(nPoly, poly[0] - p) / dn;
+  if (!(t > 0)) return false;
+  const glm::dvec3 x = p + t * d;
+  for (size_t i = 0; i < poly.size(); ++i) {
+    const glm::dvec3& a = poly[i];
+    const glm::dvec3& b = poly[(i + 1) % poly.size()];
+    if (glm::dot(glm::cross(b - a, x - a), nPoly) < 0.0) return false;
+  }
+  return true;
+}
+
+// Beams through the opening towards p: sum of irradiance x cosine(n) / pi (n null: cosine 1).
+double beamsThrough(const glm::dvec3& p, const glm::dvec3* n, const std::vector<glm::dvec3>& poly,
+                    const glm::dvec3& nPoly, const DistantLight& light) {
+  double f = 0;
+  for (const auto& beam : light.beams) {
+    const double c = n ? glm::dot(*n, beam.direction) : 1.0;
+    if (!(c > 0) || !(beam.irradiance > 0) || glm::dot(beam.direction, nPoly) >= 0.0) continue;
+    if (rayThroughPolygon(p, beam.direction, poly, nPoly)) f += beam.irradiance * c / std::numbers::pi;
+  }
+  return f;
+}
+
+}  // namespace
+
+double distantFormFactor(const glm::dvec3& p, const glm::dvec3& n, const std::vector<glm::dvec3>& poly,
+                         const DistantLight& light, bool withBeams) {
+  if (poly.size() < 3) return 0.0;
+  const glm::dvec3 nPoly = polygonNormal(poly);
+  if (glm::dot(nPoly, p - poly[0]) <= 0.0) return 0.0;  // behind the opening (outside the room)
+  double f = withBeams ? beamsThrough(p, &n, poly, nPoly, light) : 0.0;
+  if (light.radiance) {
+    const double maxAngle = std::max(1e-3, light.pieceDeg * std::numbers::pi / 180.0);
+    f += overPieces(p, poly, light, maxAngle, 0, [&](const std::vector<glm::dvec3>& piece, const glm::dvec3& d) {
+      const double l = light.radiance(d);
+      return l > 0 ? l * pointToPolygonFormFactor(p, n, piece) : 0.0;
+    });
+  }
+  return f;
+}
+
+double distantSolidAngleFactor(const glm::dvec3& p, const std::vector<glm::dvec3>& poly, const DistantLight& light) {
+  if (poly.size() < 3) return 0.0;
+  const glm::dvec3 nPoly = polygonNormal(poly);
+  if (glm::dot(nPoly, p - poly[0]) <= 0.0) return 0.0;
+  double f = beamsThrough(p, nullptr, poly, nPoly, light);
+  if (light.radiance) {
+    const double maxAngle = std::max(1e-3, light.pieceDeg * std::numbers::pi / 180.0);
+    // A small piece's projected solid angle seen along its own direction is its solid angle.
+    f += overPieces(p, poly, light, maxAngle, 0, [&](const std::vector<glm::dvec3>& piece, const glm::dvec3& d) {
+      const double l = light.radiance(d);
+      return l > 0 ? l * pointToPolygonFormFactor(p, d, piece) : 0.0;
+    });
+  }
+  return f;
+}
+
 EmitterShape::EmitterShape(const std::vector<glm::dvec3>& polygon, bool twoSidedFaces,
-                           std::shared_ptr<const PhotometricDistribution> distribution)
-    : twoSided(twoSidedFaces), photometry(std::move(distribution)) {
+                           std::shared_ptr<const PhotometricDistribution> distribution,
+                           std::shared_ptr<const DistantLight> distantLight)
+    : twoSided(twoSidedFaces), photometry(std::move(distribution)), distant(std::move(distantLight)) {
+  if (distant) {
+    photometry = nullptr;
+    twoSided = false;
+    if (polygon.size() < 3 || !(polygonArea(polygon) > 0)) return;
+    // What enters per unit area over B: (1 / pi) x the radiance over the outer hemisphere, each
+    // direction weighted by its cosine to the opening, plus the beams that cross it.
+    const glm::dvec3 out = -polygonNormal(polygon);
+    const glm::dvec3 t = glm::normalize(std::abs(out.x) < 0.9 ? glm::cross(out, glm::dvec3(1, 0, 0))
+                                                              : glm::cross(out, glm::dvec3(0, 1, 0)));
+    const glm::dvec3 b = glm::cross(out, t);
+    double sum = 0;
+    if (distant->radiance) {
+      constexpr int nt = 90, np = 180;
+      const double dt = 0.5 * std::numbers::pi / nt, dp = 2 * std::numbers::pi / np;
+      for (int i = 0; i < nt; ++i) {
+        const double th = (i + 0.5) * dt;
+        for (int j = 0; j < np; ++j) {
+          const double ph = (j + 0.5) * dp;
+          const glm::dvec3 d = std::cos(th) * out + std::sin(th) * (std::cos(ph) * t + std::sin(ph) * b);
+          sum += distant->radiance(d) * std::cos(th) * std::sin(th) * dt * dp;
+        }
+      }
+    }
+    for (const auto& beam : distant->beams) sum += beam.irradiance * std::max(0.0, glm::dot(beam.direction, out));
+    transmitted = sum / std::numbers::pi;
+    return;
+  }
   if (!photometry || polygon.size() < 3) {
     photometry = nullptr;
     return;
@@ -81,6 +204,7 @@ double EmitterShape::weight(const glm::dvec3& p) const {
 
 double emitterFormFactor(const glm::dvec3& p, const glm::dvec3& n, const std::vector<glm::dvec3>& poly,
                          const EmitterShape& shape) {
+  if (shape.distant) return distantFormFactor(p, n, poly, *shape.distant);
   double f = 0.0;
   if (!shape.emitsBehind() || poly.size() < 3 || glm::dot(areaVector(poly), p - poly[0]) > 0.0)
     f = pointToPolygonFormFactor(p, n, poly);

@@ -54,6 +54,31 @@ void forSubtree(const std::vector<HierarchicalRadiosity::Node>& nodes, const std
   }
 }
 
+// `poly` clipped to the convex polygon `clip` (counter-clockwise), Sutherland-Hodgman.
+std::vector<glm::dvec2> clipConvex2D(std::vector<glm::dvec2> poly, const std::vector<glm::dvec2>& clip) {
+  for (size_t e = 0; e < clip.size() && !poly.empty(); ++e) {
+    const glm::dvec2 a = clip[e], b = clip[(e + 1) % clip.size()];
+    auto side = [&](const glm::dvec2& p) { return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x); };
+    std::vector<glm::dvec2> out;
+    for (size_t i = 0; i < poly.size(); ++i) {
+      const glm::dvec2 p = poly[i], q = poly[(i + 1) % poly.size()];
+      const double sp = side(p), sq = side(q);
+      if (sp >= 0) out.push_back(p);
+      if ((sp >= 0) != (sq >= 0)) out.push_back(p + (q - p) * (sp / (sp - sq)));
+    }
+    poly = std::move(out);
+  }
+  return poly;
+}
+
+// The polygons that stop light: every surface but the openings (left empty, so indices hold).
+std::vector<std::vector<glm::dvec3>> occluders(const std::vector<Surface>& surfaces) {
+  std::vector<std::vector<glm::dvec3>> polys;
+  polys.reserve(surfaces.size());
+  for (const auto& s : surfaces) polys.push_back(s.opening ? std::vector<glm::dvec3>{} : s.vertices);
+  return polys;
+}
+
 template <class F>
 void forLeaves(const std::vector<HierarchicalRadiosity::Node>& nodes, const std::vector<int32_t>& children,
                int root, F&& f) {
@@ -81,6 +106,7 @@ std::vector<Surface> surfacesFromScene(const Scene& scene) {
       }
     } else if (p.kind == PolygonKind::Window) {
       s.reflectance = glm::dvec3(0.0);  // an opening absorbs everything that leaves the room
+      s.opening = true;                 // and stops no light
     } else {
       s.reflectance = p.albedo;
     }
@@ -284,17 +310,14 @@ struct Builder {
 HierarchicalRadiosity::HierarchicalRadiosity(std::vector<Surface> surfaces, Options options)
     : impl_(std::make_unique<Impl>()), surfaces_(std::move(surfaces)), options_(options) {
   const size_t ns = surfaces_.size();
-  std::vector<std::vector<glm::dvec3>> polys;
-  polys.reserve(ns);
-  for (const auto& s : surfaces_) polys.push_back(s.vertices);
-  impl_->rays = std::make_unique<RayScene>(polys);
+  impl_->rays = std::make_unique<RayScene>(occluders(surfaces_));
   impl_->frames.resize(ns);
   impl_->uvPolys.resize(ns);
   impl_->fanCdf.resize(ns);
   impl_->surfaceArea.resize(ns);
   for (size_t s = 0; s < ns; ++s) {
     const auto& v = surfaces_[s].vertices;
-    impl_->shapes.emplace_back(v, surfaces_[s].twoSided, surfaces_[s].photometry);
+    impl_->shapes.emplace_back(v, surfaces_[s].twoSided, surfaces_[s].photometry, surfaces_[s].distant);
     impl_->frames[s] = PlaneFrame::of(v);
     for (const auto& q : v) impl_->uvPolys[s].push_back(impl_->frames[s].toUV(q));
     double acc = 0;
@@ -428,7 +451,8 @@ struct Kernel {
       quadrature(r, pts, wts, s);
       double f = 0, fmin = 1e300, fmax = 0;
       for (size_t i = 0; i < pts.size(); ++i) {
-        const double fi = emitterFormFactor(pts[i], fr.normal, src, shape);
+        const double fi = shape.distant ? radiosity::distantFormFactor(pts[i], fr.normal, src, *shape.distant, false)
+                                        : emitterFormFactor(pts[i], fr.normal, src, shape);
         f += wts[i] * fi;
         fmin = std::min(fmin, fi);
         fmax = std::max(fmax, fi);
@@ -445,6 +469,24 @@ struct Kernel {
         if (uv.x > R.u0 - m && uv.x < R.u1 + m && uv.y > R.v0 - m && uv.y < R.v1 + m)
           variation = std::max(variation, float(std::min(shape.peak, shape.peak * S.area / (kPi * dPlane * dPlane))));
       }
+      // A beam through an opening lights the opening's outline cast along it onto the receiver's
+      // plane: its share of the element's area, exactly (the points above would quantise the edges).
+      // Where the outline crosses the element, the beam's whole kernel is the oracle's error.
+      if (shape.distant)
+        for (const auto& beam : shape.distant->beams) {
+          const double c = glm::dot(fr.normal, beam.direction);
+          if (!(c > 0) || !(beam.irradiance > 0) || glm::dot(beam.direction, fs.normal) >= 0) continue;
+          const glm::dvec3 o = fr.toWorld({R.u0, R.v0});
+          std::vector<glm::dvec2> cast;
+          for (const auto& v : src) cast.push_back(fr.toUV(v - beam.direction * (glm::dot(fr.normal, v - o) / c)));
+          if (polygonArea2D(cast) < 0) std::reverse(cast.begin(), cast.end());
+          cast = clipToRect(cast, {R.u0, R.v0}, {R.u1, R.v1});
+          cast = clipConvex2D(cast, im.uvPolys[R.surface]);
+          const double share = std::clamp(std::abs(polygonArea2D(cast)) / std::max(1e-300, double(R.area)), 0.0, 1.0);
+          const double k = beam.irradiance * c / kPi;
+          f += share * k;
+          if (share > 1e-6 && share < 1 - 1e-6) variation = std::max(variation, float(k));
+        }
       return f;
     }
     // With a cluster at either end the kernel is an isotropic estimate; the oracle gets its bound
@@ -463,6 +505,11 @@ struct Kernel {
         f += wts[i] * S.area * cr / (4.0 * kPi * d2);
         bound = std::max(bound, S.area / (kPi * d2));
       }
+    } else if (!S.isCluster() && im.shapes[S.surface].distant) {  // cluster <- opening
+      // An isotropic receiver gathers a quarter of the radiance over the solid angle.
+      const glm::dvec3 rc(R.center);
+      f = 0.25 * distantSolidAngleFactor(rc, worldPolygon(s), *im.shapes[S.surface].distant);
+      bound = 4.0 * f;
     } else if (!S.isCluster()) {  // cluster <- element (isotropic receiver: mean cosine 1/4)
       const PlaneFrame& fs = im.frames[S.surface];
       const EmitterShape& shape = im.shapes[S.surface];
@@ -559,6 +606,32 @@ struct Kernel {
     return glm::vec3(p + im.frames[s].normal * double(kNormalOffset));
   }
 
+  // A parallel beam through an opening's element s: the fraction of r's sample points, among those
+  // whose ray towards the source crosses s, that nothing blocks on the way to it.
+  float beamVisibility(int r, int s, int rays, Rng& rng) const {
+    thread_local std::vector<glm::vec3> a, na, fa, fb;
+    samplePoints(r, rays, rng, a, na);
+    const auto& S = nodes[s];
+    const glm::dvec3 d = im.shapes[S.surface].distant->beams[0].direction;
+    const PlaneFrame& f = im.frames[S.surface];
+    const auto& uvp = im.uvPolys[S.surface];
+    fa.clear();
+    fb.clear();
+    for (size_t i = 0; i < a.size(); ++i) {
+      const glm::dvec3 p(a[i]);
+      if (glm::dot(glm::dvec3(na[i]), d) <= 0.0 || glm::dot(d, f.normal) >= 0.0) continue;
+      const double t = glm::dot(f.normal, f.toWorld({S.u0, S.v0}) - p) / glm::dot(d, f.normal);
+      if (!(t > 0)) continue;
+      const glm::dvec3 x = p + t * d;
+      const glm::dvec2 uv = f.toUV(x);
+      if (uv.x < S.u0 || uv.x > S.u1 || uv.y < S.v0 || uv.y > S.v1 || !insideConvex2D(uvp, uv, 1e-9)) continue;
+      fa.push_back(a[i]);
+      fb.push_back(glm::vec3(x));
+    }
+    if (fa.empty()) return 1.f;
+    return im.rays->visibility(fa, fb, 1e-5f);
+  }
+
   // Fraction of unblocked ray pairs among the pairs whose ends face each other: a pair with an
   // end behind the other's surface carries no light, which the form factor already accounts for
   // (it is clipped to each point's hemisphere), so counting it as blocked would darken twice.
@@ -566,6 +639,10 @@ struct Kernel {
     Rng rng((uint64_t(uint32_t(r)) << 32 | uint32_t(s)) * 0x2545F4914F6CDD1Dull + seed);
     thread_local std::vector<glm::vec3> a, b, na, nb, fa, fb;
     thread_local std::vector<int> sb;
+    const auto& S = nodes[s];
+    if (!S.isCluster() && im.shapes[S.surface].distant && !im.shapes[S.surface].distant->radiance &&
+        im.shapes[S.surface].distant->beams.size() == 1)
+      return beamVisibility(r, s, rays, rng);
     samplePoints(r, rays, rng, a, na);
     samplePoints(s, rays, rng, b, nb, &sb);
     fa.clear();
@@ -626,12 +703,15 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
   const Options& opt = h.options_;
   Builder builder{h, im};
   const double threshold = opt.epsilon * im.eRef;
-  // Clusters holding a lamp with a photometric distribution: their isotropic estimate cannot stand
-  // for a beam, so links from them are always opened (down to the lamp's own elements).
+  // Clusters holding a lamp with a photometric distribution or an opening's distant light: their
+  // isotropic estimate cannot stand for a beam, so links from them are always opened (down to
+  // the emitter's own elements).
   std::vector<uint8_t> beamBelow(h.nodes_.size(), 0);
   for (size_t n = h.nodes_.size(); n-- > 1;) {
     const auto& N = h.nodes_[n];
-    if (!N.isCluster() && im.shapes[N.surface].photometry && h.isEmitter(N.surface)) beamBelow[n] = 1;
+    if (!N.isCluster() && (im.shapes[N.surface].photometry || im.shapes[N.surface].distant) &&
+        h.isEmitter(N.surface))
+      beamBelow[n] = 1;
     if (beamBelow[n] && N.parent >= 0) beamBelow[N.parent] = 1;
   }
   bool changed = false;
@@ -676,7 +756,9 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
       if (open == Open::None && ctx.useOracle) {
         const bool clusterEnd = R.isCluster() || S.isCluster();
         const float dist = glm::length(R.center - S.center);
-        const bool overlap = (clusterEnd && dist < R.radius + S.radius) || (S.isCluster() && beamBelow[l.source]);
+        // An opening's light is directional: no isotropic cluster stands for it at either end.
+        const bool overlap = (clusterEnd && dist < R.radius + S.radius) || (S.isCluster() && beamBelow[l.source]) ||
+                             (R.isCluster() && !S.isCluster() && im.shapes[S.surface].distant);
         double kernelError = l.variation;
         if (opt.oracle == Oracle::BFV)
           kernelError = l.type == VisibilityType::Partial ? l.formFactor : l.visibility * l.variation;
@@ -881,6 +963,36 @@ void HierarchicalRadiosity::setReflectance(int surface, const glm::dvec3& reflec
   });
 }
 
+size_t HierarchicalRadiosity::setDistantLight(int surface, std::shared_ptr<const DistantLight> light) {
+  auto& im = *impl_;
+  auto beamOnly = [](const std::shared_ptr<const DistantLight>& d) {
+    return d && !d->radiance && d->beams.size() == 1;
+  };
+  // V is taken along the beam for a single beam, towards the whole element otherwise.
+  const bool newVisibility = beamOnly(light) || beamOnly(surfaces_[surface].distant);
+  surfaces_[surface].distant = std::move(light);
+  im.shapes[surface] = EmitterShape(surfaces_[surface].vertices, surfaces_[surface].twoSided,
+                                    surfaces_[surface].photometry, surfaces_[surface].distant);
+  std::vector<uint8_t> below(nodes_.size(), 0);
+  forSubtree(nodes_, children_, surfaceRoot_[surface], [&](int n) { below[n] = 1; });
+  std::vector<int> work;
+  for (size_t i = 0; i < links_.size(); ++i)
+    if (below[links_[i].source] && links_[i].receiver != links_[i].source) work.push_back(int(i));
+  Kernel k{*this, im, nodes_, options_.quadratureOrder};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, work.size(), 8), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t j = r.begin(); j < r.end(); ++j) {
+      Link& l = links_[work[j]];
+      l.formFactor = float(k.formFactor(l.receiver, l.source, l.variation));
+      if (newVisibility) {
+        l.visibility = k.visibility(l.receiver, l.source, options_.visibilityRays, options_.seed);
+        l.type = classify(l.visibility);
+      }
+    }
+  });
+  im.gatherDirty = true;
+  return work.size();
+}
+
 std::vector<glm::vec4> HierarchicalRadiosity::splitRects(int element) const {
   const Node& n = nodes_[element];
   const float du = n.u1 - n.u0, dv = n.v1 - n.v0;
@@ -953,11 +1065,8 @@ size_t HierarchicalRadiosity::translateSurfaces(const std::vector<int>& moved, c
 
 void HierarchicalRadiosity::rebuildRays() {
   auto& im = *impl_;
-  std::vector<std::vector<glm::dvec3>> polys;
-  polys.reserve(surfaces_.size());
-  for (const auto& sf : surfaces_) polys.push_back(sf.vertices);
   const uint64_t counted = im.rays->raysCast();
-  im.rays = std::make_unique<RayScene>(polys);
+  im.rays = std::make_unique<RayScene>(occluders(surfaces_));
   im.raysAtStart -= std::min(im.raysAtStart, counted);
 }
 
@@ -1029,7 +1138,8 @@ size_t HierarchicalRadiosity::moveSurfaces(const std::vector<int>& moved, const 
   std::vector<uint8_t> touched(nodes_.size(), 0);  // nodes whose geometry changed
   for (int s : moved) {
     for (auto& v : surfaces_[s].vertices) v = place(v);
-    im.shapes[s] = EmitterShape(surfaces_[s].vertices, surfaces_[s].twoSided, surfaces_[s].photometry);
+    im.shapes[s] = EmitterShape(surfaces_[s].vertices, surfaces_[s].twoSided, surfaces_[s].photometry,
+                                surfaces_[s].distant);
     auto& f = im.frames[s];
     f.origin = place(f.origin);
     f.u = rotation * f.u;
@@ -1087,7 +1197,7 @@ std::vector<int> HierarchicalRadiosity::addSurfaces(const std::vector<Surface>& 
     const int s = int(surfaces_.size());
     surfaces_.push_back(sf);
     const auto& v = sf.vertices;
-    im.shapes.emplace_back(v, sf.twoSided, sf.photometry);
+    im.shapes.emplace_back(v, sf.twoSided, sf.photometry, sf.distant);
     im.frames.push_back(PlaneFrame::of(v));
     im.uvPolys.emplace_back();
     for (const auto& q : v) im.uvPolys.back().push_back(im.frames.back().toUV(q));

@@ -126,16 +126,24 @@ glm::vec3 heat(float t) {  // blue -> green -> yellow -> red
 
 }  // namespace
 
+ImageRGB renderRadiosity(const HierarchicalRadiosity& h, const std::vector<glm::vec3>& perNode, const Camera& cam,
+                         Progress& progress) {
+  const auto corners = leafCornerValues(h, perNode);
+  const float invPi = float(1.0 / std::numbers::pi);
+  return detail::castView(h, cam, progress, [&](int, int leaf, glm::dvec2 uv) {
+    return interpolateCorners(h.nodes()[leaf], corners[leaf], uv) * invPi;
+  });
+}
+
 ImageRGB renderSolution(const HierarchicalRadiosity& h, const Camera& cam, RenderShow show, Progress& progress) {
   const auto& nodes = h.nodes();
-  std::vector<std::array<glm::vec3, 4>> corners;
-  std::vector<float> linkCount;
-  std::vector<glm::vec3> visColour;
   if (show == RenderShow::Radiance) {
     std::vector<glm::vec3> b(nodes.size());
     for (size_t n = 0; n < nodes.size(); ++n) b[n] = h.radiosity(int(n));
-    corners = leafCornerValues(h, b);
+    return renderRadiosity(h, b, cam, progress);
   }
+  std::vector<float> linkCount;
+  std::vector<glm::vec3> visColour;
   if (show == RenderShow::Links || show == RenderShow::Visibility) {
     // Per node: links arriving there; per leaf: summed over its ancestors too.
     std::vector<float> own(nodes.size(), 0.f);
@@ -168,10 +176,8 @@ ImageRGB renderSolution(const HierarchicalRadiosity& h, const Camera& cam, Rende
   float maxLinks = 1.f;
   for (float c : linkCount) maxLinks = std::max(maxLinks, c);
   const glm::dvec3 eye = cam.center();
-  const float invPi = float(1.0 / std::numbers::pi);
   return detail::castView(h, cam, progress, [&](int, int leaf, glm::dvec2 uv) {
     const auto& L = nodes[leaf];
-    if (show == RenderShow::Radiance) return interpolateCorners(L, corners[leaf], uv) * invPi;
     // Leaf borders drawn dark, about one pixel wide (the hit point from uv, its distance from the eye).
     const double px = 1.5 * glm::length(h.toWorld(L.surface, uv) - eye) / cam.fx();
     const bool border = uv.x - L.u0 < px || L.u1 - uv.x < px || uv.y - L.v0 < px || L.v1 - uv.y < px;

@@ -1,6 +1,7 @@
 #pragma once
 // Form factors: the exact point-to-polygon formula (Lambert / Hottel contour integral) and
 // area-to-area factors by Gauss-Legendre quadrature over the receiver.
+#include <functional>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <memory>
@@ -9,6 +10,35 @@
 #include "relume/geometry/photometry.h"
 
 namespace relume::radiosity {
+
+// Light from infinitely far away that enters through an opening (a window): the radiance arriving
+// along each direction (the sky, the ground) and parallel beams (the sun). The opening's exitance
+// B scales it: the radiance arriving along d is B / pi x radiance(d), a beam's irradiance normal
+// to it B / pi x irradiance. Directions are unit vectors from the room out through the opening.
+struct DistantLight {
+  std::function<double(const glm::dvec3&)> radiance;  // null: no diffuse part
+  // Optional: false when no direction within `halfAngle` (radians) of `axis` carries light, so
+  // that the pieces of the opening seen there are skipped (a sky region's basis is dark elsewhere).
+  std::function<bool(const glm::dvec3& axis, double halfAngle)> mayShine;
+  struct Beam {
+    glm::dvec3 direction{0.0, 0.0, 1.0};  // towards the source
+    double irradiance = 1.0;
+  };
+  std::vector<Beam> beams;
+  // The opening is cut into pieces that the receiving point sees no wider than this (degrees);
+  // within a piece the radiance is taken along the direction of its centre.
+  double pieceDeg = 1.5;
+};
+
+// The point factor of an opening: (1 / pi) x the radiance-weighted projected solid angle of
+// `poly` seen from p (normal n), plus each beam's irradiance x cos / pi where its ray from p
+// passes through `poly`; 0 unless p lies in front of the opening's face (its normal points into
+// the room).
+double distantFormFactor(const glm::dvec3& p, const glm::dvec3& n, const std::vector<glm::dvec3>& poly,
+                         const DistantLight& light, bool withBeams = true);
+// (1 / pi) x the radiance integrated over the solid angle of `poly` seen from p, without the
+// cosine (what an isotropic receiver gathers, times 4), beams counted whole.
+double distantSolidAngleFactor(const glm::dvec3& p, const std::vector<glm::dvec3>& poly, const DistantLight& light);
 
 // How an emitter polygon sends its exitance out: from the face its normal points to (Lambertian),
 // from both faces alike, or with a luminaire's photometric distribution over all directions. A
@@ -24,16 +54,21 @@ struct EmitterShape {
   double flux = 1.0;    // the distribution's own (lm)
   double peak = 1.0;    // pi I_max / flux: the most the kernel F w exceeds a Lambertian face's (1 for one)
   bool upward = false;  // the distribution sends light behind the polygon's plane (gamma > 90)
+  // An opening: what shines in through it (see DistantLight), instead of a face or a distribution.
+  std::shared_ptr<const DistantLight> distant;
+  double transmitted = 1.0;  // an opening's exitance over B: (1 / pi) x its light's projected integral
 
   EmitterShape(bool twoSidedFaces = false) : twoSided(twoSidedFaces) {}  // NOLINT: a plain face is a bool
   // The distribution placed on `polygon` (convex, its normal the nadir); null: Lambertian faces.
   EmitterShape(const std::vector<glm::dvec3>& polygon, bool twoSidedFaces,
-               std::shared_ptr<const PhotometricDistribution> distribution);
+               std::shared_ptr<const PhotometricDistribution> distribution,
+               std::shared_ptr<const DistantLight> distantLight = nullptr);
 
   // Does it light what lies behind its plane?
-  bool emitsBehind() const { return photometry ? upward : twoSided; }
-  // Faces whose exitance count towards its power (a distribution's exitance is all of it).
-  double faces() const { return twoSided && !photometry ? 2.0 : 1.0; }
+  bool emitsBehind() const { return distant ? false : photometry ? upward : twoSided; }
+  // Faces whose exitance count towards its power (a distribution's exitance is all of it; an
+  // opening's is what its light brings in).
+  double faces() const { return distant ? transmitted : twoSided && !photometry ? 2.0 : 1.0; }
   // Radiance towards p relative to a Lambertian face of the same exitance (1 without a distribution).
   double weight(const glm::dvec3& p) const;
 };
@@ -44,7 +79,7 @@ double pointToPolygonFormFactor(const glm::dvec3& p, const glm::dvec3& n,
                                 const std::vector<glm::dvec3>& poly);
 
 // The same from an emitter: a two-sided one is seen from either side (its face towards p), a
-// photometric one weighted by its distribution towards p.
+// photometric one weighted by its distribution towards p, an opening by its distant light.
 double emitterFormFactor(const glm::dvec3& p, const glm::dvec3& n, const std::vector<glm::dvec3>& poly,
                          const EmitterShape& shape);
 

@@ -15,6 +15,7 @@
 
 #include "relume/geometry/photometry.h"
 #include "relume/geometry/progress.h"
+#include "relume/radiosity/form_factor.h"
 
 namespace relume {
 class RayScene;
@@ -54,6 +55,10 @@ struct Surface {
   // An emitter's photometric distribution (see EmitterShape): `exitance` is then its whole flux
   // over its area, shaped by the distribution; null: Lambertian face(s).
   std::shared_ptr<const PhotometricDistribution> photometry;
+  // An opening (a window): it occludes nothing and reflects nothing; with `distant` set and an
+  // exitance, the light from outside enters through it (see DistantLight).
+  bool opening = false;
+  std::shared_ptr<const DistantLight> distant;
 };
 
 // Polygons, albedos and lamps of a scene (lamp polygons reflect nothing).
@@ -110,6 +115,10 @@ class HierarchicalRadiosity {
   // Changes a surface's emitted radiosity; call iterate() after.
   void setExitance(int surface, const glm::dvec3& exitance);
   void setReflectance(int surface, const glm::dvec3& reflectance);
+  // Changes what shines in through an opening: F again for the links leaving it (and V, which for
+  // a single beam is taken along the beam); no refinement. Returns the links updated; call
+  // iterate() after.
+  size_t setDistantLight(int surface, std::shared_ptr<const DistantLight> light);
 
   // --- seams for what comes next -------------------------------------------------------------
   // Replaces every link whose source lies on an emitting surface and whose receiver is not a

@@ -47,6 +47,10 @@ std::vector<std::array<glm::vec3, 4>> leafCornerValues(const radiosity::Hierarch
 glm::vec3 interpolateCorners(const radiosity::HierarchicalRadiosity::Node& L, const std::array<glm::vec3, 4>& corners,
                              glm::dvec2 uv);
 
+// Radiance B / pi of per-node radiosities `perNode` (another solution on the same hierarchy, e.g.
+// a combination of daylight bases), interpolated at leaf corners as the display does.
+ImageRGB renderRadiosity(const radiosity::HierarchicalRadiosity& h, const std::vector<glm::vec3>& perNode,
+                         const Camera& camera, Progress& progress = silentProgress());
 ImageRGB renderSolution(const radiosity::HierarchicalRadiosity& solution, const Camera& camera,
                         RenderShow show = RenderShow::Radiance, Progress& progress = silentProgress());
 

@@ -1,0 +1,106 @@
+#pragma once
+// Basis radiosity solutions (Grosch, Eble, Mueller 2007, §5 and §6.1) on Relume's one engine.
+//
+// The paper puts an area emitter of unit radiance on each region of a hemisphere around the
+// scene. Here the room's windows are the emitters instead: a window is an opening whose radiance
+// towards a point of the room is the sky's radiance along the direction from that point out
+// through the window (radiosity::DistantLight). Why: it needs no geometry outside the room (a
+// hemisphere of emitters tens of metres across would make the top of the cluster hierarchy and
+// its isotropic estimates useless), the direction is exact for every receiving point (a hemisphere
+// at a finite distance is exact only at its centre), and where the light falls is decided by the
+// window's own outline, which is the room's model.
+//
+// Basis k < N: region k of the sky (daylight::SkyRegions) at unit radiance, all else dark. Basis
+// N: the ground, every direction below the horizon at unit radiance (the outside ground as a
+// uniform diffuse reflector); the model's outside polygons (a ground plane beyond the window) are
+// left out of the engine, so the ground's light comes from this basis only, never twice. The sun:
+// a parallel beam of unit irradiance through the windows, solved for the direction of a given
+// sky's sun (it moves from sky to sky, and a fixed basis would blur the patch it lights). All
+// solutions share one hierarchy and one link set, refined once for one sky (the photos' own) so
+// that its sun patch is resolved. Lamps are dark in every solution (each lamp is its own term).
+#include <glm/vec3.hpp>
+#include <memory>
+#include <vector>
+
+#include "relume/daylight/sky.h"
+#include "relume/geometry/progress.h"
+
+namespace relume {
+struct Scene;
+namespace radiosity {
+class HierarchicalRadiosity;
+struct DistantLight;
+struct Options;
+}  // namespace radiosity
+}  // namespace relume
+
+namespace relume::daylight {
+
+struct BasisOptions {
+  int regions = 64;
+  // The outside ground's albedo; the area mean of the model's upward-facing outside polygons'
+  // albedos when it has any (day101's ground), this value otherwise.
+  double groundReflectance = 0.2;
+  // Pieces of a window that a receiving point sees no wider than this take one direction's radiance.
+  double pieceDeg = 1.5;
+  // Engine options (refinement threshold, smallest element, rays); null: the engine's defaults.
+  std::shared_ptr<const radiosity::Options> engine;
+};
+
+class DaylightBasis {
+ public:
+  // Builds the room's hierarchy (windows as openings, lamps dark, outside polygons left out),
+  // refines it for `refineFor` (its regions' radiance and its sun) and solves every basis.
+  // Throws relume::Error naming the scene's file when the room has no window, or a window does
+  // not face into the room. Progress throughout; Cancel leaves nothing behind.
+  DaylightBasis(const Scene& scene, const SkyRadiance& refineFor, const BasisOptions& options = {},
+                Progress& progress = silentProgress());
+  ~DaylightBasis();
+  DaylightBasis(const DaylightBasis&) = delete;
+  DaylightBasis& operator=(const DaylightBasis&) = delete;
+
+  const SkyRegions& regions() const { return regions_; }
+  int basisCount() const { return int(bases_.size()); }  // regions + 1 (the ground, last)
+  int groundBasis() const { return regions_.size(); }
+  // Per node of engine(): the radiosity for unit radiance of basis k (the windows' own emission
+  // included on their nodes).
+  const std::vector<glm::vec3>& basis(int k) const { return bases_[size_t(k)]; }
+  // The radiosity per unit irradiance (normal to the beam) of a sun in `direction` (towards the
+  // sun); the last direction's solution is kept.
+  const std::vector<glm::vec3>& sunSolution(const glm::dvec3& direction, Progress& progress = silentProgress());
+  // Eq. 3: B = sum_k L_k B_k + L_ground B_ground + E_sun B_sun.
+  std::vector<glm::vec3> combine(const SkyRadiance& sky, Progress& progress = silentProgress());
+  // The ground's radiance under `sky`: its albedo x the horizontal irradiance / pi.
+  glm::dvec3 groundRadiance(const SkyRadiance& sky) const;
+  double groundReflectance() const { return groundReflectance_; }
+
+  // A solution for any light through the windows (all windows alike), on the same links: the
+  // windows' F (and V for a beam) recomputed, then gather and push-pull to the tolerance.
+  std::vector<glm::vec3> solveFor(std::shared_ptr<const radiosity::DistantLight> light, Progress& progress = silentProgress());
+
+  const radiosity::HierarchicalRadiosity& engine() const { return *engine_; }
+  const std::vector<int>& windows() const { return windows_; }
+  const std::vector<int>& outside() const { return outside_; }  // polygons left out of the engine
+  // The area mean of a per-node solution over a surface's leaves.
+  glm::dvec3 surfaceMean(const std::vector<glm::vec3>& b, int surface) const;
+  double secondsPerBasis() const { return secondsPerBasis_; }
+  double refineSeconds() const { return refineSeconds_; }
+
+ private:
+  SkyRegions regions_;
+  BasisOptions options_;
+  std::unique_ptr<radiosity::HierarchicalRadiosity> engine_;
+  std::vector<int> windows_, outside_;
+  std::vector<std::vector<glm::vec3>> bases_;
+  std::vector<glm::vec3> sun_;
+  glm::dvec3 sunDirection_{0.0};
+  bool haveSun_ = false;
+  double groundReflectance_ = 0.2;
+  double secondsPerBasis_ = 0, refineSeconds_ = 0;
+};
+
+// Whether a cone of directions (unit `axis`, `halfAngle` radians) can reach sky region `cell`:
+// false only when every direction in the cone lies outside it (a conservative test).
+bool coneMeetsCell(const glm::dvec3& axis, double halfAngle, const SkyRegions::Cell& cell);
+
+}  // namespace relume::daylight

@@ -1,0 +1,279 @@
+#include "relume/daylight/basis.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
+#include <numbers>
+#include <string>
+
+#include "relume/geometry/error.h"
+#include "relume/geometry/polygon.h"
+#include "relume/geometry/scene.h"
+#include "relume/radiosity/form_factor.h"
+#include "relume/radiosity/hierarchy.h"
+
+namespace relume::daylight {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+
+double luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+double seconds(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// A polygon beyond the window's plane, outside the room: no vertex more than 1 cm inside it and
+// some vertex more than 1 cm out.
+bool beyond(const Polygon& p, const Polygon& window) {
+  const glm::dvec3 n = polygonNormal(window.vertices);  // into the room
+  double in = -1e300, out = -1e300;
+  for (const auto& v : p.vertices) {
+    const double d = glm::dot(v - window.vertices[0], n);
+    in = std::max(in, d);
+    out = std::max(out, -d);
+  }
+  return in <= 0.01 && out > 0.01;
+}
+
+// Region k of the sky at unit radiance.
+std::shared_ptr<radiosity::DistantLight> regionLight(const SkyRegions& regions, int k, double pieceDeg) {
+  auto light = std::make_shared<radiosity::DistantLight>();
+  light->pieceDeg = pieceDeg;
+  light->radiance = [&regions, k](const glm::dvec3& d) { return regions.regionOf(d) == k ? 1.0 : 0.0; };
+  const SkyRegions::Cell cell = regions.cell(k);
+  light->mayShine = [cell](const glm::dvec3& axis, double half) { return coneMeetsCell(axis, half, cell); };
+  return light;
+}
+
+std::shared_ptr<radiosity::DistantLight> groundLight(double pieceDeg) {
+  auto light = std::make_shared<radiosity::DistantLight>();
+  light->pieceDeg = pieceDeg;
+  light->radiance = [](const glm::dvec3& d) { return d.z < 0 ? 1.0 : 0.0; };
+  light->mayShine = [](const glm::dvec3& axis, double half) { return std::asin(std::clamp(axis.z, -1.0, 1.0)) - half < 0; };
+  return light;
+}
+}  // namespace
+
+bool coneMeetsCell(const glm::dvec3& axis, double halfAngle, const SkyRegions::Cell& cell) {
+  if (halfAngle >= kPi) return true;
+  const glm::dvec3 u = glm::normalize(axis);
+  const double e = std::asin(std::clamp(u.z, -1.0, 1.0));
+  // The elevation difference bounds the angle between two directions from below.
+  if (e + halfAngle < cell.elev0 || e - halfAngle > cell.elev1) return false;
+  if (cell.azim1 - cell.azim0 >= 2 * kPi - 1e-9) return true;
+  double a = std::atan2(u.y, u.x);
+  if (a < 0) a += 2 * kPi;
+  // Circular distance from a to [azim0, azim1].
+  double da = 0;
+  if (a < cell.azim0 || a > cell.azim1) {
+    auto wrap = [](double x) { return std::fmod(std::fmod(x, 2 * kPi) + 2 * kPi, 2 * kPi); };
+    da = std::min(wrap(cell.azim0 - a), wrap(a - cell.azim1));
+  }
+  if (da <= 0) return true;
+  // Two directions at elevations of cosine >= r, da apart in azimuth, lie at least a chord of
+  // 2 r sin(da / 2) apart (their horizontal parts alone do).
+  const double r = std::min(std::cos(e), std::cos(std::max(std::abs(cell.elev0), std::abs(cell.elev1))));
+  const double chord = 2.0 * std::max(0.0, r) * std::sin(std::min(da, kPi) / 2);
+  return 2.0 * std::asin(std::clamp(chord / 2, 0.0, 1.0)) <= halfAngle;
+}
+
+DaylightBasis::DaylightBasis(const Scene& scene, const SkyRadiance& refineFor, const BasisOptions& options,
+                             Progress& progress)
+    : regions_(options.regions), options_(options) {
+  if (refineFor.region.size() != size_t(regions_.size()))
+    throw Error(scene.sourceFile, "daylight", "the sky was averaged over " + std::to_string(refineFor.region.size()) +
+                                                  " regions, the basis has " + std::to_string(regions_.size()));
+  for (size_t i = 0; i < scene.polygons.size(); ++i) {
+    const Polygon& p = scene.polygons[i];
+    if (p.kind != PolygonKind::Window) continue;
+    if (p.vertices.size() < 3 || !(polygonArea(p.vertices) > 0))
+      throw Error(scene.sourceFile, "polygon '" + p.name + "'", "a window with no area");
+    windows_.push_back(int(i));
+  }
+  if (windows_.empty())
+    throw Error(scene.sourceFile, "daylight", "the room has no window (a polygon of kind \"window\"): no daylight enters it");
+  // Outside polygons: beyond some window's plane.
+  double groundArea = 0;
+  glm::dvec3 groundAlbedo(0.0);
+  for (size_t i = 0; i < scene.polygons.size(); ++i) {
+    const Polygon& p = scene.polygons[i];
+    if (p.kind == PolygonKind::Window) continue;
+    bool out = false;
+    for (int w : windows_) out = out || beyond(p, scene.polygons[size_t(w)]);
+    if (!out) continue;
+    outside_.push_back(int(i));
+    if (p.kind == PolygonKind::Real && polygonNormal(p.vertices).z > 0.9) {
+      const double a = polygonArea(p.vertices);
+      groundArea += a;
+      groundAlbedo += a * p.albedo;
+    }
+  }
+  // A window must face into the room: some of the room's polygons lie in front of it.
+  for (int w : windows_) {
+    const Polygon& win = scene.polygons[size_t(w)];
+    const glm::dvec3 n = polygonNormal(win.vertices), c = polygonCentroid(win.vertices);
+    bool inFront = false;
+    for (size_t i = 0; i < scene.polygons.size() && !inFront; ++i) {
+      if (int(i) == w || std::find(outside_.begin(), outside_.end(), int(i)) != outside_.end()) continue;
+      for (const auto& v : scene.polygons[i].vertices) inFront = inFront || glm::dot(v - c, n) > 0.05;
+    }
+    if (!inFront)
+      throw Error(scene.sourceFile, "polygon '" + win.name + "'",
+                  "the window faces away from the room (its vertices must run counter-clockwise seen from inside)");
+    // In a wall: some real polygon in its plane, facing the same way, touching it.
+    glm::dvec3 lo(1e300), hi(-1e300);
+    for (const auto& v : win.vertices) lo = glm::min(lo, v), hi = glm::max(hi, v);
+    bool inWall = false;
+    for (const auto& p : scene.polygons) {
+      if (p.kind != PolygonKind::Real || p.vertices.size() < 3 || glm::dot(polygonNormal(p.vertices), n) < 0.99) continue;
+      glm::dvec3 plo(1e300), phi(-1e300);
+      bool coplanar = true;
+      for (const auto& v : p.vertices) {
+        plo = glm::min(plo, v), phi = glm::max(phi, v);
+        coplanar = coplanar && std::abs(glm::dot(v - c, n)) < 0.01;
+      }
+      const bool touching = glm::all(glm::lessThanEqual(plo, hi + 0.01)) && glm::all(glm::greaterThanEqual(phi, lo - 0.01));
+      inWall = inWall || (coplanar && touching);
+    }
+    if (!inWall)
+      throw Error(scene.sourceFile, "polygon '" + win.name + "'",
+                  "the window is not in a wall: no wall polygon lies in its plane beside it");
+  }
+  groundReflectance_ = groundArea > 0 ? luminance(groundAlbedo / groundArea) : options.groundReflectance;
+
+  std::vector<radiosity::Surface> surfaces = radiosity::surfacesFromScene(scene);
+  for (auto& s : surfaces) s.exitance = glm::dvec3(0.0);  // lamps dark: each is its own term
+  // The sky the links are refined for, as one luminance per direction plus its sun.
+  auto refineLight = std::make_shared<radiosity::DistantLight>();
+  refineLight->pieceDeg = options.pieceDeg;
+  {
+    std::vector<double> lum(refineFor.region.size());
+    for (size_t k = 0; k < lum.size(); ++k) lum[k] = luminance(refineFor.region[k]);
+    const double ground = luminance(groundRadiance(refineFor));
+    // Never dark: a link is kept only where some light passes, and every basis (the ground's,
+    // another sky's sun) needs the links from the windows to whatever they can light.
+    double mean = ground;
+    for (double l : lum) mean += l / double(lum.size());
+    const double floor = 1e-3 * (mean > 0 ? mean : 1.0);
+    const SkyRegions* regions = &regions_;
+    refineLight->radiance = [lum, ground, regions, floor](const glm::dvec3& d) {
+      const int k = regions->regionOf(d);
+      return std::max(floor, k < 0 ? ground : lum[size_t(k)]);
+    };
+    if (refineFor.sun.found)
+      refineLight->beams.push_back({glm::normalize(refineFor.sun.direction), luminance(refineFor.sun.irradiance)});
+  }
+  for (int w : windows_) {
+    surfaces[size_t(w)].exitance = glm::dvec3(kPi);
+    surfaces[size_t(w)].distant = refineLight;
+  }
+  const radiosity::Options engineOptions = options.engine ? *options.engine : radiosity::Options{};
+  engine_ = std::make_unique<radiosity::HierarchicalRadiosity>(std::move(surfaces), engineOptions);
+  engine_->removeSurfaces(outside_);
+  auto t0 = std::chrono::steady_clock::now();
+  {
+    Progress stage(progress, 0.0, 0.3);
+    stage.report(0, "refining the links for the sky");
+    engine_->solve(stage);
+  }
+  refineSeconds_ = seconds(t0);
+  t0 = std::chrono::steady_clock::now();
+  const int n = regions_.size() + 1;
+  bases_.reserve(size_t(n));
+  for (int k = 0; k < n; ++k) {
+    Progress stage(progress, 0.3 + 0.7 * k / n, 0.3 + 0.7 * (k + 1) / n);
+    stage.report(0, k < regions_.size() ? "basis solution " + std::to_string(k + 1) + " of " + std::to_string(n) +
+                                              " (sky region " + std::to_string(k + 1) + ")"
+                                        : "basis solution " + std::to_string(n) + " of " + std::to_string(n) + " (the ground)");
+    bases_.push_back(solveFor(k < regions_.size() ? regionLight(regions_, k, options.pieceDeg) : groundLight(options.pieceDeg),
+                              stage));
+  }
+  secondsPerBasis_ = seconds(t0) / n;
+  progress.report(1.0, "daylight basis solved");
+}
+
+DaylightBasis::~DaylightBasis() = default;
+
+std::vector<glm::vec3> DaylightBasis::solveFor(std::shared_ptr<const radiosity::DistantLight> light, Progress& progress) {
+  for (int w : windows_) engine_->setDistantLight(w, light);
+  engine_->iterate(progress);
+  std::vector<glm::vec3> b(engine_->nodes().size());
+  for (size_t i = 0; i < b.size(); ++i) b[i] = engine_->radiosity(int(i));
+  return b;
+}
+
+const std::vector<glm::vec3>& DaylightBasis::sunSolution(const glm::dvec3& direction, Progress& progress) {
+  const glm::dvec3 d = glm::normalize(direction);
+  if (haveSun_ && glm::dot(d, sunDirection_) > 1 - 1e-12) return sun_;
+  auto light = std::make_shared<radiosity::DistantLight>();
+  light->beams.push_back({d, 1.0});
+  // The links refined for this sun's patch (its edges as sharp as the elements allow), with a
+  // faint sky beside it so that no link another basis needs is dropped; the bases solved before
+  // hold their values on the new elements (an element's radiosity is its parent's until solved).
+  {
+    auto refine = std::make_shared<radiosity::DistantLight>(*light);
+    refine->pieceDeg = options_.pieceDeg;
+    refine->radiance = [](const glm::dvec3&) { return 1e-3; };
+    for (int w : windows_) engine_->setDistantLight(w, refine);
+    Progress stage(progress, 0.0, 0.8);
+    stage.report(0, "refining the links for the sun");
+    engine_->solve(stage);
+    const auto& nodes = engine_->nodes();
+    for (auto& b : bases_)
+      for (size_t i = b.size(); i < nodes.size(); ++i) b.push_back(b[size_t(nodes[i].parent)]);
+  }
+  Progress stage(progress, 0.8, 1.0);
+  sun_ = solveFor(light, stage);
+  sunDirection_ = d;
+  haveSun_ = true;
+  return sun_;
+}
+
+glm::dvec3 DaylightBasis::groundRadiance(const SkyRadiance& sky) const {
+  return groundReflectance_ * planeIrradiance(regions_, sky, {0, 0, 1}) / kPi;
+}
+
+std::vector<glm::vec3> DaylightBasis::combine(const SkyRadiance& sky, Progress& progress) {
+  if (sky.region.size() != size_t(regions_.size()))
+    throw Error("", "sky", "averaged over " + std::to_string(sky.region.size()) + " regions, the basis has " +
+                               std::to_string(regions_.size()));
+  // The sun first: its links may refine the hierarchy, and every basis then covers the new elements.
+  const bool sun = sky.sun.found && sky.sun.direction.z > 0;
+  if (sun) sunSolution(sky.sun.direction, progress);
+  std::vector<glm::vec3> b(engine_->nodes().size(), glm::vec3(0.f));
+  auto add = [&](const std::vector<glm::vec3>& basis, const glm::dvec3& weight) {
+    const glm::vec3 w(weight);
+    if (w == glm::vec3(0.f)) return;
+    for (size_t i = 0; i < b.size(); ++i) b[i] += w * basis[i];
+  };
+  for (int k = 0; k < regions_.size(); ++k) add(bases_[size_t(k)], sky.region[size_t(k)]);
+  add(bases_.back(), groundRadiance(sky));
+  if (sun) add(sun_, sky.sun.irradiance);
+  return b;
+}
+
+glm::dvec3 DaylightBasis::surfaceMean(const std::vector<glm::vec3>& b, int surface) const {
+  const auto& nodes = engine_->nodes();
+  const auto& children = engine_->children();
+  glm::dvec3 sum(0.0);
+  double area = 0;
+  std::vector<int> stack{engine_->surfaceRoot(surface)};
+  while (!stack.empty()) {
+    const int n = stack.back();
+    stack.pop_back();
+    if (n < 0) continue;
+    const auto& N = nodes[size_t(n)];
+    if (N.isLeaf()) {
+      sum += double(N.area) * glm::dvec3(b[size_t(n)]);
+      area += N.area;
+      continue;
+    }
+    for (int i = 0; i < N.childCount; ++i) stack.push_back(children[size_t(N.childBegin + i)]);
+  }
+  return area > 0 ? sum / area : glm::dvec3(0.0);
+}
+
+}  // namespace relume::daylight

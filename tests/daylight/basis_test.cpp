@@ -1,0 +1,236 @@
+// Basis radiosity solutions through a window (Grosch, Eble, Mueller 2007, §5, §6.1): energy
+// through an opening against closed forms, the regions' combination against a solve with the
+// sky's exact radiance per direction, and the sun's beam against the flux it carries.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <glm/geometric.hpp>
+#include <memory>
+#include <numbers>
+
+#include "relume/daylight/basis.h"
+#include "relume/geometry/error.h"
+#include "relume/geometry/scene.h"
+#include "relume/radiosity/form_factor.h"
+#include "relume/radiosity/hierarchy.h"
+
+using namespace relume;
+using namespace relume::daylight;
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr double W = 4.3, D = 4.6, H = 2.8;             // the room
+constexpr double Y0 = 1.85, Y1 = 3.25, Z0 = 0.9, Z1 = 2.1;  // the window in the +X wall
+
+Polygon poly(const std::string& name, std::vector<glm::dvec3> v, double albedo, PolygonKind kind = PolygonKind::Real) {
+  Polygon p;
+  p.name = p.group = name;
+  p.kind = kind;
+  p.vertices = std::move(v);
+  p.albedo = glm::dvec3(albedo);
+  return p;
+}
+// A rectangle in the plane x = const, facing -X (into a room on its -X side).
+std::vector<glm::dvec3> facingMinusX(double x, double y0, double y1, double z0, double z1) {
+  return {{x, y1, z0}, {x, y0, z0}, {x, y0, z1}, {x, y1, z1}};
+}
+std::vector<glm::dvec3> facingPlusX(double x, double y0, double y1, double z0, double z1) {
+  return {{x, y0, z0}, {x, y1, z0}, {x, y1, z1}, {x, y0, z1}};
+}
+
+// A closed box room with a window cut into its +X wall (the wall in four pieces around it).
+Scene windowRoom(double floor, double walls, double ceiling) {
+  Scene s;
+  s.sourceFile = "window_room.json";
+  s.polygons.push_back(poly("floor", {{0, 0, 0}, {W, 0, 0}, {W, D, 0}, {0, D, 0}}, floor));
+  s.polygons.push_back(poly("ceiling", {{0, 0, H}, {0, D, H}, {W, D, H}, {W, 0, H}}, ceiling));
+  s.polygons.push_back(poly("wall_back", {{0, D, 0}, {W, D, 0}, {W, D, H}, {0, D, H}}, walls));
+  s.polygons.push_back(poly("wall_front", {{W, 0, 0}, {0, 0, 0}, {0, 0, H}, {W, 0, H}}, walls));
+  s.polygons.push_back(poly("wall_left", facingPlusX(0, 0, D, 0, H), walls));
+  s.polygons.push_back(poly("wall_right_below", facingMinusX(W, 0, D, 0, Z0), walls));
+  s.polygons.push_back(poly("wall_right_above", facingMinusX(W, 0, D, Z1, H), walls));
+  s.polygons.push_back(poly("wall_right_front", facingMinusX(W, 0, Y0, Z0, Z1), walls));
+  s.polygons.push_back(poly("wall_right_back", facingMinusX(W, Y1, D, Z0, Z1), walls));
+  s.polygons.push_back(poly("window", facingMinusX(W, Y0, Y1, Z0, Z1), 0.0, PolygonKind::Window));
+  return s;
+}
+
+BasisOptions coarse(int regions) {
+  BasisOptions o;
+  o.regions = regions;
+  o.groundReflectance = 0;  // a black ground
+  auto e = std::make_shared<radiosity::Options>();
+  e->minArea = 0.01;
+  o.engine = e;
+  return o;
+}
+
+SkyRadiance uniformSky(int regions, double l) {
+  SkyRadiance s;
+  s.region.assign(size_t(regions), glm::dvec3(l));
+  return s;
+}
+
+// A smooth sky: brighter towards the zenith (the CIE overcast sky's 1 + 2 sin(elevation)) and
+// towards one azimuth.
+double smoothSky(const glm::dvec3& d) {
+  if (d.z < 0) return 0.0;
+  const double az = std::atan2(d.y, d.x);
+  return (1.0 + 2.0 * d.z) / 3.0 * (1.0 + 0.4 * std::cos(az - 0.5));
+}
+
+// Each region's mean of the smooth sky, integrated over the cell (solid-angle weighted).
+SkyRadiance smoothSkyMeans(const SkyRegions& regions) {
+  SkyRadiance s;
+  for (int k = 0; k < regions.size(); ++k) {
+    const auto& c = regions.cell(k);
+    double sum = 0, w = 0;
+    constexpr int n = 24;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const double e = c.elev0 + (i + 0.5) / n * (c.elev1 - c.elev0);
+        const double a = c.azim0 + (j + 0.5) / n * (c.azim1 - c.azim0);
+        const double dw = std::cos(e);
+        sum += dw * smoothSky({std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)});
+        w += dw;
+      }
+    s.region.push_back(glm::dvec3(sum / w));
+  }
+  return s;
+}
+}  // namespace
+
+TEST(DistantLight, UniformSkyThroughAWindowGivesHalfPiLAtItsCentre) {
+  // The kernel alone: a point at the window's centre facing out sees the upper half of the sky.
+  const auto win = facingMinusX(W, Y0, Y1, Z0, Z1);
+  radiosity::DistantLight sky;
+  sky.radiance = [](const glm::dvec3& d) { return d.z >= 0 ? 1.0 : 0.0; };
+  const glm::dvec3 centre(W - 1e-4, 0.5 * (Y0 + Y1), 0.5 * (Z0 + Z1));
+  EXPECT_NEAR(radiosity::distantFormFactor(centre, {1, 0, 0}, win, sky) * kPi, kPi / 2, 0.02 * kPi / 2);
+  // Facing into the room it sees nothing through the window behind it; outside it gets nothing.
+  EXPECT_EQ(radiosity::distantFormFactor(centre, {-1, 0, 0}, win, sky), 0.0);
+  EXPECT_EQ(radiosity::distantFormFactor(centre + glm::dvec3(1, 0, 0), {1, 0, 0}, win, sky), 0.0);
+}
+
+TEST(DaylightBasis, UniformSkyAndBlackGroundGiveHalfPiLAtTheWindowsCentre) {
+  // The whole path: a small grey receiver 5 mm inside the window's centre, facing out, in a
+  // black room; a uniform sky of radiance L combined from the regions' bases.
+  Scene room = windowRoom(0, 0, 0);
+  const double yc = 0.5 * (Y0 + Y1), zc = 0.5 * (Z0 + Z1), h = 0.01, x = W - 0.005;
+  room.polygons.push_back(poly("probe", facingPlusX(x, yc - h, yc + h, zc - h, zc + h), 0.5));
+  const int probe = int(room.polygons.size()) - 1;
+  constexpr double L = 3.0;
+  DaylightBasis basis(room, uniformSky(64, L), coarse(64));
+  const auto b = basis.combine(uniformSky(64, L));
+  const double e = basis.surfaceMean(b, probe).x / 0.5;
+  std::printf("uniform sky L = %g: irradiance at the window's centre %.4f, pi L / 2 = %.4f (%+.2f %%)\n", L, e,
+              kPi * L / 2, 100 * (e / (kPi * L / 2) - 1));
+  EXPECT_NEAR(e, kPi * L / 2, 0.02 * kPi * L / 2);
+}
+
+TEST(DaylightBasis, RegionsCombinedMatchTheExactSkyWithinThreePercent) {
+  const Scene room = windowRoom(0.3, 0.7, 0.8);
+  for (int n : {16, 64}) {
+    const SkyRegions regions(n);
+    const SkyRadiance means = smoothSkyMeans(regions);
+    DaylightBasis basis(room, means, coarse(n));
+    const auto combined = basis.combine(means);
+    auto exact = std::make_shared<radiosity::DistantLight>();
+    exact->radiance = smoothSky;
+    const auto truth = basis.solveFor(exact);
+    double worst = 0;
+    std::string where;
+    for (size_t s = 0; s < room.polygons.size(); ++s) {
+      if (room.polygons[s].kind == PolygonKind::Window) continue;
+      const double t = basis.surfaceMean(truth, int(s)).x, c = basis.surfaceMean(combined, int(s)).x;
+      ASSERT_GT(t, 0) << room.polygons[s].name;
+      if (std::abs(c / t - 1) > worst) worst = std::abs(c / t - 1), where = room.polygons[s].name;
+    }
+    std::printf("N = %d regions: worst per-polygon mean radiosity %.2f %% off the exact sky's (%s); %.3f s per basis\n", n,
+                100 * worst, where.c_str(), basis.secondsPerBasis());
+    if (n == 64) EXPECT_LT(worst, 0.03);
+  }
+}
+
+TEST(DaylightBasis, TheSunsBeamLandsWhereTheWindowLetsItAndCarriesItsFlux) {
+  const double rho = 0.5;
+  const Scene room = windowRoom(rho, 0, 0);  // only the floor reflects
+  // Links refined for another sun (45 degrees up, 20 degrees round): the beam asked for below
+  // lands elsewhere on the same links.
+  SkyRadiance refine = uniformSky(16, 0.05);
+  refine.sun.found = true;
+  refine.sun.direction = {std::cos(kPi / 4) * std::cos(0.35), std::cos(kPi / 4) * std::sin(0.35), std::sin(kPi / 4)};
+  refine.sun.irradiance = glm::dvec3(1.0);
+  BasisOptions options = coarse(16);
+  options.engine = nullptr;  // the engine's own refinement (2e-3 m^2 elements)
+  DaylightBasis basis(room, refine, options);
+  const double elev = 30 * kPi / 180;
+  const glm::dvec3 sun(std::cos(elev), 0, std::sin(elev));
+  const auto b = basis.sunSolution(sun);
+  // All of the beam through the window (irradiance 1 normal to it) lands on the floor.
+  const double flux = (Y1 - Y0) * (Z1 - Z0) * sun.x;
+  const double floorMean = basis.surfaceMean(b, 0).x;
+  EXPECT_NEAR(floorMean, rho * flux / (W * D), 0.02 * rho * flux / (W * D));
+  // Inside the patch the floor gets sin(elevation); far from it nothing.
+  const auto& eng = basis.engine();
+  const double xMid = W - 0.5 * (Z0 + Z1) / std::tan(elev);
+  const int inPatch = eng.findLeaf(0, eng.toUV(0, {xMid, 0.5 * (Y0 + Y1), 0}));
+  const int outside = eng.findLeaf(0, eng.toUV(0, {0.3, 0.3, 0}));
+  EXPECT_NEAR(b[size_t(inPatch)].x, rho * std::sin(elev), 0.03 * rho * std::sin(elev));
+  EXPECT_LT(b[size_t(outside)].x, 1e-6);
+  std::printf("sun at 30 deg: floor mean %.5f (flux says %.5f); patch centre %.4f (rho sin e = %.4f)\n", floorMean,
+              rho * flux / (W * D), b[size_t(inPatch)].x, rho * std::sin(elev));
+}
+
+TEST(DaylightBasis, ARoomWithoutAWindowOrWithAWindowFacingOutOrInNoWallIsRefused) {
+  Scene room = windowRoom(0.5, 0.5, 0.5);
+  Scene closed = room;
+  closed.polygons.pop_back();
+  try {
+    DaylightBasis b(closed, uniformSky(16, 1), coarse(16));
+    FAIL() << "a room without a window was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("window_room.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no window"), std::string::npos) << e.what();
+  }
+  Scene reversed = room;
+  auto& v = reversed.polygons.back().vertices;
+  std::reverse(v.begin(), v.end());
+  try {
+    DaylightBasis b(reversed, uniformSky(16, 1), coarse(16));
+    FAIL() << "a window facing out of the room was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("faces away"), std::string::npos) << e.what();
+  }
+  Scene floating = room;  // half a metre into the room, in no wall
+  for (auto& p : floating.polygons.back().vertices) p.x -= 0.5;
+  try {
+    DaylightBasis b(floating, uniformSky(16, 1), coarse(16));
+    FAIL() << "a window in no wall was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not in a wall"), std::string::npos) << e.what();
+  }
+}
+
+TEST(DaylightBasis, ConeTestNeverRulesOutADirectionInsideTheCell) {
+  const SkyRegions regions(64);
+  uint64_t s = 12345;
+  auto uni = [&] {
+    s = s * 6364136223846793005ull + 1442695040888963407ull;
+    return double(s >> 11) / 9007199254740992.0;
+  };
+  for (int i = 0; i < 200000; ++i) {
+    const double z = uni() * 2 - 1, a = uni() * 2 * kPi, r = std::sqrt(1 - z * z);
+    const glm::dvec3 axis(r * std::cos(a), r * std::sin(a), z);
+    const double half = uni() * 0.3;
+    // A direction within the cone: rotate the axis by up to `half`.
+    const double zz = uni() * 2 - 1, aa = uni() * 2 * kPi, rr = std::sqrt(1 - zz * zz);
+    const glm::dvec3 t = glm::normalize(glm::cross(axis, glm::dvec3(rr * std::cos(aa), rr * std::sin(aa), zz)));
+    const double ang = uni() * half;
+    const glm::dvec3 d = std::cos(ang) * axis + std::sin(ang) * t;
+    const int k = regions.regionOf(d);
+    if (k < 0) continue;
+    ASSERT_TRUE(coneMeetsCell(axis, half, regions.cell(k))) << "axis " << axis.x << " " << axis.y << " " << axis.z;
+  }
+}
