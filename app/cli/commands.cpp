@@ -371,4 +371,13 @@ int benchCommand(const QStringList& args, Progress& progress) {
   return 0;
 }
 
+ImageRGB sideBySide(const std::vector<const ImageRGB*>& imgs) {
+  const int w = imgs[0]->width, h = imgs[0]->height, gap = 4;
+  ImageRGB out(int(imgs.size()) * (w + gap) - gap, h);
+  for (size_t k = 0; k < imgs.size(); ++k)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) out.set(int(k) * (w + gap) + x, y, imgs[k]->at(x, y));
+  return out;
+}
+
 }  // namespace relume::cli

@@ -7,6 +7,7 @@
 
 #include "relume/geometry/camera.h"
 #include "relume/geometry/progress.h"
+#include "relume/image/image.h"
 
 class QCommandLineParser;
 
@@ -39,6 +40,8 @@ int hdrMergeCommand(const QStringList& args, Progress& progress);
 int calibrateCommand(const QStringList& args, Progress& progress);
 int skyCommand(const QStringList& args, Progress& progress);
 int daylightBasisCommand(const QStringList& args, Progress& progress);
+// Images side by side (4 px apart), for looking at.
+ImageRGB sideBySide(const std::vector<const ImageRGB*>& imgs);
 int photometryCommand(const QStringList& args, Progress& progress);
 int ibrFanCommand(const QStringList& args, Progress& progress);
 }  // namespace relume::cli
@@ -48,6 +51,9 @@ struct Scene;
 namespace relume::cli {
 // relume::loadRoom, printing what reading had to tell the user (Scene::notes) on stderr.
 Scene openRoom(const QString& path);
+// relume evaluate on a daylight bundle (one with measured skies): every variant with the near-field
+// and the distant method, report.json with the all and change masks.
+int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progress);
 // The relighting figures of `relume bench` (medians of `runs`).
 QJsonObject relightBench(const Scene& scene, int runs, Progress& progress);
 // The reconstruction figures: COLMAP on the room's photos, triangulation and polygon fitting.

@@ -9,7 +9,14 @@
 #include <numbers>
 
 #include "commands.h"
+#include <QDir>
+#include <QFileInfo>
+
 #include "relume/daylight/basis.h"
+#include "relume/daylight/relight.h"
+#include "relume/geometry/polygon.h"
+#include "relume/relight/compare.h"
+#include "relume/relight/relighter.h"
 #include "relume/daylight/sky.h"
 #include "relume/radiosity/form_factor.h"
 #include "relume/radiosity/hierarchy.h"
@@ -251,6 +258,141 @@ int skyCommand(const QStringList& args, Progress& progress) {
                                                      {"horizontal_irradiance_sky", rgb(diffuse)},
                                                      {"horizontal_irradiance", rgb(horizontal)}});
   }
+  return 0;
+}
+
+
+int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progress) {
+  const Photo* main = bundle.findPhoto(bundle.mainPhoto);
+  if (!main || main->hdr.empty())
+    throw Error(bundle.sourceFile, "main_photo", "a daylight evaluation needs the main photo's linear (EXR) image");
+  auto path = [&](const std::string& rel) { return rel.front() == '/' ? rel : bundle.baseDir + "/" + rel; };
+  const auto dir = [&](const std::string& f) { return QDir(outDir).filePath(QString::fromStdString(f)).toStdString(); };
+  const ImageRGB photo = readImageLinear(path(main->hdr));
+  const Camera& cam = main->camera;
+  // What a user does not have: the albedos. Estimated from the photo under its own sky.
+  Scene scene = bundle;
+  for (auto& poly : scene.polygons) poly.albedo = glm::dvec3(0.5);
+  const dl::SkyRegions cells(64);
+  const dl::SkyRadiance photoSky = dl::averageSky(roomSky(scene, scene.photoSky), cells);
+  dl::BasisOptions options;
+  std::unique_ptr<dl::DaylightBasis> basis;
+  dl::SeenPixels seen;
+  ImageRGB ePhoto;
+  const int rounds = 3;
+  for (int round = 0; round < rounds; ++round) {
+    Progress stage(progress, 0.4 * round / rounds, 0.4 * (round + 1) / rounds);
+    basis = std::make_unique<dl::DaylightBasis>(scene, photoSky, options, stage);
+    seen = dl::seePixels(*basis, cam);
+    ePhoto = dl::irradianceImage(*basis, seen, photoSky, stage);
+    if (round + 1 == rounds) break;
+    // Reflectances pi L / E over each polygon's pixels; polygons the photo does not show take
+    // their material's, or the mean of all that it shows.
+    const auto rho = dl::reflectancesFromPhoto(seen, photo, ePhoto, scene.polygons.size());
+    std::map<std::string, std::pair<glm::dvec3, double>> byMaterial;
+    glm::dvec3 all(0.0);
+    double allArea = 0;
+    for (size_t s = 0; s < rho.size(); ++s) {
+      if (rho[s].x < 0) continue;
+      const double a = polygonArea(scene.polygons[s].vertices);
+      byMaterial[scene.polygons[s].material].first += a * rho[s];
+      byMaterial[scene.polygons[s].material].second += a;
+      all += a * rho[s];
+      allArea += a;
+    }
+    for (size_t s = 0; s < rho.size(); ++s) {
+      if (scene.polygons[s].kind != PolygonKind::Real) continue;
+      const auto m = byMaterial.find(scene.polygons[s].material);
+      scene.polygons[s].albedo = rho[s].x >= 0 ? rho[s]
+                                 : m != byMaterial.end() && !scene.polygons[s].material.empty() ? m->second.first / m->second.second
+                                 : allArea > 0 ? all / allArea
+                                               : glm::dvec3(0.5);
+    }
+  }
+  QJsonArray reflectances;
+  for (size_t s = 0; s < scene.polygons.size(); ++s) {
+    if (scene.polygons[s].kind != PolygonKind::Real || basis->engine().isRemoved(int(s))) continue;
+    const glm::dvec3 r = scene.polygons[s].albedo, t = bundle.polygons[s].albedo;
+    reflectances.append(QJsonObject{{"polygon", QString::fromStdString(scene.polygons[s].name)},
+                                    {"recovered", rgbJson(r)},
+                                    {"truth", rgbJson(t)}});
+    if (polygonArea(scene.polygons[s].vertices) >= 1.0)
+      std::fprintf(stderr, "  reflectance %-16s %.3f (truth %.3f)\n", scene.polygons[s].name.c_str(), (r.x + r.y + r.z) / 3,
+                   (t.x + t.y + t.z) / 3);
+  }
+  writeImage(dir("photo.irradiance.exr"), ePhoto);
+  const CompareMasks masks = benchmarkMasks(photo, readImageLinear(path("truth/unoccluded.exr")));
+  QJsonArray variants;
+  int done = 0;
+  for (const auto& v : scene.variants) {
+    Progress stage(progress, 0.4 + 0.6 * done / double(scene.variants.size()), 0.4 + 0.6 * (done + 1) / double(scene.variants.size()));
+    ++done;
+    if (v.hdr.empty() || !QFileInfo::exists(QString::fromStdString(path(v.hdr)))) {
+      std::fprintf(stderr, "%-18s no truth image: skipped\n", v.name.c_str());
+      continue;
+    }
+    const ImageRGB truth = readImageLinear(path(v.hdr));
+    const dl::SkyRadiance sky = dl::averageSky(roomSky(scene, v.sky.empty() ? scene.photoSky : v.sky), cells);
+    // The variant's room: the virtual boxes' faces added as real polygons after the room's own.
+    Scene room = scene;
+    std::vector<glm::dvec3> albedos;
+    std::vector<std::vector<glm::dvec3>> objectPolys;
+    for (const auto& b : v.virtualObjects) {
+      if (!b.fan.empty()) continue;
+      const VirtualObject o = b.mesh.empty() ? boxObject(b.name, b.boxMin, b.boxMax, b.albedo) : meshObject(b.name, b.mesh, b.albedo);
+      for (const auto& f : o.polygons) {
+        Polygon poly;
+        poly.name = poly.group = b.name;
+        poly.vertices = f;
+        poly.albedo = b.albedo;
+        room.polygons.push_back(poly);
+        albedos.push_back(b.albedo);
+        objectPolys.push_back(f);
+      }
+    }
+    const int firstVirtual = int(scene.polygons.size());
+    std::unique_ptr<dl::DaylightBasis> own;
+    dl::DaylightBasis* b = basis.get();
+    dl::SeenPixels seenNew = seen;
+    if (!objectPolys.empty()) {
+      own = std::make_unique<dl::DaylightBasis>(room, sky, options, stage);
+      b = own.get();
+      seenNew = dl::seePixels(*b, cam);
+    }
+    const ImageRGB eNew = dl::irradianceImage(*b, seenNew, sky, stage);
+    const ImageRGB near = dl::differentialRender(photo, ePhoto, eNew, seenNew, firstVirtual, albedos);
+    // Distant: the sky at infinity, the virtual objects the only occluders; the room as photographed.
+    ImageRGB distant = photo;
+    if (!objectPolys.empty()) {
+      const ImageRGB with = dl::distantIrradianceImage(seenNew, cells, sky, objectPolys);
+      const ImageRGB without = dl::distantIrradianceImage(seenNew, cells, sky, {});
+      distant = dl::differentialRender(photo, without, with, seenNew, firstVirtual, albedos);
+    }
+    writeImage(dir(v.name + ".irradiance.exr"), eNew);
+    writeImage(dir(v.name + ".near-field.exr"), near);
+    writeImage(dir(v.name + ".distant.exr"), distant);
+    writeImage(dir(v.name + ".png"), sideBySide({&photo, &distant, &near, &truth}));
+    const CompareMasks change = benchmarkMasks(photo, truth);
+    auto scores = [&](const ImageRGB& img) {
+      const Comparison a = compareImages(img, truth, masks.all), c = compareImages(img, truth, change.shadow);
+      return QJsonObject{{"psnr_all", a.psnr}, {"psnr_change", c.psnr}, {"gain_all", rgbJson(a.gain)}, {"gain_change", rgbJson(c.gain)}};
+    };
+    const QJsonObject n = scores(near), d = scores(distant), u = scores(photo);
+    const double changeFraction = double(std::count(change.shadow.begin(), change.shadow.end(), 1)) / double(change.shadow.size());
+    variants.append(QJsonObject{{"name", QString::fromStdString(v.name)},
+                                {"near_field", n},
+                                {"distant", d},
+                                {"photo_unchanged", u},
+                                {"change_mask_fraction", changeFraction}});
+    std::fprintf(stderr, "%-18s near-field %5.2f/%5.2f  distant %5.2f/%5.2f  photo %5.2f/%5.2f dB (all/change; change mask %.1f %%)\n",
+                 v.name.c_str(), n["psnr_all"].toDouble(), n["psnr_change"].toDouble(), d["psnr_all"].toDouble(),
+                 d["psnr_change"].toDouble(), u["psnr_all"].toDouble(), u["psnr_change"].toDouble(), 100 * changeFraction);
+  }
+  writeJsonAtomically(QString::fromStdString(dir("report.json")),
+                      QJsonObject{{"bundle", QString::fromStdString(bundle.baseDir)},
+                                  {"reflectances", reflectances},
+                                  {"variants", variants}});
+  std::fprintf(stderr, "wrote %s\n", dir("report.json").c_str());
   return 0;
 }
 

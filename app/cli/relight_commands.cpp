@@ -229,15 +229,6 @@ const Photo& photoNamedian(const Scene& scene, const std::string& name) {
 
 std::string resolve(const Scene& scene, const std::string& rel) { return rel.front() == '/' ? rel : scene.baseDir + "/" + rel; }
 
-ImageRGB sideBySide(const std::vector<const ImageRGB*>& imgs) {
-  const int w = imgs[0]->width, h = imgs[0]->height, gap = 4;
-  ImageRGB out(int(imgs.size()) * (w + gap) - gap, h);
-  for (size_t k = 0; k < imgs.size(); ++k)
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) out.set(int(k) * (w + gap) + x, y, imgs[k]->at(x, y));
-  return out;
-}
-
 }  // namespace
 
 int preprocessCommand(const QStringList& args, Progress& progress) {
@@ -537,6 +528,10 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
   RelightOptions opt = relightOptions(p);
   opt.oracleLamps = p.isSet("oracle-lamps");
   Scene scene = openRoom(p.positionalArguments()[0]);
+  if (!scene.skies.empty()) {  // a daylight bundle: lit through its windows by measured skies
+    if (p.isSet("geometry")) throw Error(str(p.value("geometry")), "--geometry", "not yet for daylight bundles");
+    return evaluateDaylight(scene, outDir, progress);
+  }
   if (p.isSet("geometry")) {
     const Scene g = openRoom(p.value("geometry"));
     for (const auto& v : scene.variants)

@@ -227,6 +227,16 @@ const std::vector<glm::vec3>& DaylightBasis::sunSolution(const glm::dvec3& direc
   }
   Progress stage(progress, 0.8, 1.0);
   sun_ = solveFor(light, stage);
+  // The beam's own share: E = F V B_window over the links from the windows (B = pi per unit).
+  const auto& nodes = engine_->nodes();
+  sunDirect_.assign(nodes.size(), glm::vec3(0.f));
+  for (const auto& l : engine_->links()) {
+    const int src = nodes[size_t(l.source)].surface;
+    if (src >= 0 && std::find(windows_.begin(), windows_.end(), src) != windows_.end())
+      sunDirect_[size_t(l.receiver)] += glm::vec3(float(kPi) * l.formFactor * l.visibility);
+  }
+  for (size_t n = 1; n < nodes.size(); ++n)  // parents come before their children
+    if (nodes[n].parent >= 0) sunDirect_[n] += sunDirect_[size_t(nodes[n].parent)];
   sunDirection_ = d;
   haveSun_ = true;
   return sun_;
@@ -253,6 +263,18 @@ std::vector<glm::vec3> DaylightBasis::combine(const SkyRadiance& sky, Progress& 
   add(bases_.back(), groundRadiance(sky));
   if (sun) add(sun_, sky.sun.irradiance);
   return b;
+}
+
+std::vector<glm::vec3> DaylightBasis::irradiance(const SkyRadiance& sky, bool directSun, Progress& progress) {
+  std::vector<glm::vec3> e = combine(sky, progress);
+  const bool sun = sky.sun.found && sky.sun.direction.z > 0;
+  const glm::vec3 sunE(sky.sun.irradiance);
+  for (size_t n = 0; n < e.size(); ++n) {
+    const glm::vec3& rho = engine_->reflectanceOf(int(n));
+    for (int c = 0; c < 3; ++c) e[n][c] = rho[c] > 0 ? e[n][c] / rho[c] : 0.f;
+    if (sun && !directSun) e[n] = glm::max(e[n] - sunE * sunDirect_[n], glm::vec3(0.f));
+  }
+  return e;
 }
 
 glm::dvec3 DaylightBasis::surfaceMean(const std::vector<glm::vec3>& b, int surface) const {

@@ -271,14 +271,34 @@ SkyRadiance averageSky(const SkyImage& sky, const SkyRegions& regions, const Sky
   const size_t brightest = size_t(std::max_element(lum.begin(), lum.end()) - lum.begin());
   std::vector<char> isSun(px.size(), 0);
   if (lum[brightest] > options.sunThreshold * std::max(median, 1e-30)) {
-    const double cosR = std::cos(options.sunRadiusDeg * kPi / 180);
+    // Every pixel within the sun's circle belongs to it (a lens and a pixel filter spread a disc
+    // smaller than a pixel over its neighbours, below any threshold), less the sky behind it: the
+    // median of the ring from one to two circle radii, which also fills the circle in the
+    // region means.
+    const double cosR = std::cos(options.sunRadiusDeg * kPi / 180), cos2R = std::cos(2 * options.sunRadiusDeg * kPi / 180);
+    std::vector<glm::dvec3> ring;
+    for (size_t i = 0; i < px.size(); ++i) {
+      const double c = glm::dot(px[i].dir, px[brightest].dir);
+      if (c < cosR && c >= cos2R) ring.push_back(px[i].L);
+    }
+    glm::dvec3 background(0.0);
+    if (!ring.empty()) {
+      std::vector<double> ch(ring.size());
+      for (int c = 0; c < 3; ++c) {
+        for (size_t i = 0; i < ring.size(); ++i) ch[i] = ring[i][c];
+        std::nth_element(ch.begin(), ch.begin() + long(ch.size() / 2), ch.end());
+        background[c] = ch[ch.size() / 2];
+      }
+    }
+    out.sunBackground = background;
     glm::dvec3 weighted(0.0);
     for (size_t i = 0; i < px.size(); ++i)
-      if (lum[i] > options.sunThreshold * median && glm::dot(px[i].dir, px[brightest].dir) >= cosR) {
+      if (glm::dot(px[i].dir, px[brightest].dir) >= cosR) {
         isSun[i] = 1;
-        out.sun.irradiance += px[i].L * px[i].omega;
+        const glm::dvec3 excess = glm::max(px[i].L - background, glm::dvec3(0.0));
+        out.sun.irradiance += excess * px[i].omega;
         out.sun.solidAngle += px[i].omega;
-        weighted += px[i].dir * (lum[i] * px[i].omega);
+        weighted += px[i].dir * (luminance(excess) * px[i].omega);
         ++out.sun.pixels;
       }
     out.sun.found = true;
@@ -287,10 +307,9 @@ SkyRadiance averageSky(const SkyImage& sky, const SkyRegions& regions, const Sky
   // Region means of the rest.
   std::vector<double> weight(size_t(regions.size()), 0.0);
   for (size_t i = 0; i < px.size(); ++i) {
-    if (isSun[i]) continue;
     const int k = regions.regionOf(px[i].dir);
     if (k < 0) continue;
-    out.region[size_t(k)] += px[i].L * px[i].omega;
+    out.region[size_t(k)] += (isSun[i] ? out.sunBackground : px[i].L) * px[i].omega;  // the sky behind the sun
     weight[size_t(k)] += px[i].omega;
   }
   for (int k = 0; k < regions.size(); ++k) {

@@ -70,6 +70,13 @@ class DaylightBasis {
   const std::vector<glm::vec3>& sunSolution(const glm::dvec3& direction, Progress& progress = silentProgress());
   // Eq. 3: B = sum_k L_k B_k + L_ground B_ground + E_sun B_sun.
   std::vector<glm::vec3> combine(const SkyRadiance& sky, Progress& progress = silentProgress());
+  // Per node: the irradiance under `sky` (B / rho of the combination; 0 where nothing reflects),
+  // with or without the sun's direct light (the element-level share of its beam, for a caller
+  // that takes the direct sun per point instead, with its exact shadows).
+  std::vector<glm::vec3> irradiance(const SkyRadiance& sky, bool directSun, Progress& progress = silentProgress());
+  // Per node: the sun solution's direct irradiance per unit beam irradiance (links from the
+  // windows, own and ancestors'); valid after sunSolution().
+  const std::vector<glm::vec3>& sunDirect() const { return sunDirect_; }
   // The ground's radiance under `sky`: its albedo x the horizontal irradiance / pi.
   glm::dvec3 groundRadiance(const SkyRadiance& sky) const;
   double groundReflectance() const { return groundReflectance_; }
@@ -92,7 +99,7 @@ class DaylightBasis {
   std::unique_ptr<radiosity::HierarchicalRadiosity> engine_;
   std::vector<int> windows_, outside_;
   std::vector<std::vector<glm::vec3>> bases_;
-  std::vector<glm::vec3> sun_;
+  std::vector<glm::vec3> sun_, sunDirect_;
   glm::dvec3 sunDirection_{0.0};
   bool haveSun_ = false;
   double groundReflectance_ = 0.2;

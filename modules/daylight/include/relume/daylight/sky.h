@@ -97,23 +97,27 @@ class SkyRegions {
 struct Sun {
   bool found = false;
   glm::dvec3 direction{0.0, 0.0, 1.0};
-  // Irradiance on a plane facing the sun (W/m^2 per channel): its radiance integrated over the
-  // pixels it covers.
+  // Irradiance on a plane facing the sun (W/m^2 per channel): its radiance in excess of the sky
+  // around it, integrated over the pixels of its circle.
   glm::dvec3 irradiance{0.0};
   double solidAngle = 0;  // sr of the pixels taken as the sun
   int pixels = 0;
 };
 
 struct SkyRadiance {
-  std::vector<glm::dvec3> region;  // each region's mean radiance, the sun's pixels left out
+  // Each region's mean radiance; within the sun's circle the sky behind it (sunBackground).
+  std::vector<glm::dvec3> region;
   Sun sun;
+  glm::dvec3 sunBackground{0.0};  // the sky's radiance around the sun (the ring beyond its circle)
 };
 
 struct SkyOptions {
-  // A pixel belongs to the sun when its luminance exceeds this many times the median luminance
-  // of the sky's pixels (a clear sky's sun is 10^4 - 10^5 times brighter than the sky around it).
+  // There is a sun when the brightest pixel exceeds this many times the median luminance of the
+  // sky's pixels (a clear sky's sun is 10^4 - 10^5 times brighter than the sky around it).
   double sunThreshold = 200;
-  double sunRadiusDeg = 3;  // the sun's pixels: within this angle of the brightest one
+  // The sun's pixels: all within this angle of the brightest one (the lens and the pixel filter
+  // spread its disc), their excess over the sky around the circle taken as its irradiance.
+  double sunRadiusDeg = 3;
 };
 
 // Each region's mean radiance (pixels weighted by their solid angle; a region no pixel centre

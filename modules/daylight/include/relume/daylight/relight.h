@@ -1,0 +1,63 @@
+#pragma once
+// The photographed room under another sky and virtual objects under any sky, by differential
+// rendering (Grosch et al. 2007 §7.2 after Debevec 1998 and Gibson-Murta 2000; for the real room
+// itself beyond the paper): every pixel of a real surface becomes photo x E_new / E_photo, E the
+// irradiance the simulation gives at the point the pixel sees — so the photo keeps everything
+// real (its textures, its noise, what the model lacks) and only what the simulation says changes
+// is applied: sunlit patches that move, the light a virtual object blocks (shadows only where the
+// room did not already shadow), what it reflects. The sun's direct light is taken per pixel (a
+// ray through the windows, exact shadows), the rest from the basis solutions. A virtual object's
+// own pixels are its albedo x E / pi.
+//
+// The sky images and the photos are taken to be in the same radiometric units (an HDR pair of
+// known exposures); reflectances are estimated from the photo under its own sky.
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <vector>
+
+#include "relume/daylight/basis.h"
+#include "relume/geometry/camera.h"
+#include "relume/image/image.h"
+
+namespace relume::daylight {
+
+// What a camera sees of a basis's room: per pixel the polygon (-1: nothing, a window or a lamp),
+// its leaf element when seen (a later sun solution may refine it), the plane coordinates, the
+// point and the normal facing the camera.
+struct SeenPixels {
+  Camera camera;
+  int width = 0, height = 0;
+  std::vector<int> surface, leaf;
+  std::vector<glm::dvec2> uv;
+  std::vector<glm::dvec3> point, normal;
+};
+SeenPixels seePixels(const DaylightBasis& basis, const Camera& camera);
+
+// Irradiance per pixel under `sky` (linear RGB, W/m^2 in the sky image's units): the direct sun
+// per pixel (the mean of 4 x 4 rays over a 1.5-pixel footprint, as a renderer's or a camera's
+// pixel filter spreads a sunlit edge, each towards another point of the sun's 0.53-degree disc,
+// for the penumbra), everything else interpolated from the leaves' corners as
+// the display does.
+ImageRGB irradianceImage(DaylightBasis& basis, const SeenPixels& px, const SkyRadiance& sky,
+                         Progress& progress = silentProgress());
+
+// The distant-illumination baseline (no window, no room): the sky at infinity over each pixel's
+// hemisphere (one direction per region and the sun), blocked only by `occluders` (polygons, e.g.
+// the virtual objects; none: nothing blocks).
+ImageRGB distantIrradianceImage(const SeenPixels& px, const SkyRegions& regions, const SkyRadiance& sky,
+                                const std::vector<std::vector<glm::dvec3>>& occluders);
+
+// Per polygon of the basis's scene: the reflectance pi x (sum of the photo's radiance) / (sum of
+// the irradiance) over the pixels showing it (at least `minPixels`; others: nothing, returned
+// as -1 in every channel).
+std::vector<glm::dvec3> reflectancesFromPhoto(const SeenPixels& px, const ImageRGB& photo, const ImageRGB& irradiance,
+                                              size_t polygons, int minPixels = 50);
+
+// Differential rendering: per pixel of a real surface photo x eNew / ePhoto (both seen through
+// the same camera; ePhoto with the photo's room, eNew with the variant's, objects included);
+// pixels where `seenNew` shows a virtual object (a surface index >= `firstVirtual`) are
+// albedo x eNew / pi.
+ImageRGB differentialRender(const ImageRGB& photo, const ImageRGB& ePhoto, const ImageRGB& eNew, const SeenPixels& seenNew,
+                            int firstVirtual, const std::vector<glm::dvec3>& virtualAlbedo);
+
+}  // namespace relume::daylight
