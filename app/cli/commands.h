@@ -54,6 +54,10 @@ Scene openRoom(const QString& path);
 // relume evaluate on a daylight bundle (one with measured skies): every variant with the near-field
 // and the distant method, report.json with the all and change masks.
 int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progress);
+// relume relight ROOM --sky NAME|FISHEYE.exr: the main photo (or `camera`'s) under that sky, with
+// virtual objects, by the near-field or the distant method.
+int daylightRelight(const Scene& room, const std::string& sky, const std::vector<std::string>& objectFiles,
+                    const std::string& method, const std::string& camera, const std::string& out, Progress& progress);
 // The relighting figures of `relume bench` (medians of `runs`).
 QJsonObject relightBench(const Scene& scene, int runs, Progress& progress);
 // The reconstruction figures: COLMAP on the room's photos, triangulation and polygon fitting.

@@ -14,6 +14,7 @@
 
 #include "relume/daylight/basis.h"
 #include "relume/daylight/relight.h"
+#include "relume/project/room_io.h"
 #include "relume/geometry/polygon.h"
 #include "relume/relight/compare.h"
 #include "relume/relight/relighter.h"
@@ -262,6 +263,22 @@ int skyCommand(const QStringList& args, Progress& progress) {
 }
 
 
+std::vector<Polygon> daylightObjects(const Variant& v, const std::string& file) {
+  std::vector<Polygon> faces;
+  for (const auto& b : v.virtualObjects) {
+    if (!b.fan.empty()) throw Error(file, "virtual object " + b.name, "image-based objects are not lit by daylight yet");
+    const VirtualObject o = b.mesh.empty() ? boxObject(b.name, b.boxMin, b.boxMax, b.albedo) : meshObject(b.name, b.mesh, b.albedo);
+    for (const auto& f : o.polygons) {
+      Polygon poly;
+      poly.name = poly.group = o.name;
+      poly.vertices = f;
+      poly.albedo = o.albedo;
+      faces.push_back(poly);
+    }
+  }
+  return faces;
+}
+
 int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progress) {
   const Photo* main = bundle.findPhoto(bundle.mainPhoto);
   if (!main || main->hdr.empty())
@@ -269,113 +286,47 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
   auto path = [&](const std::string& rel) { return rel.front() == '/' ? rel : bundle.baseDir + "/" + rel; };
   const auto dir = [&](const std::string& f) { return QDir(outDir).filePath(QString::fromStdString(f)).toStdString(); };
   const ImageRGB photo = readImageLinear(path(main->hdr));
-  const Camera& cam = main->camera;
-  // What a user does not have: the albedos. Estimated from the photo under its own sky.
-  Scene scene = bundle;
-  for (auto& poly : scene.polygons) poly.albedo = glm::dvec3(0.5);
   const dl::SkyRegions cells(64);
-  const dl::SkyRadiance photoSky = dl::averageSky(roomSky(scene, scene.photoSky), cells);
-  dl::BasisOptions options;
-  std::unique_ptr<dl::DaylightBasis> basis;
-  dl::SeenPixels seen;
-  ImageRGB ePhoto;
-  const int rounds = 3;
-  for (int round = 0; round < rounds; ++round) {
-    Progress stage(progress, 0.4 * round / rounds, 0.4 * (round + 1) / rounds);
-    basis = std::make_unique<dl::DaylightBasis>(scene, photoSky, options, stage);
-    seen = dl::seePixels(*basis, cam);
-    ePhoto = dl::irradianceImage(*basis, seen, photoSky, stage);
-    if (round + 1 == rounds) break;
-    // Reflectances pi L / E over each polygon's pixels; polygons the photo does not show take
-    // their material's, or the mean of all that it shows.
-    const auto rho = dl::reflectancesFromPhoto(seen, photo, ePhoto, scene.polygons.size());
-    std::map<std::string, std::pair<glm::dvec3, double>> byMaterial;
-    glm::dvec3 all(0.0);
-    double allArea = 0;
-    for (size_t s = 0; s < rho.size(); ++s) {
-      if (rho[s].x < 0) continue;
-      const double a = polygonArea(scene.polygons[s].vertices);
-      byMaterial[scene.polygons[s].material].first += a * rho[s];
-      byMaterial[scene.polygons[s].material].second += a;
-      all += a * rho[s];
-      allArea += a;
-    }
-    for (size_t s = 0; s < rho.size(); ++s) {
-      if (scene.polygons[s].kind != PolygonKind::Real) continue;
-      const auto m = byMaterial.find(scene.polygons[s].material);
-      scene.polygons[s].albedo = rho[s].x >= 0 ? rho[s]
-                                 : m != byMaterial.end() && !scene.polygons[s].material.empty() ? m->second.first / m->second.second
-                                 : allArea > 0 ? all / allArea
-                                               : glm::dvec3(0.5);
-    }
-  }
+  const dl::SkyRadiance photoSky = dl::averageSky(roomSky(bundle, bundle.photoSky), cells);
+  // What a user does not have, the albedos, is never read: DaylightRelighting estimates them.
+  Progress pre(progress, 0.0, 0.4);
+  dl::DaylightRelighting relit(bundle, photo, main->camera, photoSky, {}, pre);
+  writeImage(dir("photo.irradiance.exr"), relit.photoIrradiance());
   QJsonArray reflectances;
-  for (size_t s = 0; s < scene.polygons.size(); ++s) {
-    if (scene.polygons[s].kind != PolygonKind::Real || basis->engine().isRemoved(int(s))) continue;
-    const glm::dvec3 r = scene.polygons[s].albedo, t = bundle.polygons[s].albedo;
-    reflectances.append(QJsonObject{{"polygon", QString::fromStdString(scene.polygons[s].name)},
+  for (size_t s = 0; s < bundle.polygons.size(); ++s) {
+    if (!relit.estimated()[s]) continue;
+    const glm::dvec3 r = relit.reflectances()[s], t = bundle.polygons[s].albedo;
+    reflectances.append(QJsonObject{{"polygon", QString::fromStdString(bundle.polygons[s].name)},
                                     {"recovered", rgbJson(r)},
                                     {"truth", rgbJson(t)}});
-    if (polygonArea(scene.polygons[s].vertices) >= 1.0)
-      std::fprintf(stderr, "  reflectance %-16s %.3f (truth %.3f)\n", scene.polygons[s].name.c_str(), (r.x + r.y + r.z) / 3,
+    if (polygonArea(bundle.polygons[s].vertices) >= 1.0)
+      std::fprintf(stderr, "  reflectance %-16s %.3f (truth %.3f)\n", bundle.polygons[s].name.c_str(), (r.x + r.y + r.z) / 3,
                    (t.x + t.y + t.z) / 3);
   }
-  writeImage(dir("photo.irradiance.exr"), ePhoto);
   const CompareMasks masks = benchmarkMasks(photo, readImageLinear(path("truth/unoccluded.exr")));
   QJsonArray variants;
   int done = 0;
-  for (const auto& v : scene.variants) {
-    Progress stage(progress, 0.4 + 0.6 * done / double(scene.variants.size()), 0.4 + 0.6 * (done + 1) / double(scene.variants.size()));
+  for (const auto& v : bundle.variants) {
+    Progress stage(progress, 0.4 + 0.6 * done / double(bundle.variants.size()), 0.4 + 0.6 * (done + 1) / double(bundle.variants.size()));
     ++done;
     if (v.hdr.empty() || !QFileInfo::exists(QString::fromStdString(path(v.hdr)))) {
       std::fprintf(stderr, "%-18s no truth image: skipped\n", v.name.c_str());
       continue;
     }
     const ImageRGB truth = readImageLinear(path(v.hdr));
-    const dl::SkyRadiance sky = dl::averageSky(roomSky(scene, v.sky.empty() ? scene.photoSky : v.sky), cells);
-    // The variant's room: the virtual boxes' faces added as real polygons after the room's own.
-    Scene room = scene;
-    std::vector<glm::dvec3> albedos;
-    std::vector<std::vector<glm::dvec3>> objectPolys;
-    for (const auto& b : v.virtualObjects) {
-      if (!b.fan.empty()) continue;
-      const VirtualObject o = b.mesh.empty() ? boxObject(b.name, b.boxMin, b.boxMax, b.albedo) : meshObject(b.name, b.mesh, b.albedo);
-      for (const auto& f : o.polygons) {
-        Polygon poly;
-        poly.name = poly.group = b.name;
-        poly.vertices = f;
-        poly.albedo = b.albedo;
-        room.polygons.push_back(poly);
-        albedos.push_back(b.albedo);
-        objectPolys.push_back(f);
-      }
-    }
-    const int firstVirtual = int(scene.polygons.size());
-    std::unique_ptr<dl::DaylightBasis> own;
-    dl::DaylightBasis* b = basis.get();
-    dl::SeenPixels seenNew = seen;
-    if (!objectPolys.empty()) {
-      own = std::make_unique<dl::DaylightBasis>(room, sky, options, stage);
-      b = own.get();
-      seenNew = dl::seePixels(*b, cam);
-    }
-    const ImageRGB eNew = dl::irradianceImage(*b, seenNew, sky, stage);
-    const ImageRGB near = dl::differentialRender(photo, ePhoto, eNew, seenNew, firstVirtual, albedos);
-    // Distant: the sky at infinity, the virtual objects the only occluders; the room as photographed.
-    ImageRGB distant = photo;
-    if (!objectPolys.empty()) {
-      const ImageRGB with = dl::distantIrradianceImage(seenNew, cells, sky, objectPolys);
-      const ImageRGB without = dl::distantIrradianceImage(seenNew, cells, sky, {});
-      distant = dl::differentialRender(photo, without, with, seenNew, firstVirtual, albedos);
-    }
-    writeImage(dir(v.name + ".irradiance.exr"), eNew);
+    const dl::SkyRadiance sky = dl::averageSky(roomSky(bundle, v.sky.empty() ? bundle.photoSky : v.sky), cells);
+    const std::vector<Polygon> objects = daylightObjects(v, bundle.sourceFile);
+    Progress a(stage, 0.0, 0.5), b(stage, 0.5, 1.0);
+    const ImageRGB near = relit.render(sky, objects, dl::DaylightMethod::NearField, a);
+    writeImage(dir(v.name + ".irradiance.exr"), relit.lastIrradiance());
+    const ImageRGB distant = relit.render(sky, objects, dl::DaylightMethod::Distant, b);
     writeImage(dir(v.name + ".near-field.exr"), near);
     writeImage(dir(v.name + ".distant.exr"), distant);
     writeImage(dir(v.name + ".png"), sideBySide({&photo, &distant, &near, &truth}));
     const CompareMasks change = benchmarkMasks(photo, truth);
     auto scores = [&](const ImageRGB& img) {
-      const Comparison a = compareImages(img, truth, masks.all), c = compareImages(img, truth, change.shadow);
-      return QJsonObject{{"psnr_all", a.psnr}, {"psnr_change", c.psnr}, {"gain_all", rgbJson(a.gain)}, {"gain_change", rgbJson(c.gain)}};
+      const Comparison c1 = compareImages(img, truth, masks.all), c2 = compareImages(img, truth, change.shadow);
+      return QJsonObject{{"psnr_all", c1.psnr}, {"psnr_change", c2.psnr}, {"gain_all", rgbJson(c1.gain)}, {"gain_change", rgbJson(c2.gain)}};
     };
     const QJsonObject n = scores(near), d = scores(distant), u = scores(photo);
     const double changeFraction = double(std::count(change.shadow.begin(), change.shadow.end(), 1)) / double(change.shadow.size());
@@ -393,6 +344,39 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
                                   {"reflectances", reflectances},
                                   {"variants", variants}});
   std::fprintf(stderr, "wrote %s\n", dir("report.json").c_str());
+  return 0;
+}
+
+int daylightRelight(const Scene& room, const std::string& skyName, const std::vector<std::string>& objectFiles,
+                    const std::string& method, const std::string& camera, const std::string& out, Progress& progress) {
+  if (method != "near-field" && method != "distant") throw Error("", "--daylight", "must be near-field or distant, not '" + method + "'");
+  const Photo* main = room.findPhoto(camera.empty() ? room.mainPhoto : camera);
+  if (!main) throw Error(room.sourceFile, "--camera", "the room has no photo named '" + camera + "'");
+  if (main->hdr.empty()) throw Error(room.sourceFile, "photo " + main->name, "daylight relighting needs its linear (EXR) image");
+  const std::string hdr = main->hdr.front() == '/' ? main->hdr : room.baseDir + "/" + main->hdr;
+  std::vector<Polygon> objects;
+  for (const auto& f : objectFiles) {
+    const Variant v = readVariantFile(f);
+    if (v.virtualObjects.empty()) throw Error(f, "virtual_objects", "lists no virtual object");
+    for (auto& o : daylightObjects(v, f)) objects.push_back(std::move(o));
+  }
+  // The sky: one of the room's measured skies by name, or an HDR fisheye file (looking up, image up +Y).
+  const dl::SkyRegions cells(64);
+  dl::SkyImage skyImage;
+  if (isRadianceFile(skyName)) {
+    int w = 0, h = 0;
+    imageSize(skyName, w, h);
+    skyImage = dl::readSkyImage(skyName, dl::fisheyeLookingUp(w, h));
+  } else {
+    skyImage = roomSky(room, skyName);
+  }
+  const dl::SkyRadiance sky = dl::averageSky(skyImage, cells);
+  const ImageRGB photo = readImageLinear(hdr);
+  Progress pre(progress, 0.0, 0.7), draw(progress, 0.7, 1.0);
+  dl::DaylightRelighting relit(room, photo, main->camera, dl::averageSky(roomSky(room, room.photoSky), cells), {}, pre);
+  const ImageRGB img = relit.render(sky, objects, method == "distant" ? dl::DaylightMethod::Distant : dl::DaylightMethod::NearField, draw);
+  writeImage(out, img);
+  std::fprintf(stderr, "wrote %s\n", out.c_str());
   return 0;
 }
 

@@ -271,12 +271,27 @@ int relightCommand(const QStringList& args, Progress& progress) {
                "FILE"});
   p.addOption({"method", "full (default) or ratio-only (original textures x B/B_orig).", "NAME"});
   p.addOption({"camera", "Photo whose camera to render (default: the textures' photo).", "NAME"});
+  p.addOption({"sky", "Daylight: a daylight room's measured sky by name, or an HDR fisheye (equidistant, 180 degrees, "
+                      "looking up, image up = +Y); PROJECT is then the room (bundle or project) with its windows.", "NAME|FISHEYE.exr"});
+  p.addOption({"daylight", "With --sky: near-field (default: the windows' light through the room's basis solutions) or "
+                           "distant (the sky at infinity, for comparison).", "METHOD"});
   p.addOption({{"o", "output"}, "Output image (.exr linear radiance, .png at the photo's exposure).", "IMG"});
-  parseOrThrow(p, args, 1, "relume relight PROJECT --lamp A=0 [--virtual-lamp F] [--virtual-object F] -o IMG");
+  parseOrThrow(p, args, 1, "relume relight PROJECT --lamp A=0 [--virtual-lamp F] [--virtual-object F] -o IMG\n"
+                           "       relume relight ROOM --sky NAME|FISHEYE.exr [--virtual-object F] [--daylight near-field|distant] -o IMG");
   if (!p.isSet("output")) throw Error("", "command line", "-o IMG is required");
   const QString out = p.value("output");
   const QString ext = QFileInfo(out).suffix().toLower();
   if (ext != "exr" && ext != "png") throw Error(str(out), "", "the output must end in .exr or .png");
+  if (p.isSet("sky")) {
+    if (p.isSet("lamp") || p.isSet("virtual-lamp") || p.isSet("method"))
+      throw Error("", "--sky", "daylight relighting takes no --lamp, --virtual-lamp or --method yet");
+    std::vector<std::string> files;
+    for (const QString& f : p.values("virtual-object")) files.push_back(str(f));
+    return daylightRelight(openRoom(p.positionalArguments()[0]), str(p.value("sky")), files,
+                           p.isSet("daylight") ? str(p.value("daylight")) : "near-field", str(p.value("camera")), str(out),
+                           progress);
+  }
+  if (p.isSet("daylight")) throw Error("", "--daylight", "needs --sky");
   RelightMethod method = RelightMethod::Full;
   if (p.isSet("method")) {
     if (p.value("method") == "ratio-only") method = RelightMethod::RatioOnly;

@@ -170,6 +170,7 @@ DaylightBasis::DaylightBasis(const Scene& scene, const SkyRadiance& refineFor, c
     surfaces[size_t(w)].exitance = glm::dvec3(kPi);
     surfaces[size_t(w)].distant = refineLight;
   }
+  refineLight_ = refineLight;
   const radiosity::Options engineOptions = options.engine ? *options.engine : radiosity::Options{};
   engine_ = std::make_unique<radiosity::HierarchicalRadiosity>(std::move(surfaces), engineOptions);
   engine_->removeSurfaces(outside_);
@@ -180,19 +181,53 @@ DaylightBasis::DaylightBasis(const Scene& scene, const SkyRadiance& refineFor, c
     engine_->solve(stage);
   }
   refineSeconds_ = seconds(t0);
-  t0 = std::chrono::steady_clock::now();
+  Progress stage(progress, 0.3, 1.0);
+  solveBases(stage);
+  progress.report(1.0, "daylight basis solved");
+}
+
+void DaylightBasis::solveBases(Progress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
   const int n = regions_.size() + 1;
-  bases_.reserve(size_t(n));
+  std::vector<std::vector<glm::vec3>> bases;
+  bases.reserve(size_t(n));
   for (int k = 0; k < n; ++k) {
-    Progress stage(progress, 0.3 + 0.7 * k / n, 0.3 + 0.7 * (k + 1) / n);
+    Progress stage(progress, double(k) / n, double(k + 1) / n);
     stage.report(0, k < regions_.size() ? "basis solution " + std::to_string(k + 1) + " of " + std::to_string(n) +
                                               " (sky region " + std::to_string(k + 1) + ")"
                                         : "basis solution " + std::to_string(n) + " of " + std::to_string(n) + " (the ground)");
-    bases_.push_back(solveFor(k < regions_.size() ? regionLight(regions_, k, options.pieceDeg) : groundLight(options.pieceDeg),
-                              stage));
+    bases.push_back(solveFor(k < regions_.size() ? regionLight(regions_, k, options_.pieceDeg) : groundLight(options_.pieceDeg),
+                             stage));
   }
+  bases_ = std::move(bases);
+  haveSun_ = false;  // solved again on demand, on the links as they are now
   secondsPerBasis_ = seconds(t0) / n;
-  progress.report(1.0, "daylight basis solved");
+}
+
+std::vector<int> DaylightBasis::addObjects(const std::vector<Polygon>& polygons, Progress& progress) {
+  std::vector<radiosity::Surface> add;
+  for (const auto& p : polygons) {
+    radiosity::Surface s;
+    s.name = p.name;
+    s.vertices = p.vertices;
+    s.reflectance = p.albedo;
+    add.push_back(std::move(s));
+  }
+  std::vector<int> ids;
+  {
+    // Their links are refined under the sky the hierarchy was refined for (never dark anywhere).
+    for (int w : windows_) engine_->setDistantLight(w, refineLight_);
+    Progress stage(progress, 0.0, 0.3);
+    ids = engine_->addSurfaces(add, stage);
+  }
+  Progress stage(progress, 0.3, 1.0);
+  solveBases(stage);
+  return ids;
+}
+
+void DaylightBasis::removeObjects(const std::vector<int>& surfaces, Progress& progress) {
+  engine_->removeSurfaces(surfaces);
+  solveBases(progress);
 }
 
 DaylightBasis::~DaylightBasis() = default;

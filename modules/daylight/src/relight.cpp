@@ -6,9 +6,12 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <map>
 #include <memory>
 #include <numbers>
+#include <string>
 
+#include "relume/geometry/error.h"
 #include "relume/geometry/polygon.h"
 #include "relume/radiosity/hierarchy.h"
 #include "relume/raytrace/ray_scene.h"
@@ -209,6 +212,93 @@ ImageRGB differentialRender(const ImageRGB& photo, const ImageRGB& ePhoto, const
     for (int c = 0; c < 3; ++c)
       if (a[c] > 1e-6f) v[c] = ph[c] * (b[c] / a[c]);
     put(out, i, v);
+  }
+  return out;
+}
+
+DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo, const Camera& camera,
+                                       const SkyRadiance& photoSky, const BasisOptions& options, Progress& progress)
+    : photo_(photo), camera_(camera) {
+  if (photo.width != camera.width || photo.height != camera.height)
+    throw Error(scene.sourceFile, "main photo", "its image is " + std::to_string(photo.width) + "x" + std::to_string(photo.height) +
+                                                    ", its camera " + std::to_string(camera.width) + "x" + std::to_string(camera.height));
+  Scene room = scene;
+  for (auto& poly : room.polygons) poly.albedo = glm::dvec3(0.5);
+  reflectances_.assign(room.polygons.size(), glm::dvec3(0.5));
+  estimated_.assign(room.polygons.size(), false);
+  constexpr int rounds = 3;
+  for (int round = 0; round < rounds; ++round) {
+    Progress stage(progress, double(round) / rounds, double(round + 1) / rounds);
+    stage.report(0, "estimating reflectances under the photos' sky (round " + std::to_string(round + 1) + " of " +
+                        std::to_string(rounds) + ")");
+    basis_ = std::make_unique<DaylightBasis>(room, photoSky, options, stage);
+    seen_ = seePixels(*basis_, camera);
+    ePhoto_ = irradianceImage(*basis_, seen_, photoSky, stage);
+    if (round + 1 == rounds) break;
+    const auto rho = reflectancesFromPhoto(seen_, photo, ePhoto_, room.polygons.size());
+    std::map<std::string, std::pair<glm::dvec3, double>> byMaterial;
+    glm::dvec3 all(0.0);
+    double allArea = 0;
+    for (size_t s = 0; s < rho.size(); ++s) {
+      if (rho[s].x < 0) continue;
+      const double a = polygonArea(room.polygons[s].vertices);
+      auto& m = byMaterial[room.polygons[s].material];
+      m.first += a * rho[s];
+      m.second += a;
+      all += a * rho[s];
+      allArea += a;
+    }
+    for (size_t s = 0; s < rho.size(); ++s) {
+      if (room.polygons[s].kind != PolygonKind::Real) continue;
+      const auto m = byMaterial.find(room.polygons[s].material);
+      estimated_[s] = rho[s].x >= 0;
+      room.polygons[s].albedo = rho[s].x >= 0 ? rho[s]
+                                : m != byMaterial.end() && !room.polygons[s].material.empty() ? m->second.first / m->second.second
+                                : allArea > 0 ? all / allArea
+                                              : glm::dvec3(0.5);
+      reflectances_[s] = room.polygons[s].albedo;
+    }
+  }
+}
+
+DaylightRelighting::~DaylightRelighting() = default;
+
+ImageRGB DaylightRelighting::render(const SkyRadiance& sky, const std::vector<Polygon>& objects, DaylightMethod method,
+                                    Progress& progress) {
+  std::vector<glm::dvec3> albedos;
+  std::vector<std::vector<glm::dvec3>> occluders;
+  for (const auto& o : objects) {
+    albedos.push_back(o.albedo);
+    occluders.push_back(o.vertices);
+  }
+  std::vector<int> ids;
+  SeenPixels seen = seen_;
+  if (!objects.empty()) {
+    Progress stage(progress, 0.0, 0.6);
+    ids = basis_->addObjects(objects, stage);
+    seen = seePixels(*basis_, camera_);
+  }
+  const int firstVirtual = ids.empty() ? int(basis_->engine().surfaces().size()) : ids.front();
+  ImageRGB out;
+  try {
+    if (method == DaylightMethod::NearField) {
+      Progress stage(progress, 0.6, 0.9);
+      eLast_ = irradianceImage(*basis_, seen, sky, stage);
+      out = differentialRender(photo_, ePhoto_, eLast_, seen, firstVirtual, albedos);
+    } else if (objects.empty()) {
+      out = photo_;  // the sky at infinity changes nothing the photo shows of the room
+    } else {
+      eLast_ = distantIrradianceImage(seen, basis_->regions(), sky, occluders);
+      out = differentialRender(photo_, distantIrradianceImage(seen, basis_->regions(), sky, {}), eLast_, seen, firstVirtual,
+                               albedos);
+    }
+  } catch (...) {
+    if (!ids.empty()) basis_->removeObjects(ids);
+    throw;
+  }
+  if (!ids.empty()) {
+    Progress stage(progress, 0.9, 1.0);
+    basis_->removeObjects(ids, stage);
   }
   return out;
 }

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "relume/daylight/sky.h"
+#include "relume/geometry/polygon.h"
 #include "relume/geometry/progress.h"
 
 namespace relume {
@@ -85,6 +86,13 @@ class DaylightBasis {
   // windows' F (and V for a beam) recomputed, then gather and push-pull to the tolerance.
   std::vector<glm::vec3> solveFor(std::shared_ptr<const radiosity::DistantLight> light, Progress& progress = silentProgress());
 
+  // Virtual objects (Loscos §4.4 on the basis): polygons added to the live hierarchy (their links
+  // refined, V redone where they cross), or removed again; every basis is solved again on the same
+  // links, so that the room's solution changes only where they change it. Returns the new
+  // surfaces' indices (after every polygon of the scene, in order).
+  std::vector<int> addObjects(const std::vector<Polygon>& polygons, Progress& progress = silentProgress());
+  void removeObjects(const std::vector<int>& surfaces, Progress& progress = silentProgress());
+
   const radiosity::HierarchicalRadiosity& engine() const { return *engine_; }
   const std::vector<int>& windows() const { return windows_; }
   const std::vector<int>& outside() const { return outside_; }  // polygons left out of the engine
@@ -104,6 +112,8 @@ class DaylightBasis {
   bool haveSun_ = false;
   double groundReflectance_ = 0.2;
   double secondsPerBasis_ = 0, refineSeconds_ = 0;
+  void solveBases(Progress& progress);
+  std::shared_ptr<const radiosity::DistantLight> refineLight_;
 };
 
 // Whether a cone of directions (unit `axis`, `halfAngle` radians) can reach sky region `cell`:

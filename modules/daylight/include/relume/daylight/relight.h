@@ -13,10 +13,12 @@
 // known exposures); reflectances are estimated from the photo under its own sky.
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <memory>
 #include <vector>
 
 #include "relume/daylight/basis.h"
 #include "relume/geometry/camera.h"
+#include "relume/geometry/scene.h"
 #include "relume/image/image.h"
 
 namespace relume::daylight {
@@ -59,5 +61,37 @@ std::vector<glm::dvec3> reflectancesFromPhoto(const SeenPixels& px, const ImageR
 // albedo x eNew / pi.
 ImageRGB differentialRender(const ImageRGB& photo, const ImageRGB& ePhoto, const ImageRGB& eNew, const SeenPixels& seenNew,
                             int firstVirtual, const std::vector<glm::dvec3>& virtualAlbedo);
+
+// The whole path for a daylight room: reflectances estimated from the main photo under the
+// photos' sky (pi L / E per polygon over its pixels, three rounds of basis solutions; polygons the
+// photo does not show take their material's, or the shown polygons' mean), then any sky and any
+// virtual objects rendered into the photo, near-field (the basis solutions, the windows' own
+// light) or distant (the sky at infinity, the objects the only occluders, the room as
+// photographed) — Grosch's comparison.
+enum class DaylightMethod { NearField, Distant };
+
+class DaylightRelighting {
+ public:
+  DaylightRelighting(const Scene& scene, const ImageRGB& photo, const Camera& camera, const SkyRadiance& photoSky,
+                     const BasisOptions& options = {}, Progress& progress = silentProgress());
+  ~DaylightRelighting();
+  // The photo under `sky` with `objects` (polygons with their albedos) inserted.
+  ImageRGB render(const SkyRadiance& sky, const std::vector<Polygon>& objects, DaylightMethod method,
+                  Progress& progress = silentProgress());
+  // Per polygon of the scene: the reflectance used (estimated, or taken from its material).
+  const std::vector<glm::dvec3>& reflectances() const { return reflectances_; }
+  const std::vector<bool>& estimated() const { return estimated_; }  // shown by the photo
+  const ImageRGB& photoIrradiance() const { return ePhoto_; }
+  const ImageRGB& lastIrradiance() const { return eLast_; }
+  DaylightBasis& basis() { return *basis_; }
+
+ private:
+  ImageRGB photo_, ePhoto_, eLast_;
+  Camera camera_;
+  std::unique_ptr<DaylightBasis> basis_;
+  SeenPixels seen_;
+  std::vector<glm::dvec3> reflectances_;
+  std::vector<bool> estimated_;
+};
 
 }  // namespace relume::daylight

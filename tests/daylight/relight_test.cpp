@@ -1,0 +1,181 @@
+// Daylight differential rendering: the sun's patch per pixel against the window's outline cast
+// by the test's own geometry, and a virtual box that darkens only where it newly blocks the sun
+// and shows its albedo x irradiance / pi.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <algorithm>
+#include <cstdio>
+#include <glm/geometric.hpp>
+#include <memory>
+#include <numbers>
+
+#include "relume/daylight/basis.h"
+#include "relume/daylight/relight.h"
+#include "relume/geometry/camera.h"
+#include "relume/radiosity/hierarchy.h"
+#include "relume/relight/relighter.h"
+#include "window_room.h"
+
+using namespace relume;
+using namespace relume::daylight;
+using namespace relume::testing;
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr double kElev = 30 * kPi / 180;
+const glm::dvec3 kSun(std::cos(kElev), 0.0, std::sin(kElev));  // towards +X, through the window
+constexpr double kSunE = 2.0;                                     // irradiance facing the sun
+
+// A dark sky but for the sun (every region black), so that the sun's light is all there is.
+SkyRadiance sunOnly(int regions) {
+  SkyRadiance s;
+  s.region.assign(size_t(regions), glm::dvec3(0.0));
+  s.sun.found = true;
+  s.sun.direction = kSun;
+  s.sun.irradiance = glm::dvec3(kSunE);
+  return s;
+}
+
+// Is the floor point (x, y) in the window's patch: does the line towards the sun cross the window?
+bool inPatch(double x, double y) {
+  const double t = (W - x) / kSun.x;  // to the window's plane
+  const glm::dvec3 p = glm::dvec3(x, y, 0) + t * kSun;
+  return p.y > Y0 && p.y < Y1 && p.z > Z0 && p.z < Z1;
+}
+// Distance (m) from (x, y) to the patch's outline, along the floor: within `d` of an edge?
+bool nearPatchEdge(double x, double y, double d) {
+  for (double dx : {-d, 0.0, d})
+    for (double dy : {-d, 0.0, d})
+      if (inPatch(x + dx, y + dy) != inPatch(x, y)) return true;
+  return false;
+}
+
+BasisOptions options() {
+  BasisOptions o;
+  o.regions = 16;
+  o.groundReflectance = 0;
+  return o;
+}
+
+glm::vec3 pixel(const ImageRGB& im, size_t i) { return {im.pixels[3 * i], im.pixels[3 * i + 1], im.pixels[3 * i + 2]}; }
+}  // namespace
+
+TEST(DaylightRelight, TheSunsPatchPerPixelIsTheWindowsOutlineCastOnTheFloor) {
+  const Scene room = windowRoom(0.5, 0.0, 0.0);  // only the floor reflects: no light but the sun's
+  DaylightBasis basis(room, sunOnly(16), options());
+  const Camera cam = Camera::lookAt({0.6, 2.55, 2.5}, {2.2, 2.55, 0.0}, 320, 240, 220);
+  const SeenPixels seen = seePixels(basis, cam);
+  const ImageRGB e = irradianceImage(basis, seen, sunOnly(16));
+  size_t floorPixels = 0, wrong = 0, inside = 0;
+  double worstInside = 0;
+  for (size_t i = 0; i < seen.surface.size(); ++i) {
+    if (seen.surface[i] != 0) continue;
+    const glm::dvec3& p = seen.point[i];
+    if (nearPatchEdge(p.x, p.y, 0.05)) continue;  // the pixels' footprint and the sun's penumbra
+    ++floorPixels;
+    const bool lit = pixel(e, i).x > 0.5 * kSunE * std::sin(kElev);
+    if (lit != inPatch(p.x, p.y)) ++wrong;
+    if (inPatch(p.x, p.y)) {
+      ++inside;
+      worstInside = std::max(worstInside, std::abs(pixel(e, i).x / (kSunE * std::sin(kElev)) - 1));
+    }
+  }
+  std::printf("floor pixels %zu (%zu in the patch): %zu on the wrong side of the outline; inside, E within %.3f %% of "
+              "E_sun sin(e)\n",
+              floorPixels, inside, wrong, 100 * worstInside);
+  ASSERT_GT(inside, 2000u);
+  EXPECT_LT(double(wrong), 0.002 * double(floorPixels));
+  // Inside, the floor sees the sun fully (its disc stays within the window) and nothing else
+  // lights it but light from the floor itself, which a plane cannot see.
+  EXPECT_LT(worstInside, 0.01);
+}
+
+TEST(DaylightRelight, AVirtualBoxDarkensOnlyWhereItNewlyBlocksTheSunAndShowsItsAlbedo) {
+  const Scene room = windowRoom(0.5, 0.6, 0.7);
+  const SkyRadiance sky = sunOnly(16);
+  DaylightBasis basis(room, sky, options());
+  // A 40 cm box standing in the patch's middle.
+  const double xc = W - 0.5 * (Z0 + Z1) / std::tan(kElev), yc = 0.5 * (Y0 + Y1), h = 0.2;
+  const glm::dvec3 lo(xc - h, yc - h, 0.0), hi(xc + h, yc + h, 2 * h);
+  const glm::dvec3 albedo(0.8, 0.4, 0.1);
+  const Camera cam = Camera::lookAt({0.4, 0.6, 2.3}, {xc, yc, 0.0}, 320, 240, 220);
+  const SeenPixels seen = seePixels(basis, cam);
+  const ImageRGB ePhoto = irradianceImage(basis, seen, sky);
+  std::vector<Polygon> faces;
+  for (const auto& f : boxObject("box", lo, hi, albedo).polygons) {
+    Polygon p = poly("box", f, 0.0);
+    p.albedo = albedo;
+    faces.push_back(p);
+  }
+  const int firstVirtual = int(room.polygons.size());
+  ASSERT_EQ(basis.addObjects(faces).front(), firstVirtual);
+  const SeenPixels seenBox = seePixels(basis, cam);
+  const ImageRGB eBox = irradianceImage(basis, seenBox, sky);
+  // The "photo": a uniform grey surface everywhere (what it shows does not matter to the ratio).
+  ImageRGB photo(cam.width, cam.height);
+  for (auto& v : photo.pixels) v = 0.25f;
+  const ImageRGB out = differentialRender(photo, ePhoto, eBox, seenBox, firstVirtual, {6, albedo});
+  // The box's shadow on the floor, by the test's own ray-box test towards the sun.
+  auto shadowed = [&](const glm::dvec3& p) {
+    double t0 = 0, t1 = 1e9;
+    for (int a = 0; a < 3; ++a) {
+      if (std::abs(kSun[a]) < 1e-12) {
+        if (p[a] < lo[a] || p[a] > hi[a]) return false;
+        continue;
+      }
+      double u = (lo[a] - p[a]) / kSun[a], v = (hi[a] - p[a]) / kSun[a];
+      if (u > v) std::swap(u, v);
+      t0 = std::max(t0, u), t1 = std::min(t1, v);
+    }
+    return t0 < t1;
+  };
+  size_t inShadow = 0, darkened = 0, top = 0, topRight = 0;
+  std::vector<float> farRatio;
+  std::vector<uint8_t> isFar(seenBox.surface.size(), 0);
+  for (size_t i = 0; i < seenBox.surface.size(); ++i) {
+    const int s = seenBox.surface[i];
+    if (s == 0) {
+      const glm::dvec3& p = seenBox.point[i];
+      const double dx = std::max({lo.x - p.x, p.x - hi.x, 0.0}), dy = std::max({lo.y - p.y, p.y - hi.y, 0.0});
+      const glm::dvec3 shifted = p + glm::dvec3(0.03, 0, 0), back = p - glm::dvec3(0.03, 0, 0);
+      const bool solid = shadowed(p) && shadowed(shifted) && shadowed(back) && shadowed(p + glm::dvec3(0, 0.03, 0)) &&
+                         shadowed(p - glm::dvec3(0, 0.03, 0));
+      if (solid && inPatch(p.x, p.y) && !nearPatchEdge(p.x, p.y, 0.03)) {
+        ++inShadow;
+        // What stays is the light the sun does not bring directly: a small share of it.
+        if (pixel(out, i).x < 0.35f * 0.25f) ++darkened;
+      } else if (std::hypot(dx, dy) > 1.0 && !inPatch(p.x, p.y) && !nearPatchEdge(p.x, p.y, 0.03)) {
+        // Far from the box and out of the sun: lit only by the room, which lost the patch the
+        // box shades and gained what the box reflects (the nearer, the more) — a smooth
+        // change, no new edges: next to each other, two pixels change alike.
+        isFar[i] = 1;
+        farRatio.push_back(pixel(out, i).y / 0.25f);
+      }
+    } else if (s >= firstVirtual) {
+      // The top face: lit by the sun at sin(e) (and a little by the room).
+      const glm::dvec3& p = seenBox.point[i];
+      if (std::abs(p.z - hi.z) > 1e-6 || p.x < lo.x + 0.03 || p.x > hi.x - 0.03 || p.y < lo.y + 0.03 || p.y > hi.y - 0.03) continue;
+      ++top;
+      const glm::vec3 want = glm::vec3(albedo / kPi * (kSunE * std::sin(kElev)));
+      const glm::vec3 got = pixel(out, i);
+      if (got.x > want.x && got.x < 1.15f * want.x && std::abs(got.y / got.x - 0.5f) < 0.02f) ++topRight;
+    }
+  }
+  ASSERT_GT(farRatio.size(), 2000u);
+  size_t pairs = 0, jumps = 0;
+  for (size_t i = 0; i + 1 < isFar.size(); ++i) {
+    if (!isFar[i] || !isFar[i + 1] || (i + 1) % size_t(cam.width) == 0) continue;
+    ++pairs;
+    jumps += std::abs(pixel(out, i).y - pixel(out, i + 1).y) > 0.005f * 0.25f;
+  }
+  std::sort(farRatio.begin(), farRatio.end());
+  std::printf("box shadow: %zu of %zu pixels darkened below 35 %%; far floor (green): ratios %.3f - %.3f, %zu of %zu "
+              "neighbours differing by more than 0.5 %%; top face: %zu of %zu at albedo x E / pi\n",
+              darkened, inShadow, farRatio.front(), farRatio.back(), jumps, pairs, topRight, top);
+  ASSERT_GT(inShadow, 200u);
+  ASSERT_GT(top, 100u);
+  EXPECT_GT(double(darkened), 0.98 * double(inShadow));
+  EXPECT_LT(double(jumps), 0.01 * double(pairs));
+  EXPECT_EQ(topRight, top);
+}
