@@ -13,7 +13,9 @@
 #include "relume/daylight/basis.h"
 #include "relume/daylight/relight.h"
 #include "relume/geometry/camera.h"
+#include "relume/geometry/polygon.h"
 #include "relume/radiosity/hierarchy.h"
+#include "relume/raytrace/ray_scene.h"
 #include "relume/relight/relighter.h"
 #include "window_room.h"
 
@@ -130,7 +132,7 @@ TEST(DaylightRelight, AVirtualBoxDarkensOnlyWhereItNewlyBlocksTheSunAndShowsItsA
     }
     return t0 < t1;
   };
-  size_t inShadow = 0, darkened = 0, top = 0, topRight = 0;
+  size_t inShadow = 0, darkened = 0, stillLit = 0, wronglyDark = 0, top = 0, topRight = 0;
   std::vector<float> farRatio;
   std::vector<uint8_t> isFar(seenBox.surface.size(), 0);
   for (size_t i = 0; i < seenBox.surface.size(); ++i) {
@@ -141,10 +143,15 @@ TEST(DaylightRelight, AVirtualBoxDarkensOnlyWhereItNewlyBlocksTheSunAndShowsItsA
       const glm::dvec3 shifted = p + glm::dvec3(0.03, 0, 0), back = p - glm::dvec3(0.03, 0, 0);
       const bool solid = shadowed(p) && shadowed(shifted) && shadowed(back) && shadowed(p + glm::dvec3(0, 0.03, 0)) &&
                          shadowed(p - glm::dvec3(0, 0.03, 0));
+      const bool clear = !shadowed(p) && !shadowed(shifted) && !shadowed(back) && !shadowed(p + glm::dvec3(0, 0.03, 0)) &&
+                         !shadowed(p - glm::dvec3(0, 0.03, 0));
       if (solid && inPatch(p.x, p.y) && !nearPatchEdge(p.x, p.y, 0.03)) {
         ++inShadow;
         // What stays is the light the sun does not bring directly: a small share of it.
         if (pixel(out, i).x < 0.35f * 0.25f) ++darkened;
+      } else if (clear && inPatch(p.x, p.y) && !nearPatchEdge(p.x, p.y, 0.03)) {
+        ++stillLit;  // in the sun, out of the box's shadow: it must stay lit
+        if (pixel(out, i).x < 0.35f * 0.25f) ++wronglyDark;
       } else if (std::hypot(dx, dy) > 1.0 && !inPatch(p.x, p.y) && !nearPatchEdge(p.x, p.y, 0.03)) {
         // Far from the box and out of the sun: lit only by the room, which lost the patch the
         // box shades and gained what the box reflects (the nearer, the more) — a smooth
@@ -175,7 +182,118 @@ TEST(DaylightRelight, AVirtualBoxDarkensOnlyWhereItNewlyBlocksTheSunAndShowsItsA
               darkened, inShadow, farRatio.front(), farRatio.back(), jumps, pairs, topRight, top);
   ASSERT_GT(inShadow, 200u);
   ASSERT_GT(top, 100u);
+  std::printf("in the sun and out of the box's shadow: %zu of %zu pixels darkened\n", wronglyDark, stillLit);
+  ASSERT_GT(stillLit, 1000u);
   EXPECT_GT(double(darkened), 0.98 * double(inShadow));
+  EXPECT_LT(double(wronglyDark), 0.01 * double(stillLit));
   EXPECT_LT(double(jumps), 0.01 * double(pairs));
   EXPECT_EQ(topRight, top);
+}
+
+TEST(DaylightRelight, TheSunlitPatchOfTheSolutionSitsWhereRaysThroughTheWindowPutIt) {
+  // Three suns (each patch wholly on the floor): the floor's sunlit patch in the radiosity
+  // solution (each leaf's direct sun) has its centroid where the window's outline cast along the
+  // sun puts it.
+  const Scene room = windowRoom(0.5, 0.6, 0.7);
+  struct Sun {
+    double elev, azim;
+  };
+  // One basis, refined for the photos' sky (the first sun); the others are solved on its links.
+  SkyRadiance sky;
+  sky.region.assign(16, glm::dvec3(0.2));
+  sky.sun.found = true;
+  sky.sun.direction = kSun;
+  sky.sun.irradiance = glm::dvec3(20.0);
+  DaylightBasis basis(room, sky, options());
+  for (const Sun sun : {Sun{30, 0}, Sun{45, 25}, Sun{35, -20}}) {
+    const double e = sun.elev * kPi / 180, a = sun.azim * kPi / 180;
+    const glm::dvec3 d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
+    basis.sunSolution(d);
+    const auto& eng = basis.engine();
+    const auto& direct = basis.sunDirect();
+    glm::dvec2 sum(0.0);
+    double w = 0;
+    std::vector<int> stack{eng.surfaceRoot(0)};
+    while (!stack.empty()) {
+      const int n = stack.back();
+      stack.pop_back();
+      const auto& N = eng.nodes()[size_t(n)];
+      if (!N.isLeaf()) {
+        for (int i = 0; i < N.childCount; ++i) stack.push_back(eng.children()[size_t(N.childBegin + i)]);
+        continue;
+      }
+      const double m = double(N.area) * direct[size_t(n)].x;
+      sum += m * glm::dvec2(N.center.x, N.center.y);
+      w += m;
+    }
+    // The window's corners cast along the sun onto the floor: a parallelogram, its centroid the corners' mean.
+    glm::dvec2 want(0.0);
+    for (const auto& c : facingMinusX(W, Y0, Y1, Z0, Z1)) want += glm::dvec2(c.x - c.z / d.z * d.x, c.y - c.z / d.z * d.y) / 4.0;
+    const glm::dvec2 got = sum / w;
+    std::printf("sun %.0f deg up, %.0f deg round: patch centroid (%.3f, %.3f), rays put it at (%.3f, %.3f): %.1f cm off\n",
+                sun.elev, sun.azim, got.x, got.y, want.x, want.y, 100 * glm::length(got - want));
+    EXPECT_LT(glm::length(got - want), 0.05);
+  }
+}
+
+TEST(DaylightRelight, ABoxInACornerTheSunNeverReachesGathersWhatRaysOverItsHemisphereSee) {
+  // The box's faces' irradiance in the combined solution against a brute-force gather: cosine-
+  // distributed rays from points on each face, each taking the radiance of the leaf it hits
+  // (B / pi of the same solution) or, out through the window, the sky's (or the ground's).
+  const Scene room = windowRoom(0.4, 0.7, 0.8);
+  SkyRadiance sky;
+  sky.region.assign(16, glm::dvec3(1.0));
+  for (size_t k = 0; k < sky.region.size(); ++k) sky.region[k] = glm::dvec3(0.6 + 0.05 * double(k % 5));
+  sky.sun.found = true;
+  sky.sun.direction = kSun;
+  sky.sun.irradiance = glm::dvec3(30.0);
+  BasisOptions o = options();
+  o.groundReflectance = 0.2;
+  DaylightBasis basis(room, sky, o);
+  const glm::dvec3 lo(0.1, 0.1, 0.0), hi(0.6, 0.6, 0.5);  // the front-left corner, far from the patch
+  std::vector<Polygon> faces;
+  for (const auto& f : boxObject("box", lo, hi, glm::dvec3(0.5)).polygons) faces.push_back(poly("box", f, 0.5));
+  const std::vector<int> ids = basis.addObjects(faces);
+  const std::vector<glm::vec3> b = basis.combine(sky);
+  const auto& eng = basis.engine();
+  const glm::dvec3 ground = basis.groundRadiance(sky);
+  uint64_t state = 99;
+  auto uni = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return double(state >> 11) / 9007199254740992.0;
+  };
+  for (int id : ids) {
+    const auto& v = eng.surfaces()[size_t(id)].vertices;
+    const glm::dvec3 n = polygonNormal(v);
+    if (n.z < -0.5) continue;  // the bottom face stands on the floor
+    const glm::dvec3 t = glm::normalize(v[1] - v[0]), u = glm::cross(n, t);
+    double brute = 0;
+    constexpr int points = 16, rays = 2048;
+    for (int p = 0; p < points; ++p) {
+      // A point on the face (the mean of its corners, jittered over its middle).
+      glm::dvec3 c(0.0);
+      for (const auto& q : v) c += q / double(v.size());
+      const glm::dvec3 x = c + (uni() - 0.5) * 0.4 * glm::length(v[1] - v[0]) * t + (uni() - 0.5) * 0.4 * glm::length(v[2] - v[1]) * u +
+                           1e-4 * n;
+      for (int r = 0; r < rays; ++r) {
+        const double r1 = uni(), r2 = uni(), s = std::sqrt(r1), phi = 2 * kPi * r2;
+        const glm::dvec3 d = s * std::cos(phi) * t + s * std::sin(phi) * u + std::sqrt(1 - r1) * n;
+        const RayHit hit = eng.rayScene().intersect(Ray{glm::vec3(x), glm::vec3(d), 1e-5f, 1e30f});
+        double l = 0;
+        if (hit.polygon >= 0) {
+          const glm::dvec3 h = x + double(hit.t) * d;
+          l = b[size_t(eng.findLeaf(hit.polygon, eng.toUV(hit.polygon, h)))].x / kPi;
+        } else {
+          const int k = basis.regions().regionOf(d);
+          l = k >= 0 ? sky.region[size_t(k)].x : ground.x;
+        }
+        brute += kPi * l / rays;  // cosine-weighted: E = pi x the mean radiance
+      }
+    }
+    brute /= points;
+    const double solved = basis.surfaceMean(b, id).x / 0.5;
+    std::printf("box face (normal %+.0f %+.0f %+.0f): solution %.4f, brute-force gather %.4f (%+.1f %%)\n", n.x, n.y, n.z, solved,
+                brute, 100 * (solved / brute - 1));
+    EXPECT_NEAR(solved, brute, 0.15 * brute);
+  }
 }
