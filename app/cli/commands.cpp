@@ -252,6 +252,7 @@ int benchCommand(const QStringList& args, Progress& progress) {
   p.addOption({"json", "Output JSON file.", "OUT.json"});
   p.addOption({"runs", "Repetitions per figure (median reported; default 5).", "N"});
   p.addOption({"edit-links", "Link count for the lamp-edit figure (default 50000).", "N"});
+  p.addOption({"daylight-only", "Only the daylight figures (a room with windows and measured skies)."});
   addEngineOptions(p);
   parseOrThrow(p, args, 1, "relume bench ROOM --json OUT.json [--runs N]");
   if (!p.isSet("json")) throw Error("", "command line", "--json OUT.json is required");
@@ -264,6 +265,14 @@ int benchCommand(const QStringList& args, Progress& progress) {
   out["room"] = QString::fromStdString(scene.sourceFile);
   out["runs"] = runs;
   out["threads"] = int(std::thread::hardware_concurrency());
+  if (p.isSet("daylight-only")) {
+    if (scene.skies.empty()) throw Error(scene.sourceFile, "--daylight-only", "the room has no measured sky");
+    out["daylight"] = daylightBench(scene, runs, progress);
+    out["peak_memory_bytes"] = qint64(peakRssBytes());
+    writeJsonAtomically(p.value("json"), out);
+    std::fprintf(stderr, "%s\n", QJsonDocument(out).toJson(QJsonDocument::Indented).constData());
+    return 0;
+  }
 
   // 1. Full solve at the given (default) settings.
   std::vector<double> solveTimes;
@@ -360,6 +369,10 @@ int benchCommand(const QStringList& args, Progress& progress) {
     out["relight"] = relightBench(scene, runs, rp);
     ProgressScope ip(progress, 0.85, 0.97);
     out["image_based_objects"] = ibrBench(scene, runs, ip);
+  }
+  if (!scene.skies.empty()) {
+    ProgressScope dp(progress, 0.9, 0.97);
+    out["daylight"] = daylightBench(scene, runs, dp);
   }
   {
     ProgressScope rp(progress, 0.97, 1.0);

@@ -65,5 +65,8 @@ QJsonObject reconstructBench(const Scene& scene, int runs, Progress& progress);
 // The image-based object figures: a 1M-triangle mesh's fan, tables for a new lamp setting, one
 // object and its shadows composited into a relit 640 x 480 image (medians of `runs`).
 QJsonObject ibrBench(const Scene& scene, int runs, Progress& progress);
+// The daylight figures of a room with windows and measured skies: the 64 basis solutions, the
+// sky's averaging, a new sun, the combination (Eq. 3), the relit main photo, a box added.
+QJsonObject daylightBench(const Scene& scene, int runs, Progress& progress);
 
 }  // namespace relume::cli

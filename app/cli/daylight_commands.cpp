@@ -4,6 +4,8 @@
 #include <QCommandLineParser>
 #include <QJsonArray>
 #include <QJsonObject>
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -378,6 +380,88 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   writeImage(out, img);
   std::fprintf(stderr, "wrote %s\n", out.c_str());
   return 0;
+}
+
+QJsonObject daylightBench(const Scene& scene, int runs, Progress& progress) {
+  auto ms = [](std::chrono::steady_clock::time_point t0) {
+    return 1000.0 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+  };
+  const dl::SkyRegions cells(64);
+  const dl::SkyImage photoImage = roomSky(scene, scene.photoSky);
+  std::vector<double> averaging;
+  dl::SkyRadiance photoSky;
+  for (int r = 0; r < runs; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    photoSky = dl::averageSky(photoImage, cells);
+    averaging.push_back(ms(t0));
+  }
+  // The basis (64 regions and the ground), once: it takes seconds.
+  progress.report(0.0, "bench: 64 daylight basis solutions");
+  auto t0 = std::chrono::steady_clock::now();
+  dl::DaylightBasis basis(scene, photoSky, {}, progress);
+  const double basisSeconds = ms(t0) / 1000;
+  // Another sky: its sun solved once, then the combination (Eq. 3) alone, repeated.
+  const SkyCapture* other = nullptr;
+  for (const auto& c : scene.skies)
+    if (!other && c.name != scene.photoSky) other = &c;
+  const dl::SkyRadiance sky = other ? dl::averageSky(roomSky(scene, other->name), cells) : photoSky;
+  t0 = std::chrono::steady_clock::now();
+  if (sky.sun.found) basis.sunSolution(sky.sun.direction);
+  const double newSunSeconds = ms(t0) / 1000;
+  std::vector<double> combine;
+  for (int r = 0; r < std::max(runs, 5); ++r) {
+    t0 = std::chrono::steady_clock::now();
+    const auto b = basis.combine(sky);
+    combine.push_back(ms(t0));
+  }
+  // The relit main photo under that sky (irradiance per pixel, direct sun by rays; differential).
+  QJsonObject relit;
+  if (const Photo* main = scene.findPhoto(scene.mainPhoto); main && !main->hdr.empty()) {
+    const ImageRGB photo = readImageLinear(main->hdr.front() == '/' ? main->hdr : scene.baseDir + "/" + main->hdr);
+    const dl::SeenPixels seen = dl::seePixels(basis, main->camera);
+    const ImageRGB ePhoto = dl::irradianceImage(basis, seen, photoSky);
+    std::vector<double> frame;
+    for (int r = 0; r < runs; ++r) {
+      t0 = std::chrono::steady_clock::now();
+      const ImageRGB e = dl::irradianceImage(basis, seen, sky);
+      const ImageRGB img = dl::differentialRender(photo, ePhoto, e, seen, int(basis.engine().surfaces().size()), {});
+      frame.push_back(ms(t0));
+    }
+    // A 40 cm box added to the live hierarchy, every basis solved again, and taken out.
+    std::vector<Polygon> faces;
+    glm::dvec3 lo(1e300), hi(-1e300);
+    for (const auto& p : scene.polygons)
+      if (p.kind == PolygonKind::Real && polygonNormal(p.vertices).z > 0.9 && !basis.engine().isRemoved(int(&p - scene.polygons.data())))
+        for (const auto& v : p.vertices) lo = glm::min(lo, v), hi = glm::max(hi, v);
+    const glm::dvec3 c = 0.5 * (lo + hi);
+    for (const auto& f : boxObject("box", {c.x - 0.2, c.y - 0.2, lo.z}, {c.x + 0.2, c.y + 0.2, lo.z + 0.4}, glm::dvec3(0.5)).polygons) {
+      Polygon poly;
+      poly.name = "box";
+      poly.vertices = f;
+      faces.push_back(poly);
+    }
+    t0 = std::chrono::steady_clock::now();
+    const auto ids = basis.addObjects(faces);
+    const double add = ms(t0) / 1000;
+    basis.removeObjects(ids);
+    relit = QJsonObject{{"width", photo.width}, {"height", photo.height}, {"median_ms", median(frame)},
+                        {"object_added_seconds", add}};
+  }
+  const auto& eng = basis.engine();
+  return QJsonObject{{"regions", cells.size()},
+                     {"elements", double(eng.nodes().size())},
+                     {"links", double(eng.links().size())},
+                     {"basis_seconds", basisSeconds},
+                     {"refine_seconds", basis.refineSeconds()},
+                     {"seconds_per_basis", basis.secondsPerBasis()},
+                     {"sky_averaging_median_ms", median(averaging)},
+                     {"new_sun_seconds", newSunSeconds},
+                     {"combination_median_ms", median(combine)},
+                     {"relit_image", relit}};
 }
 
 }  // namespace relume::cli

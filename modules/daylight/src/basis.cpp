@@ -1,5 +1,8 @@
 #include "relume/daylight/basis.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -278,7 +281,22 @@ const std::vector<glm::vec3>& DaylightBasis::sunSolution(const glm::dvec3& direc
 }
 
 glm::dvec3 DaylightBasis::groundRadiance(const SkyRadiance& sky) const {
-  return groundReflectance_ * planeIrradiance(regions_, sky, {0, 0, 1}) / kPi;
+  // The horizontal plane's projected solid angle per region, integrated once (the constructor
+  // asks first, so no two threads fill it at once).
+  if (horizontal_.empty()) {
+    SkyRadiance unit;
+    unit.region.assign(size_t(regions_.size()), glm::dvec3(0.0));
+    horizontal_.resize(size_t(regions_.size()));
+    for (int k = 0; k < regions_.size(); ++k) {
+      unit.region[size_t(k)] = glm::dvec3(1.0);
+      horizontal_[size_t(k)] = planeIrradiance(regions_, unit, {0, 0, 1}).x;
+      unit.region[size_t(k)] = glm::dvec3(0.0);
+    }
+  }
+  glm::dvec3 e(0.0);
+  for (int k = 0; k < regions_.size(); ++k) e += horizontal_[size_t(k)] * sky.region[size_t(k)];
+  if (sky.sun.found) e += sky.sun.irradiance * std::max(0.0, glm::normalize(sky.sun.direction).z);
+  return groundReflectance_ * e / kPi;
 }
 
 std::vector<glm::vec3> DaylightBasis::combine(const SkyRadiance& sky, Progress& progress) {
@@ -288,15 +306,25 @@ std::vector<glm::vec3> DaylightBasis::combine(const SkyRadiance& sky, Progress& 
   // The sun first: its links may refine the hierarchy, and every basis then covers the new elements.
   const bool sun = sky.sun.found && sky.sun.direction.z > 0;
   if (sun) sunSolution(sky.sun.direction, progress);
-  std::vector<glm::vec3> b(engine_->nodes().size(), glm::vec3(0.f));
-  auto add = [&](const std::vector<glm::vec3>& basis, const glm::dvec3& weight) {
-    const glm::vec3 w(weight);
-    if (w == glm::vec3(0.f)) return;
-    for (size_t i = 0; i < b.size(); ++i) b[i] += w * basis[i];
+  // The weights and their solutions, then one pass over the nodes in parallel chunks.
+  std::vector<const glm::vec3*> src;
+  std::vector<glm::vec3> w;
+  auto term = [&](const std::vector<glm::vec3>& basis, const glm::dvec3& weight) {
+    if (weight == glm::dvec3(0.0)) return;
+    src.push_back(basis.data());
+    w.emplace_back(weight);
   };
-  for (int k = 0; k < regions_.size(); ++k) add(bases_[size_t(k)], sky.region[size_t(k)]);
-  add(bases_.back(), groundRadiance(sky));
-  if (sun) add(sun_, sky.sun.irradiance);
+  for (int k = 0; k < regions_.size(); ++k) term(bases_[size_t(k)], sky.region[size_t(k)]);
+  term(bases_.back(), groundRadiance(sky));
+  if (sun) term(sun_, sky.sun.irradiance);
+  std::vector<glm::vec3> b(engine_->nodes().size(), glm::vec3(0.f));
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, b.size(), 2048), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t t = 0; t < src.size(); ++t) {
+      const glm::vec3 wt = w[t];
+      const glm::vec3* s = src[t];
+      for (size_t i = r.begin(); i < r.end(); ++i) b[i] += wt * s[i];
+    }
+  });
   return b;
 }
 

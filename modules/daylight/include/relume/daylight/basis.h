@@ -114,6 +114,7 @@ class DaylightBasis {
   double secondsPerBasis_ = 0, refineSeconds_ = 0;
   void solveBases(Progress& progress);
   std::shared_ptr<const radiosity::DistantLight> refineLight_;
+  mutable std::vector<double> horizontal_;  // per region: projected solid angle on a horizontal plane
 };
 
 // Whether a cone of directions (unit `axis`, `halfAngle` radians) can reach sky region `cell`:
