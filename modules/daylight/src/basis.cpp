@@ -60,6 +60,19 @@ std::shared_ptr<radiosity::DistantLight> groundLight(double pieceDeg) {
 }
 }  // namespace
 
+std::vector<int> outsidePolygons(const Scene& scene) {
+  std::vector<int> out;
+  for (size_t i = 0; i < scene.polygons.size(); ++i) {
+    const Polygon& p = scene.polygons[i];
+    if (p.kind == PolygonKind::Window) continue;
+    bool beyondSome = false;
+    for (const auto& w : scene.polygons)
+      if (w.kind == PolygonKind::Window && w.vertices.size() >= 3) beyondSome = beyondSome || beyond(p, w);
+    if (beyondSome) out.push_back(int(i));
+  }
+  return out;
+}
+
 bool coneMeetsCell(const glm::dvec3& axis, double halfAngle, const SkyRegions::Cell& cell) {
   if (halfAngle >= kPi) return true;
   const glm::dvec3 u = glm::normalize(axis);
@@ -101,13 +114,9 @@ DaylightBasis::DaylightBasis(const Scene& scene, const SkyRadiance& refineFor, c
   // Outside polygons: beyond some window's plane.
   double groundArea = 0;
   glm::dvec3 groundAlbedo(0.0);
-  for (size_t i = 0; i < scene.polygons.size(); ++i) {
-    const Polygon& p = scene.polygons[i];
-    if (p.kind == PolygonKind::Window) continue;
-    bool out = false;
-    for (int w : windows_) out = out || beyond(p, scene.polygons[size_t(w)]);
-    if (!out) continue;
-    outside_.push_back(int(i));
+  outside_ = outsidePolygons(scene);
+  for (int i : outside_) {
+    const Polygon& p = scene.polygons[size_t(i)];
     if (p.kind == PolygonKind::Real && polygonNormal(p.vertices).z > 0.9) {
       const double a = polygonArea(p.vertices);
       groundArea += a;
@@ -169,7 +178,9 @@ DaylightBasis::DaylightBasis(const Scene& scene, const SkyRadiance& refineFor, c
     if (refineFor.sun.found)
       refineLight->beams.push_back({glm::normalize(refineFor.sun.direction), luminance(refineFor.sun.irradiance)});
   }
+  for (size_t i = 0; i < scene.polygons.size(); ++i) lamp_.push_back(scene.polygons[i].kind == PolygonKind::Light || scene.lampOfPolygon(int(i)) >= 0);
   for (int w : windows_) {
+    surfaces[size_t(w)].opening = true;
     surfaces[size_t(w)].exitance = glm::dvec3(kPi);
     surfaces[size_t(w)].distant = refineLight;
   }
@@ -207,7 +218,21 @@ void DaylightBasis::solveBases(Progress& progress) {
   secondsPerBasis_ = seconds(t0) / n;
 }
 
+void DaylightBasis::extendToNodes() {
+  // New elements (refinement appends children after their parents) hold their parent's values
+  // until solved again.
+  const auto& nodes = engine_->nodes();
+  auto extend = [&](std::vector<glm::vec3>& v) {
+    if (v.empty()) return;
+    for (size_t i = v.size(); i < nodes.size(); ++i) v.push_back(v[size_t(nodes[i].parent)]);
+  };
+  for (auto& b : bases_) extend(b);
+  extend(sun_);
+  extend(sunDirect_);
+}
+
 std::vector<int> DaylightBasis::addObjects(const std::vector<Polygon>& polygons, Progress& progress) {
+  haveSun_ = false;
   std::vector<radiosity::Surface> add;
   for (const auto& p : polygons) {
     radiosity::Surface s;
@@ -223,12 +248,18 @@ std::vector<int> DaylightBasis::addObjects(const std::vector<Polygon>& polygons,
     Progress stage(progress, 0.0, 0.3);
     ids = engine_->addSurfaces(add, stage);
   }
-  Progress stage(progress, 0.3, 1.0);
-  solveBases(stage);
+  try {
+    Progress stage(progress, 0.3, 1.0);
+    solveBases(stage);
+  } catch (...) {  // a Cancel: the objects go again, and the bases are those without them
+    removeObjects(ids);
+    throw;
+  }
   return ids;
 }
 
 void DaylightBasis::removeObjects(const std::vector<int>& surfaces, Progress& progress) {
+  haveSun_ = false;
   engine_->removeSurfaces(surfaces);
   solveBases(progress);
 }
@@ -237,6 +268,7 @@ DaylightBasis::~DaylightBasis() = default;
 
 std::vector<glm::vec3> DaylightBasis::solveFor(std::shared_ptr<const radiosity::DistantLight> light, Progress& progress) {
   for (int w : windows_) engine_->setDistantLight(w, light);
+  engine_->clearSolution();  // from emission, not from the last basis's solution
   engine_->iterate(progress);
   std::vector<glm::vec3> b(engine_->nodes().size());
   for (size_t i = 0; i < b.size(); ++i) b[i] = engine_->radiosity(int(i));
@@ -246,6 +278,7 @@ std::vector<glm::vec3> DaylightBasis::solveFor(std::shared_ptr<const radiosity::
 const std::vector<glm::vec3>& DaylightBasis::sunSolution(const glm::dvec3& direction, Progress& progress) {
   const glm::dvec3 d = glm::normalize(direction);
   if (haveSun_ && glm::dot(d, sunDirection_) > 1 - 1e-12) return sun_;
+  haveSun_ = false;  // until this one is solved (a Cancel midway leaves no stale sun behind)
   auto light = std::make_shared<radiosity::DistantLight>();
   light->beams.push_back({d, 1.0});
   // The links refined for this sun's patch (its edges as sharp as the elements allow), with a
@@ -259,9 +292,7 @@ const std::vector<glm::vec3>& DaylightBasis::sunSolution(const glm::dvec3& direc
     Progress stage(progress, 0.0, 0.8);
     stage.report(0, "refining the links for the sun");
     engine_->solve(stage);
-    const auto& nodes = engine_->nodes();
-    for (auto& b : bases_)
-      for (size_t i = b.size(); i < nodes.size(); ++i) b.push_back(b[size_t(nodes[i].parent)]);
+    extendToNodes();
   }
   Progress stage(progress, 0.8, 1.0);
   sun_ = solveFor(light, stage);
@@ -306,6 +337,7 @@ std::vector<glm::vec3> DaylightBasis::combine(const SkyRadiance& sky, Progress& 
   // The sun first: its links may refine the hierarchy, and every basis then covers the new elements.
   const bool sun = sky.sun.found && sky.sun.direction.z > 0;
   if (sun) sunSolution(sky.sun.direction, progress);
+  extendToNodes();
   // The weights and their solutions, then one pass over the nodes in parallel chunks.
   std::vector<const glm::vec3*> src;
   std::vector<glm::vec3> w;
@@ -330,6 +362,7 @@ std::vector<glm::vec3> DaylightBasis::combine(const SkyRadiance& sky, Progress& 
 
 std::vector<glm::vec3> DaylightBasis::irradiance(const SkyRadiance& sky, bool directSun, Progress& progress) {
   std::vector<glm::vec3> e = combine(sky, progress);
+  extendToNodes();
   const bool sun = sky.sun.found && sky.sun.direction.z > 0;
   const glm::vec3 sunE(sky.sun.irradiance);
   for (size_t n = 0; n < e.size(); ++n) {

@@ -72,7 +72,7 @@ SeenPixels seePixels(const DaylightBasis& basis, const Camera& cam) {
       h.rayScene().intersect(rays, hits);
       for (int x = 0; x < cam.width; ++x) {
         const RayHit& hit = hits[size_t(x)];
-        if (hit.polygon < 0 || h.isEmitter(hit.polygon) || h.surfaces()[size_t(hit.polygon)].opening) continue;
+        if (hit.polygon < 0 || basis.isLamp(hit.polygon) || h.surfaces()[size_t(hit.polygon)].opening) continue;
         const size_t i = size_t(y) * size_t(cam.width) + size_t(x);
         const glm::dvec3 p = eye + double(hit.t) * glm::dvec3(rays[size_t(x)].direction);
         glm::dvec3 nrm = polygonNormal(h.surfaces()[size_t(hit.polygon)].vertices);
@@ -133,6 +133,7 @@ ImageRGB irradianceImage(DaylightBasis& basis, const SeenPixels& px, const SkyRa
         for (int j = 0; j < k * k; ++j) {
           if (hits[j].polygon < 0) continue;
           const glm::dvec3 n = polygonNormal(h.surfaces()[size_t(hits[j].polygon)].vertices);
+          if (glm::dot(n, glm::dvec3(rays[j].direction)) > 0) continue;  // a back face: dark
           const glm::dvec3& sj = sunDisc[size_t((j * 7) % (k * k))];  // footprint and disc decorrelated
           const double c = glm::dot(n, sj);
           if (c <= 0) continue;
@@ -198,6 +199,11 @@ std::vector<glm::dvec3> reflectancesFromPhoto(const SeenPixels& px, const ImageR
 
 ImageRGB differentialRender(const ImageRGB& photo, const ImageRGB& ePhoto, const ImageRGB& eNew, const SeenPixels& seenNew,
                             int firstVirtual, const std::vector<glm::dvec3>& virtualAlbedo) {
+  const size_t n = seenNew.surface.size();
+  if (photo.pixels.size() != 3 * n || ePhoto.pixels.size() != 3 * n || eNew.pixels.size() != 3 * n)
+    throw Error("", "differential rendering", "the photo is " + std::to_string(photo.width) + "x" + std::to_string(photo.height) +
+                                                  ", the camera sees " + std::to_string(seenNew.width) + "x" +
+                                                  std::to_string(seenNew.height));
   ImageRGB out = photo;
   for (size_t i = 0; i < seenNew.surface.size(); ++i) {
     const int s = seenNew.surface[i];
@@ -224,6 +230,13 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
                                                     ", its camera " + std::to_string(camera.width) + "x" + std::to_string(camera.height));
   Scene room = scene;
   for (auto& poly : room.polygons) poly.albedo = glm::dvec3(0.5);
+  // Polygons outside (beyond a window: the ground) are not seen from inside: they take the
+  // ground's albedo the user gives (default 0.2, an open ground's), never an estimate.
+  std::vector<bool> outside(room.polygons.size(), false);
+  for (int s : outsidePolygons(room)) {
+    outside[size_t(s)] = true;
+    room.polygons[size_t(s)].albedo = glm::dvec3(options.groundReflectance);
+  }
   reflectances_.assign(room.polygons.size(), glm::dvec3(0.5));
   estimated_.assign(room.polygons.size(), false);
   constexpr int rounds = 3;
@@ -249,7 +262,7 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
       allArea += a;
     }
     for (size_t s = 0; s < rho.size(); ++s) {
-      if (room.polygons[s].kind != PolygonKind::Real) continue;
+      if (room.polygons[s].kind != PolygonKind::Real || outside[s]) continue;
       const auto m = byMaterial.find(room.polygons[s].material);
       estimated_[s] = rho[s].x >= 0;
       room.polygons[s].albedo = rho[s].x >= 0 ? rho[s]
@@ -296,10 +309,7 @@ ImageRGB DaylightRelighting::render(const SkyRadiance& sky, const std::vector<Po
     if (!ids.empty()) basis_->removeObjects(ids);
     throw;
   }
-  if (!ids.empty()) {
-    Progress stage(progress, 0.9, 1.0);
-    basis_->removeObjects(ids, stage);
-  }
+  if (!ids.empty()) basis_->removeObjects(ids);  // not cancellable: the room must come back whole
   return out;
 }
 

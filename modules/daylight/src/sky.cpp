@@ -302,7 +302,8 @@ SkyRadiance averageSky(const SkyImage& sky, const SkyRegions& regions, const Sky
         ++out.sun.pixels;
       }
     out.sun.found = true;
-    out.sun.direction = glm::normalize(weighted);
+    // No excess anywhere (a clipped sky): the brightest pixel's direction.
+    out.sun.direction = glm::length(weighted) > 0 ? glm::normalize(weighted) : px[brightest].dir;
   }
   // Region means of the rest.
   std::vector<double> weight(size_t(regions.size()), 0.0);

@@ -106,7 +106,6 @@ std::vector<Surface> surfacesFromScene(const Scene& scene) {
       }
     } else if (p.kind == PolygonKind::Window) {
       s.reflectance = glm::dvec3(0.0);  // an opening absorbs everything that leaves the room
-      s.opening = true;                 // and stops no light
     } else {
       s.reflectance = p.albedo;
     }
@@ -885,6 +884,12 @@ double HierarchicalRadiosity::pushPull() {
   }
   const double mean = sumA > 0 ? sumB / sumA : 0.0;
   return mean > 0 ? maxDelta / mean : (maxDelta > 0 ? 1.0 : 0.0);
+}
+
+void HierarchicalRadiosity::clearSolution() {
+  std::fill(E_.begin(), E_.end(), glm::vec3(0.f));
+  std::fill(B_.begin(), B_.end(), glm::vec3(0.f));
+  pushPull();
 }
 
 SolveStats HierarchicalRadiosity::iterate(Progress& progress) {

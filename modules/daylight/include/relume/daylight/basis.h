@@ -71,7 +71,8 @@ class DaylightBasis {
   const std::vector<glm::vec3>& sunSolution(const glm::dvec3& direction, Progress& progress = silentProgress());
   // Eq. 3: B = sum_k L_k B_k + L_ground B_ground + E_sun B_sun.
   std::vector<glm::vec3> combine(const SkyRadiance& sky, Progress& progress = silentProgress());
-  // Per node: the irradiance under `sky` (B / rho of the combination; 0 where nothing reflects),
+  // Per node: the irradiance under `sky` (B / rho of the combination; 0 where nothing reflects;
+  // without the direct sun it is exact on leaves only, which is what the display interpolates),
   // with or without the sun's direct light (the element-level share of its beam, for a caller
   // that takes the direct sun per point instead, with its exact shadows).
   std::vector<glm::vec3> irradiance(const SkyRadiance& sky, bool directSun, Progress& progress = silentProgress());
@@ -89,12 +90,14 @@ class DaylightBasis {
   // Virtual objects (Loscos §4.4 on the basis): polygons added to the live hierarchy (their links
   // refined, V redone where they cross), or removed again; every basis is solved again on the same
   // links, so that the room's solution changes only where they change it. Returns the new
-  // surfaces' indices (after every polygon of the scene, in order).
+  // surfaces' indices (after every polygon of the scene, in order). A Cancel while adding takes
+  // them out again.
   std::vector<int> addObjects(const std::vector<Polygon>& polygons, Progress& progress = silentProgress());
   void removeObjects(const std::vector<int>& surfaces, Progress& progress = silentProgress());
 
   const radiosity::HierarchicalRadiosity& engine() const { return *engine_; }
   const std::vector<int>& windows() const { return windows_; }
+  bool isLamp(int surface) const { return surface >= 0 && size_t(surface) < lamp_.size() && lamp_[size_t(surface)]; }
   const std::vector<int>& outside() const { return outside_; }  // polygons left out of the engine
   // The area mean of a per-node solution over a surface's leaves.
   glm::dvec3 surfaceMean(const std::vector<glm::vec3>& b, int surface) const;
@@ -113,9 +116,14 @@ class DaylightBasis {
   double groundReflectance_ = 0.2;
   double secondsPerBasis_ = 0, refineSeconds_ = 0;
   void solveBases(Progress& progress);
+  void extendToNodes();
+  std::vector<bool> lamp_;  // per scene polygon: a lamp (dark here, each lamp its own term)
   std::shared_ptr<const radiosity::DistantLight> refineLight_;
   mutable std::vector<double> horizontal_;  // per region: projected solid angle on a horizontal plane
 };
+
+// The polygons beyond some window's plane (outside the room: a ground plane, the street).
+std::vector<int> outsidePolygons(const Scene& scene);
 
 // Whether a cone of directions (unit `axis`, `halfAngle` radians) can reach sky region `cell`:
 // false only when every direction in the cone lies outside it (a conservative test).

@@ -56,7 +56,8 @@ struct Surface {
   // over its area, shaped by the distribution; null: Lambertian face(s).
   std::shared_ptr<const PhotometricDistribution> photometry;
   // An opening (a window): it occludes nothing and reflects nothing; with `distant` set and an
-  // exitance, the light from outside enters through it (see DistantLight).
+  // exitance, the light from outside enters through it (see DistantLight). surfacesFromScene
+  // leaves windows closed (absorbing, occluding): the daylight basis opens them.
   bool opening = false;
   std::shared_ptr<const DistantLight> distant;
 };
@@ -112,6 +113,8 @@ class HierarchicalRadiosity {
   SolveStats solve(Progress& progress = silentProgress());
   // Gather + push-pull to the tolerance with the links as they are: no refinement, no rays.
   SolveStats iterate(Progress& progress = silentProgress());
+  // Back to emission only (no irradiance anywhere), so that the next iterate() starts afresh.
+  void clearSolution();
   // Changes a surface's emitted radiosity; call iterate() after.
   void setExitance(int surface, const glm::dvec3& exitance);
   void setReflectance(int surface, const glm::dvec3& reflectance);
