@@ -316,6 +316,10 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
       continue;
     }
     const ImageRGB truth = readImageLinear(path(v.hdr));
+    if (truth.width != photo.width || truth.height != photo.height)
+      throw Error(path(v.hdr), "variant " + v.name, "the truth image is " + std::to_string(truth.width) + "x" +
+                                                     std::to_string(truth.height) + ", the main photo " + std::to_string(photo.width) +
+                                                     "x" + std::to_string(photo.height));
     const dl::SkyRadiance sky = dl::averageSky(roomSky(bundle, v.sky.empty() ? bundle.photoSky : v.sky), cells);
     const std::vector<Polygon> objects = daylightObjects(v, bundle.sourceFile);
     Progress a(stage, 0.0, 0.5), b(stage, 0.5, 1.0);
