@@ -442,12 +442,9 @@ QJsonObject daylightBench(const Scene& scene, int runs, Progress& progress) {
       if (p.kind == PolygonKind::Real && polygonNormal(p.vertices).z > 0.9 && !basis.engine().isRemoved(int(&p - scene.polygons.data())))
         for (const auto& v : p.vertices) lo = glm::min(lo, v), hi = glm::max(hi, v);
     const glm::dvec3 c = 0.5 * (lo + hi);
-    for (const auto& f : boxObject("box", {c.x - 0.2, c.y - 0.2, lo.z}, {c.x + 0.2, c.y + 0.2, lo.z + 0.4}, glm::dvec3(0.5)).polygons) {
-      Polygon poly;
-      poly.name = "box";
-      poly.vertices = f;
-      faces.push_back(poly);
-    }
+    Variant v;
+    v.virtualObjects.push_back({"box", {c.x - 0.2, c.y - 0.2, lo.z}, {c.x + 0.2, c.y + 0.2, lo.z + 0.4}, glm::dvec3(0.5)});
+    faces = daylightObjects(v, scene.sourceFile);
     t0 = std::chrono::steady_clock::now();
     const auto ids = basis.addObjects(faces);
     const double add = ms(t0) / 1000;

@@ -13,6 +13,7 @@
 
 #include "relume/geometry/error.h"
 #include "relume/geometry/polygon.h"
+#include "relume/radiosity/form_factor.h"
 #include "relume/radiosity/hierarchy.h"
 #include "relume/raytrace/ray_scene.h"
 #include "relume/relight/solution_render.h"
@@ -29,22 +30,17 @@ void put(ImageRGB& im, size_t i, const glm::vec3& v) {
   im.pixels[3 * i + 2] = v.z;
 }
 
-// Where the ray from p along d leaves through one of the windows: the distance, or -1.
+// Where the ray from p along d leaves through one of the windows (out through the face that looks
+// into the room): the distance, or -1.
 double throughWindow(const radiosity::HierarchicalRadiosity& h, const std::vector<int>& windows, const glm::dvec3& p,
                      const glm::dvec3& d) {
   double best = -1;
   for (int w : windows) {
     const auto& v = h.surfaces()[size_t(w)].vertices;
     const glm::dvec3 n = polygonNormal(v);
-    const double dn = glm::dot(d, n);
-    if (dn >= 0) continue;  // must leave through the face that looks into the room
-    const double t = glm::dot(n, v[0] - p) / dn;
-    if (!(t > 0)) continue;
-    const glm::dvec3 x = p + t * d;
-    bool inside = true;
-    for (size_t i = 0; i < v.size() && inside; ++i)
-      inside = glm::dot(glm::cross(v[(i + 1) % v.size()] - v[i], x - v[i]), n) >= 0;
-    if (inside && (best < 0 || t < best)) best = t;
+    if (glm::dot(d, n) >= 0) continue;
+    const double t = radiosity::rayThroughPolygon(p, d, v, n);
+    if (t > 0 && (best < 0 || t < best)) best = t;
   }
   return best;
 }

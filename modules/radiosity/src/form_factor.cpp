@@ -71,22 +71,6 @@ double overPieces(const glm::dvec3& p, const std::vector<glm::dvec3>& poly, cons
          overPieces(p, clipToHalfSpace(poly, c, -cut), light, maxAngle, depth + 1, visit);
 }
 
-// Does the ray from p along d cross the convex polygon (normal nPoly)?
-bool rayThroughPolygon(const glm::dvec3& p, const glm::dvec3& d, const std::vector<glm::dvec3>& poly,
-                       const glm::dvec3& nPoly) {
-  const double dn = glm::dot(d, nPoly);
-  if (dn == 0.0) return false;
-  const double t = glm::dot(nPoly, poly[0] - p) / dn;
-  if (!(t > 0)) return false;
-  const glm::dvec3 x = p + t * d;
-  for (size_t i = 0; i < poly.size(); ++i) {
-    const glm::dvec3& a = poly[i];
-    const glm::dvec3& b = poly[(i + 1) % poly.size()];
-    if (glm::dot(glm::cross(b - a, x - a), nPoly) < 0.0) return false;
-  }
-  return true;
-}
-
 // Beams through the opening towards p: sum of irradiance x cosine(n) / pi (n null: cosine 1).
 double beamsThrough(const glm::dvec3& p, const glm::dvec3* n, const std::vector<glm::dvec3>& poly,
                     const glm::dvec3& nPoly, const DistantLight& light) {
@@ -94,43 +78,53 @@ double beamsThrough(const glm::dvec3& p, const glm::dvec3* n, const std::vector<
   for (const auto& beam : light.beams) {
     const double c = n ? glm::dot(*n, beam.direction) : 1.0;
     if (!(c > 0) || !(beam.irradiance > 0) || glm::dot(beam.direction, nPoly) >= 0.0) continue;
-    if (rayThroughPolygon(p, beam.direction, poly, nPoly)) f += beam.irradiance * c / std::numbers::pi;
+    if (rayThroughPolygon(p, beam.direction, poly, nPoly) > 0) f += beam.irradiance * c / std::numbers::pi;
+  }
+  return f;
+}
+
+// Both factors of an opening: with a normal n, cosine-weighted; without (n null), each piece seen
+// along its own direction (a small piece's projected solid angle so is its solid angle).
+double distantFactor(const glm::dvec3& p, const glm::dvec3* n, const std::vector<glm::dvec3>& poly,
+                     const DistantLight& light, bool withBeams) {
+  if (poly.size() < 3) return 0.0;
+  const glm::dvec3 nPoly = polygonNormal(poly);
+  if (glm::dot(nPoly, p - poly[0]) <= 0.0) return 0.0;  // behind the opening (outside the room)
+  double f = withBeams ? beamsThrough(p, n, poly, nPoly, light) : 0.0;
+  if (light.radiance) {
+    const double maxAngle = std::max(1e-3, light.pieceDeg * std::numbers::pi / 180.0);
+    f += overPieces(p, poly, light, maxAngle, 0, [&](const std::vector<glm::dvec3>& piece, const glm::dvec3& d) {
+      const double l = light.radiance(d);
+      return l > 0 ? l * pointToPolygonFormFactor(p, n ? *n : d, piece) : 0.0;
+    });
   }
   return f;
 }
 
 }  // namespace
 
+double rayThroughPolygon(const glm::dvec3& p, const glm::dvec3& d, const std::vector<glm::dvec3>& poly,
+                         const glm::dvec3& nPoly) {
+  const double dn = glm::dot(d, nPoly);
+  if (dn == 0.0 || poly.size() < 3) return -1.0;
+  const double t = glm::dot(nPoly, poly[0] - p) / dn;
+  if (!(t > 0)) return -1.0;
+  const glm::dvec3 x = p + t * d;
+  for (size_t i = 0; i < poly.size(); ++i) {
+    const glm::dvec3& a = poly[i];
+    const glm::dvec3& b = poly[(i + 1) % poly.size()];
+    if (glm::dot(glm::cross(b - a, x - a), nPoly) < 0.0) return -1.0;
+  }
+  return t;
+}
+
 double distantFormFactor(const glm::dvec3& p, const glm::dvec3& n, const std::vector<glm::dvec3>& poly,
                          const DistantLight& light, bool withBeams) {
-  if (poly.size() < 3) return 0.0;
-  const glm::dvec3 nPoly = polygonNormal(poly);
-  if (glm::dot(nPoly, p - poly[0]) <= 0.0) return 0.0;  // behind the opening (outside the room)
-  double f = withBeams ? beamsThrough(p, &n, poly, nPoly, light) : 0.0;
-  if (light.radiance) {
-    const double maxAngle = std::max(1e-3, light.pieceDeg * std::numbers::pi / 180.0);
-    f += overPieces(p, poly, light, maxAngle, 0, [&](const std::vector<glm::dvec3>& piece, const glm::dvec3& d) {
-      const double l = light.radiance(d);
-      return l > 0 ? l * pointToPolygonFormFactor(p, n, piece) : 0.0;
-    });
-  }
-  return f;
+  return distantFactor(p, &n, poly, light, withBeams);
 }
 
 double distantSolidAngleFactor(const glm::dvec3& p, const std::vector<glm::dvec3>& poly, const DistantLight& light) {
-  if (poly.size() < 3) return 0.0;
-  const glm::dvec3 nPoly = polygonNormal(poly);
-  if (glm::dot(nPoly, p - poly[0]) <= 0.0) return 0.0;
-  double f = beamsThrough(p, nullptr, poly, nPoly, light);
-  if (light.radiance) {
-    const double maxAngle = std::max(1e-3, light.pieceDeg * std::numbers::pi / 180.0);
-    // A small piece's projected solid angle seen along its own direction is its solid angle.
-    f += overPieces(p, poly, light, maxAngle, 0, [&](const std::vector<glm::dvec3>& piece, const glm::dvec3& d) {
-      const double l = light.radiance(d);
-      return l > 0 ? l * pointToPolygonFormFactor(p, d, piece) : 0.0;
-    });
-  }
-  return f;
+  return distantFactor(p, nullptr, poly, light, true);
 }
 
 EmitterShape::EmitterShape(const std::vector<glm::dvec3>& polygon, bool twoSidedFaces,

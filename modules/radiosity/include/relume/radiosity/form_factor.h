@@ -36,6 +36,10 @@ struct DistantLight {
 // the room).
 double distantFormFactor(const glm::dvec3& p, const glm::dvec3& n, const std::vector<glm::dvec3>& poly,
                          const DistantLight& light, bool withBeams = true);
+// Where the ray from p along d crosses the convex polygon (its normal nPoly, vertices
+// counter-clockwise about it): the distance along d, or -1 when it passes beside or behind.
+double rayThroughPolygon(const glm::dvec3& p, const glm::dvec3& d, const std::vector<glm::dvec3>& poly,
+                         const glm::dvec3& nPoly);
 // (1 / pi) x the radiance integrated over the solid angle of `poly` seen from p, without the
 // cosine (what an isotropic receiver gathers, times 4), beams counted whole.
 double distantSolidAngleFactor(const glm::dvec3& p, const std::vector<glm::dvec3>& poly, const DistantLight& light);
