@@ -13,6 +13,9 @@ starts from that description can match them.
         [--camera main] [--variant NAME] [--samples 64] [--percent 50]
         [--diffuse-bounces 12] [--clamp-indirect 0]
 
+A variant's multipliers, new lamps (virtual_lights) and new boxes (virtual_objects) are rendered
+with it.
+
 On the sample room (resources/sample_room), lamp A off over the photo, per image region, agrees
 with the bundle's truth to about 1 %.
 """
@@ -49,6 +52,9 @@ def main():
         if not found:
             sys.exit("render_bundle.py: %s has no variant %s" % (a.bundle, a.variant))
         mult = found[0].get("lights", {})
+        variant = found[0]
+    else:
+        variant = {}
     camera_name = a.camera or desc.get("main_photo", "main")
     if isinstance(camera_name, dict):
         camera_name = camera_name.get("name", "main")
@@ -117,7 +123,25 @@ def main():
         nt.links.new(mix.outputs["Shader"], out.inputs["Surface"])
         return m
 
-    for poly in desc["polygons"]:
+    # A variant's new lamps (emissive quads, one-sided unless they say two_sided) and new boxes
+    # (axis-aligned, standing where box_min/box_max say, flat albedo).
+    polys = list(desc["polygons"])
+    for v in variant.get("virtual_lights", []):
+        lamps_by_polygon[v["name"]] = v
+        polys.append({"name": v["name"], "kind": "light", "vertices": v["polygon"]})
+    for v in variant.get("virtual_objects", []):
+        if "box_min" not in v:
+            sys.exit("render_bundle.py: virtual object %s is not a box" % v.get("name", "?"))
+        lo, hi = v["box_min"], v["box_max"]
+        corner = lambda i, j, k: (hi[0] if i else lo[0], hi[1] if j else lo[1], hi[2] if k else lo[2])
+        faces = {"top": [(0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)], "bottom": [(0, 0, 0), (0, 1, 0), (1, 1, 0), (1, 0, 0)],
+                 "front": [(0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1)], "back": [(0, 1, 0), (0, 1, 1), (1, 1, 1), (1, 1, 0)],
+                 "left": [(0, 0, 0), (0, 0, 1), (0, 1, 1), (0, 1, 0)], "right": [(1, 0, 0), (1, 1, 0), (1, 1, 1), (1, 0, 1)]}
+        for f, cs in faces.items():
+            polys.append({"name": "%s_%s" % (v.get("name", "box"), f), "kind": "real",
+                          "vertices": [corner(*c) for c in cs], "albedo": v["albedo"]})
+
+    for poly in polys:
         if poly.get("kind") == "window":
             continue  # an opening: nothing there
         verts = [tuple(v) for v in poly["vertices"]]

@@ -713,6 +713,17 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
       beamBelow[n] = 1;
     if (beamBelow[n] && N.parent >= 0) beamBelow[N.parent] = 1;
   }
+  // Per node the largest reflected radiosity of any element below it. A link carries its source's
+  // mean radiosity with one visibility; where a small, very bright patch sits in a larger source
+  // (the ceiling 2 cm above a two-sided lamp, most of whose light falls back on the lamp) the mean
+  // hides it, and light that the lamp stops would reach the room. The oracle bounds such a link's
+  // error with the brightest patch, and opens the source.
+  std::vector<float> reflMax(h.nodes_.size(), 0.f);
+  for (size_t n = h.nodes_.size(); n-- > 0;) {
+    const auto& N = h.nodes_[n];
+    if (N.isLeaf() && !N.isCluster()) reflMax[n] = std::max(reflMax[n], maxc(glm::max(h.B_[n] - im.emit[n], glm::vec3(0.f))));
+    if (N.parent >= 0) reflMax[size_t(N.parent)] = std::max(reflMax[size_t(N.parent)], reflMax[n]);
+  }
   bool changed = false;
   std::vector<HierarchicalRadiosity::Link> frontier, next, finals;
   const size_t keep = std::min(ctx.keep, h.links_.size());
@@ -761,13 +772,20 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
         double kernelError = l.variation;
         if (opt.oracle == Oracle::BFV)
           kernelError = l.type == VisibilityType::Partial ? l.formFactor : l.visibility * l.variation;
-        const double err = double(im.rhoMax[l.receiver]) * maxc(h.B_[l.source]) * kernelError;
+        const double bMean = maxc(h.B_[l.source]), bPeak = std::max(bMean, double(reflMax[l.source]));
+        // A source whose brightest patch outshines its mean by far (and is already cut into
+        // pieces) is the error's cause: it is opened, not the receiver; how much of the patch's
+        // light gets through is unknown at this level, so the whole factor bounds the error.
+        const bool hotSource = !S.isLeaf() && bPeak > 1.5 * bMean && !S.isCluster();
+        if (hotSource) kernelError = std::max(kernelError, double(l.formFactor));
+        const double err = double(im.rhoMax[l.receiver]) * bPeak * kernelError;
         if (overlap || err > threshold) {
           const bool rOk = canSubdivide(R, opt.minArea), sOk = canSubdivide(S, opt.minArea);
           // A cluster end is opened first: its isotropic estimate is the error being bounded, and
           // splitting the other end instead would only spread that error over many small links.
           // Between two elements (or two clusters) the larger is subdivided.
           if (R.isCluster() != S.isCluster()) open = R.isCluster() ? Open::Receiver : Open::Source;
+          else if (hotSource && 4.0 * S.area >= R.area) open = Open::Source;
           else if (rOk && (!sOk || R.area >= S.area)) open = Open::Receiver;
           else if (sOk) open = Open::Source;
         }
