@@ -6,8 +6,10 @@ switched off in turn, so that the causes of an error can be told apart.
 
 Rows: as shipped; the paper's estimate (no inverse global illumination); no shared materials
 for unseen polygons; every lamp taken as one-sided (a copy of the bundle without `two_sided`,
-when it has two-sided lamps); and the oracle (the bundle's true lamps instead of the estimates:
-what is left is rendering and texture error). Columns: the lamp-off variants' PSNR on the all and
+when it has two-sided lamps); the bundle's true lamps instead of the estimates; and the scene
+oracle (true lamps and true polygon albedos as the engine's reflectances: what is left is
+rendering error — the engine's, and the bundle's own where its images do not follow from its
+description). Columns: the lamp-off variants' PSNR on the all and
 shadow masks (worst .. best), `virtual_light_only`, the unoccluded image on the shadow mask, and
 each lamp's power error against the bundle's truth (computed here from its scene.json; power per
 unit area, so that a lamp taken as one-sided is judged by the light it gives).
@@ -92,7 +94,8 @@ def main():
         with open(os.path.join(copy, "scene.json"), "w") as f:
             json.dump(one, f, indent=1)
         rows.append(("lamps one-sided", copy, []))
-    rows.append(("oracle lamps (rendering error only)", bundle, ["--oracle-lamps"]))
+    rows.append(("oracle lamps (the reflectances still estimated)", bundle, ["--oracle-lamps"]))
+    rows.append(("oracle scene (true lamps and albedos: rendering error only)", bundle, ["--oracle-lamps", "--oracle-albedos"]))
     table = []
     try:
         for name, where, args in rows:

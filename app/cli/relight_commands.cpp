@@ -536,12 +536,15 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
   addRelightOptions(p);
   p.addOption({"oracle-lamps", "ORACLE, for telling estimation from rendering error: the bundle's true lamp radiances are used "
                                "instead of the estimates."});
+  p.addOption({"oracle-albedos", "ORACLE: the bundle's true polygon albedos are the engine's reflectances instead of the "
+                                 "estimates (with --oracle-lamps: what is left is rendering error)."});
   parseOrThrow(p, args, 1, "relume evaluate BUNDLE --out DIR [--geometry PROJECT]");
   if (!p.isSet("out")) throw Error("", "command line", "--out DIR is required");
   const QString outDir = p.value("out");
   if (!QDir().mkpath(outDir)) throw Error(str(outDir), "", "cannot create the folder");
   RelightOptions opt = relightOptions(p);
   opt.oracleLamps = p.isSet("oracle-lamps");
+  opt.oracleAlbedos = p.isSet("oracle-albedos");
   Scene scene = openRoom(p.positionalArguments()[0]);
   if (!scene.skies.empty()) {  // a daylight bundle: lit through its windows by measured skies
     if (p.isSet("geometry")) throw Error(str(p.value("geometry")), "--geometry", "not yet for daylight bundles");
@@ -565,7 +568,8 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
   // What a real user does not have is removed before anything else sees the scene (kept apart
   // to judge the estimates with).
   const Scene truthScene = scene;
-  for (auto& poly : scene.polygons) poly.albedo = glm::dvec3(0.5);
+  if (!opt.oracleAlbedos)
+    for (auto& poly : scene.polygons) poly.albedo = glm::dvec3(0.5);
   if (!opt.oracleLamps)
     for (auto& l : scene.lamps) l.radiance = glm::dvec3(0.0);
   ProgressScope pre(progress, 0.0, 0.5);

@@ -11,7 +11,7 @@ starts from that description can match them.
 
     blender -b --python resources/scripts/render_bundle.py -- BUNDLE OUT.exr
         [--camera main] [--variant NAME] [--samples 64] [--percent 50]
-        [--diffuse-bounces 12] [--clamp-indirect 0]
+        [--diffuse-bounces 12] [--clamp-indirect 0] [--no-shadow GROUP,...]
 
 A variant's multipliers, new lamps (virtual_lights) and new boxes (virtual_objects) are rendered
 with it.
@@ -36,6 +36,8 @@ def parse():
     ap.add_argument("--percent", type=int, default=50, help="resolution, percent of the photo's")
     ap.add_argument("--diffuse-bounces", type=int, default=12)
     ap.add_argument("--clamp-indirect", type=float, default=0.0, help="Cycles' indirect clamp (0: none)")
+    ap.add_argument("--no-shadow", default="", help="groups whose polygons cast no shadows, comma-separated "
+                    "(truth/unoccluded: --no-shadow table,crate)")
     return ap.parse_args(argv)
 
 
@@ -126,6 +128,7 @@ def main():
     # A variant's new lamps (emissive quads, one-sided unless they say two_sided) and new boxes
     # (axis-aligned, standing where box_min/box_max say, flat albedo).
     polys = list(desc["polygons"])
+    no_shadow = set(g for g in a.no_shadow.split(",") if g)
     for v in variant.get("virtual_lights", []):
         lamps_by_polygon[v["name"]] = v
         polys.append({"name": v["name"], "kind": "light", "vertices": v["polygon"]})
@@ -149,6 +152,8 @@ def main():
         mesh.from_pydata(verts, [], [tuple(range(len(verts)))])
         mesh.update()
         obj = bpy.data.objects.new(poly["name"], mesh)
+        if poly.get("group") in no_shadow:
+            obj.visible_shadow = False
         sc.collection.objects.link(obj)
         mesh.materials.append(material(poly))
 

@@ -772,7 +772,9 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
         double kernelError = l.variation;
         if (opt.oracle == Oracle::BFV)
           kernelError = l.type == VisibilityType::Partial ? l.formFactor : l.visibility * l.variation;
-        const double bMean = maxc(h.B_[l.source]), bPeak = std::max(bMean, double(reflMax[l.source]));
+        // (Nodes made during this pass are leaves whose brightest patch is their own.)
+        const double bMean = maxc(h.B_[l.source]);
+        const double bPeak = size_t(l.source) < reflMax.size() ? std::max(bMean, double(reflMax[size_t(l.source)])) : bMean;
         // A source whose brightest patch outshines its mean by far (and is already cut into
         // pieces) is the error's cause: it is opened, not the receiver; how much of the patch's
         // light gets through is unknown at this level, so the whole factor bounds the error.

@@ -139,6 +139,7 @@ struct Preprocessor::Impl {
     std::vector<std::pair<int, int>> defaultRef, regionRef;  // (polygon, leaf)
   };
   glm::dvec3 rhoAt(int surface, const glm::dvec3& radiance, const glm::dvec3& irradiance) const {
+    if (o.oracleAlbedos) return scene.polygons[size_t(surface)].albedo;
     return observed[surface] ? clampRho(kPi * radiance / glm::max(irradiance, glm::dvec3(1e-12))) : unseenRho[surface];
   }
   void run(Progress& progress);

@@ -59,6 +59,10 @@ struct RelightOptions {
   // Evaluation only (an oracle, never a user's setting): the scene's lamp radiances are the truth
   // and are used as the lamps' exitances instead of any estimate.
   bool oracleLamps = false;
+  // Evaluation only (an oracle): the scene's polygon albedos are the truth and are the engine's
+  // reflectances instead of any estimate (the textures still come from the photos). With
+  // oracleLamps, what is left between the relit image and the truth is rendering error.
+  bool oracleAlbedos = false;
   // §4.3 (step 2). Paper: every occluded element takes its reference's reflectance. Weighted:
   // the two estimates of the unoccluded colour are combined by inverse variance — step 1's error
   // grows with the blocked fraction b as b / (1 - b) (the blocked light is an estimate; what is
