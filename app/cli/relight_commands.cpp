@@ -46,7 +46,10 @@ void addRelightOptions(QCommandLineParser& p) {
   p.addOption({"colour-threshold", "CIELAB distance below which two colours are similar.", "X"});
   p.addOption({"visibility-threshold", "Attenuation difference below which visibility is similar.", "X"});
   p.addOption({"blocked-indirect", "Add back blocked light from secondary sources too (Eq. 5 in full; default: direct only)."});
-  p.addOption({"reference", "Step 2 (reference patches): weighted (default), paper, or off (T_final = T_inter).", "MODE"});
+  p.addOption({"reference",
+               "Step 2 (reference patches): chosen (default: only where the user chose a reference), weighted, paper, "
+               "or off (T_final = T_inter).",
+               "MODE"});
   p.addOption({"equal-lamps", "Every lamp the same emittance (Eq. 2), no per-lamp least squares."});
   p.addOption({"lamps-from-equations", "Estimate lamps by Eq. 2 / least squares even when the HDR photos show them."});
   p.addOption({"no-inverse-gi",
@@ -84,7 +87,8 @@ RelightOptions relightOptions(const QCommandLineParser& p) {
     if (r == "off") o.reference = RelightOptions::Reference::Off;
     else if (r == "paper") o.reference = RelightOptions::Reference::Paper;
     else if (r == "weighted") o.reference = RelightOptions::Reference::Weighted;
-    else throw Error("", "--reference", "must be weighted, paper or off, not '" + str(r) + "'");
+    else if (r == "chosen") o.reference = RelightOptions::Reference::Chosen;
+    else throw Error("", "--reference", "must be chosen, weighted, paper or off, not '" + str(r) + "'");
   }
   o.lampLeastSquares = !p.isSet("equal-lamps");
   o.lampsFromPhoto = !p.isSet("lamps-from-equations");

@@ -77,10 +77,11 @@ RelightData parseRelightJson(const std::string& bytes, const Scene& scene, const
   op.sharedMaterials = o["shared_materials"].toBool(op.sharedMaterials);
   op.calibratedPhotos = o["calibrated_photos"].toBool(op.calibratedPhotos);
   {
-    const QString r = o["reference_correction"].toString("weighted");
-    op.reference = r == "off" ? RelightOptions::Reference::Off
-                   : r == "paper" ? RelightOptions::Reference::Paper
-                                  : RelightOptions::Reference::Weighted;
+    const QString r = o["reference_correction"].toString("chosen");
+    op.reference = r == "off"        ? RelightOptions::Reference::Off
+                   : r == "paper"    ? RelightOptions::Reference::Paper
+                   : r == "weighted" ? RelightOptions::Reference::Weighted
+                                     : RelightOptions::Reference::Chosen;
   }
   op.textureRefineLevels = o["texture_refine_levels"].toInt(op.textureRefineLevels);
   op.textureMinArea = o["texture_min_area"].toDouble(op.textureMinArea);

@@ -51,9 +51,10 @@ QJsonObject optionsJson(const RelightOptions& o) {
           {"inverse_global_illumination", o.inverseGlobalIllumination},
           {"shared_materials", o.sharedMaterials},
           {"calibrated_photos", o.calibratedPhotos},
-          {"reference_correction", o.reference == RelightOptions::Reference::Off     ? "off"
-                                   : o.reference == RelightOptions::Reference::Paper ? "paper"
-                                                                                     : "weighted"},
+          {"reference_correction", o.reference == RelightOptions::Reference::Off        ? "off"
+                                   : o.reference == RelightOptions::Reference::Paper    ? "paper"
+                                   : o.reference == RelightOptions::Reference::Weighted ? "weighted"
+                                                                                        : "chosen"},
           {"texture_refine_levels", o.textureRefineLevels},
           {"texture_min_area", o.textureMinArea},
           {"occluded_fraction", o.occludedFraction},

@@ -895,6 +895,8 @@ void Preprocessor::Impl::step2(const std::vector<uint8_t>& redo, const std::map<
         ref = c.regionRef[r].second;
     if (ref >= 0) {
       how[k] = kByRegion;
+    } else if (o.reference == RelightOptions::Reference::Chosen && !overrides.count(scene.polygons[size_t(s)].name)) {
+      continue;  // no reference the user chose: step 1's estimate stands
     } else {
       const glm::dvec3 ci = glm::dvec3(N.center);
       double bestDist = 1e300;
@@ -916,7 +918,7 @@ void Preprocessor::Impl::step2(const std::vector<uint8_t>& redo, const std::map<
     // Eq. 8 with the reflectance of step 1 (already divided by the unoccluded irradiance, so the
     // form-factor ratio of Eq. 7 is inside it), then Eq. 9's modulation of T_inter.
     glm::dvec3 f = rhoInter[ref] / rhoInter[k];
-    if (o.reference == RelightOptions::Reference::Weighted) {
+    if (o.reference == RelightOptions::Reference::Weighted || o.reference == RelightOptions::Reference::Chosen) {
       const double d = grey(glm::dvec3(sums.direct[leaves[k].node]));
       const double b = std::clamp(grey(glm::dvec3(sums.directBlocked[leaves[k].node])) / std::max(d, 1e-30), 0.0, 0.999);
       const double r = b / (1 - b), w = r * r / (1 + r * r);
