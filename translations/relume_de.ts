@@ -1715,8 +1715,8 @@ Kein Schachbrett gefunden in: %1</translation>
         <translation>Die auf dem gewählten Polygon gemalten Bereiche entfernen</translation>
     </message>
     <message>
-        <source>%1 occluded elements: %2 took a similar-coloured unshadowed neighbour as reference, %3 their polygon&apos;s reference patch, %4 a painted region&apos;s. Choose a better patch, or paint a region, where a shadow left a wrong colour.</source>
-        <translation>%1 verdeckte Elemente: %2 nahmen einen ähnlich gefärbten unverschatteten Nachbarn als Referenz, %3 den Referenzfleck ihres Polygons, %4 den eines gemalten Bereichs. Wählen Sie einen besseren Fleck oder malen Sie einen Bereich, wo ein Schatten eine falsche Farbe hinterließ.</translation>
+        <source>%1 occluded elements: %2 keep the light the solution traced as blocked, %3 took a similar-coloured unshadowed neighbour as reference, %4 their polygon&apos;s reference patch, %5 a painted region&apos;s. Choose a patch, or paint a region, where a shadow left a wrong colour.</source>
+        <translation>%1 verdeckte Elemente: %2 behalten das Licht, das die Lösung als verdeckt verfolgt hat, %3 nahmen einen ähnlich gefärbten unverschatteten Nachbarn als Referenz, %4 den Referenzfleck ihres Polygons, %5 den eines gemalten Bereichs. Wählen Sie einen Fleck oder malen Sie einen Bereich, wo ein Schatten eine falsche Farbe hinterließ.</translation>
     </message>
     <message>
         <source>not seen</source>

@@ -1715,8 +1715,8 @@ Aucun damier trouvé dans : %1</translation>
         <translation>Supprimer les régions peintes sur le polygone choisi</translation>
     </message>
     <message>
-        <source>%1 occluded elements: %2 took a similar-coloured unshadowed neighbour as reference, %3 their polygon&apos;s reference patch, %4 a painted region&apos;s. Choose a better patch, or paint a region, where a shadow left a wrong colour.</source>
-        <translation>%1 éléments occultés : %2 ont pris pour référence un voisin non ombré de couleur proche, %3 la zone de référence de leur polygone, %4 celle d&apos;une région peinte. Choisissez une meilleure zone, ou peignez une région, là où une ombre a laissé une couleur fausse.</translation>
+        <source>%1 occluded elements: %2 keep the light the solution traced as blocked, %3 took a similar-coloured unshadowed neighbour as reference, %4 their polygon&apos;s reference patch, %5 a painted region&apos;s. Choose a patch, or paint a region, where a shadow left a wrong colour.</source>
+        <translation>%1 éléments occultés : %2 gardent la lumière que la solution a tracée comme bloquée, %3 ont pris pour référence un voisin non ombré de couleur proche, %4 la zone de référence de leur polygone, %5 celle d&apos;une région peinte. Choisissez une zone, ou peignez une région, là où une ombre a laissé une couleur fausse.</translation>
     </message>
     <message>
         <source>not seen</source>

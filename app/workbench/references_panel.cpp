@@ -102,10 +102,12 @@ void ReferencesPanel::rebuild() {
   list_->clear();
   if (doc_->isOpen()) {
     const auto& est = doc_->data().estimates;
-    summary_->setText(tr("%1 occluded elements: %2 took a similar-coloured unshadowed neighbour as reference, %3 "
-                         "their polygon's reference patch, %4 a painted region's. Choose a better patch, or paint a "
-                         "region, where a shadow left a wrong colour.")
+    const size_t referenced = est.referencedByFrontier + est.referencedByDefault + est.referencedByRegion;
+    summary_->setText(tr("%1 occluded elements: %2 keep the light the solution traced as blocked, %3 took a "
+                         "similar-coloured unshadowed neighbour as reference, %4 their polygon's reference patch, %5 a "
+                         "painted region's. Choose a patch, or paint a region, where a shadow left a wrong colour.")
                           .arg(est.occludedLeaves)
+                          .arg(est.occludedLeaves > referenced ? est.occludedLeaves - referenced : 0)
                           .arg(est.referencedByFrontier)
                           .arg(est.referencedByDefault)
                           .arg(est.referencedByRegion));

@@ -1,6 +1,9 @@
 // Physics of the hierarchical solver: energy balance, shadows, cheap lamp edits, seams.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <glm/geometric.hpp>
 #include <memory>
 
@@ -301,15 +304,12 @@ double roomShareByLightTracing(const std::vector<Surface>& s, int lamp, int phot
     const glm::dvec3 p = L[0] + uniform() * (L[1] - L[0]) + uniform() * (L[3] - L[0]);
     const glm::dvec3 n = (s[size_t(lamp)].twoSided && uniform() < 0.5) ? -lampNormal : lampNormal;
     glm::dvec3 o = p + 1e-5 * n, d = cosineAbout(n);
-    double w = 1.0;
     for (;;) {
       const RayHit hit = scene.intersect(Ray{glm::vec3(o), glm::vec3(d)});
       if (hit.polygon < 0 || hit.polygon == lamp) break;  // (a closed room: every ray hits something)
-      const double rho = s[size_t(hit.polygon)].reflectance.x;
-      room += w * (1 - rho);
-      w *= rho;
-      if (w < 1e-4) {
-        room += w;
+      // Absorbed with probability 1 - rho, else reflected whole (unbiased, few bounces).
+      if (uniform() >= s[size_t(hit.polygon)].reflectance.x) {
+        room += 1;
         break;
       }
       glm::dvec3 m = glm::normalize(glm::dvec3(hit.geometricNormal));

@@ -139,7 +139,7 @@ struct Preprocessor::Impl {
     std::vector<std::pair<int, int>> defaultRef, regionRef;  // (polygon, leaf)
   };
   glm::dvec3 rhoAt(int surface, const glm::dvec3& radiance, const glm::dvec3& irradiance) const {
-    if (o.oracleAlbedos) return scene.polygons[size_t(surface)].albedo;
+    if (o.oracleAlbedos) return clampRho(scene.polygons[size_t(surface)].albedo);
     return observed[surface] ? clampRho(kPi * radiance / glm::max(irradiance, glm::dvec3(1e-12))) : unseenRho[surface];
   }
   void run(Progress& progress);
@@ -895,8 +895,11 @@ void Preprocessor::Impl::step2(const std::vector<uint8_t>& redo, const std::map<
         ref = c.regionRef[r].second;
     if (ref >= 0) {
       how[k] = kByRegion;
-    } else if (o.reference == RelightOptions::Reference::Chosen && !overrides.count(scene.polygons[size_t(s)].name)) {
-      continue;  // no reference the user chose: step 1's estimate stands
+    } else if (o.reference == RelightOptions::Reference::Chosen) {
+      // Only the user's choice: the polygon's reference patch as it is; else step 1 stands.
+      if (!overrides.count(scene.polygons[size_t(s)].name) || defaultRef[s] < 0) continue;
+      ref = defaultRef[s];
+      how[k] = kByDefault;
     } else {
       const glm::dvec3 ci = glm::dvec3(N.center);
       double bestDist = 1e300;
@@ -979,6 +982,9 @@ void Preprocessor::Impl::finalPass(Progress& progress) {
       fillSmoothly(tex[s], tex[s].unoccluded, true);
     }
     if (real[s]) fillSmoothly(tex[s], tex[s].albedo, true);
+    // The oracle's reflectances are the scene's, wherever the session takes them from.
+    if (real[s] && o.oracleAlbedos)
+      std::fill(tex[s].albedo.begin(), tex[s].albedo.end(), glm::vec3(rhoAt(int(s), glm::dvec3(0.0), glm::dvec3(1.0))));
   }
   for (size_t s = 0; s < np; ++s)
     if (!real[s]) {

@@ -68,7 +68,8 @@ struct RelightOptions {
   // grows with the blocked fraction b as b / (1 - b) (the blocked light is an estimate; what is
   // seen is the rest), the reference's is the colour mismatch, taken as equal at b = 1/2.
   // Chosen (the default): Weighted, but only where the user chose a reference — inside a painted
-  // region, or on a polygon given a reference patch. Elsewhere step 1 stands: with shadows refined
+  // region its reference, on a polygon given a reference patch that patch (no automatic frontier
+  // search). Elsewhere step 1 stands: with shadows refined
   // along the texture and the blocked light traced per element, it is closer than a neighbour of
   // similar colour (measured: the sample room's unoccluded image 32.1 -> 33.4 dB on the shadow
   // mask, lamp edits 1.7-3.5 dB closer; see docs/architecture.md).
