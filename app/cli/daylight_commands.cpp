@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <numbers>
 
 #include "commands.h"
@@ -21,6 +22,8 @@
 #include "relume/relight/compare.h"
 #include "relume/relight/relighter.h"
 #include "relume/daylight/sky.h"
+#include "relume/daylight/volume.h"
+#include "relume/radiosity/sh.h"
 #include "relume/radiosity/form_factor.h"
 #include "relume/radiosity/hierarchy.h"
 #include "relume/relight/solution_render.h"
@@ -63,10 +66,16 @@ int daylightBasisCommand(const QStringList& args, Progress& progress) {
   p.addOption({"json", "Write the report as JSON.", "OUT.json"});
   p.addOption({"render", "Write each sky's solution seen through the main photo's camera as DIR/SKY.exr (radiance "
                          "B / pi of the model's own albedos: the simulation, not the relit photo).", "DIR"});
-  parseOrThrow(p, args, 1, "relume daylight-basis ROOM [--regions 64] [--sky NAME] [--exact] [--json OUT.json] [--render DIR]");
+  p.addOption({"grid", "Also build the irradiance volume for virtual objects: N x N x N points over the room (N from "
+                       "2 to 32, e.g. 8), each basis's indirect light as spherical harmonics, and print each sky's at the room's "
+                       "centre.", "N"});
+  parseOrThrow(p, args, 1,
+               "relume daylight-basis ROOM [--regions 64] [--grid 8] [--sky NAME] [--exact] [--json OUT.json] [--render DIR]");
   bool ok = true;
   const int regions = p.isSet("regions") ? p.value("regions").toInt(&ok) : 64;
   if (!ok || regions < 1 || regions > 4096) throw Error("", "--regions", "must be a whole number from 1 to 4096");
+  const int grid = p.isSet("grid") ? p.value("grid").toInt(&ok) : 0;
+  if (!ok || (p.isSet("grid") && (grid < 2 || grid > 32))) throw Error("", "--grid", "must be a whole number from 2 to 32");
   const Scene room = openRoom(p.positionalArguments()[0]);
   const dl::SkyImage refineImage = roomSky(room, p.value("sky").toStdString());
   const dl::SkyRegions cells(regions);
@@ -79,6 +88,15 @@ int daylightBasisCommand(const QStringList& args, Progress& progress) {
               "%.2f s per basis; ground albedo %.3f\n",
               basis.basisCount(), regions, eng.nodes().size(), eng.links().size(), basis.refineSeconds(),
               basis.secondsPerBasis(), basis.groundReflectance());
+  std::unique_ptr<dl::IrradianceVolume> volume;
+  if (grid > 0) {
+    volume = std::make_unique<dl::IrradianceVolume>(basis, dl::VolumeOptions{grid, 2048}, progress);
+    size_t inside = 0;
+    for (size_t q = 0; q < volume->pointCount(); ++q) inside += volume->inRoom(q);
+    std::printf("irradiance volume: %d^3 points (%zu inside the room, the rest inside furniture or walls), %d bases, built "
+                "in %.1f s\n",
+                grid, inside, volume->basisCount(), volume->buildSeconds());
+  }
   QJsonArray skies;
   for (const auto& cap : room.skies) {
     const dl::SkyImage image = roomSky(room, cap.name);
@@ -93,7 +111,24 @@ int daylightBasisCommand(const QStringList& args, Progress& progress) {
       std::printf("  %-20s %10.5f %10.5f %10.5f\n", room.polygons[s].name.c_str(), l.x, l.y, l.z);
       polys[QString::fromStdString(room.polygons[s].name)] = rgbJson(l);
     }
-    skies.append(QJsonObject{{"name", QString::fromStdString(cap.name)}, {"mean_radiance", polys}});
+    QJsonObject skyReport{{"name", QString::fromStdString(cap.name)}, {"mean_radiance", polys}};
+    if (volume) {
+      // The indirect irradiance at the room's centre from six directions (the volume's light).
+      volume->combine(basis, sky, stage);
+      const glm::dvec3 centre = 0.5 * (volume->lower() + volume->upper());
+      const radiosity::SH9 sh = volume->at(centre);
+      QJsonObject e;
+      std::printf("  indirect irradiance at the room's centre:");
+      for (const auto& [name, n] : {std::pair{"+x", glm::dvec3(1, 0, 0)}, {"-x", glm::dvec3(-1, 0, 0)}, {"+y", glm::dvec3(0, 1, 0)},
+                                    {"-y", glm::dvec3(0, -1, 0)}, {"+z", glm::dvec3(0, 0, 1)}, {"-z", glm::dvec3(0, 0, -1)}}) {
+        const glm::dvec3 v = radiosity::shIrradiance(sh, n);
+        std::printf(" %s %.4f", name, luminance(v));
+        e[name] = rgbJson(v);
+      }
+      std::printf("\n");
+      skyReport["volume_centre_irradiance"] = e;
+    }
+    skies.append(skyReport);
     if (p.isSet("render")) {
       const Photo* main = room.findPhoto(room.mainPhoto);
       if (!main) throw Error(room.sourceFile, "--render", "the room has no main photo to look through");
@@ -110,6 +145,7 @@ int daylightBasisCommand(const QStringList& args, Progress& progress) {
                      {"seconds_per_basis", basis.secondsPerBasis()},
                      {"ground_albedo", basis.groundReflectance()},
                      {"skies", skies}};
+  if (volume) report["volume"] = QJsonObject{{"grid", grid}, {"build_seconds", volume->buildSeconds()}};
   if (p.isSet("exact")) {
     // The refining sky's luminance per direction, the sun's pixels given their region's mean.
     const dl::SkyRadiance& avg = refineSky;
@@ -322,27 +358,35 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
                                                      "x" + std::to_string(photo.height));
     const dl::SkyRadiance sky = dl::averageSky(roomSky(bundle, v.sky.empty() ? bundle.photoSky : v.sky), cells);
     const std::vector<Polygon> objects = daylightObjects(v, bundle.sourceFile);
-    Progress a(stage, 0.0, 0.5), b(stage, 0.5, 1.0);
+    Progress a(stage, 0.0, 0.5), b(stage, 0.5, 0.9);
     const ImageRGB near = relit.render(sky, objects, dl::DaylightMethod::NearField, a);
     writeImage(dir(v.name + ".irradiance.exr"), relit.lastIrradiance());
     const ImageRGB distant = relit.render(sky, objects, dl::DaylightMethod::Distant, b);
+    // The paper's interactive path (the irradiance volume and window samples; nothing solved again).
+    Progress c(stage, 0.9, 1.0);
+    const ImageRGB volume = relit.render(sky, objects, dl::DaylightMethod::Volume, c);
     writeImage(dir(v.name + ".near-field.exr"), near);
     writeImage(dir(v.name + ".distant.exr"), distant);
-    writeImage(dir(v.name + ".png"), sideBySide({&photo, &distant, &near, &truth}));
+    writeImage(dir(v.name + ".volume.exr"), volume);
+    writeImage(dir(v.name + ".png"), sideBySide({&photo, &distant, &volume, &near, &truth}));
     const CompareMasks change = benchmarkMasks(photo, truth);
     auto scores = [&](const ImageRGB& img) {
       const Comparison c1 = compareImages(img, truth, masks.all), c2 = compareImages(img, truth, change.shadow);
       return QJsonObject{{"psnr_all", c1.psnr}, {"psnr_change", c2.psnr}, {"gain_all", rgbJson(c1.gain)}, {"gain_change", rgbJson(c2.gain)}};
     };
-    const QJsonObject n = scores(near), d = scores(distant), u = scores(photo);
+    const QJsonObject n = scores(near), d = scores(distant), u = scores(photo), vol = scores(volume);
     const double changeFraction = double(std::count(change.shadow.begin(), change.shadow.end(), 1)) / double(change.shadow.size());
     variants.append(QJsonObject{{"name", QString::fromStdString(v.name)},
                                 {"near_field", n},
                                 {"distant", d},
+                                {"volume", vol},
                                 {"photo_unchanged", u},
                                 {"change_mask_fraction", changeFraction}});
-    std::fprintf(stderr, "%-18s near-field %5.2f/%5.2f  distant %5.2f/%5.2f  photo %5.2f/%5.2f dB (all/change; change mask %.1f %%)\n",
-                 v.name.c_str(), n["psnr_all"].toDouble(), n["psnr_change"].toDouble(), d["psnr_all"].toDouble(),
+    std::fprintf(stderr,
+                 "%-18s near-field %5.2f/%5.2f  volume %5.2f/%5.2f  distant %5.2f/%5.2f  photo %5.2f/%5.2f dB (all/change; change mask "
+                 "%.1f %%)\n",
+                 v.name.c_str(), n["psnr_all"].toDouble(), n["psnr_change"].toDouble(), vol["psnr_all"].toDouble(),
+                 vol["psnr_change"].toDouble(), d["psnr_all"].toDouble(),
                  d["psnr_change"].toDouble(), u["psnr_all"].toDouble(), u["psnr_change"].toDouble(), 100 * changeFraction);
   }
   writeJsonAtomically(QString::fromStdString(dir("report.json")),
@@ -355,7 +399,8 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
 
 int daylightRelight(const Scene& room, const std::string& skyName, const std::vector<std::string>& objectFiles,
                     const std::string& method, const std::string& camera, const std::string& out, Progress& progress) {
-  if (method != "near-field" && method != "distant") throw Error("", "--daylight", "must be near-field or distant, not '" + method + "'");
+  if (method != "near-field" && method != "distant" && method != "volume")
+    throw Error("", "--daylight", "must be near-field, volume or distant, not '" + method + "'");
   const Photo* main = room.findPhoto(camera.empty() ? room.mainPhoto : camera);
   if (!main) throw Error(room.sourceFile, "--camera", "the room has no photo named '" + camera + "'");
   if (main->hdr.empty()) throw Error(room.sourceFile, "photo " + main->name, "daylight relighting needs its linear (EXR) image");
@@ -380,7 +425,11 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   const ImageRGB photo = readImageLinear(hdr);
   Progress pre(progress, 0.0, 0.7), draw(progress, 0.7, 1.0);
   dl::DaylightRelighting relit(room, photo, main->camera, dl::averageSky(roomSky(room, room.photoSky), cells), {}, pre);
-  const ImageRGB img = relit.render(sky, objects, method == "distant" ? dl::DaylightMethod::Distant : dl::DaylightMethod::NearField, draw);
+  const ImageRGB img = relit.render(sky, objects,
+                                    method == "distant" ? dl::DaylightMethod::Distant
+                                    : method == "volume" ? dl::DaylightMethod::Volume
+                                                         : dl::DaylightMethod::NearField,
+                                    draw);
   writeImage(out, img);
   std::fprintf(stderr, "wrote %s\n", out.c_str());
   return 0;
@@ -451,6 +500,35 @@ QJsonObject daylightBench(const Scene& scene, int runs, Progress& progress) {
     basis.removeObjects(ids);
     relit = QJsonObject{{"width", photo.width}, {"height", photo.height}, {"median_ms", median(frame)},
                         {"object_added_seconds", add}};
+    // The interactive path (Grosch et al. §6.3, §7): the same box moved under the sky, lit by the
+    // irradiance volume and the window samples, nothing solved again; the session's own
+    // reflectance estimate first (three rounds of bases), its volume built on the first frame.
+    progress.report(0.8, "bench: a box moved under daylight (irradiance volume)");
+    dl::DaylightRelighting session(scene, photo, main->camera, photoSky);
+    t0 = std::chrono::steady_clock::now();
+    session.volume();
+    const double volumeSeconds = ms(t0) / 1000;
+    std::vector<double> volumeCombine, moved;
+    for (int r = 0; r < std::max(runs, 5); ++r) {
+      t0 = std::chrono::steady_clock::now();
+      session.volume().combine(session.basis(), sky);
+      volumeCombine.push_back(ms(t0));
+    }
+    session.render(sky, faces, dl::DaylightMethod::Volume);  // the room under this sky, once
+    for (int r = 0; r < std::max(runs, 5); ++r) {
+      std::vector<Polygon> shifted = faces;
+      for (auto& f : shifted)
+        for (auto& q : f.vertices) q.x += 0.05 * (r % 2 ? 1 : -1);
+      t0 = std::chrono::steady_clock::now();
+      session.render(sky, shifted, dl::DaylightMethod::Volume);
+      moved.push_back(ms(t0));
+    }
+    relit["volume"] = QJsonObject{{"grid", session.volume().resolution()},
+                                  {"build_seconds", volumeSeconds},
+                                  {"combination_median_ms", median(volumeCombine)},
+                                  {"object_moved_median_ms", median(moved)},
+                                  {"pixels_touched", double(session.lastTouchedPixels())},
+                                  {"direct_samples", session.interactive().directSamples}};
   }
   const auto& eng = basis.engine();
   return QJsonObject{{"regions", cells.size()},

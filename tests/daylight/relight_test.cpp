@@ -53,6 +53,28 @@ bool nearPatchEdge(double x, double y, double d) {
   return false;
 }
 
+// Does the line from p towards the sun cross the box [lo, hi]? (The test's own ray-box test.)
+bool inBoxShadow(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
+  double t0 = 0, t1 = 1e9;
+  for (int a = 0; a < 3; ++a) {
+    if (std::abs(kSun[a]) < 1e-12) {
+      if (p[a] < lo[a] || p[a] > hi[a]) return false;
+      continue;
+    }
+    double u = (lo[a] - p[a]) / kSun[a], v = (hi[a] - p[a]) / kSun[a];
+    if (u > v) std::swap(u, v);
+    t0 = std::max(t0, u), t1 = std::min(t1, v);
+  }
+  return t0 < t1;
+}
+// Is the floor point p well inside (1) or well outside (-1) the box's sun shadow, 3 cm either way?
+int shadowSide(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
+  int in = 0;
+  for (const glm::dvec3& d : {glm::dvec3(0.0), glm::dvec3(0.03, 0, 0), glm::dvec3(-0.03, 0, 0), glm::dvec3(0, 0.03, 0), glm::dvec3(0, -0.03, 0)})
+    in += inBoxShadow(p + d, lo, hi);
+  return in == 5 ? 1 : in == 0 ? -1 : 0;
+}
+
 BasisOptions options() {
   BasisOptions o;
   o.regions = 16;
@@ -118,20 +140,7 @@ TEST(DaylightRelight, AVirtualBoxDarkensOnlyWhereItNewlyBlocksTheSunAndShowsItsA
   ImageRGB photo(cam.width, cam.height);
   for (auto& v : photo.pixels) v = 0.25f;
   const ImageRGB out = differentialRender(photo, ePhoto, eBox, seenBox, firstVirtual, {6, albedo});
-  // The box's shadow on the floor, by the test's own ray-box test towards the sun.
-  auto shadowed = [&](const glm::dvec3& p) {
-    double t0 = 0, t1 = 1e9;
-    for (int a = 0; a < 3; ++a) {
-      if (std::abs(kSun[a]) < 1e-12) {
-        if (p[a] < lo[a] || p[a] > hi[a]) return false;
-        continue;
-      }
-      double u = (lo[a] - p[a]) / kSun[a], v = (hi[a] - p[a]) / kSun[a];
-      if (u > v) std::swap(u, v);
-      t0 = std::max(t0, u), t1 = std::min(t1, v);
-    }
-    return t0 < t1;
-  };
+  auto shadowed = [&](const glm::dvec3& p) { return inBoxShadow(p, lo, hi); };
   size_t inShadow = 0, darkened = 0, stillLit = 0, wronglyDark = 0, top = 0, topRight = 0;
   std::vector<float> farRatio;
   std::vector<uint8_t> isFar(seenBox.surface.size(), 0);
@@ -296,4 +305,72 @@ TEST(DaylightRelight, ABoxInACornerTheSunNeverReachesGathersWhatRaysOverItsHemis
                 brute, 100 * (solved / brute - 1));
     EXPECT_NEAR(solved, brute, 0.15 * brute);
   }
+}
+
+TEST(DaylightRelight, TheInteractivePathDrawsTheBoxAndItsSunShadowAsTheFullSolutionDoes) {
+  // The paper's interactive method (the irradiance volume, samples through the window, nothing
+  // solved again) against the full one (the box in the hierarchy, every basis solved again): the
+  // box's sun shadow where ray casting puts it, the box's pixels alike.
+  const Scene room = windowRoom(0.5, 0.6, 0.7);
+  SkyRadiance sky = sunOnly(16);
+  for (size_t k = 0; k < sky.region.size(); ++k) sky.region[k] = glm::dvec3(0.05 + 0.01 * double(k % 4));
+  const double xc = W - 0.5 * (Z0 + Z1) / std::tan(kElev), yc = 0.5 * (Y0 + Y1), h = 0.2;
+  const glm::dvec3 lo(xc - h, yc - h, 0.0), hi(xc + h, yc + h, 2 * h);
+  const glm::dvec3 albedo(0.8, 0.4, 0.1);
+  const Camera cam = Camera::lookAt({0.4, 0.6, 2.3}, {xc, yc, 0.0}, 320, 240, 220);
+  ImageRGB photo(cam.width, cam.height);
+  for (auto& v : photo.pixels) v = 0.25f;
+  DaylightRelighting relit(room, photo, cam, sky, options());
+  // A coarser volume than the default: the box's indirect light is a small part of its pixels here.
+  relit.setInteractive({{6, 512}, 64});
+  std::vector<Polygon> faces;
+  for (const auto& f : boxObject("box", lo, hi, albedo).polygons) {
+    Polygon p = poly("box", f, 0.0);
+    p.albedo = albedo;
+    faces.push_back(p);
+  }
+  const ImageRGB full = relit.render(sky, faces, DaylightMethod::NearField);
+  const ImageRGB fast = relit.render(sky, faces, DaylightMethod::Volume);
+  const SeenPixels room0 = seePixels(relit.basis(), cam);  // the room without the box
+  size_t shadow = 0, darkened = 0, lit = 0, wronglyDark = 0, boxPixels = 0;
+  double boxFast = 0, boxFull = 0;
+  const RayScene box(std::vector<std::vector<glm::dvec3>>{faces[0].vertices, faces[1].vertices, faces[2].vertices,
+                                                          faces[3].vertices, faces[4].vertices, faces[5].vertices});
+  for (size_t i = 0; i < room0.surface.size(); ++i) {
+    const glm::dvec3 eye = cam.center(), d = cam.rayDirection(double(i % 320) + 0.5, double(i / 320) + 0.5);
+    const RayHit hb = box.intersect(Ray{glm::vec3(eye), glm::vec3(d), 0.f, 1e30f});
+    if (hb.polygon >= 0) {
+      // Well inside the box's outline (not its edge pixels, which the two paths cover alike only on average).
+      bool inner = true;
+      for (int dy = -2; dy <= 2 && inner; ++dy)
+        for (int dx = -2; dx <= 2 && inner; ++dx)
+          inner = box.intersect(Ray{glm::vec3(eye), glm::vec3(cam.rayDirection(double(i % 320) + 0.5 + dx, double(i / 320) + 0.5 + dy)), 0.f, 1e30f})
+                      .polygon == hb.polygon;
+      if (!inner) continue;
+      ++boxPixels;
+      boxFast += pixel(fast, i).x;
+      boxFull += pixel(full, i).x;
+      continue;
+    }
+    if (room0.surface[i] != 0) continue;
+    const glm::dvec3& p = room0.point[i];
+    if (!inPatch(p.x, p.y) || nearPatchEdge(p.x, p.y, 0.03)) continue;
+    const int side = shadowSide(p, lo, hi);
+    if (side > 0) {
+      ++shadow;
+      darkened += pixel(fast, i).x < 0.35f * pixel(photo, i).x;
+    } else if (side < 0) {
+      ++lit;
+      wronglyDark += pixel(fast, i).x < 0.9f * pixel(full, i).x;
+    }
+  }
+  std::printf("interactive path: %zu of %zu shadow pixels darkened below 35 %%, %zu of %zu sunlit ones darker than the full "
+              "path's by 10 %%; the box's inner pixels %.4f vs the full path's %.4f (%zu pixels)\n",
+              darkened, shadow, wronglyDark, lit, boxFast / double(boxPixels), boxFull / double(boxPixels), boxPixels);
+  ASSERT_GT(shadow, 200u);
+  ASSERT_GT(lit, 1000u);
+  ASSERT_GT(boxPixels, 500u);
+  EXPECT_GT(double(darkened), 0.8 * double(shadow));
+  EXPECT_LT(double(wronglyDark), 0.1 * double(lit));
+  EXPECT_NEAR(boxFast, boxFull, 0.1 * boxFull);
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <atomic>
 #include <map>
 #include <memory>
 #include <numbers>
@@ -15,6 +16,7 @@
 #include "relume/geometry/polygon.h"
 #include "relume/radiosity/form_factor.h"
 #include "relume/radiosity/hierarchy.h"
+#include "relume/radiosity/sh.h"
 #include "relume/raytrace/ray_scene.h"
 #include "relume/relight/solution_render.h"
 
@@ -43,6 +45,57 @@ double throughWindow(const radiosity::HierarchicalRadiosity& h, const std::vecto
     if (t > 0 && (best < 0 || t < best)) best = t;
   }
   return best;
+}
+
+// The sun's direct light over a pixel's footprint (4 x 4 camera rays over 1.5 pixels, as a
+// renderer's or a camera's pixel filter spreads a sunlit edge), each point towards another
+// direction of the sun's disc (for the penumbra): the mean cosine that reaches the points through
+// the windows past the room, and the part of it that `blockers` (virtual objects) take away.
+struct SunShare {
+  double open = 0, blocked = 0;
+};
+SunShare footprintSun(const radiosity::HierarchicalRadiosity& h, const std::vector<int>& windows, const Camera& camera,
+                      size_t px, size_t py, const std::vector<glm::dvec3>& sunDisc, const RayScene* blockers) {
+  const double x = double(px) + 0.5, y = double(py) + 0.5;
+  const glm::dvec3 eye = camera.center();
+  constexpr int k = 4;
+  Ray rays[k * k];
+  RayHit hits[k * k];
+  for (int j = 0; j < k * k; ++j) {
+    const double dx = ((j % k) + 0.5) / k * 1.5 - 0.75, dy = ((j / k) + 0.5) / k * 1.5 - 0.75;
+    rays[j] = Ray{glm::vec3(eye), glm::vec3(camera.rayDirection(x + dx, y + dy)), 0.f, 1e30f};
+  }
+  h.rayScene().intersect(rays, hits);
+  SunShare out;
+  for (int j = 0; j < k * k; ++j) {
+    if (hits[j].polygon < 0) continue;
+    const glm::dvec3 n = polygonNormal(h.surfaces()[size_t(hits[j].polygon)].vertices);
+    if (glm::dot(n, glm::dvec3(rays[j].direction)) > 0) continue;  // a back face: dark
+    const glm::dvec3& sj = sunDisc[size_t((j * 7) % (k * k))];  // footprint and disc decorrelated
+    const double c = glm::dot(n, sj);
+    if (c <= 0) continue;
+    const glm::dvec3 from = eye + double(hits[j].t) * glm::dvec3(rays[j].direction) + 1e-4 * n;
+    const double t = throughWindow(h, windows, from, sj);
+    if (t <= 0 || h.rayScene().occluded(glm::vec3(from), glm::vec3(from + t * sj), 1e-4f)) continue;
+    out.open += c / (k * k);
+    if (blockers && blockers->occluded(glm::vec3(from), glm::vec3(from + t * sj), 1e-5f)) out.blocked += c / (k * k);
+  }
+  return out;
+}
+
+// 16 directions of equal area over the sun's disc (0.53 degrees across; a fisheye's few pixels
+// cannot resolve it), so that shadow edges get the penumbra the sun gives them.
+std::vector<glm::dvec3> sunDiscDirections(const glm::dvec3& sun) {
+  const glm::dvec3 s = glm::normalize(sun);
+  const glm::dvec3 t = glm::normalize(glm::cross(s, std::abs(s.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
+  const glm::dvec3 u = glm::cross(s, t);
+  const double radius = 0.5 * 0.53 * kPi / 180;
+  std::vector<glm::dvec3> d;
+  for (int j = 0; j < 16; ++j) {
+    const double r = radius * std::sqrt((j + 0.5) / 16), a = j * kPi * (3 - std::sqrt(5.0));
+    d.push_back(glm::normalize(s + r * (std::cos(a) * t + std::sin(a) * u)));
+  }
+  return d;
 }
 }  // namespace
 
@@ -90,21 +143,9 @@ ImageRGB irradianceImage(DaylightBasis& basis, const SeenPixels& px, const SkyRa
   const auto& h = basis.engine();
   const auto corners = leafCornerValues(h, rest);
   ImageRGB out(px.width, px.height);
-  const glm::dvec3 s = sun ? glm::normalize(sky.sun.direction) : glm::dvec3(0, 0, 1);
   const glm::vec3 sunE(sky.sun.irradiance);
   const auto& windows = basis.windows();
-  // Directions over the sun's disc (0.53 degrees across; a fisheye's few pixels cannot resolve it),
-  // 16 of equal area, so that shadow edges get the penumbra the sun gives them.
-  std::vector<glm::dvec3> sunDisc;
-  {
-    const glm::dvec3 t = glm::normalize(glm::cross(s, std::abs(s.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
-    const glm::dvec3 u = glm::cross(s, t);
-    const double radius = 0.5 * 0.53 * kPi / 180;
-    for (int j = 0; j < 16; ++j) {
-      const double r = radius * std::sqrt((j + 0.5) / 16), a = j * kPi * (3 - std::sqrt(5.0));
-      sunDisc.push_back(glm::normalize(s + r * (std::cos(a) * t + std::sin(a) * u)));
-    }
-  }
+  const std::vector<glm::dvec3> sunDisc = sunDiscDirections(sun ? sky.sun.direction : glm::dvec3(0, 0, 1));
   tbb::parallel_for(tbb::blocked_range<size_t>(0, px.surface.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i < r.end(); ++i) {
       if (px.surface[i] < 0) continue;
@@ -113,32 +154,7 @@ ImageRGB irradianceImage(DaylightBasis& basis, const SeenPixels& px, const SkyRa
       if (leaf < 0 || !h.nodes()[size_t(leaf)].isLeaf()) leaf = h.findLeaf(px.surface[i], px.uv[i]);
       glm::vec3 e = leaf >= 0 ? interpolateCorners(h.nodes()[size_t(leaf)], corners[size_t(leaf)], px.uv[i]) : glm::vec3(0.f);
       e = glm::max(e, glm::vec3(0.f));
-      if (sun) {
-        // The pixel's footprint: 4 x 4 camera rays over 1.5 pixels, each point's direct sun.
-        const double x = double(i % size_t(px.width)) + 0.5, y = double(i / size_t(px.width)) + 0.5;
-        const glm::dvec3 eye = px.camera.center();
-        double sum = 0;
-        constexpr int k = 4;
-        Ray rays[k * k];
-        RayHit hits[k * k];
-        for (int j = 0; j < k * k; ++j) {
-          const double dx = ((j % k) + 0.5) / k * 1.5 - 0.75, dy = ((j / k) + 0.5) / k * 1.5 - 0.75;
-          rays[j] = Ray{glm::vec3(eye), glm::vec3(px.camera.rayDirection(x + dx, y + dy)), 0.f, 1e30f};
-        }
-        h.rayScene().intersect(rays, hits);
-        for (int j = 0; j < k * k; ++j) {
-          if (hits[j].polygon < 0) continue;
-          const glm::dvec3 n = polygonNormal(h.surfaces()[size_t(hits[j].polygon)].vertices);
-          if (glm::dot(n, glm::dvec3(rays[j].direction)) > 0) continue;  // a back face: dark
-          const glm::dvec3& sj = sunDisc[size_t((j * 7) % (k * k))];  // footprint and disc decorrelated
-          const double c = glm::dot(n, sj);
-          if (c <= 0) continue;
-          const glm::dvec3 from = eye + double(hits[j].t) * glm::dvec3(rays[j].direction) + 1e-4 * n;
-          const double t = throughWindow(h, windows, from, sj);
-          if (t > 0 && !h.rayScene().occluded(glm::vec3(from), glm::vec3(from + t * sj), 1e-4f)) sum += c;
-        }
-        e += sunE * float(sum / (k * k));
-      }
+      if (sun) e += sunE * float(footprintSun(h, windows, px.camera, i % size_t(px.width), i / size_t(px.width), sunDisc, nullptr).open);
       put(out, i, e);
     }
   });
@@ -274,6 +290,7 @@ DaylightRelighting::~DaylightRelighting() = default;
 
 ImageRGB DaylightRelighting::render(const SkyRadiance& sky, const std::vector<Polygon>& objects, DaylightMethod method,
                                     Progress& progress) {
+  if (method == DaylightMethod::Volume) return renderVolume(sky, objects, progress);
   std::vector<glm::dvec3> albedos;
   std::vector<std::vector<glm::dvec3>> occluders;
   for (const auto& o : objects) {
@@ -306,6 +323,273 @@ ImageRGB DaylightRelighting::render(const SkyRadiance& sky, const std::vector<Po
     throw;
   }
   if (!ids.empty()) basis_->removeObjects(ids);  // not cancellable: the room must come back whole
+  return out;
+}
+
+namespace {
+bool sameSky(const SkyRadiance& a, const SkyRadiance& b) {
+  return a.region == b.region && a.sun.found == b.sun.found && a.sun.direction == b.sun.direction &&
+         a.sun.irradiance == b.sun.irradiance;
+}
+}  // namespace
+
+IrradianceVolume& DaylightRelighting::volume(Progress& progress) {
+  if (!volume_) volume_ = std::make_unique<IrradianceVolume>(*basis_, interactive_.volume, progress);
+  return *volume_;
+}
+
+void DaylightRelighting::setInteractive(const InteractiveOptions& options) {
+  if (options.volume.grid != interactive_.volume.grid || options.volume.rays != interactive_.volume.rays) volume_.reset();
+  interactive_ = options;
+  interactive_.directSamples = std::clamp(options.directSamples, 1, 4096);
+}
+
+ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vector<Polygon>& objects, Progress& progress) {
+  const auto& h = basis_->engine();
+  const auto& windows = basis_->windows();
+  {
+    Progress stage(progress, 0.0, 0.7);
+    volume(stage);
+  }
+  // The room under this sky (cached: the sky changes far less often than an object moves).
+  if (eRoom_.pixels.empty() || !sameSky(sky, roomSky_)) {
+    Progress stage(progress, 0.7, 0.95);
+    eRoom_ = irradianceImage(*basis_, seen_, sky, stage);
+    roomSky_ = sky;
+  }
+  const bool sun = sky.sun.found && sky.sun.direction.z > 0;
+  const glm::dvec3 groundL = basis_->groundRadiance(sky);
+  // The direct daylight's samples: points spread over the windows (stratified by area, jittered
+  // once, the same for every pixel: the paper's set of shadow maps), and the sun's disc.
+  struct WindowSample {
+    glm::dvec3 q, n;  // the point and the window's normal (into the room)
+    double area;      // the window area it stands for
+  };
+  std::vector<WindowSample> ws;
+  {
+    double total = 0;
+    for (int w : windows) total += polygonArea(h.surfaces()[size_t(w)].vertices);
+    uint64_t state = 12345;
+    auto uni = [&] {
+      state = state * 6364136223846793005ull + 1442695040888963407ull;
+      return double(state >> 11) / 9007199254740992.0;
+    };
+    for (int w : windows) {
+      const auto& v = h.surfaces()[size_t(w)].vertices;
+      const double a = polygonArea(v);
+      const int m = std::max(1, int(std::lround(interactive_.directSamples * a / std::max(total, 1e-12))));
+      const glm::dvec3 n = polygonNormal(v);
+      // Fan triangles by area, a stratified grid in each sample's triangle coordinates.
+      std::vector<double> cum;
+      for (size_t t = 1; t + 1 < v.size(); ++t)
+        cum.push_back((cum.empty() ? 0.0 : cum.back()) + 0.5 * glm::length(glm::cross(v[t] - v[0], v[t + 1] - v[0])));
+      const int side = std::max(1, int(std::ceil(std::sqrt(double(m)))));
+      for (int i = 0; i < m; ++i) {
+        const double r = (double(i) + uni()) / m * cum.back();
+        const size_t t = size_t(std::lower_bound(cum.begin(), cum.end(), r) - cum.begin());
+        double u = ((i % side) + uni()) / side, s2 = (((i / side) % side) + uni()) / side;
+        if (u + s2 > 1) {
+          u = 1 - u;
+          s2 = 1 - s2;
+        }
+        ws.push_back({v[0] + u * (v[t + 1] - v[0]) + s2 * (v[t + 2] - v[0]), n, a / m});
+      }
+    }
+  }
+  const std::vector<glm::dvec3> sunDisc = sunDiscDirections(sun ? sky.sun.direction : glm::dvec3(0, 0, 1));
+  auto skyRadiance = [&](const glm::dvec3& d) {
+    const int k = basis_->regions().regionOf(d);
+    return k >= 0 ? sky.region[size_t(k)] : groundL;
+  };
+
+  ImageRGB out = photo_;
+  touched_ = 0;
+  const size_t n = seen_.surface.size();
+  auto ratio = [&](size_t i, const glm::vec3& eNew) {
+    const glm::vec3 a = get(ePhoto_, i), ph = get(photo_, i);
+    glm::vec3 v = ph;
+    for (int c = 0; c < 3; ++c)
+      if (a[c] > 1e-6f) v[c] = ph[c] * (std::max(eNew[c], 0.f) / a[c]);
+    put(out, i, v);
+  };
+  if (objects.empty()) {
+    for (size_t i = 0; i < n; ++i)
+      if (seen_.surface[i] >= 0) ratio(i, get(eRoom_, i));
+    eLast_ = eRoom_;
+    return out;
+  }
+
+  // The objects: their own ray scene, their box and bounding sphere, the volume combined for the
+  // grid points they need, and per vertex the indirect light (Eq. 5, their own shadowing).
+  std::vector<std::vector<glm::dvec3>> polys;
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const auto& o : objects) {
+    polys.push_back(o.vertices);
+    for (const auto& v : o.vertices) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+  }
+  const RayScene objectScene(polys);
+  std::vector<size_t> firstTriangle;  // the scene's fan triangles, polygon after polygon
+  for (size_t o = 0, t = 0; o < polys.size(); t += polys[o].size() >= 3 ? polys[o].size() - 2 : 0, ++o) firstTriangle.push_back(t);
+  const glm::dvec3 centre = 0.5 * (lo + hi);
+  const double radius = 0.5 * glm::length(hi - lo);
+  volume_->combine(*basis_, sky, lo, hi);
+  // Both sides of every face: a face seen from behind (a single panel, not a closed solid) is lit
+  // by what its back sees.
+  std::vector<std::vector<glm::dvec3>> vertexE(objects.size()), vertexBackE(objects.size());
+  for (size_t o = 0; o < objects.size(); ++o) {
+    const auto& v = objects[o].vertices;
+    const glm::dvec3 nrm = polygonNormal(v);
+    glm::dvec3 mid(0.0);
+    for (const auto& q : v) mid += q / double(v.size());
+    for (const auto& q : v) {
+      const glm::dvec3 x = q + 0.02 * (mid - q);  // just inside the corner: an edge's own faces are not its shadow
+      const radiosity::SH9 l = volume_->at(x);
+      vertexE[o].push_back(radiosity::shApply(l, radiosity::shTransfer(x, nrm, &objectScene, 64)));
+      vertexBackE[o].push_back(radiosity::shApply(l, radiosity::shTransfer(x, -nrm, &objectScene, 64)));
+    }
+  }
+  auto segmentMeetsSphere = [&](const glm::dvec3& a, const glm::dvec3& b) {
+    const glm::dvec3 v = b - a;
+    const double t = std::clamp(glm::dot(centre - a, v) / std::max(glm::dot(v, v), 1e-300), 0.0, 1.0);
+    const glm::dvec3 d = a + t * v - centre;
+    return glm::dot(d, d) <= radius * radius;
+  };
+  // Could the objects block the sun anywhere in pixel i's footprint? Its rays hit the room within
+  // the hull of the 3 x 3 pixel centres around it (the footprint spans 1.5 pixels), so a sun line
+  // through the centre's point that passes farther from the sphere than the radius plus that
+  // spread cannot meet them; a neighbour that shows no surface (or a virtual one) asks the rays.
+  auto sunMayBeBlocked = [&](size_t i) {
+    const glm::dvec3& p = seen_.point[i];
+    const int px = int(i % size_t(seen_.width)), py = int(i / size_t(seen_.width));
+    double spread = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int qx = px + dx, qy = py + dy;
+        if (qx < 0 || qy < 0 || qx >= seen_.width || qy >= seen_.height) continue;
+        const size_t q = size_t(qy) * size_t(seen_.width) + size_t(qx);
+        if (seen_.surface[q] < 0) return true;
+        spread = std::max(spread, glm::length(seen_.point[q] - p));
+      }
+    const glm::dvec3 s = glm::normalize(sky.sun.direction);
+    const glm::dvec3 toC = centre - p;
+    const double along = glm::dot(toC, s);
+    if (along < -(radius + spread)) return false;  // the objects lie behind the sun's rays
+    const double perp2 = glm::dot(toC, toC) - along * along;
+    const double reach = radius + spread + 0.01 * glm::length(toC);  // and the sun disc's 0.27 degrees
+    return perp2 <= reach * reach;
+  };
+  // The direct daylight at x (normal nrm) that the windows let through (and the sun, on the
+  // objects: on the room it is taken over the pixel's footprint as eRoom took it), all of it, or
+  // only the part the objects block (and the room does not).
+  auto direct = [&](const glm::dvec3& x, const glm::dvec3& nrm, bool onlyBlocked) {
+    glm::dvec3 e(0.0);
+    const glm::dvec3 from = x + 1e-4 * nrm;
+    for (const auto& w : ws) {
+      const glm::dvec3 d = w.q - from;
+      const double r2 = glm::dot(d, d);
+      const glm::dvec3 dir = d / std::sqrt(r2);
+      const double cx = glm::dot(nrm, dir), cw = -glm::dot(w.n, dir);
+      if (cx <= 0 || cw <= 0) continue;
+      // A ray that passes farther than the objects' bounding sphere's radius from its centre
+      // cannot meet them (as a shadow map's lookup, without the ray).
+      const bool byObject = segmentMeetsSphere(from, w.q) && objectScene.occluded(glm::vec3(from), glm::vec3(w.q), 1e-5f);
+      if (onlyBlocked && !byObject) continue;
+      if (!onlyBlocked && byObject) continue;
+      if (h.rayScene().occluded(glm::vec3(from), glm::vec3(w.q), 1e-5f)) continue;
+      e += skyRadiance(dir) * cx * cw * w.area / r2;
+    }
+    for (size_t j = 0; sun && !onlyBlocked && j < sunDisc.size(); j += 4) {
+      const glm::dvec3& s = sunDisc[j];
+      const double c = glm::dot(nrm, s);
+      if (c <= 0) continue;
+      const double t = throughWindow(h, windows, from, s);
+      if (t <= 0) continue;
+      if (objectScene.occluded(glm::vec3(from), glm::vec3(from + t * s), 1e-5f)) continue;
+      if (h.rayScene().occluded(glm::vec3(from), glm::vec3(from + t * s), 1e-5f)) continue;
+      e += sky.sun.irradiance * c / 4.0;
+    }
+    return e;
+  };
+
+  // Could the objects block any of the direct light that reaches x: does their bounding sphere
+  // meet the cone from x to some window (or the sun's direction)?
+  std::vector<std::pair<glm::dvec3, double>> windowCones;  // per window: centre, radius
+  for (int w : windows) {
+    const auto& v = h.surfaces()[size_t(w)].vertices;
+    glm::dvec3 c(0.0);
+    for (const auto& q : v) c += q / double(v.size());
+    double r = 0;
+    for (const auto& q : v) r = std::max(r, glm::length(q - c));
+    windowCones.push_back({c, r});
+  }
+  auto mayBeShadowed = [&](const glm::dvec3& x) {
+    const glm::dvec3 toObj = centre - x;
+    const double dObj = glm::length(toObj);
+    if (dObj <= radius) return true;
+    const double beta = std::asin(std::min(1.0, radius / dObj));
+    for (const auto& [c, r] : windowCones) {
+      const glm::dvec3 toWin = c - x;
+      const double dWin = glm::length(toWin);
+      if (dWin < 1e-9) continue;
+      const double alpha = std::asin(std::min(1.0, r / dWin));
+      const double angle = std::acos(std::clamp(glm::dot(toObj, toWin) / (dObj * dWin), -1.0, 1.0));
+      if (angle <= alpha + beta && dObj - radius < dWin + r) return true;
+    }
+    return false;
+  };
+
+  // Pixels: the objects where they are in front of the room; the room where their shadow may fall.
+  const glm::dvec3 eye = seen_.camera.center();
+  std::vector<glm::vec3> eNew(n);
+  std::atomic<size_t> touched{0};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 2048), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i) {
+      const double x = double(i % size_t(seen_.width)) + 0.5, y = double(i / size_t(seen_.width)) + 0.5;
+      const glm::dvec3 dir = seen_.camera.rayDirection(x, y);
+      // The ray meets the objects' bounding sphere before the room's surface: ask the objects.
+      const double roomT = seen_.surface[i] >= 0 ? glm::length(seen_.point[i] - eye) : 1e30;
+      const glm::dvec3 oc = eye - centre;
+      const double b = glm::dot(oc, dir), disc = b * b - (glm::dot(oc, oc) - radius * radius);
+      if (disc >= 0 && -b - std::sqrt(disc) < roomT) {
+        const RayHit hit = objectScene.intersect(Ray{glm::vec3(eye), glm::vec3(dir), 0.f, float(roomT)});
+        if (hit.polygon >= 0) {
+          const size_t o = size_t(hit.polygon);
+          const auto& v = objects[o].vertices;
+          glm::dvec3 nrm = polygonNormal(v);
+          const bool back = glm::dot(nrm, dir) > 0;
+          if (back) nrm = -nrm;
+          const glm::dvec3 p = eye + double(hit.t) * dir;
+          const size_t t = size_t(hit.triangle) - firstTriangle[o];
+          const double bu = hit.barycentric.x, bv = hit.barycentric.y;
+          const auto& ve = back ? vertexBackE[o] : vertexE[o];
+          const glm::dvec3 ind = (1 - bu - bv) * ve[0] + bu * ve[t + 1] + bv * ve[t + 2];
+          const glm::dvec3 e = ind + direct(p, nrm, false);
+          put(out, i, glm::vec3(objects[o].albedo / kPi * e));
+          eNew[i] = glm::vec3(e);
+          ++touched;
+          continue;
+        }
+      }
+      if (seen_.surface[i] < 0) continue;
+      glm::vec3 e = get(eRoom_, i);
+      if (mayBeShadowed(seen_.point[i])) {
+        e -= glm::vec3(direct(seen_.point[i], seen_.normal[i], true));
+        if (sun && sunMayBeBlocked(i))
+          e -= glm::vec3(sky.sun.irradiance) *
+               float(footprintSun(h, windows, seen_.camera, i % size_t(seen_.width), i / size_t(seen_.width), sunDisc, &objectScene)
+                         .blocked);
+        ++touched;
+      }
+      eNew[i] = e;
+      ratio(i, e);
+    }
+  });
+  touched_ = touched;
+  eLast_ = ImageRGB(seen_.width, seen_.height);
+  for (size_t i = 0; i < n; ++i) put(eLast_, i, eNew[i]);
   return out;
 }
 

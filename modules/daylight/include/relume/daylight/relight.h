@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "relume/daylight/basis.h"
+#include "relume/daylight/volume.h"
 #include "relume/geometry/camera.h"
 #include "relume/geometry/scene.h"
 #include "relume/image/image.h"
@@ -68,7 +69,23 @@ ImageRGB differentialRender(const ImageRGB& photo, const ImageRGB& ePhoto, const
 // virtual objects rendered into the photo, near-field (the basis solutions, the windows' own
 // light) or distant (the sky at infinity, the objects the only occluders, the room as
 // photographed) — Grosch's comparison.
-enum class DaylightMethod { NearField, Distant };
+//
+// Volume is the paper's interactive method (§6.3, §7): the room's light is the bases' for the sky
+// (nothing solved again), a virtual object's indirect light comes from the irradiance volume
+// (Eq. 4 over the grid points it needs, Eq. 5 per vertex with its own shadowing), its direct
+// daylight and the shadows it casts on the room from `directSamples` points spread over the
+// windows (each a shadow ray against the room and the object, as the paper's shadow maps,
+// weighted by cos x cos x area / r^2) and the sun (on the object's own pixels four rays over its
+// disc; on the room the same 4 x 4-ray footprint as irradianceImage); only pixels its shadows can
+// reach are touched. What the object reflects onto the room and the indirect light it blocks are
+// left out, as in the paper. The volume is built from the bases as solved when it is first used;
+// it is not rebuilt if a NearField render refines them later.
+enum class DaylightMethod { NearField, Distant, Volume };
+
+struct InteractiveOptions {
+  VolumeOptions volume;
+  int directSamples = 64;
+};
 
 class DaylightRelighting {
  public:
@@ -84,9 +101,21 @@ class DaylightRelighting {
   const ImageRGB& photoIrradiance() const { return ePhoto_; }
   const ImageRGB& lastIrradiance() const { return eLast_; }
   DaylightBasis& basis() { return *basis_; }
+  // The irradiance volume of the room (built on first use of DaylightMethod::Volume, or here).
+  IrradianceVolume& volume(Progress& progress = silentProgress());
+  void setInteractive(const InteractiveOptions& options);
+  const InteractiveOptions& interactive() const { return interactive_; }
+  // Pixels the last Volume render touched for the objects (drawn or shadowed), for the bench.
+  size_t lastTouchedPixels() const { return touched_; }
 
  private:
+  ImageRGB renderVolume(const SkyRadiance& sky, const std::vector<Polygon>& objects, Progress& progress);
   ImageRGB photo_, ePhoto_, eLast_;
+  InteractiveOptions interactive_;
+  std::unique_ptr<IrradianceVolume> volume_;
+  SkyRadiance roomSky_;  // the sky eRoom_ was made for
+  ImageRGB eRoom_;
+  size_t touched_ = 0;
   Camera camera_;
   std::unique_ptr<DaylightBasis> basis_;
   SeenPixels seen_;
