@@ -7,6 +7,8 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <atomic>
+#include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <numbers>
@@ -49,13 +51,17 @@ double throughWindow(const radiosity::HierarchicalRadiosity& h, const std::vecto
 
 // The sun's direct light over a pixel's footprint (4 x 4 camera rays over 1.5 pixels, as a
 // renderer's or a camera's pixel filter spreads a sunlit edge), each point towards another
-// direction of the sun's disc (for the penumbra): the mean cosine that reaches the points through
-// the windows past the room, and the part of it that `blockers` (virtual objects) take away.
-struct SunShare {
-  double open = 0, blocked = 0;
+// direction of the sun's disc (for the penumbra): the rays that reach the sky through the windows
+// past the room, each with its share of the pixel (cosine / 16). They depend on the room, the
+// camera and the sun only: the interactive path keeps them per pixel while objects move.
+struct SunRay {
+  glm::vec3 from, to;  // the room's point (lifted off its surface) and where the ray leaves by a window
+  uint8_t disc;        // which of the sun disc's directions
+  float share;
 };
-SunShare footprintSun(const radiosity::HierarchicalRadiosity& h, const std::vector<int>& windows, const Camera& camera,
-                      size_t px, size_t py, const std::vector<glm::dvec3>& sunDisc, const RayScene* blockers) {
+
+void footprintSunRays(const radiosity::HierarchicalRadiosity& h, const std::vector<int>& windows, const Camera& camera,
+                      size_t px, size_t py, const std::vector<glm::dvec3>& sunDisc, std::vector<SunRay>& out) {
   const double x = double(px) + 0.5, y = double(py) + 0.5;
   const glm::dvec3 eye = camera.center();
   constexpr int k = 4;
@@ -66,22 +72,111 @@ SunShare footprintSun(const radiosity::HierarchicalRadiosity& h, const std::vect
     rays[j] = Ray{glm::vec3(eye), glm::vec3(camera.rayDirection(x + dx, y + dy)), 0.f, 1e30f};
   }
   h.rayScene().intersect(rays, hits);
-  SunShare out;
+  out.clear();
   for (int j = 0; j < k * k; ++j) {
     if (hits[j].polygon < 0) continue;
     const glm::dvec3 n = polygonNormal(h.surfaces()[size_t(hits[j].polygon)].vertices);
     if (glm::dot(n, glm::dvec3(rays[j].direction)) > 0) continue;  // a back face: dark
-    const glm::dvec3& sj = sunDisc[size_t((j * 7) % (k * k))];  // footprint and disc decorrelated
+    const size_t disc = size_t((j * 7) % (k * k));  // footprint and disc decorrelated
+    const glm::dvec3& sj = sunDisc[disc];
     const double c = glm::dot(n, sj);
     if (c <= 0) continue;
     const glm::dvec3 from = eye + double(hits[j].t) * glm::dvec3(rays[j].direction) + 1e-4 * n;
     const double t = throughWindow(h, windows, from, sj);
     if (t <= 0 || h.rayScene().occluded(glm::vec3(from), glm::vec3(from + t * sj), 1e-4f)) continue;
-    out.open += c / (k * k);
-    if (blockers && blockers->occluded(glm::vec3(from), glm::vec3(from + t * sj), 1e-5f)) out.blocked += c / (k * k);
+    out.push_back({glm::vec3(from), glm::vec3(from + t * sj), uint8_t(disc), float(c / (k * k))});
   }
-  return out;
 }
+
+// The mean cosine of the footprint's rays that reach the sky (the sun's share of the pixel).
+double footprintSun(const radiosity::HierarchicalRadiosity& h, const std::vector<int>& windows, const Camera& camera,
+                    size_t px, size_t py, const std::vector<glm::dvec3>& sunDisc) {
+  thread_local std::vector<SunRay> rays;
+  footprintSunRays(h, windows, camera, px, py, sunDisc, rays);
+  double open = 0;
+  for (const auto& r : rays) open += r.share;
+  return open;
+}
+
+// A depth map of the virtual objects seen from one light sample (the paper's shadow maps, on the
+// CPU): perspective from a point on a window, or orthographic along one of the sun's directions,
+// framing the objects' bounding sphere. Each texel keeps the nearest object depth along the view
+// axis; a point is in the objects' shadow when the texel its direction falls in holds something
+// nearer than itself. Texels are sampled at their centres, as a GPU rasterises.
+class ObjectShadowMap {
+ public:
+  static constexpr int kSize = 128;
+  // Perspective from `eye` (outside the sphere), or orthographic along `dir` when `eye` is null.
+  ObjectShadowMap(const glm::dvec3* eye, const glm::dvec3& dir, const glm::dvec3& centre, double radius,
+                  const std::vector<std::vector<glm::dvec3>>& polygons) {
+    f_ = glm::normalize(eye ? centre - *eye : dir);
+    r_ = glm::normalize(glm::cross(f_, std::abs(f_.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
+    u_ = glm::cross(r_, f_);
+    ortho_ = eye == nullptr;
+    const double reach = 1.02 * radius;
+    if (ortho_) {
+      origin_ = centre - 2 * reach * f_;
+      scale_ = 1 / reach;
+    } else {
+      origin_ = *eye;
+      const double d = glm::length(centre - *eye);
+      scale_ = std::sqrt(std::max(d * d - reach * reach, 1e-12)) / reach;  // 1 / tan of the half-angle
+    }
+    depth_.assign(size_t(kSize) * kSize, std::numeric_limits<float>::infinity());
+    for (const auto& poly : polygons)
+      for (size_t t = 1; t + 1 < poly.size(); ++t) raster(project(poly[0]), project(poly[t]), project(poly[t + 1]));
+  }
+  // Whether the objects lie between the light sample and x (nearer than x by more than `bias`;
+  // with `cosine`, the cosine between the surface at x and the direction to the light, the bias
+  // grows by the depth one and a half texels of that surface span, as a GPU's slope-scaled bias:
+  // a face must not shadow itself).
+  bool blocks(const glm::dvec3& x, double bias, double cosine = 1) const {
+    const glm::dvec3 p = project(x);
+    if (p.z <= 0) return false;
+    const int i = int(std::floor(p.x)), j = int(std::floor(p.y));
+    if (i < 0 || j < 0 || i >= kSize || j >= kSize) return false;
+    if (cosine < 1) {
+      const double texel = 2 * (ortho_ ? 1.0 : p.z) / (scale_ * kSize);
+      const double c = std::max(cosine, 0.05);
+      bias += 1.5 * texel * std::sqrt(1 - c * c) / c;
+    }
+    return depth_[size_t(j) * kSize + size_t(i)] < p.z - bias;
+  }
+
+ private:
+  glm::dvec3 origin_, r_, u_, f_;
+  double scale_ = 1;
+  bool ortho_ = false;
+  std::vector<float> depth_;
+  // Texel coordinates and depth along the view axis.
+  glm::dvec3 project(const glm::dvec3& x) const {
+    const glm::dvec3 v = x - origin_;
+    const double z = glm::dot(v, f_);
+    const double w = ortho_ ? 1.0 : std::max(z, 1e-9);
+    const double half = 0.5 * kSize;
+    return {(glm::dot(v, r_) / w * scale_ + 1) * half, (glm::dot(v, u_) / w * scale_ + 1) * half, z};
+  }
+  void raster(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    const double area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    if (std::abs(area) < 1e-12) return;
+    const int x0 = std::max(0, int(std::floor(std::min({a.x, b.x, c.x})))), x1 = std::min(kSize - 1, int(std::ceil(std::max({a.x, b.x, c.x}))));
+    const int y0 = std::max(0, int(std::floor(std::min({a.y, b.y, c.y})))), y1 = std::min(kSize - 1, int(std::ceil(std::max({a.y, b.y, c.y}))));
+    // Depth interpolated perspective-correctly (1 / z is linear on the image; z itself when orthographic).
+    const double ka = ortho_ ? a.z : 1 / a.z, kb = ortho_ ? b.z : 1 / b.z, kc = ortho_ ? c.z : 1 / c.z;
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const double px = x + 0.5, py = y + 0.5;
+        const double wa = ((b.x - px) * (c.y - py) - (b.y - py) * (c.x - px)) / area;
+        const double wb = ((c.x - px) * (a.y - py) - (c.y - py) * (a.x - px)) / area;
+        const double wc = 1 - wa - wb;
+        if (wa < 0 || wb < 0 || wc < 0) continue;
+        const double k = wa * ka + wb * kb + wc * kc;
+        const float z = float(ortho_ ? k : 1 / k);
+        float& d = depth_[size_t(y) * kSize + size_t(x)];
+        d = std::min(d, z);
+      }
+  }
+};
 
 // 16 directions of equal area over the sun's disc (0.53 degrees across; a fisheye's few pixels
 // cannot resolve it), so that shadow edges get the penumbra the sun gives them.
@@ -154,7 +249,7 @@ ImageRGB irradianceImage(DaylightBasis& basis, const SeenPixels& px, const SkyRa
       if (leaf < 0 || !h.nodes()[size_t(leaf)].isLeaf()) leaf = h.findLeaf(px.surface[i], px.uv[i]);
       glm::vec3 e = leaf >= 0 ? interpolateCorners(h.nodes()[size_t(leaf)], corners[size_t(leaf)], px.uv[i]) : glm::vec3(0.f);
       e = glm::max(e, glm::vec3(0.f));
-      if (sun) e += sunE * float(footprintSun(h, windows, px.camera, i % size_t(px.width), i / size_t(px.width), sunDisc, nullptr).open);
+      if (sun) e += sunE * float(footprintSun(h, windows, px.camera, i % size_t(px.width), i / size_t(px.width), sunDisc));
       put(out, i, e);
     }
   });
@@ -286,6 +381,25 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
   }
 }
 
+namespace {
+// One window sample's light on a room pixel past the room: the sample, the sky region its
+// direction looks into (-1: the ground), and cos x cos x area / r^2.
+struct WindowLight {
+  uint16_t sample;
+  int16_t region;
+  float weight;
+};
+}  // namespace
+
+struct DaylightRelighting::InteractiveCache {
+  size_t samples = 0;  // the window samples the entries were made with
+  std::vector<std::vector<WindowLight>> window;
+  std::vector<uint8_t> windowReady;
+  glm::dvec3 sunDirection{0.0};
+  std::vector<std::vector<SunRay>> sunRays;
+  std::vector<uint8_t> sunReady;
+};
+
 DaylightRelighting::~DaylightRelighting() = default;
 
 ImageRGB DaylightRelighting::render(const SkyRadiance& sky, const std::vector<Polygon>& objects, DaylightMethod method,
@@ -340,6 +454,7 @@ IrradianceVolume& DaylightRelighting::volume(Progress& progress) {
 
 void DaylightRelighting::setInteractive(const InteractiveOptions& options) {
   if (options.volume.grid != interactive_.volume.grid || options.volume.rays != interactive_.volume.rays) volume_.reset();
+  if (options.directSamples != interactive_.directSamples) cache_.reset();
   interactive_ = options;
   interactive_.directSamples = std::clamp(options.directSamples, 1, 4096);
 }
@@ -397,10 +512,6 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     }
   }
   const std::vector<glm::dvec3> sunDisc = sunDiscDirections(sun ? sky.sun.direction : glm::dvec3(0, 0, 1));
-  auto skyRadiance = [&](const glm::dvec3& d) {
-    const int k = basis_->regions().regionOf(d);
-    return k >= 0 ? sky.region[size_t(k)] : groundL;
-  };
 
   ImageRGB out = photo_;
   touched_ = 0;
@@ -451,12 +562,6 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
       vertexBackE[o].push_back(radiosity::shApply(l, radiosity::shTransfer(x, -nrm, &objectScene, 64)));
     }
   }
-  auto segmentMeetsSphere = [&](const glm::dvec3& a, const glm::dvec3& b) {
-    const glm::dvec3 v = b - a;
-    const double t = std::clamp(glm::dot(centre - a, v) / std::max(glm::dot(v, v), 1e-300), 0.0, 1.0);
-    const glm::dvec3 d = a + t * v - centre;
-    return glm::dot(d, d) <= radius * radius;
-  };
   // Could the objects block the sun anywhere in pixel i's footprint? Its rays hit the room within
   // the hull of the 3 x 3 pixel centres around it (the footprint spans 1.5 pixels), so a sun line
   // through the centre's point that passes farther from the sphere than the radius plus that
@@ -481,41 +586,9 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     const double reach = radius + spread + 0.01 * glm::length(toC);  // and the sun disc's 0.27 degrees
     return perp2 <= reach * reach;
   };
-  // The direct daylight at x (normal nrm) that the windows let through (and the sun, on the
-  // objects: on the room it is taken over the pixel's footprint as eRoom took it), all of it, or
-  // only the part the objects block (and the room does not).
-  auto direct = [&](const glm::dvec3& x, const glm::dvec3& nrm, bool onlyBlocked) {
-    glm::dvec3 e(0.0);
-    const glm::dvec3 from = x + 1e-4 * nrm;
-    for (const auto& w : ws) {
-      const glm::dvec3 d = w.q - from;
-      const double r2 = glm::dot(d, d);
-      const glm::dvec3 dir = d / std::sqrt(r2);
-      const double cx = glm::dot(nrm, dir), cw = -glm::dot(w.n, dir);
-      if (cx <= 0 || cw <= 0) continue;
-      // A ray that passes farther than the objects' bounding sphere's radius from its centre
-      // cannot meet them (as a shadow map's lookup, without the ray).
-      const bool byObject = segmentMeetsSphere(from, w.q) && objectScene.occluded(glm::vec3(from), glm::vec3(w.q), 1e-5f);
-      if (onlyBlocked && !byObject) continue;
-      if (!onlyBlocked && byObject) continue;
-      if (h.rayScene().occluded(glm::vec3(from), glm::vec3(w.q), 1e-5f)) continue;
-      e += skyRadiance(dir) * cx * cw * w.area / r2;
-    }
-    for (size_t j = 0; sun && !onlyBlocked && j < sunDisc.size(); j += 4) {
-      const glm::dvec3& s = sunDisc[j];
-      const double c = glm::dot(nrm, s);
-      if (c <= 0) continue;
-      const double t = throughWindow(h, windows, from, s);
-      if (t <= 0) continue;
-      if (objectScene.occluded(glm::vec3(from), glm::vec3(from + t * s), 1e-5f)) continue;
-      if (h.rayScene().occluded(glm::vec3(from), glm::vec3(from + t * s), 1e-5f)) continue;
-      e += sky.sun.irradiance * c / 4.0;
-    }
-    return e;
-  };
-
   // Could the objects block any of the direct light that reaches x: does their bounding sphere
-  // meet the cone from x to some window (or the sun's direction)?
+  // meet the cone from x to some window (or the sun's direction)? (Angles compared by cosines:
+  // this runs for every pixel of the room.)
   std::vector<std::pair<glm::dvec3, double>> windowCones;  // per window: centre, radius
   for (int w : windows) {
     const auto& v = h.surfaces()[size_t(w)].vertices;
@@ -529,16 +602,195 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     const glm::dvec3 toObj = centre - x;
     const double dObj = glm::length(toObj);
     if (dObj <= radius) return true;
-    const double beta = std::asin(std::min(1.0, radius / dObj));
+    const double sb = radius / dObj, cb = std::sqrt(1 - sb * sb);
     for (const auto& [c, r] : windowCones) {
       const glm::dvec3 toWin = c - x;
       const double dWin = glm::length(toWin);
-      if (dWin < 1e-9) continue;
-      const double alpha = std::asin(std::min(1.0, r / dWin));
-      const double angle = std::acos(std::clamp(glm::dot(toObj, toWin) / (dObj * dWin), -1.0, 1.0));
-      if (angle <= alpha + beta && dObj - radius < dWin + r) return true;
+      if (dWin <= r) return true;
+      if (dObj - radius >= dWin + r) continue;  // the objects lie beyond the window
+      const double sa = r / dWin, ca = std::sqrt(1 - sa * sa);
+      // angle <= alpha + beta, i.e. cos(angle) >= cos(alpha + beta) (alpha + beta < pi here)
+      if (glm::dot(toObj, toWin) / (dObj * dWin) >= ca * cb - sa * sb) return true;
     }
     return false;
+  };
+
+  // The objects' shadow maps: one per window sample (perspective from it), one per direction of
+  // the sun's disc (orthographic). A sample inside the bounding sphere gets none: its rays ask the
+  // objects directly.
+  std::vector<std::unique_ptr<ObjectShadowMap>> windowMaps(ws.size()), sunMaps(sunDisc.size());
+  tbb::parallel_for(size_t(0), ws.size() + (sun ? sunDisc.size() : 0), [&](size_t m) {
+    if (m < ws.size()) {
+      if (glm::length(ws[m].q - centre) > 1.05 * radius)
+        windowMaps[m] = std::make_unique<ObjectShadowMap>(&ws[m].q, glm::dvec3(0.0), centre, radius, polys);
+    } else {
+      const size_t d = m - ws.size();
+      sunMaps[d] = std::make_unique<ObjectShadowMap>(nullptr, -sunDisc[d], centre, radius, polys);
+    }
+  });
+  constexpr double kBias = 1e-3;  // metres: the objects' faces against the room's surfaces they touch
+
+  // What a room pixel receives from each window sample and the sun, past the room alone, depends
+  // on the room, the camera and the samples only: kept per pixel the first time an object's
+  // shadow may reach it (the window samples for the session's sample count, the sun's rays for
+  // its direction), so that moving an object asks only the objects' maps.
+  if (!cache_ || cache_->samples != ws.size()) {
+    cache_ = std::make_unique<InteractiveCache>();
+    cache_->samples = ws.size();
+    cache_->window.resize(n);
+    cache_->windowReady.assign(n, 0);
+  }
+  InteractiveCache& cache = *cache_;
+  if (sun && (cache.sunRays.size() != n || glm::dot(cache.sunDirection, sky.sun.direction) < 1 - 1e-12 ||
+              glm::length(cache.sunDirection) < 0.5)) {
+    cache.sunRays.assign(n, {});
+    cache.sunReady.assign(n, 0);
+    cache.sunDirection = glm::normalize(sky.sun.direction);
+  }
+  auto windowLight = [&](size_t i) -> const std::vector<WindowLight>& {
+    auto& out = cache.window[i];
+    if (cache.windowReady[i]) return out;
+    out.clear();
+    const glm::dvec3 from = seen_.point[i] + 1e-4 * seen_.normal[i];
+    for (size_t m = 0; m < ws.size(); ++m) {
+      const glm::dvec3 d = ws[m].q - from;
+      const double r2 = glm::dot(d, d);
+      const glm::dvec3 dir = d / std::sqrt(r2);
+      const double cx = glm::dot(seen_.normal[i], dir), cw = -glm::dot(ws[m].n, dir);
+      if (cx <= 0 || cw <= 0) continue;
+      if (h.rayScene().occluded(glm::vec3(from), glm::vec3(ws[m].q), 1e-5f)) continue;
+      out.push_back({uint16_t(m), int16_t(basis_->regions().regionOf(dir)), float(cx * cw * ws[m].area / r2)});
+    }
+    out.shrink_to_fit();
+    cache.windowReady[i] = 1;
+    return out;
+  };
+  auto regionRadiance = [&](int k) { return k >= 0 ? sky.region[size_t(k)] : groundL; };
+
+  // The room's shadows on the objects (the window frame's, the table's): whether the room lets
+  // each window sample through is found on a lattice over every object face (at most 5 cm apart,
+  // 2 to 16 points a side: the window's light on a face changes slowly, each sample's shadow edge
+  // is one of 64 steps) and interpolated bilinearly per pixel; the sun's sharp edges are rays per
+  // pixel. (The room is not in the objects' scene, so one lattice serves both sides.)
+  const size_t words = (ws.size() + 63) / 64;
+  struct Lattice {
+    glm::dvec3 origin, t, u;
+    double lt = 1, lu = 1;
+    int nt = 2, nu = 2;
+    std::vector<uint64_t> bits;  // per point, `words` words
+    std::vector<int16_t> regions;  // per point, per window sample: the sky region it lies in (-1: the ground)
+  };
+  std::vector<Lattice> lattices(objects.size());
+  for (size_t o = 0; o < objects.size(); ++o) {
+    const auto& v = objects[o].vertices;
+    Lattice& l = lattices[o];
+    const glm::dvec3 nrm = polygonNormal(v);
+    l.t = glm::normalize(v[1] - v[0]);
+    l.u = glm::normalize(glm::cross(nrm, l.t));
+    double t0 = 1e300, t1 = -1e300, u0 = 1e300, u1 = -1e300;
+    for (const auto& q : v) {
+      t0 = std::min(t0, glm::dot(q - v[0], l.t)), t1 = std::max(t1, glm::dot(q - v[0], l.t));
+      u0 = std::min(u0, glm::dot(q - v[0], l.u)), u1 = std::max(u1, glm::dot(q - v[0], l.u));
+    }
+    // Just inside the outline: a point on an edge would see along the neighbouring face.
+    const double it = 0.01 * (t1 - t0), iu = 0.01 * (u1 - u0);
+    l.origin = v[0] + (t0 + it) * l.t + (u0 + iu) * l.u;
+    l.lt = std::max(t1 - t0 - 2 * it, 1e-9);
+    l.lu = std::max(u1 - u0 - 2 * iu, 1e-9);
+    l.nt = std::clamp(int(std::ceil(l.lt / 0.05)) + 1, 2, 16);
+    l.nu = std::clamp(int(std::ceil(l.lu / 0.05)) + 1, 2, 16);
+    l.bits.assign(size_t(l.nt) * size_t(l.nu) * words, 0);
+    l.regions.assign(size_t(l.nt) * size_t(l.nu) * ws.size(), -1);
+  }
+  {
+    std::vector<std::pair<size_t, int>> points;  // (object, lattice point)
+    for (size_t o = 0; o < objects.size(); ++o)
+      for (int k = 0; k < lattices[o].nt * lattices[o].nu; ++k) points.push_back({o, k});
+    tbb::parallel_for(size_t(0), points.size(), [&](size_t pi) {
+      const auto [o, k] = points[pi];
+      Lattice& l = lattices[o];
+      const glm::dvec3 x = l.origin + (double(k % l.nt) / (l.nt - 1)) * l.lt * l.t + (double(k / l.nt) / (l.nu - 1)) * l.lu * l.u;
+      uint64_t* bits = l.bits.data() + size_t(k) * words;
+      for (size_t m = 0; m < ws.size(); ++m) {
+        l.regions[size_t(k) * ws.size() + m] = int16_t(basis_->regions().regionOf(ws[m].q - x));
+        if (!h.rayScene().occluded(glm::vec3(x), glm::vec3(ws[m].q), 1e-5f)) bits[m / 64] |= uint64_t(1) << (m % 64);
+      }
+    });
+  }
+
+  // The direct daylight on point x of object o (normal nrm, towards the camera): the window
+  // samples (past the room: the lattice) and four directions of the sun's disc (past the room:
+  // rays), past the objects by their shadow maps (slope-scaled bias: a face does not shadow itself).
+  auto direct = [&](size_t o, const glm::dvec3& x, const glm::dvec3& nrm) {
+    const Lattice& l = lattices[o];
+    const double gs = std::clamp(glm::dot(x - l.origin, l.t) / l.lt, 0.0, 1.0) * (l.nt - 1);
+    const double gu = std::clamp(glm::dot(x - l.origin, l.u) / l.lu, 0.0, 1.0) * (l.nu - 1);
+    const int a0 = std::min(int(gs), l.nt - 2), b0 = std::min(int(gu), l.nu - 2);
+    const double fs = gs - a0, fu = gu - b0;
+    const uint64_t* corner[4];
+    double wgt[4];
+    for (int c = 0; c < 4; ++c) {
+      corner[c] = l.bits.data() + size_t((b0 + (c >> 1)) * l.nt + a0 + (c & 1)) * words;
+      wgt[c] = ((c & 1) ? fs : 1 - fs) * ((c >> 1) ? fu : 1 - fu);
+    }
+    auto roomLets = [&](size_t bit) {
+      double v = 0;
+      for (int c = 0; c < 4; ++c)
+        if (corner[c][bit / 64] >> (bit % 64) & 1) v += wgt[c];
+      return v;
+    };
+    // The sky regions the samples are seen in, from the nearest lattice point.
+    int nearest = 0;
+    for (int c = 1; c < 4; ++c)
+      if (wgt[c] > wgt[nearest]) nearest = c;
+    const int16_t* region = l.regions.data() + size_t((b0 + (nearest >> 1)) * l.nt + a0 + (nearest & 1)) * ws.size();
+    glm::dvec3 e(0.0);
+    const glm::dvec3 from = x + 1e-4 * nrm;
+    for (size_t m = 0; m < ws.size(); ++m) {
+      const glm::dvec3 d = ws[m].q - from;
+      const double r2 = glm::dot(d, d);
+      const glm::dvec3 dir = d / std::sqrt(r2);
+      const double cx = glm::dot(nrm, dir), cw = -glm::dot(ws[m].n, dir);
+      if (cx <= 0 || cw <= 0) continue;
+      const double vis = roomLets(m);
+      if (vis <= 0) continue;
+      const ObjectShadowMap* map = windowMaps[m].get();
+      if (map ? map->blocks(x, kBias, cx) : objectScene.occluded(glm::vec3(from), glm::vec3(ws[m].q), 1e-5f)) continue;
+      e += regionRadiance(region[m]) * cx * cw * ws[m].area / r2 * vis;
+    }
+    for (size_t j = 0; sun && j < 4; ++j) {
+      const glm::dvec3& sd = sunDisc[4 * j];
+      const double c = glm::dot(nrm, sd);
+      if (c <= 0) continue;
+      if (sunMaps[4 * j]->blocks(x, kBias, c)) continue;
+      const double t = throughWindow(h, windows, from, sd);
+      if (t <= 0 || h.rayScene().occluded(glm::vec3(from), glm::vec3(from + t * sd), 1e-5f)) continue;
+      e += sky.sun.irradiance * c / 4.0;
+    }
+    return e;
+  };
+  // The part of a room pixel's direct daylight that the objects take away.
+  auto blocked = [&](size_t i) {
+    glm::dvec3 e(0.0);
+    const glm::dvec3& x = seen_.point[i];
+    for (const WindowLight& l : windowLight(i)) {
+      const ObjectShadowMap* map = windowMaps[l.sample].get();
+      if (map ? map->blocks(x, kBias) : objectScene.occluded(glm::vec3(x + 1e-4 * seen_.normal[i]), glm::vec3(ws[l.sample].q), 1e-5f))
+        e += regionRadiance(l.region) * double(l.weight);
+    }
+    if (sun && sunMayBeBlocked(i)) {
+      auto& rays = cache.sunRays[i];
+      if (!cache.sunReady[i]) {
+        footprintSunRays(h, windows, seen_.camera, i % size_t(seen_.width), i / size_t(seen_.width), sunDisc, rays);
+        rays.shrink_to_fit();
+        cache.sunReady[i] = 1;
+      }
+      double share = 0;
+      for (const SunRay& r : rays)
+        if (sunMaps[r.disc]->blocks(glm::dvec3(r.from), kBias)) share += r.share;
+      e += sky.sun.irradiance * share;
+    }
+    return e;
   };
 
   // Pixels: the objects where they are in front of the room; the room where their shadow may fall.
@@ -566,7 +818,7 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
           const double bu = hit.barycentric.x, bv = hit.barycentric.y;
           const auto& ve = back ? vertexBackE[o] : vertexE[o];
           const glm::dvec3 ind = (1 - bu - bv) * ve[0] + bu * ve[t + 1] + bv * ve[t + 2];
-          const glm::dvec3 e = ind + direct(p, nrm, false);
+          const glm::dvec3 e = ind + direct(o, p, nrm);
           put(out, i, glm::vec3(objects[o].albedo / kPi * e));
           eNew[i] = glm::vec3(e);
           ++touched;
@@ -576,11 +828,7 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
       if (seen_.surface[i] < 0) continue;
       glm::vec3 e = get(eRoom_, i);
       if (mayBeShadowed(seen_.point[i])) {
-        e -= glm::vec3(direct(seen_.point[i], seen_.normal[i], true));
-        if (sun && sunMayBeBlocked(i))
-          e -= glm::vec3(sky.sun.irradiance) *
-               float(footprintSun(h, windows, seen_.camera, i % size_t(seen_.width), i / size_t(seen_.width), sunDisc, &objectScene)
-                         .blocked);
+        e -= glm::vec3(blocked(i));
         ++touched;
       }
       eNew[i] = e;

@@ -116,6 +116,9 @@ class DaylightRelighting {
   SkyRadiance roomSky_;  // the sky eRoom_ was made for
   ImageRGB eRoom_;
   size_t touched_ = 0;
+  // The interactive path's per-pixel light past the room alone (relight.cpp), kept while objects move.
+  struct InteractiveCache;
+  std::unique_ptr<InteractiveCache> cache_;
   Camera camera_;
   std::unique_ptr<DaylightBasis> basis_;
   SeenPixels seen_;
