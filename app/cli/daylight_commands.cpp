@@ -492,7 +492,12 @@ QJsonObject daylightBench(const Scene& scene, int runs, Progress& progress) {
         for (const auto& v : p.vertices) lo = glm::min(lo, v), hi = glm::max(hi, v);
     const glm::dvec3 c = 0.5 * (lo + hi);
     Variant v;
-    v.virtualObjects.push_back({"box", {c.x - 0.2, c.y - 0.2, lo.z}, {c.x + 0.2, c.y + 0.2, lo.z + 0.4}, glm::dvec3(0.5)});
+    VirtualBox box;
+    box.name = "box";
+    box.boxMin = {c.x - 0.2, c.y - 0.2, lo.z};
+    box.boxMax = {c.x + 0.2, c.y + 0.2, lo.z + 0.4};
+    box.albedo = glm::dvec3(0.5);
+    v.virtualObjects.push_back(box);
     faces = daylightObjects(v, scene.sourceFile);
     t0 = std::chrono::steady_clock::now();
     const auto ids = basis.addObjects(faces);

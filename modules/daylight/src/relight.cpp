@@ -34,6 +34,40 @@ void put(ImageRGB& im, size_t i, const glm::vec3& v) {
   im.pixels[3 * i + 2] = v.z;
 }
 
+// The direction of v's first edge of non-zero length (a polygon may repeat a vertex).
+glm::dvec3 firstEdge(const std::vector<glm::dvec3>& v) {
+  for (size_t i = 0; i < v.size(); ++i) {
+    const glm::dvec3 e = v[(i + 1) % v.size()] - v[i];
+    if (glm::dot(e, e) > 1e-24) return glm::normalize(e);
+  }
+  return {1, 0, 0};
+}
+
+// x (in the plane of the convex or concave polygon v) if it lies inside v, else the nearest point
+// of v's outline moved 1 % of the way towards v's centroid.
+glm::dvec3 ontoFace(const std::vector<glm::dvec3>& v, const glm::dvec3& x) {
+  const glm::dvec3 n = polygonNormal(v);
+  bool inside = false;  // crossings of a ray in the plane, counted in the polygon's own 2D frame
+  const glm::dvec3 t = firstEdge(v), u = glm::cross(n, t);
+  auto flat = [&](const glm::dvec3& q) { return glm::dvec2(glm::dot(q - v[0], t), glm::dot(q - v[0], u)); };
+  const glm::dvec2 p = flat(x);
+  glm::dvec3 best = v[0], centroid(0.0);
+  double bestD = 1e300;
+  for (size_t i = 0, j = v.size() - 1; i < v.size(); j = i++) {
+    const glm::dvec2 a = flat(v[i]), b = flat(v[j]);
+    if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x) inside = !inside;
+    const glm::dvec3 e = v[j] - v[i];
+    const double s = std::clamp(glm::dot(x - v[i], e) / std::max(glm::dot(e, e), 1e-300), 0.0, 1.0);
+    const glm::dvec3 q = v[i] + s * e;
+    if (glm::dot(q - x, q - x) < bestD) {
+      bestD = glm::dot(q - x, q - x);
+      best = q;
+    }
+    centroid += v[i] / double(v.size());
+  }
+  return inside ? x : best + 0.01 * (centroid - best);
+}
+
 // Where the ray from p along d leaves through one of the windows (out through the face that looks
 // into the room): the distance, or -1.
 double throughWindow(const radiosity::HierarchicalRadiosity& h, const std::vector<int>& windows, const glm::dvec3& p,
@@ -55,8 +89,8 @@ double throughWindow(const radiosity::HierarchicalRadiosity& h, const std::vecto
 // past the room, each with its share of the pixel (cosine / 16). They depend on the room, the
 // camera and the sun only: the interactive path keeps them per pixel while objects move.
 struct SunRay {
-  glm::vec3 from, to;  // the room's point (lifted off its surface) and where the ray leaves by a window
-  uint8_t disc;        // which of the sun disc's directions
+  glm::vec3 from;  // the room's point (lifted off its surface)
+  uint8_t disc;    // which of the sun disc's directions
   float share;
 };
 
@@ -84,7 +118,7 @@ void footprintSunRays(const radiosity::HierarchicalRadiosity& h, const std::vect
     const glm::dvec3 from = eye + double(hits[j].t) * glm::dvec3(rays[j].direction) + 1e-4 * n;
     const double t = throughWindow(h, windows, from, sj);
     if (t <= 0 || h.rayScene().occluded(glm::vec3(from), glm::vec3(from + t * sj), 1e-4f)) continue;
-    out.push_back({glm::vec3(from), glm::vec3(from + t * sj), uint8_t(disc), float(c / (k * k))});
+    out.push_back({glm::vec3(from), uint8_t(disc), float(c / (k * k))});
   }
 }
 
@@ -454,12 +488,16 @@ IrradianceVolume& DaylightRelighting::volume(Progress& progress) {
 
 void DaylightRelighting::setInteractive(const InteractiveOptions& options) {
   if (options.volume.grid != interactive_.volume.grid || options.volume.rays != interactive_.volume.rays) volume_.reset();
-  if (options.directSamples != interactive_.directSamples) cache_.reset();
+  const int samples = std::clamp(options.directSamples, 1, 1024);
+  if (samples != interactive_.directSamples) cache_.reset();
   interactive_ = options;
-  interactive_.directSamples = std::clamp(options.directSamples, 1, 4096);
+  interactive_.directSamples = samples;
 }
 
 ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vector<Polygon>& objects, Progress& progress) {
+  for (size_t o = 0; o < objects.size(); ++o)
+    if (objects[o].vertices.size() < 3 || !(polygonArea(objects[o].vertices) > 1e-12))
+      throw Error("", "virtual object", "face " + std::to_string(o + 1) + " (" + objects[o].name + ") has no area");
   const auto& h = basis_->engine();
   const auto& windows = basis_->windows();
   {
@@ -474,8 +512,8 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
   }
   const bool sun = sky.sun.found && sky.sun.direction.z > 0;
   const glm::dvec3 groundL = basis_->groundRadiance(sky);
-  // The direct daylight's samples: points spread over the windows (stratified by area, jittered
-  // once, the same for every pixel: the paper's set of shadow maps), and the sun's disc.
+  // The direct daylight's samples: points spread evenly over the windows by area (the same for
+  // every pixel: the paper's set of shadow maps), and the sun's disc.
   struct WindowSample {
     glm::dvec3 q, n;  // the point and the window's normal (into the room)
     double area;      // the window area it stands for
@@ -484,30 +522,26 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
   {
     double total = 0;
     for (int w : windows) total += polygonArea(h.surfaces()[size_t(w)].vertices);
-    uint64_t state = 12345;
-    auto uni = [&] {
-      state = state * 6364136223846793005ull + 1442695040888963407ull;
-      return double(state >> 11) / 9007199254740992.0;
-    };
     for (int w : windows) {
       const auto& v = h.surfaces()[size_t(w)].vertices;
       const double a = polygonArea(v);
       const int m = std::max(1, int(std::lround(interactive_.directSamples * a / std::max(total, 1e-12))));
       const glm::dvec3 n = polygonNormal(v);
-      // Fan triangles by area, a stratified grid in each sample's triangle coordinates.
-      std::vector<double> cum;
-      for (size_t t = 1; t + 1 < v.size(); ++t)
-        cum.push_back((cum.empty() ? 0.0 : cum.back()) + 0.5 * glm::length(glm::cross(v[t] - v[0], v[t + 1] - v[0])));
-      const int side = std::max(1, int(std::ceil(std::sqrt(double(m)))));
-      for (int i = 0; i < m; ++i) {
-        const double r = (double(i) + uni()) / m * cum.back();
-        const size_t t = size_t(std::lower_bound(cum.begin(), cum.end(), r) - cum.begin());
-        double u = ((i % side) + uni()) / side, s2 = (((i / side) % side) + uni()) / side;
-        if (u + s2 > 1) {
-          u = 1 - u;
-          s2 = 1 - s2;
+      // Per fan triangle its share of the window's samples (at least one), spread evenly over it
+      // (a Fibonacci lattice on the unit square, folded onto the triangle), each standing for the
+      // triangle's area over its count: unbiased whatever the counts and the window's shape.
+      for (size_t t = 1; t + 1 < v.size(); ++t) {
+        const double at = 0.5 * glm::length(glm::cross(v[t] - v[0], v[t + 1] - v[0]));
+        if (at <= 0) continue;
+        const int mt = std::max(1, int(std::lround(m * at / std::max(a, 1e-12))));
+        for (int i = 0; i < mt; ++i) {
+          double u = (i + 0.5) / mt, s2 = std::fmod(0.5 + i * 0.6180339887498949, 1.0);
+          if (u + s2 > 1) {
+            u = 1 - u;
+            s2 = 1 - s2;
+          }
+          ws.push_back({v[0] + u * (v[t] - v[0]) + s2 * (v[t + 1] - v[0]), n, at / mt});
         }
-        ws.push_back({v[0] + u * (v[t + 1] - v[0]) + s2 * (v[t + 2] - v[0]), n, a / m});
       }
     }
   }
@@ -565,9 +599,18 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
   // Could the objects block the sun anywhere in pixel i's footprint? Its rays hit the room within
   // the hull of the 3 x 3 pixel centres around it (the footprint spans 1.5 pixels), so a sun line
   // through the centre's point that passes farther from the sphere than the radius plus that
-  // spread cannot meet them; a neighbour that shows no surface (or a virtual one) asks the rays.
+  // spread (and the sun disc's 0.27 degrees) cannot meet them; a neighbour that shows no surface
+  // asks the rays. The neighbours are looked at only when the centre's line passes within 5 cm of
+  // that reach (this runs for every pixel): a footprint that spans a depth edge of more than 5 cm
+  // may miss the objects' sun shadow on its far side.
+  const glm::dvec3 sunDir = sun ? glm::normalize(sky.sun.direction) : glm::dvec3(0, 0, 1);
   auto sunMayBeBlocked = [&](size_t i) {
     const glm::dvec3& p = seen_.point[i];
+    const glm::dvec3 toC = centre - p;
+    const double along = glm::dot(toC, sunDir), perp2 = glm::dot(toC, toC) - along * along;
+    const double reach0 = radius + 0.01 * glm::length(toC);
+    if (along < -(reach0 + 0.05)) return false;  // the objects lie behind the sun's rays
+    if (perp2 > (reach0 + 0.05) * (reach0 + 0.05)) return false;
     const int px = int(i % size_t(seen_.width)), py = int(i / size_t(seen_.width));
     double spread = 0;
     for (int dy = -1; dy <= 1; ++dy)
@@ -578,17 +621,12 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
         if (seen_.surface[q] < 0) return true;
         spread = std::max(spread, glm::length(seen_.point[q] - p));
       }
-    const glm::dvec3 s = glm::normalize(sky.sun.direction);
-    const glm::dvec3 toC = centre - p;
-    const double along = glm::dot(toC, s);
-    if (along < -(radius + spread)) return false;  // the objects lie behind the sun's rays
-    const double perp2 = glm::dot(toC, toC) - along * along;
-    const double reach = radius + spread + 0.01 * glm::length(toC);  // and the sun disc's 0.27 degrees
-    return perp2 <= reach * reach;
+    if (along < -(reach0 + spread)) return false;
+    return perp2 <= (reach0 + spread) * (reach0 + spread);
   };
-  // Could the objects block any of the direct light that reaches x: does their bounding sphere
-  // meet the cone from x to some window (or the sun's direction)? (Angles compared by cosines:
-  // this runs for every pixel of the room.)
+  // Could the objects block any of the window's light that reaches x: does their bounding sphere
+  // meet the cone from x to some window? (Angles compared by cosines: this runs for every pixel
+  // of the room.)
   std::vector<std::pair<glm::dvec3, double>> windowCones;  // per window: centre, radius
   for (int w : windows) {
     const auto& v = h.surfaces()[size_t(w)].vertices;
@@ -641,8 +679,7 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     cache_->windowReady.assign(n, 0);
   }
   InteractiveCache& cache = *cache_;
-  if (sun && (cache.sunRays.size() != n || glm::dot(cache.sunDirection, sky.sun.direction) < 1 - 1e-12 ||
-              glm::length(cache.sunDirection) < 0.5)) {
+  if (sun && (cache.sunRays.size() != n || glm::dot(cache.sunDirection, glm::normalize(sky.sun.direction)) < 1 - 1e-12)) {
     cache.sunRays.assign(n, {});
     cache.sunReady.assign(n, 0);
     cache.sunDirection = glm::normalize(sky.sun.direction);
@@ -668,10 +705,11 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
   auto regionRadiance = [&](int k) { return k >= 0 ? sky.region[size_t(k)] : groundL; };
 
   // The room's shadows on the objects (the window frame's, the table's): whether the room lets
-  // each window sample through is found on a lattice over every object face (at most 5 cm apart,
-  // 2 to 16 points a side: the window's light on a face changes slowly, each sample's shadow edge
-  // is one of 64 steps) and interpolated bilinearly per pixel; the sun's sharp edges are rays per
-  // pixel. (The room is not in the objects' scene, so one lattice serves both sides.)
+  // each window sample through is found on a lattice over every object face (5 cm apart, 2 to 16
+  // points a side: the window's light on a face changes slowly, each sample's shadow edge being
+  // one small step of many) and interpolated bilinearly per pixel; the sun's sharp edges are rays
+  // per pixel. Lattice points off a face that is not a rectangle are moved onto it. (The room is
+  // not in the objects' scene, so one lattice serves both sides.)
   const size_t words = (ws.size() + 63) / 64;
   struct Lattice {
     glm::dvec3 origin, t, u;
@@ -685,7 +723,7 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     const auto& v = objects[o].vertices;
     Lattice& l = lattices[o];
     const glm::dvec3 nrm = polygonNormal(v);
-    l.t = glm::normalize(v[1] - v[0]);
+    l.t = firstEdge(v);
     l.u = glm::normalize(glm::cross(nrm, l.t));
     double t0 = 1e300, t1 = -1e300, u0 = 1e300, u1 = -1e300;
     for (const auto& q : v) {
@@ -709,7 +747,8 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     tbb::parallel_for(size_t(0), points.size(), [&](size_t pi) {
       const auto [o, k] = points[pi];
       Lattice& l = lattices[o];
-      const glm::dvec3 x = l.origin + (double(k % l.nt) / (l.nt - 1)) * l.lt * l.t + (double(k / l.nt) / (l.nu - 1)) * l.lu * l.u;
+      const glm::dvec3 x = ontoFace(objects[o].vertices, l.origin + (double(k % l.nt) / (l.nt - 1)) * l.lt * l.t +
+                                                             (double(k / l.nt) / (l.nu - 1)) * l.lu * l.u);
       uint64_t* bits = l.bits.data() + size_t(k) * words;
       for (size_t m = 0; m < ws.size(); ++m) {
         l.regions[size_t(k) * ws.size() + m] = int16_t(basis_->regions().regionOf(ws[m].q - x));
@@ -770,15 +809,16 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     return e;
   };
   // The part of a room pixel's direct daylight that the objects take away.
-  auto blocked = [&](size_t i) {
+  auto blocked = [&](size_t i, bool windowShadow, bool sunShadow) {
     glm::dvec3 e(0.0);
     const glm::dvec3& x = seen_.point[i];
-    for (const WindowLight& l : windowLight(i)) {
-      const ObjectShadowMap* map = windowMaps[l.sample].get();
-      if (map ? map->blocks(x, kBias) : objectScene.occluded(glm::vec3(x + 1e-4 * seen_.normal[i]), glm::vec3(ws[l.sample].q), 1e-5f))
-        e += regionRadiance(l.region) * double(l.weight);
-    }
-    if (sun && sunMayBeBlocked(i)) {
+    if (windowShadow)
+      for (const WindowLight& l : windowLight(i)) {
+        const ObjectShadowMap* map = windowMaps[l.sample].get();
+        if (map ? map->blocks(x, kBias) : objectScene.occluded(glm::vec3(x + 1e-4 * seen_.normal[i]), glm::vec3(ws[l.sample].q), 1e-5f))
+          e += regionRadiance(l.region) * double(l.weight);
+      }
+    if (sunShadow) {
       auto& rays = cache.sunRays[i];
       if (!cache.sunReady[i]) {
         footprintSunRays(h, windows, seen_.camera, i % size_t(seen_.width), i / size_t(seen_.width), sunDisc, rays);
@@ -827,8 +867,9 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
       }
       if (seen_.surface[i] < 0) continue;
       glm::vec3 e = get(eRoom_, i);
-      if (mayBeShadowed(seen_.point[i])) {
-        e -= glm::vec3(blocked(i));
+      const bool windowShadow = mayBeShadowed(seen_.point[i]), sunShadow = sun && sunMayBeBlocked(i);
+      if (windowShadow || sunShadow) {
+        e -= glm::vec3(blocked(i, windowShadow, sunShadow));
         ++touched;
       }
       eNew[i] = e;

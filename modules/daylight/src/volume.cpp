@@ -103,11 +103,12 @@ IrradianceVolume::IrradianceVolume(const DaylightBasis& basis, const VolumeOptio
   // Each point out of the room borrows the nearest point in it (once, here: at() stays cheap and
   // combine(box) knows what at() will read).
   substitute_.assign(points_.size(), points_.size());
-  for (size_t p = 0; p < points_.size(); ++p) {
+  tbb::parallel_for(size_t(0), points_.size(), [&](size_t p) {
     if (inRoom_[p]) {
       substitute_[p] = p;
-      continue;
+      return;
     }
+    progress.poll();
     double bestD = 1e300;
     for (size_t q = 0; q < points_.size(); ++q) {
       const double d = glm::dot(points_[q] - points_[p], points_[q] - points_[p]);
@@ -116,7 +117,7 @@ IrradianceVolume::IrradianceVolume(const DaylightBasis& basis, const VolumeOptio
         substitute_[p] = q;
       }
     }
-  }
+  });
   // Every basis projected (the ground last), as the basis numbers them.
   bases_ = basis.basisCount();
   coeff_.assign(size_t(bases_) * points_.size() * 9, glm::vec3(0.f));
@@ -159,7 +160,7 @@ void IrradianceVolume::combine(DaylightBasis& basis, const SkyRadiance& sky, con
                                Progress& progress) {
   // The cells a position inside the box interpolates from: one point beyond it on every side.
   auto cell = [&](double x, int axis, bool up) {
-    const double f = (x - lo_[axis]) / (hi_[axis] - lo_[axis]) * n_ - 0.5;
+    const double f = std::clamp((x - lo_[axis]) / (hi_[axis] - lo_[axis]) * n_ - 0.5, -2.0, double(n_) + 1);
     return std::clamp(up ? int(std::ceil(f)) + 1 : int(std::floor(f)) - 1, 0, n_ - 1);
   };
   std::vector<size_t> points;

@@ -74,17 +74,19 @@ ImageRGB differentialRender(const ImageRGB& photo, const ImageRGB& ePhoto, const
 // (nothing solved again), a virtual object's indirect light comes from the irradiance volume
 // (Eq. 4 over the grid points it needs, Eq. 5 per vertex with its own shadowing), its direct
 // daylight and the shadows it casts on the room from `directSamples` points spread over the
-// windows (each a shadow ray against the room and the object, as the paper's shadow maps,
-// weighted by cos x cos x area / r^2) and the sun (on the object's own pixels four rays over its
-// disc; on the room the same 4 x 4-ray footprint as irradianceImage); only pixels its shadows can
-// reach are touched. What the object reflects onto the room and the indirect light it blocks are
-// left out, as in the paper. The volume is built from the bases as solved when it is first used;
-// it is not rebuilt if a NearField render refines them later.
+// windows (weighted by cos x cos x area / r^2) and the sun (on the object's own pixels four
+// directions of its disc; on the room the same 4 x 4-ray footprint as irradianceImage). The
+// objects' shadows come from shadow maps (a CPU depth map of the objects per window sample and
+// per sun direction, as the paper's); what the room alone lets through is ray cast once per pixel
+// and kept, and on the objects comes from a lattice over their faces (window samples) or rays
+// (sun). Only pixels its shadows can reach are touched. What the object reflects onto the room
+// and the indirect light it blocks are left out, as in the paper. The volume is built from the
+// bases as solved when it is first used; it is not rebuilt if a NearField render refines them.
 enum class DaylightMethod { NearField, Distant, Volume };
 
 struct InteractiveOptions {
   VolumeOptions volume;
-  int directSamples = 64;
+  int directSamples = 64;  // 1 to 1024
 };
 
 class DaylightRelighting {

@@ -33,8 +33,9 @@ class IrradianceVolume {
  public:
   // Casts every point's rays against the basis's room (virtual objects must not be in it: the
   // volume holds the room's light) and projects every stored basis. Throws relume::Error for a
-  // grid below 2 or above 32 points per axis (32^3 points x 9 coefficients x every basis is
-  // already hundreds of MB). Progress throughout; Cancel leaves nothing.
+  // grid below 2 or above 32 points per axis (at 32^3 points the coefficients of 65 bases are
+  // ~230 MB, and the rays' hit lists, up to 40 bytes per ray and point, can reach GBs).
+  // Progress throughout; Cancel leaves nothing.
   IrradianceVolume(const DaylightBasis& basis, const VolumeOptions& options = {}, Progress& progress = silentProgress());
 
   int resolution() const { return n_; }
@@ -62,6 +63,8 @@ class IrradianceVolume {
   // nearest of the eight, found once at construction). Positions
   // beyond the outermost points take the border's values.
   radiosity::SH9 at(const glm::dvec3& x) const;
+  // The combined coefficients of point p as the last combine() that included it left them (a
+  // combine over a box leaves the points outside it as an earlier sky made them).
   const radiosity::SH9& combinedAt(size_t p) const { return combined_[p]; }
 
   double buildSeconds() const { return buildSeconds_; }
