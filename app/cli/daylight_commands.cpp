@@ -36,16 +36,15 @@ namespace relume::cli {
 namespace dl = relume::daylight;
 
 namespace {
-// A daylight room's measured sky by name (empty: the photos' own), its fisheye read and checked.
-dl::SkyImage roomSky(const Scene& room, const std::string& name) {
-  if (room.skies.empty()) throw Error(room.sourceFile, "daylight", "the room lists no measured sky");
-  const std::string want = !name.empty() ? name : room.photoSky.empty() ? room.skies.front().name : room.photoSky;
-  const SkyCapture* cap = room.findSky(want);
-  if (!cap) throw Error(room.sourceFile, "--sky", "the room has no sky named '" + want + "'");
-  const std::string file = room.baseDir + "/" + cap->fisheye;
-  int w = 0, h = 0;
-  imageSize(file, w, h);
-  return dl::readSkyImage(file, dl::fisheyeFromDescription(cap->fisheyeModel, w, h, file));
+// The sky averaged into regions; a clipped sun is said on stderr (its light would be understated).
+dl::SkyRadiance averaged(const dl::SkyImage& image, const dl::SkyRegions& cells) {
+  dl::SkyRadiance s = dl::averageSky(image, cells);
+  if (s.sun.found && s.sun.clipped)
+    std::fprintf(stderr,
+                 "warning: %s: the sun's pixels are clipped (at 65504, half float's largest value, or saturated): its light is "
+                 "understated and its colour shifted; save the sky as full-float HDR, bracketed far enough\n",
+                 image.file.c_str());
+  return s;
 }
 
 double luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
@@ -77,9 +76,9 @@ int daylightBasisCommand(const QStringList& args, Progress& progress) {
   const int grid = p.isSet("grid") ? p.value("grid").toInt(&ok) : 0;
   if (!ok || (p.isSet("grid") && (grid < 2 || grid > 32))) throw Error("", "--grid", "must be a whole number from 2 to 32");
   const Scene room = openRoom(p.positionalArguments()[0]);
-  const dl::SkyImage refineImage = roomSky(room, p.value("sky").toStdString());
+  const dl::SkyImage refineImage = dl::readRoomSky(room, p.value("sky").toStdString());
   const dl::SkyRegions cells(regions);
-  const dl::SkyRadiance refineSky = dl::averageSky(refineImage, cells);
+  const dl::SkyRadiance refineSky = averaged(refineImage, cells);
   dl::BasisOptions options;
   options.regions = regions;
   dl::DaylightBasis basis(room, refineSky, options, progress);
@@ -99,8 +98,8 @@ int daylightBasisCommand(const QStringList& args, Progress& progress) {
   }
   QJsonArray skies;
   for (const auto& cap : room.skies) {
-    const dl::SkyImage image = roomSky(room, cap.name);
-    const dl::SkyRadiance sky = dl::averageSky(image, cells);
+    const dl::SkyImage image = dl::readRoomSky(room, cap.name);
+    const dl::SkyRadiance sky = averaged(image, cells);
     Progress stage(progress, 0, 1);
     const auto b = basis.combine(sky, stage);
     std::printf("sky %s%s:\n", cap.name.c_str(), sky.sun.found ? "" : " (no sun found)");
@@ -256,7 +255,7 @@ int skyCommand(const QStringList& args, Progress& progress) {
   const dl::SkyImage sky = dl::readSkyImage(file, model);
   progress.report(0.3, "averaging the sky over " + std::to_string(regions) + " regions");
   const dl::SkyRegions cells(regions);
-  const dl::SkyRadiance avg = dl::averageSky(sky, cells);
+  const dl::SkyRadiance avg = averaged(sky, cells);
   const double deg = 180 / std::numbers::pi;
   const glm::dvec3 horizontal = dl::planeIrradiance(cells, avg, {0, 0, 1});
   dl::SkyRadiance skyOnly = avg;
@@ -301,22 +300,6 @@ int skyCommand(const QStringList& args, Progress& progress) {
 }
 
 
-std::vector<Polygon> daylightObjects(const Variant& v, const std::string& file) {
-  std::vector<Polygon> faces;
-  for (const auto& b : v.virtualObjects) {
-    if (!b.fan.empty()) throw Error(file, "virtual object " + b.name, "image-based objects are not lit by daylight yet");
-    const VirtualObject o = b.mesh.empty() ? boxObject(b.name, b.boxMin, b.boxMax, b.albedo) : meshObject(b.name, b.mesh, b.albedo);
-    for (const auto& f : o.polygons) {
-      Polygon poly;
-      poly.name = poly.group = o.name;
-      poly.vertices = f;
-      poly.albedo = o.albedo;
-      faces.push_back(poly);
-    }
-  }
-  return faces;
-}
-
 int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progress) {
   const Photo* main = bundle.findPhoto(bundle.mainPhoto);
   if (!main || main->hdr.empty())
@@ -325,7 +308,7 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
   const auto dir = [&](const std::string& f) { return QDir(outDir).filePath(QString::fromStdString(f)).toStdString(); };
   const ImageRGB photo = readImageLinear(path(main->hdr));
   const dl::SkyRegions cells(64);
-  const dl::SkyRadiance photoSky = dl::averageSky(roomSky(bundle, bundle.photoSky), cells);
+  const dl::SkyRadiance photoSky = averaged(dl::readRoomSky(bundle, bundle.photoSky), cells);
   // What a user does not have, the albedos, is never read: DaylightRelighting estimates them.
   Progress pre(progress, 0.0, 0.4);
   dl::DaylightRelighting relit(bundle, photo, main->camera, photoSky, {}, pre);
@@ -356,8 +339,8 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
       throw Error(path(v.hdr), "variant " + v.name, "the truth image is " + std::to_string(truth.width) + "x" +
                                                      std::to_string(truth.height) + ", the main photo " + std::to_string(photo.width) +
                                                      "x" + std::to_string(photo.height));
-    const dl::SkyRadiance sky = dl::averageSky(roomSky(bundle, v.sky.empty() ? bundle.photoSky : v.sky), cells);
-    const std::vector<Polygon> objects = daylightObjects(v, bundle.sourceFile);
+    const dl::SkyRadiance sky = averaged(dl::readRoomSky(bundle, v.sky.empty() ? bundle.photoSky : v.sky), cells);
+    const std::vector<Polygon> objects = dl::variantObjects(v, bundle.sourceFile);
     Progress a(stage, 0.0, 0.5), b(stage, 0.5, 0.9);
     const ImageRGB near = relit.render(sky, objects, dl::DaylightMethod::NearField, a);
     writeImage(dir(v.name + ".irradiance.exr"), relit.lastIrradiance());
@@ -409,29 +392,82 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   for (const auto& f : objectFiles) {
     const Variant v = readVariantFile(f);
     if (v.virtualObjects.empty()) throw Error(f, "virtual_objects", "lists no virtual object");
-    for (auto& o : daylightObjects(v, f)) objects.push_back(std::move(o));
+    for (auto& o : dl::variantObjects(v, f)) objects.push_back(std::move(o));
   }
-  // The sky: one of the room's measured skies by name, or an HDR fisheye file (looking up, image up +Y).
+  // The sky: one of the room's measured skies by name, an HDR fisheye file (looking up, image up
+  // +Y), or a folder of them — a time-varying sky, played back one frame per image. Every sky is
+  // read and checked before anything is solved or written.
   const dl::SkyRegions cells(64);
-  dl::SkyImage skyImage;
-  if (isRadianceFile(skyName)) {
+  const QFileInfo skyInfo(QString::fromStdString(skyName));
+  struct Frame {
+    std::string file, stem;
+    dl::SkyRadiance sky;
+  };
+  std::vector<Frame> frames;
+  auto fisheye = [&](const std::string& file) {
     int w = 0, h = 0;
-    imageSize(skyName, w, h);
-    skyImage = dl::readSkyImage(skyName, dl::fisheyeLookingUp(w, h));
+    imageSize(file, w, h);
+    return averaged(dl::readSkyImage(file, dl::fisheyeLookingUp(w, h)), cells);
+  };
+  if (skyInfo.isDir()) {
+    const QStringList names = QDir(skyInfo.filePath()).entryList({"*.exr", "*.EXR", "*.hdr", "*.HDR"}, QDir::Files, QDir::Name);
+    if (names.isEmpty()) throw Error(skyName, "--sky", "the folder holds no HDR sky image (.exr or .hdr)");
+    for (const QString& n : names) {
+      const std::string file = QDir(skyInfo.filePath()).filePath(n).toStdString();
+      frames.push_back({file, QFileInfo(n).completeBaseName().toStdString(), fisheye(file)});
+    }
+    if (QFileInfo(QString::fromStdString(out)).exists() && !QFileInfo(QString::fromStdString(out)).isDir())
+      throw Error(out, "-o", "with a folder of skies the output is a folder (one image per sky), and this is a file");
   } else {
-    skyImage = roomSky(room, skyName);
+    frames.push_back({skyName, "", isRadianceFile(skyName) ? fisheye(skyName) : averaged(dl::readRoomSky(room, skyName), cells)});
   }
-  const dl::SkyRadiance sky = dl::averageSky(skyImage, cells);
+  const dl::DaylightMethod how = method == "distant" ? dl::DaylightMethod::Distant
+                                 : method == "volume" ? dl::DaylightMethod::Volume
+                                                      : dl::DaylightMethod::NearField;
   const ImageRGB photo = readImageLinear(hdr);
-  Progress pre(progress, 0.0, 0.7), draw(progress, 0.7, 1.0);
-  dl::DaylightRelighting relit(room, photo, main->camera, dl::averageSky(roomSky(room, room.photoSky), cells), {}, pre);
-  const ImageRGB img = relit.render(sky, objects,
-                                    method == "distant" ? dl::DaylightMethod::Distant
-                                    : method == "volume" ? dl::DaylightMethod::Volume
-                                                         : dl::DaylightMethod::NearField,
-                                    draw);
-  writeImage(out, img);
-  std::fprintf(stderr, "wrote %s\n", out.c_str());
+  Progress pre(progress, 0.0, 0.7);
+  dl::DaylightRelighting relit(room, photo, main->camera, averaged(dl::readRoomSky(room, room.photoSky), cells), {}, pre);
+  if (!skyInfo.isDir()) {
+    Progress draw(progress, 0.7, 1.0);
+    writeImage(out, relit.render(frames.front().sky, objects, how, draw));
+    std::fprintf(stderr, "wrote %s\n", out.c_str());
+    return 0;
+  }
+  // Playback: the frames into a folder made beside the output and renamed into place at the end,
+  // so that an interrupted run leaves no half sequence (and an earlier one stays whole).
+  const QString outDir = QString::fromStdString(out);
+  const QString partial = outDir + ".partial";
+  QDir(partial).removeRecursively();
+  if (!QDir().mkpath(partial)) throw Error(out, "-o", "cannot create the folder");
+  QJsonArray list;
+  std::vector<double> times;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    Progress draw(progress, 0.7 + 0.3 * double(i) / double(frames.size()), 0.7 + 0.3 * double(i + 1) / double(frames.size()));
+    const auto t0 = std::chrono::steady_clock::now();
+    const ImageRGB img = relit.render(frames[i].sky, objects, how, draw);
+    const double ms = 1000.0 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    times.push_back(ms);
+    for (const char* ext : {".exr", ".png"}) writeImage(QDir(partial).filePath(QString::fromStdString(frames[i].stem + ext)).toStdString(), img);
+    const dl::Sun& sun = frames[i].sky.sun;
+    const double elev = sun.found ? std::asin(std::clamp(sun.direction.z, -1.0, 1.0)) * 180 / std::numbers::pi : 0;
+    std::fprintf(stderr, "frame %zu/%zu %s: %s, rendered in %.0f ms\n", i + 1, frames.size(), frames[i].stem.c_str(),
+                 sun.found ? ("sun " + std::to_string(int(std::lround(elev))) + " deg up").c_str() : "no sun", ms);
+    QJsonObject f{{"sky", QString::fromStdString(frames[i].file)},
+                  {"image", QString::fromStdString(frames[i].stem + ".png")},
+                  {"linear", QString::fromStdString(frames[i].stem + ".exr")},
+                  {"render_ms", ms}};
+    if (sun.found) f["sun_direction"] = rgbJson(sun.direction);
+    list.append(f);
+  }
+  std::vector<double> sorted = times;
+  std::sort(sorted.begin(), sorted.end());
+  writeJsonAtomically(QDir(partial).filePath("frames.json"),
+                      QJsonObject{{"method", QString::fromStdString(method)},
+                                  {"frames", list},
+                                  {"render_ms_median", sorted[sorted.size() / 2]}});
+  QDir(outDir).removeRecursively();
+  if (!QDir().rename(partial, outDir)) throw Error(out, "-o", "cannot move the finished frames into place");
+  std::fprintf(stderr, "wrote %zu frames to %s (median %.0f ms a frame)\n", frames.size(), out.c_str(), sorted[sorted.size() / 2]);
   return 0;
 }
 
@@ -444,12 +480,12 @@ QJsonObject daylightBench(const Scene& scene, int runs, Progress& progress) {
     return v.empty() ? 0.0 : v[v.size() / 2];
   };
   const dl::SkyRegions cells(64);
-  const dl::SkyImage photoImage = roomSky(scene, scene.photoSky);
+  const dl::SkyImage photoImage = dl::readRoomSky(scene, scene.photoSky);
   std::vector<double> averaging;
   dl::SkyRadiance photoSky;
   for (int r = 0; r < runs; ++r) {
     const auto t0 = std::chrono::steady_clock::now();
-    photoSky = dl::averageSky(photoImage, cells);
+    photoSky = averaged(photoImage, cells);
     averaging.push_back(ms(t0));
   }
   // The basis (64 regions and the ground), once: it takes seconds.
@@ -461,7 +497,7 @@ QJsonObject daylightBench(const Scene& scene, int runs, Progress& progress) {
   const SkyCapture* other = nullptr;
   for (const auto& c : scene.skies)
     if (!other && c.name != scene.photoSky) other = &c;
-  const dl::SkyRadiance sky = other ? dl::averageSky(roomSky(scene, other->name), cells) : photoSky;
+  const dl::SkyRadiance sky = other ? averaged(dl::readRoomSky(scene, other->name), cells) : photoSky;
   t0 = std::chrono::steady_clock::now();
   if (sky.sun.found) basis.sunSolution(sky.sun.direction);
   const double newSunSeconds = ms(t0) / 1000;
@@ -498,7 +534,7 @@ QJsonObject daylightBench(const Scene& scene, int runs, Progress& progress) {
     box.boxMax = {c.x + 0.2, c.y + 0.2, lo.z + 0.4};
     box.albedo = glm::dvec3(0.5);
     v.virtualObjects.push_back(box);
-    faces = daylightObjects(v, scene.sourceFile);
+    faces = dl::variantObjects(v, scene.sourceFile);
     t0 = std::chrono::steady_clock::now();
     const auto ids = basis.addObjects(faces);
     const double add = ms(t0) / 1000;

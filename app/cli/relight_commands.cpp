@@ -275,19 +275,23 @@ int relightCommand(const QStringList& args, Progress& progress) {
                "FILE"});
   p.addOption({"method", "full (default) or ratio-only (original textures x B/B_orig).", "NAME"});
   p.addOption({"camera", "Photo whose camera to render (default: the textures' photo).", "NAME"});
-  p.addOption({"sky", "Daylight: a daylight room's measured sky by name, or an HDR fisheye (equidistant, 180 degrees, "
-                      "looking up, image up = +Y); PROJECT is then the room (bundle or project) with its windows.", "NAME|FISHEYE.exr"});
+  p.addOption({"sky", "Daylight: a daylight room's measured sky by name, an HDR fisheye (equidistant, 180 degrees, "
+                      "looking up, image up = +Y), or a folder of them (a time-varying sky: one frame per image, in name "
+                      "order, written to the -o folder as NAME.exr and NAME.png with frames.json); PROJECT is then the "
+                      "room (bundle or project) with its windows.", "NAME|FISHEYE.exr|FOLDER"});
   p.addOption({"daylight", "With --sky: near-field (default: the windows' light through the room's basis solutions, "
                            "objects added to them), volume (the interactive path: objects lit by the SH irradiance volume and "
                            "64 samples through the windows, nothing solved again) or distant (the sky at infinity, for "
                            "comparison).", "METHOD"});
   p.addOption({{"o", "output"}, "Output image (.exr linear radiance, .png at the photo's exposure).", "IMG"});
   parseOrThrow(p, args, 1, "relume relight PROJECT --lamp A=0 [--virtual-lamp F] [--virtual-object F] -o IMG\n"
-                           "       relume relight ROOM --sky NAME|FISHEYE.exr [--virtual-object F] [--daylight near-field|volume|distant] -o IMG");
+                           "       relume relight ROOM --sky NAME|FISHEYE.exr [--virtual-object F] [--daylight near-field|volume|distant] -o IMG\n"
+                           "       relume relight ROOM --sky FOLDER [--virtual-object F] [--daylight ...] -o FRAMES_DIR");
   if (!p.isSet("output")) throw Error("", "command line", "-o IMG is required");
   const QString out = p.value("output");
   const QString ext = QFileInfo(out).suffix().toLower();
-  if (ext != "exr" && ext != "png") throw Error(str(out), "", "the output must end in .exr or .png");
+  const bool skyFolder = p.isSet("sky") && QFileInfo(p.value("sky")).isDir();  // frames into a folder
+  if (!skyFolder && ext != "exr" && ext != "png") throw Error(str(out), "", "the output must end in .exr or .png");
   if (p.isSet("sky")) {
     if (p.isSet("lamp") || p.isSet("virtual-lamp") || p.isSet("method"))
       throw Error("", "--sky", "daylight relighting takes no --lamp, --virtual-lamp or --method yet");

@@ -181,6 +181,32 @@ def rot_to_quat(R):
 # Writing the bundle's data files
 
 
+def write_geometry_obj(path, polys, header):
+    """The polygons as an OBJ: one object per polygon, its group and its material."""
+    with open(path, "w") as f:
+        f.write(header)
+        n = 1
+        for p in polys:
+            f.write(f"o {p['name']}\ng {p['group']}\nusemtl {p['material']}\n")
+            for v in p["vertices"]:
+                f.write("v %.6f %.6f %.6f\n" % tuple(v))
+            f.write("f " + " ".join(str(n + i) for i in range(len(p["vertices"]))) + "\n")
+            n += len(p["vertices"])
+
+
+def write_colmap(out, photos, width, height, fx):
+    """COLMAP text model of the photos (one PINHOLE camera), as a reconstruction would give it."""
+    os.makedirs(os.path.join(out, "colmap"), exist_ok=True)
+    with open(os.path.join(out, "colmap", "cameras.txt"), "w") as f:
+        f.write("# Camera list with one line of data per camera:\n#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n")
+        f.write(f"1 PINHOLE {width} {height} {fx} {fx} {width / 2.0} {height / 2.0}\n")
+    with open(os.path.join(out, "colmap", "images.txt"), "w") as f:
+        f.write("# IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n# POINTS2D[] as (X, Y, POINT3D_ID)\n")
+        for i, p in enumerate(photos):
+            q = rot_to_quat(p["R"])
+            f.write(f"{i + 1} {q[0]} {q[1]} {q[2]} {q[3]} {p['t'][0]} {p['t'][1]} {p['t'][2]} 1 {p['name']}.png\n\n")
+
+
 def write_data(out, width, height, samples):
     fx = 0.6667 * width
     K = [[fx, 0, width / 2.0], [0, fx, height / 2.0], [0, 0, 1]]
@@ -211,24 +237,8 @@ def write_data(out, width, height, samples):
     os.makedirs(out, exist_ok=True)
     with open(os.path.join(out, "scene.json"), "w") as f:
         json.dump(scene, f, indent=1)
-    with open(os.path.join(out, "geometry.obj"), "w") as f:
-        f.write("# Relume sample room, metres, Z up; one group per polygon\n")
-        n = 1
-        for p in polygons:
-            f.write(f"o {p['name']}\ng {p['group']}\nusemtl {p['material']}\n")
-            for v in p["vertices"]:
-                f.write("v %.6f %.6f %.6f\n" % tuple(v))
-            f.write("f " + " ".join(str(n + i) for i in range(len(p["vertices"]))) + "\n")
-            n += len(p["vertices"])
-    os.makedirs(os.path.join(out, "colmap"), exist_ok=True)
-    with open(os.path.join(out, "colmap", "cameras.txt"), "w") as f:
-        f.write("# Camera list with one line of data per camera:\n#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n")
-        f.write(f"1 PINHOLE {width} {height} {fx} {fx} {width / 2.0} {height / 2.0}\n")
-    with open(os.path.join(out, "colmap", "images.txt"), "w") as f:
-        f.write("# IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n# POINTS2D[] as (X, Y, POINT3D_ID)\n")
-        for i, p in enumerate(photos):
-            q = rot_to_quat(p["R"])
-            f.write(f"{i + 1} {q[0]} {q[1]} {q[2]} {q[3]} {p['t'][0]} {p['t'][1]} {p['t'][2]} 1 {p['name']}.png\n\n")
+    write_geometry_obj(os.path.join(out, "geometry.obj"), polygons, "# Relume sample room, metres, Z up; one group per polygon\n")
+    write_colmap(out, photos, width, height, fx)
     return scene
 
 
@@ -236,9 +246,9 @@ def write_data(out, width, height, samples):
 # Rendering with Blender Cycles
 
 
-def render(out, scene_desc, samples):
-    import bpy
-
+def setup_cycles(bpy, samples, width, height):
+    """An empty scene rendered by Cycles on the CPU: diffuse light paths only, no denoising, the
+    Standard view transform (the PNGs are the EXRs' sRGB encoding), a black world."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     sc = bpy.context.scene
     sc.render.engine = "CYCLES"
@@ -263,52 +273,117 @@ def render(out, scene_desc, samples):
     sc.world = bpy.data.worlds.new("black")
     sc.world.use_nodes = True
     sc.world.node_tree.nodes["Background"].inputs[1].default_value = 0.0
-    width = scene_desc["photos"][0]["width"]
-    height = scene_desc["photos"][0]["height"]
     sc.render.resolution_x = width
     sc.render.resolution_y = height
     sc.render.resolution_percentage = 100
+    return sc
 
-    def diffuse_material(name, spec):
-        m = bpy.data.materials.new(name)
-        m.use_nodes = True
-        nt = m.node_tree
-        nt.nodes.clear()
-        outn = nt.nodes.new("ShaderNodeOutputMaterial")
-        bsdf = nt.nodes.new("ShaderNodeBsdfDiffuse")
-        alb = spec["albedo"]
-        # Procedural texture: albedo * (0.82 + 0.36 * pattern), pattern mean ~0.5 -> mean ~ albedo.
-        tex = nt.nodes.new("ShaderNodeTexCoord")
-        if spec["pattern"] == "planks":
-            pat = nt.nodes.new("ShaderNodeTexWave")
-            pat.wave_type = "BANDS"
-            pat.inputs["Scale"].default_value = 2.2
-            pat.inputs["Distortion"].default_value = 3.0
-            pat.inputs["Detail"].default_value = 2.0
-            nt.links.new(tex.outputs["Object"], pat.inputs["Vector"])
-            fac = pat.outputs["Fac"]
-        elif spec["pattern"] == "stripes":
-            pat = nt.nodes.new("ShaderNodeTexChecker")
-            pat.inputs["Scale"].default_value = 4.0
-            pat.inputs["Color1"].default_value = (1, 1, 1, 1)
-            pat.inputs["Color2"].default_value = (0, 0, 0, 1)
-            nt.links.new(tex.outputs["Object"], pat.inputs["Vector"])
-            fac = pat.outputs["Fac"]
-        else:
-            pat = nt.nodes.new("ShaderNodeTexNoise")
-            pat.inputs["Scale"].default_value = 6.0
-            pat.inputs["Detail"].default_value = 4.0
-            nt.links.new(tex.outputs["Object"], pat.inputs["Vector"])
-            fac = pat.outputs["Fac"]
-        lo = [a * 0.82 for a in alb] + [1.0]
-        hi = [min(a * 1.18, 1.0) for a in alb] + [1.0]
-        ramp = nt.nodes.new("ShaderNodeValToRGB")
-        ramp.color_ramp.elements[0].color = lo
-        ramp.color_ramp.elements[1].color = hi
-        nt.links.new(fac, ramp.inputs["Fac"])
-        nt.links.new(ramp.outputs["Color"], bsdf.inputs["Color"])
-        nt.links.new(bsdf.outputs["BSDF"], outn.inputs["Surface"])
+
+def diffuse_material(bpy, name, spec):
+    """Lambertian with a procedural texture: albedo * (0.82 + 0.36 * pattern), pattern mean ~0.5,
+    so the mean is ~albedo ("flat": the albedo everywhere)."""
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    nt = m.node_tree
+    nt.nodes.clear()
+    outn = nt.nodes.new("ShaderNodeOutputMaterial")
+    bsdf = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    alb = spec["albedo"]
+    nt.links.new(bsdf.outputs["BSDF"], outn.inputs["Surface"])
+    if spec["pattern"] == "flat":
+        bsdf.inputs["Color"].default_value = list(alb) + [1.0]
         return m
+    tex = nt.nodes.new("ShaderNodeTexCoord")
+    if spec["pattern"] == "planks":
+        pat = nt.nodes.new("ShaderNodeTexWave")
+        pat.wave_type = "BANDS"
+        pat.inputs["Scale"].default_value = 2.2
+        pat.inputs["Distortion"].default_value = 3.0
+        pat.inputs["Detail"].default_value = 2.0
+    elif spec["pattern"] == "stripes":
+        pat = nt.nodes.new("ShaderNodeTexChecker")
+        pat.inputs["Scale"].default_value = 4.0
+        pat.inputs["Color1"].default_value = (1, 1, 1, 1)
+        pat.inputs["Color2"].default_value = (0, 0, 0, 1)
+    else:
+        pat = nt.nodes.new("ShaderNodeTexNoise")
+        pat.inputs["Scale"].default_value = 6.0
+        pat.inputs["Detail"].default_value = 4.0
+    nt.links.new(tex.outputs["Object"], pat.inputs["Vector"])
+    fac = pat.outputs["Fac"]
+    lo = [a * 0.82 for a in alb] + [1.0]
+    hi = [min(a * 1.18, 1.0) for a in alb] + [1.0]
+    ramp = nt.nodes.new("ShaderNodeValToRGB")
+    ramp.color_ramp.elements[0].color = lo
+    ramp.color_ramp.elements[1].color = hi
+    nt.links.new(fac, ramp.inputs["Fac"])
+    nt.links.new(ramp.outputs["Color"], bsdf.inputs["Color"])
+    return m
+
+
+def add_mesh_object(bpy, sc, name, polys, material):
+    """One Blender object holding `polys` (scene.json polygons), with `material`."""
+    verts, faces = [], []
+    for p in polys:
+        base = len(verts)
+        verts.extend([tuple(v) for v in p["vertices"]])
+        faces.append(tuple(range(base, base + len(p["vertices"]))))
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], faces)
+    mesh.update()
+    obj = bpy.data.objects.new(name, mesh)
+    sc.collection.objects.link(obj)
+    mesh.materials.append(material)
+    return obj
+
+
+def add_camera(bpy, sc, ph):
+    """A Blender camera for a scene.json photo (OpenCV R, t and K)."""
+    import mathutils
+
+    cd = bpy.data.cameras.new(ph["name"])
+    cd.sensor_fit = "HORIZONTAL"
+    cd.sensor_width = 36.0
+    cd.lens = ph["K"][0][0] * 36.0 / ph["width"]
+    cd.clip_start = 0.01
+    cd.clip_end = 100.0
+    co = bpy.data.objects.new(ph["name"], cd)
+    R = ph["R"]
+    t = ph["t"]
+    C = [-(R[0][i] * t[0] + R[1][i] * t[1] + R[2][i] * t[2]) for i in range(3)]
+    # Blender camera axes: x = cv x, y = -cv y, z = -cv z (columns of the world matrix).
+    co.matrix_world = mathutils.Matrix(((R[0][0], -R[1][0], -R[2][0], C[0]),
+                                        (R[0][1], -R[1][1], -R[2][1], C[1]),
+                                        (R[0][2], -R[1][2], -R[2][2], C[2]),
+                                        (0, 0, 0, 1)))
+    sc.collection.objects.link(co)
+    return co
+
+
+def shoot(bpy, sc, camera, out, png, exr, tag, depth="16"):
+    """Render through `camera`; the linear radiance as an EXR (half float, or "32": full float, for
+    images whose highlights pass half float's 65504, such as the sun), its sRGB encoding as PNG."""
+    sc.camera = camera
+    bpy.ops.render.render()
+    img = bpy.data.images["Render Result"]
+    s = sc.render.image_settings
+    s.file_format = "OPEN_EXR"
+    s.color_depth = depth
+    s.exr_codec = "ZIP"
+    s.color_mode = "RGB"
+    img.save_render(os.path.join(out, exr), scene=sc)
+    s.file_format = "PNG"
+    s.color_depth = "8"
+    s.compression = 90
+    s.color_mode = "RGB"
+    img.save_render(os.path.join(out, png), scene=sc)
+    print(f"[{tag}] wrote {png} and {exr}", flush=True)
+
+
+def render(out, scene_desc, samples):
+    import bpy
+
+    sc = setup_cycles(bpy, samples, scene_desc["photos"][0]["width"], scene_desc["photos"][0]["height"])
 
     def lamp_material(name):
         m = bpy.data.materials.new(name)
@@ -327,54 +402,22 @@ def render(out, scene_desc, samples):
         nt.links.new(mix.outputs["Shader"], outn.inputs["Surface"])
         return m, emit
 
-    mats = {k: diffuse_material(k, v) for k, v in MATERIALS.items()}
+    mats = {k: diffuse_material(bpy, k, v) for k, v in MATERIALS.items()}
     emitters = {}
     groups = {}
     for p in scene_desc["polygons"]:
         groups.setdefault(p["group"], []).append(p)
     objects = {}
     for group, polys in groups.items():
-        verts, faces = [], []
-        for p in polys:
-            base = len(verts)
-            verts.extend([tuple(v) for v in p["vertices"]])
-            faces.append(tuple(range(base, base + len(p["vertices"]))))
-        mesh = bpy.data.meshes.new(group)
-        mesh.from_pydata(verts, [], faces)
-        mesh.update()
-        obj = bpy.data.objects.new(group, mesh)
-        sc.collection.objects.link(obj)
         p0 = polys[0]
         if p0["kind"] == "light":
             m, emit = lamp_material(p0["material"])
             emitters[p0["name"][len("light_"):]] = emit
-            mesh.materials.append(m)
         else:
-            mesh.materials.append(mats[p0["material"]])
-        objects[group] = obj
+            m = mats[p0["material"]]
+        objects[group] = add_mesh_object(bpy, sc, group, polys, m)
 
-    cams = {}
-    for ph in scene_desc["photos"]:
-        cd = bpy.data.cameras.new(ph["name"])
-        cd.sensor_fit = "HORIZONTAL"
-        cd.sensor_width = 36.0
-        cd.lens = ph["K"][0][0] * 36.0 / ph["width"]
-        cd.clip_start = 0.01
-        cd.clip_end = 100.0
-        co = bpy.data.objects.new(ph["name"], cd)
-        R = ph["R"]
-        t = ph["t"]
-        C = [-(R[0][i] * t[0] + R[1][i] * t[1] + R[2][i] * t[2]) for i in range(3)]
-        import mathutils
-        # Blender camera axes: x = cv x, y = -cv y, z = -cv z (columns of the world matrix).
-        M = mathutils.Matrix(((R[0][0], -R[1][0], -R[2][0], C[0]),
-                              (R[0][1], -R[1][1], -R[2][1], C[1]),
-                              (R[0][2], -R[1][2], -R[2][2], C[2]),
-                              (0, 0, 0, 1)))
-        co.matrix_world = M
-        sc.collection.objects.link(co)
-        cams[ph["name"]] = co
-
+    cams = {ph["name"]: add_camera(bpy, sc, ph) for ph in scene_desc["photos"]}
     lamp_rad = {l["name"]: l["radiance_rgb"] for l in scene_desc["lights"]}
 
     def set_lamps(mult):
@@ -385,36 +428,19 @@ def render(out, scene_desc, samples):
             emit.inputs["Color"].default_value = (r[0] / peak, r[1] / peak, r[2] / peak, 1)
             emit.inputs["Strength"].default_value = peak * k
 
-    def shoot(cam, png, exr):
-        sc.camera = cams[cam]
-        bpy.ops.render.render()
-        img = bpy.data.images["Render Result"]
-        s = sc.render.image_settings
-        s.file_format = "OPEN_EXR"
-        s.color_depth = "16"
-        s.exr_codec = "ZIP"
-        s.color_mode = "RGB"
-        img.save_render(os.path.join(out, exr), scene=sc)
-        s.file_format = "PNG"
-        s.color_depth = "8"
-        s.compression = 90
-        s.color_mode = "RGB"
-        img.save_render(os.path.join(out, png), scene=sc)
-        print(f"[sample room] wrote {png} and {exr}", flush=True)
-
     os.makedirs(os.path.join(out, "photos"), exist_ok=True)
     os.makedirs(os.path.join(out, "truth"), exist_ok=True)
     set_lamps({})
     for ph in scene_desc["photos"]:
-        shoot(ph["name"], ph["file"], ph["hdr"])
+        shoot(bpy, sc, cams[ph["name"]], out, ph["file"], ph["hdr"], "sample room")
     for v in scene_desc["variants"]:
         set_lamps(v["lights"])
-        shoot(scene_desc["main_photo"], v["file"], v["hdr"])
+        shoot(bpy, sc, cams[scene_desc["main_photo"]], out, v["file"], v["hdr"], "sample room")
     # Unoccluded: all lamps on, table and box cast no shadows.
     set_lamps({})
     for g in ("table", "box"):
         objects[g].visible_shadow = False
-    shoot(scene_desc["main_photo"], "truth/unoccluded.png", "truth/unoccluded.exr")
+    shoot(bpy, sc, cams[scene_desc["main_photo"]], out, "truth/unoccluded.png", "truth/unoccluded.exr", "sample room")
 
 
 def main():

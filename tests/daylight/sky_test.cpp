@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <glm/geometric.hpp>
 #include <numbers>
@@ -126,6 +127,33 @@ TEST(Sky, TheSunIsFoundWhereItIsAndItsLightKeptApartFromItsRegion) {
   // The sun's region keeps the sky's radiance around it.
   const int k = regions.regionOf(sunDir);
   EXPECT_NEAR(avg.region[size_t(k)].x, skyL(regions.centre(k)).x, 0.05);
+}
+
+TEST(Sky, ASunClippedAtHalfFloatsLargestValueOrSaturatedIsFlagged) {
+  // The same sun as above, saved three ways: full float (not clipped), as half float (every pixel
+  // above 65504 becomes 65504) and as a camera's saturation (every pixel above a tenth of its
+  // peak becomes that).
+  const glm::dvec3 sunDir = fromElevAzim(30, 120);
+  const double sunRadius = 0.265 * kPi / 180;
+  const SkyImage full = render(256, FisheyeProjection::Equidistant, [&](const glm::dvec3& d) {
+    return glm::dot(d, sunDir) >= std::cos(sunRadius) ? glm::dvec3(3e5, 2.5e5, 2e5) : glm::dvec3(0.6, 0.7, 0.9);
+  }, sunDir);
+  float peak = 0;
+  for (float v : full.image.pixels) peak = std::max(peak, v);
+  ASSERT_GT(peak, 65504.f);
+  SkyImage half = full, saturated = full;
+  for (float& v : half.image.pixels) v = std::min(v, 65504.f);
+  for (float& v : saturated.image.pixels) v = std::min(v, 0.1f * peak);
+  const SkyRegions regions(64);
+  const SkyRadiance a = averageSky(full, regions), b = averageSky(half, regions), c = averageSky(saturated, regions);
+  ASSERT_TRUE(a.sun.found && b.sun.found && c.sun.found);
+  EXPECT_FALSE(a.sun.clipped);
+  EXPECT_TRUE(b.sun.clipped);
+  EXPECT_TRUE(c.sun.clipped);
+  // What clipping does to the light: understated, and redder channels cut most.
+  std::printf("sun irradiance R/B: full float %.3f, clipped at 65504 %.3f\n", a.sun.irradiance.x / a.sun.irradiance.z,
+              b.sun.irradiance.x / b.sun.irradiance.z);
+  EXPECT_LT(b.sun.irradiance.x, a.sun.irradiance.x);
 }
 
 TEST(Sky, BadSkyImagesAreRefusedWithTheirProblem) {

@@ -20,9 +20,26 @@
 #include "relume/radiosity/hierarchy.h"
 #include "relume/radiosity/sh.h"
 #include "relume/raytrace/ray_scene.h"
+#include "relume/relight/relighter.h"
 #include "relume/relight/solution_render.h"
 
 namespace relume::daylight {
+
+std::vector<Polygon> variantObjects(const Variant& variant, const std::string& file) {
+  std::vector<Polygon> faces;
+  for (const auto& b : variant.virtualObjects) {
+    if (!b.fan.empty()) throw Error(file, "virtual object " + b.name, "image-based objects are not lit by daylight yet");
+    const VirtualObject o = b.mesh.empty() ? boxObject(b.name, b.boxMin, b.boxMax, b.albedo) : meshObject(b.name, b.mesh, b.albedo);
+    for (const auto& f : o.polygons) {
+      Polygon poly;
+      poly.name = poly.group = o.name;
+      poly.vertices = f;
+      poly.albedo = o.albedo;
+      faces.push_back(poly);
+    }
+  }
+  return faces;
+}
 
 namespace {
 constexpr double kPi = std::numbers::pi;

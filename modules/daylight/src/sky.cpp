@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "relume/geometry/error.h"
+#include "relume/geometry/scene.h"
 
 namespace relume::daylight {
 
@@ -182,6 +183,17 @@ void checkSkyImage(const SkyImage& sky) {
   if (!above) throw Error(sky.file, "fisheye", "the image sees only what lies below the horizon: it cannot give the sky");
 }
 
+SkyImage readRoomSky(const Scene& room, const std::string& name) {
+  if (room.skies.empty()) throw Error(room.sourceFile, "daylight", "the room lists no measured sky");
+  const std::string want = !name.empty() ? name : room.photoSky.empty() ? room.skies.front().name : room.photoSky;
+  const SkyCapture* cap = room.findSky(want);
+  if (!cap) throw Error(room.sourceFile, "--sky", "the room has no sky named '" + want + "'");
+  const std::string file = cap->fisheye.front() == '/' ? cap->fisheye : room.baseDir + "/" + cap->fisheye;
+  int w = 0, h = 0;
+  imageSize(file, w, h);
+  return readSkyImage(file, fisheyeFromDescription(cap->fisheyeModel, w, h, file));
+}
+
 SkyImage readSkyImage(const std::string& path, const FisheyeModel& model) {
   SkyImage sky{readImageLinear(path), model, path};
   checkSkyImage(sky);
@@ -302,6 +314,19 @@ SkyRadiance averageSky(const SkyImage& sky, const SkyRegions& regions, const Sky
         ++out.sun.pixels;
       }
     out.sun.found = true;
+    // Clipped: the sun's brightest pixel at exactly half float's largest value (an EXR saved as
+    // half float), or a plateau — two or more of its pixels at exactly the same peak in some
+    // channel, as a camera's saturated pixels are.
+    for (int c = 0; c < 3 && !out.sun.clipped; ++c) {
+      double peak = 0;
+      int atPeak = 0;
+      for (size_t i = 0; i < px.size(); ++i) {
+        if (!isSun[i]) continue;
+        if (px[i].L[c] > peak) peak = px[i].L[c], atPeak = 0;
+        if (px[i].L[c] == peak) ++atPeak;
+      }
+      out.sun.clipped = peak == 65504.0 || (atPeak >= 2 && peak > options.sunThreshold * std::max(median, 1e-30));
+    }
     // No excess anywhere (a clipped sky): the brightest pixel's direction.
     out.sun.direction = glm::length(weighted) > 0 ? glm::normalize(weighted) : px[brightest].dir;
   }

@@ -84,6 +84,10 @@ ImageRGB differentialRender(const ImageRGB& photo, const ImageRGB& ePhoto, const
 // bases as solved when it is first used; it is not rebuilt if a NearField render refines them.
 enum class DaylightMethod { NearField, Distant, Volume };
 
+// A variant's virtual objects (boxes and meshes) as polygons with their albedos, for render().
+// Image-based objects are refused (relume::Error naming `file`): not lit by daylight yet.
+std::vector<Polygon> variantObjects(const Variant& variant, const std::string& file);
+
 struct InteractiveOptions {
   VolumeOptions volume;
   int directSamples = 64;  // 1 to 1024

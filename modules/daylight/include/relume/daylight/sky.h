@@ -15,6 +15,10 @@
 
 #include "relume/image/image.h"
 
+namespace relume {
+struct Scene;
+}
+
 namespace relume::daylight {
 
 enum class FisheyeProjection {
@@ -34,7 +38,8 @@ struct FisheyeModel {
   glm::dvec2 centre{0.0};  // the image circle's centre (pixels)
   double radius = 0;       // the image circle's radius (pixels): theta = fov / 2 there
   // Columns: the room-frame directions of the image's +x (right), of its up (-y) and of the
-  // optical axis. Looking up with image up = +Y: (+X, +Y, +Z). (Equirectangular: see above.)
+  // optical axis. Looking up with image up = +Y: (-X, +Y, +Z) (seen from below, +X is on the
+  // left). (Equirectangular: see above.)
   glm::dmat3 axes{1.0};
   int width = 0, height = 0;  // the image's size (equirectangular; the fisheye needs only the circle)
 };
@@ -70,6 +75,10 @@ struct SkyImage {
 // a view that sees the upper hemisphere (not only what lies below the horizon). Throws
 // relume::Error naming the file and what is wrong.
 SkyImage readSkyImage(const std::string& path, const FisheyeModel& model);
+// A daylight room's measured sky by name (empty: the one its photos were taken under), its
+// fisheye read with the lens the room describes in words, and checked. Throws relume::Error
+// naming the room's file or the image and what is wrong.
+SkyImage readRoomSky(const Scene& room, const std::string& name);
 void checkSkyImage(const SkyImage& sky);
 
 // The upper hemisphere cut into bands of equal elevation width, each band into cells whose
@@ -102,6 +111,10 @@ struct Sun {
   glm::dvec3 irradiance{0.0};
   double solidAngle = 0;  // sr of the pixels taken as the sun
   int pixels = 0;
+  // Its pixels look clipped (at exactly half float's largest value, 65504, or two or more at
+  // exactly one peak): its irradiance is then understated, and its colour shifted towards the channels that
+  // clipped least. Front ends warn; an HDR sky must be saved as full float, bracketed far enough.
+  bool clipped = false;
 };
 
 struct SkyRadiance {

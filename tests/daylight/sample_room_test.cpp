@@ -1,0 +1,287 @@
+// Daylight on the project's own daylight sample room (resources/daylight_room: rendered by Blender
+// Cycles with resources/scripts/make_daylight_room.py, lit only through its window by Blender's
+// Nishita sky, each sky captured by an HDR fisheye on the roof). What is checked against what:
+// - the sun found in each fisheye against the sun Blender was given;
+// - the basis solution's sunlit patch, the box's sun shadow and a box's indirect light against
+//   ray casting on the room's model (the test's own rays, not the solver's links);
+// - the relit photos against Cycles' renders of the same changes (the bars).
+// The albedos in scene.json are never read: they are what a user does not have.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <numbers>
+#include <string>
+
+#include "relume/daylight/basis.h"
+#include "relume/daylight/relight.h"
+#include "relume/daylight/sky.h"
+#include "relume/geometry/polygon.h"
+#include "relume/geometry/scene.h"
+#include "relume/image/image.h"
+#include "relume/project/room_io.h"
+#include "relume/radiosity/hierarchy.h"
+#include "relume/raytrace/ray_scene.h"
+#include "relume/relight/compare.h"
+#include "relume/relight/relighter.h"
+
+using namespace relume;
+using namespace relume::daylight;
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+const std::string kRoom = std::string(RELUME_SOURCE_DIR) + "/resources/daylight_room";
+
+// The suns make_daylight_room.py gave Blender's sky: elevation, and rotation about +Z from +Y
+// towards +X (degrees).
+struct SunTruth {
+  const char* sky;
+  double elevation, rotation;
+};
+constexpr SunTruth kSuns[] = {{"sun0", 30, 100}, {"sun1", 48, 70}, {"sun2", 22, 112}};
+
+glm::dvec3 blenderSun(const SunTruth& s) {
+  const double e = s.elevation * kPi / 180, r = s.rotation * kPi / 180;
+  return {std::cos(e) * std::sin(r), std::cos(e) * std::cos(r), std::sin(e)};
+}
+
+const Scene& room() {
+  static const Scene s = loadRoom(kRoom);
+  return s;
+}
+int polygonNamed(const std::string& name) {
+  const int i = room().findPolygon(name);
+  EXPECT_GE(i, 0) << "no polygon " << name;
+  return i;
+}
+SkyRadiance roomSky(const std::string& name, int regions = 64) { return averageSky(readRoomSky(room(), name), SkyRegions(regions)); }
+
+BasisOptions options() {
+  BasisOptions o;
+  o.regions = 16;  // the region count does not change where the sun lands
+  return o;
+}
+
+// Does the ray from `p` towards `d` leave the room (through the window: the room is closed
+// otherwise)? The model's own polygons, windows left out, in an Embree scene of the test's.
+struct ModelRays {
+  RayScene scene;
+  static std::vector<std::vector<glm::dvec3>> solid() {
+    std::vector<std::vector<glm::dvec3>> v;
+    for (const auto& p : room().polygons)
+      if (p.kind == PolygonKind::Real && p.group != "outside") v.push_back(p.vertices);
+    return v;
+  }
+  ModelRays() : scene(solid()) {}
+  bool open(const glm::dvec3& p, const glm::dvec3& d) const {
+    return scene.intersect(Ray{glm::vec3(p), glm::vec3(d), 1e-4f, 1e30f}).polygon < 0;
+  }
+};
+}  // namespace
+
+TEST(DaylightSampleRoom, ItsFisheyesShowTheSunWhereBlenderPutIt) {
+  for (const SunTruth& s : kSuns) {
+    const SkyRadiance sky = roomSky(s.sky);
+    ASSERT_TRUE(sky.sun.found) << s.sky;
+    EXPECT_FALSE(sky.sun.clipped) << s.sky << ": saved as full float, nothing clips";
+    const double off = std::acos(std::min(1.0, glm::dot(sky.sun.direction, blenderSun(s)))) * 180 / kPi;
+    std::printf("%s: sun found %.2f deg from where Blender put it (%zu pixels, irradiance facing it %.2f)\n", s.sky, off,
+                size_t(sky.sun.pixels), sky.sun.irradiance.y);
+    EXPECT_LT(off, 1.0) << s.sky;
+  }
+}
+
+TEST(DaylightSampleRoom, TheSunlitPatchOfTheSolutionSitsWhereRaysThroughTheWindowPutIt) {
+  // One basis refined for the photos' sky; each fisheye's sun solved on its links. The floor's
+  // sunlit patch in the solution (each leaf's direct sun, area-weighted) against floor points a
+  // centimetre apart whose ray towards the sun leaves through the window (the furniture's
+  // shadows included).
+  DaylightBasis basis(room(), roomSky(room().photoSky, 16), options());
+  const int floor = polygonNamed("floor");
+  const ModelRays rays;
+  for (const SunTruth& s : kSuns) {
+    const glm::dvec3 d = roomSky(s.sky, 16).sun.direction;
+    basis.sunSolution(d);
+    const auto& eng = basis.engine();
+    glm::dvec2 sum(0.0);
+    double w = 0;
+    std::vector<int> stack{eng.surfaceRoot(floor)};
+    while (!stack.empty()) {
+      const int n = stack.back();
+      stack.pop_back();
+      const auto& N = eng.nodes()[size_t(n)];
+      if (!N.isLeaf()) {
+        for (int i = 0; i < N.childCount; ++i) stack.push_back(eng.children()[size_t(N.childBegin + i)]);
+        continue;
+      }
+      const double m = double(N.area) * basis.sunDirect()[size_t(n)].y;
+      sum += m * glm::dvec2(N.center.x, N.center.y);
+      w += m;
+    }
+    glm::dvec2 want(0.0);
+    size_t lit = 0;
+    glm::dvec3 lo(1e9), hi(-1e9);
+    for (const auto& c : room().polygons[size_t(floor)].vertices) lo = glm::min(lo, c), hi = glm::max(hi, c);
+    for (double x = lo.x + 0.005; x < hi.x; x += 0.01)
+      for (double y = lo.y + 0.005; y < hi.y; y += 0.01)
+        if (rays.open({x, y, 0.0}, d)) want += glm::dvec2(x, y), ++lit;
+    ASSERT_GT(lit, 1000u) << s.sky;
+    want /= double(lit);
+    ASSERT_GT(w, 0.0) << s.sky;
+    const glm::dvec2 got = sum / w;
+    std::printf("%s: patch centroid (%.3f, %.3f), rays put it at (%.3f, %.3f): %.1f cm off (%.2f m^2 sunlit)\n", s.sky, got.x,
+                got.y, want.x, want.y, 100 * glm::length(got - want), 1e-4 * double(lit));
+    EXPECT_LT(glm::length(got - want), 0.05) << s.sky;
+  }
+}
+
+TEST(DaylightSampleRoom, TheBoxsSunShadowCoversTheFloorRayCastingSaysItHides) {
+  // The photos' sky; the virtual box of the variant "virtual_box_sun0" added to the hierarchy.
+  // Per pixel of the main view showing the floor in the sun: the box hides it from the sun (the
+  // test's own rays against the box), or not — 2 cm either side of the shadow's outline left out
+  // (the pixel's footprint and the sun's penumbra). Hidden points must lose most of their light,
+  // the others keep it.
+  const SkyRadiance sky = roomSky(room().photoSky, 16);
+  DaylightBasis basis(room(), sky, options());
+  const Photo* main = room().findPhoto(room().mainPhoto);
+  ASSERT_NE(main, nullptr);
+  const SeenPixels before = seePixels(basis, main->camera);
+  const ImageRGB e0 = irradianceImage(basis, before, sky);
+  const Variant* v = nullptr;
+  for (const auto& x : room().variants)
+    if (x.name == "virtual_box_sun0") v = &x;
+  ASSERT_NE(v, nullptr);
+  const std::vector<Polygon> box = variantObjects(*v, room().sourceFile);
+  basis.addObjects(box);
+  const SeenPixels after = seePixels(basis, main->camera);
+  const ImageRGB e1 = irradianceImage(basis, after, sky);
+  std::vector<std::vector<glm::dvec3>> faces;
+  for (const auto& f : box) faces.push_back(f.vertices);
+  const RayScene boxRays(faces);
+  const ModelRays rays;
+  const glm::dvec3 d = sky.sun.direction;
+  const int floor = polygonNamed("floor");
+  auto hidden = [&](const glm::dvec3& p) { return boxRays.intersect(Ray{glm::vec3(p), glm::vec3(d), 1e-4f, 1e30f}).polygon >= 0; };
+  size_t hiddenN = 0, hiddenDark = 0, openN = 0, openDark = 0;
+  for (size_t i = 0; i < after.surface.size(); ++i) {
+    if (after.surface[i] != floor || before.surface[i] != floor) continue;
+    const glm::dvec3 p = after.point[i];
+    if (!rays.open(p, d)) continue;  // the room itself keeps the sun off
+    int in = 0, sunny = 0;
+    for (const glm::dvec3& o : {glm::dvec3(0.0), glm::dvec3(0.02, 0, 0), glm::dvec3(-0.02, 0, 0), glm::dvec3(0, 0.02, 0),
+                                glm::dvec3(0, -0.02, 0)}) {
+      in += hidden(p + o);
+      sunny += rays.open(p + o, d);
+    }
+    if (sunny < 5 || (in > 0 && in < 5)) continue;
+    // Dark: less than half the light it had; the sun brings most of it in the patch.
+    const bool dark = e1.pixels[3 * i + 1] < 0.5f * e0.pixels[3 * i + 1];
+    if (in == 5) ++hiddenN, hiddenDark += dark;
+    else ++openN, openDark += dark;
+  }
+  std::printf("floor in the sun: %zu of %zu points the box hides darkened, %zu of %zu it does not hide\n", hiddenDark, hiddenN,
+              openDark, openN);
+  ASSERT_GT(hiddenN, 100u);
+  ASSERT_GT(openN, 500u);
+  EXPECT_GE(double(hiddenDark), 0.8 * double(hiddenN));
+  EXPECT_LE(double(openDark), 0.1 * double(openN));
+}
+
+TEST(DaylightSampleRoom, ABoxInACornerTheSunNeverReachesGathersWhatRaysOverItsHemisphereSee) {
+  // The box's faces' irradiance in the solution for the photos' sky against a brute-force
+  // gather: cosine-distributed rays from points on each face, each taking the radiance of the
+  // leaf it hits (B / pi of the same solution) or, out through the window, the sky's region (or
+  // the ground's).
+  const SkyRadiance sky = roomSky(room().photoSky, 16);
+  DaylightBasis basis(room(), sky, options());
+  const glm::dvec3 lo(0.1, 0.1, 0.0), hi(0.5, 0.5, 0.4);  // the front-left corner, far from every patch
+  const ModelRays rays;
+  for (const SunTruth& s : kSuns) ASSERT_FALSE(rays.open(glm::dvec3(0.5, 0.5, 0.4), blenderSun(s))) << s.sky;
+  std::vector<Polygon> faces;
+  for (const auto& f : boxObject("box", lo, hi, glm::dvec3(0.5)).polygons) {
+    Polygon p;
+    p.name = p.group = "box";
+    p.vertices = f;
+    p.albedo = glm::dvec3(0.5);
+    faces.push_back(p);
+  }
+  const std::vector<int> ids = basis.addObjects(faces);
+  const std::vector<glm::vec3> b = basis.combine(sky);
+  const auto& eng = basis.engine();
+  const glm::dvec3 ground = basis.groundRadiance(sky);
+  uint64_t state = 99;
+  auto uni = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return double(state >> 11) / 9007199254740992.0;
+  };
+  for (int id : ids) {
+    const auto& v = eng.surfaces()[size_t(id)].vertices;
+    const glm::dvec3 n = polygonNormal(v);
+    if (n.z < -0.5) continue;  // the bottom face stands on the floor
+    const glm::dvec3 t = glm::normalize(v[1] - v[0]), u = glm::cross(n, t);
+    double brute = 0;
+    constexpr int points = 16, count = 2048;
+    for (int p = 0; p < points; ++p) {
+      glm::dvec3 c(0.0);
+      for (const auto& q : v) c += q / double(v.size());
+      const glm::dvec3 x = c + (uni() - 0.5) * 0.4 * glm::length(v[1] - v[0]) * t + (uni() - 0.5) * 0.4 * glm::length(v[2] - v[1]) * u +
+                           1e-4 * n;
+      for (int r = 0; r < count; ++r) {
+        const double r1 = uni(), r2 = uni(), s = std::sqrt(r1), phi = 2 * kPi * r2;
+        const glm::dvec3 d = s * std::cos(phi) * t + s * std::sin(phi) * u + std::sqrt(1 - r1) * n;
+        const RayHit hit = eng.rayScene().intersect(Ray{glm::vec3(x), glm::vec3(d), 1e-5f, 1e30f});
+        double l = 0;
+        if (hit.polygon >= 0) {
+          l = b[size_t(eng.findLeaf(hit.polygon, eng.toUV(hit.polygon, x + double(hit.t) * d)))].y / kPi;
+        } else {
+          const int k = basis.regions().regionOf(d);
+          l = k >= 0 ? sky.region[size_t(k)].y : ground.y;
+        }
+        brute += kPi * l / count;  // cosine-weighted: E = pi x the mean radiance
+      }
+    }
+    brute /= points;
+    const double solved = basis.surfaceMean(b, id).y / 0.5;
+    std::printf("box face (normal %+.0f %+.0f %+.0f): solution %.4f, brute-force gather %.4f (%+.1f %%)\n", n.x, n.y, n.z, solved,
+                brute, 100 * (solved / brute - 1));
+    EXPECT_NEAR(solved, brute, 0.15 * brute);
+  }
+}
+
+TEST(DaylightSampleRoom, RelitPhotosMatchCyclesWhereTheLightChanges) {
+  // The whole path as `relume evaluate` runs it: reflectances from the main photo under the
+  // photos' sky, then the photo under another sun and with a virtual box, against Cycles' renders
+  // of the same (gain-corrected PSNR as the comparison protocol; the "change" mask: where the
+  // truth differs from the photo). The bars: near-field at least the unchanged photo
+  // + 8 dB where the light changes, the distant baseline + 2 dB and 35 dB over the whole image for
+  // the box.
+  const Photo* main = room().findPhoto(room().mainPhoto);
+  ASSERT_NE(main, nullptr);
+  const ImageRGB photo = readImageLinear(kRoom + "/" + main->hdr);
+  DaylightRelighting relit(room(), photo, main->camera, roomSky(room().photoSky));
+  const CompareMasks masks = benchmarkMasks(photo, readImageLinear(kRoom + "/truth/unoccluded.exr"));
+  for (const char* name : {"virtual_box_sun0", "sun1"}) {
+    const Variant* v = nullptr;
+    for (const auto& x : room().variants)
+      if (x.name == name) v = &x;
+    ASSERT_NE(v, nullptr);
+    const ImageRGB truth = readImageLinear(kRoom + "/" + v->hdr);
+    const SkyRadiance sky = roomSky(v->sky);
+    const std::vector<Polygon> objects = variantObjects(*v, room().sourceFile);
+    const ImageRGB near = relit.render(sky, objects, DaylightMethod::NearField);
+    const ImageRGB distant = relit.render(sky, objects, DaylightMethod::Distant);
+    const std::vector<uint8_t> change = benchmarkMasks(photo, truth).shadow;
+    auto psnr = [&](const ImageRGB& img, const std::vector<uint8_t>& mask) { return compareImages(img, truth, mask).psnr; };
+    const double nearAll = psnr(near, masks.all), nearChange = psnr(near, change), distantChange = psnr(distant, change),
+                 photoAll = psnr(photo, masks.all), photoChange = psnr(photo, change);
+    std::printf("%s: near-field %.2f / %.2f dB (all / change), distant %.2f / %.2f, the photo unchanged %.2f / %.2f\n", name,
+                nearAll, nearChange, psnr(distant, masks.all), distantChange, photoAll, photoChange);
+    EXPECT_GE(nearChange, photoChange + 8) << name;
+    if (!objects.empty()) EXPECT_GE(nearChange, distantChange + 2) << name;
+    if (!objects.empty()) EXPECT_GE(nearAll, 35) << name;
+    if (objects.empty()) EXPECT_GE(nearAll, photoAll + 8) << name;
+  }
+}
