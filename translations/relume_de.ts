@@ -1148,6 +1148,14 @@
         <source>Model from clicks</source>
         <translation>Modell aus Klicks</translation>
     </message>
+    <message>
+        <source>Sky</source>
+        <translation>Himmel</translation>
+    </message>
+    <message>
+        <source>Opened %1 (daylight: see the Sky panel)</source>
+        <translation>%1 geöffnet (Tageslicht: siehe Himmel-Bereich)</translation>
+    </message>
 </context>
 <context>
     <name>relume::ObjectsPanel</name>
@@ -1733,6 +1741,149 @@ Kein Schachbrett gefunden in: %1</translation>
     <message>
         <source>Remove the real shadows again with these reference patches: step 2 of the polygons whose choices changed, as a job</source>
         <translation>Die echten Schatten mit diesen Referenzflächen erneut entfernen: Schritt 2 der Polygone, deren Wahl sich geändert hat, als Auftrag</translation>
+    </message>
+</context>
+<context>
+    <name>relume::SkyPanel</name>
+    <message>
+        <source>Sky</source>
+        <translation>Himmel</translation>
+    </message>
+    <message>
+        <source>The room&apos;s measured skies, and the fisheye images or folders you added</source>
+        <translation>Die gemessenen Himmel des Raums und die hinzugefügten Fischaugenbilder oder Ordner</translation>
+    </message>
+    <message>
+        <source>Image…</source>
+        <translation>Bild…</translation>
+    </message>
+    <message>
+        <source>An HDR fisheye taken outside looking up (equidistant, 180°, image up = +Y)</source>
+        <translation>Ein HDR-Fischaugenbild, draußen nach oben aufgenommen (äquidistant, 180°, Bild oben = +Y)</translation>
+    </message>
+    <message>
+        <source>Folder…</source>
+        <translation>Ordner…</translation>
+    </message>
+    <message>
+        <source>A folder of HDR fisheyes: a time-varying sky, played back in name order</source>
+        <translation>Ein Ordner mit HDR-Fischaugenbildern: ein sich ändernder Himmel, nach Namen abgespielt</translation>
+    </message>
+    <message>
+        <source>Method</source>
+        <translation>Verfahren</translation>
+    </message>
+    <message>
+        <source>Near-field (basis solutions)</source>
+        <translation>Nahfeld (Basislösungen)</translation>
+    </message>
+    <message>
+        <source>Interactive (irradiance volume)</source>
+        <translation>Interaktiv (Bestrahlungsstärkevolumen)</translation>
+    </message>
+    <message>
+        <source>Distant (sky at infinity, for comparison)</source>
+        <translation>Fern (Himmel im Unendlichen, zum Vergleich)</translation>
+    </message>
+    <message>
+        <source>Near-field: the objects solved into every basis. Interactive: the paper&apos;s irradiance volume and 64 samples through the windows, nothing solved again. Distant: the baseline without windows.</source>
+        <translation>Nahfeld: die Objekte in jede Basis eingerechnet. Interaktiv: das Bestrahlungsstärkevolumen des Artikels und 64 Stichproben durch die Fenster, nichts wird neu gelöst. Fern: die Vergleichsmethode ohne Fenster.</translation>
+    </message>
+    <message>
+        <source>Virtual objects</source>
+        <translation>Virtuelle Objekte</translation>
+    </message>
+    <message>
+        <source>File…</source>
+        <translation>Datei…</translation>
+    </message>
+    <message>
+        <source>A JSON file with virtual_objects (boxes or OBJ meshes with their albedo)</source>
+        <translation>Eine JSON-Datei mit virtual_objects (Quader oder OBJ-Netze mit ihrer Albedo)</translation>
+    </message>
+    <message>
+        <source>Play</source>
+        <translation>Abspielen</translation>
+    </message>
+    <message>
+        <source>Play a folder&apos;s skies back, one frame after another</source>
+        <translation>Die Himmel eines Ordners nacheinander abspielen</translation>
+    </message>
+    <message>
+        <source>Original photo</source>
+        <translation>Originalfoto</translation>
+    </message>
+    <message>
+        <source>Show the photograph as taken, to compare</source>
+        <translation>Das Foto wie aufgenommen zeigen, zum Vergleich</translation>
+    </message>
+    <message>
+        <source>Sky image</source>
+        <translation>Himmelsbild</translation>
+    </message>
+    <message>
+        <source>HDR images (*.exr *.hdr)</source>
+        <translation>HDR-Bilder (*.exr *.hdr)</translation>
+    </message>
+    <message>
+        <source>Folder of sky images</source>
+        <translation>Ordner mit Himmelsbildern</translation>
+    </message>
+    <message>
+        <source>JSON (*.json)</source>
+        <translation>JSON (*.json)</translation>
+    </message>
+    <message>
+        <source>%1 (the photos&apos; sky)</source>
+        <translation>%1 (der Himmel der Fotos)</translation>
+    </message>
+    <message>
+        <source>None</source>
+        <translation>Keine</translation>
+    </message>
+    <message>
+        <source>As in variant %1</source>
+        <translation>Wie in Variante %1</translation>
+    </message>
+    <message>
+        <source>Preparing daylight for %1</source>
+        <translation>Tageslicht für %1 wird vorbereitet</translation>
+    </message>
+    <message>
+        <source>%1 holds no HDR sky image (.exr or .hdr)</source>
+        <translation>%1 enthält kein HDR-Himmelsbild (.exr oder .hdr)</translation>
+    </message>
+    <message>
+        <source>%1 (frames: %2)</source>
+        <translation>%1 (Bilder: %2)</translation>
+    </message>
+    <message>
+        <source>Open a daylight room (one whose scene lists measured skies and windows) to relight it under another sky.</source>
+        <translation>Öffnen Sie einen Tageslichtraum (dessen Szene gemessene Himmel und Fenster enthält), um ihn unter einem anderen Himmel neu zu beleuchten.</translation>
+    </message>
+    <message>
+        <source>%1 — measured skies: %2; reflectances estimated from the main photo under %3.</source>
+        <translation>%1 — gemessene Himmel: %2; Reflexionsgrade aus dem Hauptfoto unter %3 geschätzt.</translation>
+    </message>
+    <message>
+        <source>Relighting under %1</source>
+        <translation>Neubeleuchtung unter %1</translation>
+    </message>
+    <message>
+        <source>photo</source>
+        <translation>Foto</translation>
+    </message>
+    <message>
+        <source>The photograph as taken</source>
+        <translation>Das Foto wie aufgenommen</translation>
+    </message>
+    <message>
+        <source>Frame %1 of %2: %3, %4 s</source>
+        <translation>Bild %1 von %2: %3, %4 s</translation>
+    </message>
+    <message>
+        <source>%1, rendered in %2 s</source>
+        <translation>%1, in %2 s berechnet</translation>
     </message>
 </context>
 <context>

@@ -1148,6 +1148,14 @@
         <source>Model from clicks</source>
         <translation>Modèle à partir des clics</translation>
     </message>
+    <message>
+        <source>Sky</source>
+        <translation>Ciel</translation>
+    </message>
+    <message>
+        <source>Opened %1 (daylight: see the Sky panel)</source>
+        <translation>%1 ouvert (lumière du jour : voir le panneau Ciel)</translation>
+    </message>
 </context>
 <context>
     <name>relume::ObjectsPanel</name>
@@ -1733,6 +1741,149 @@ Aucun damier trouvé dans : %1</translation>
     <message>
         <source>Remove the real shadows again with these reference patches: step 2 of the polygons whose choices changed, as a job</source>
         <translation>Retirer à nouveau les ombres réelles avec ces zones de référence : étape 2 des polygones dont le choix a changé, en tâche de fond</translation>
+    </message>
+</context>
+<context>
+    <name>relume::SkyPanel</name>
+    <message>
+        <source>Sky</source>
+        <translation>Ciel</translation>
+    </message>
+    <message>
+        <source>The room&apos;s measured skies, and the fisheye images or folders you added</source>
+        <translation>Les ciels mesurés de la pièce, et les images fisheye ou dossiers que vous avez ajoutés</translation>
+    </message>
+    <message>
+        <source>Image…</source>
+        <translation>Image…</translation>
+    </message>
+    <message>
+        <source>An HDR fisheye taken outside looking up (equidistant, 180°, image up = +Y)</source>
+        <translation>Un fisheye HDR pris dehors vers le haut (équidistant, 180°, haut de l&apos;image = +Y)</translation>
+    </message>
+    <message>
+        <source>Folder…</source>
+        <translation>Dossier…</translation>
+    </message>
+    <message>
+        <source>A folder of HDR fisheyes: a time-varying sky, played back in name order</source>
+        <translation>Un dossier de fisheyes HDR : un ciel qui change, joué dans l&apos;ordre des noms</translation>
+    </message>
+    <message>
+        <source>Method</source>
+        <translation>Méthode</translation>
+    </message>
+    <message>
+        <source>Near-field (basis solutions)</source>
+        <translation>Champ proche (solutions de base)</translation>
+    </message>
+    <message>
+        <source>Interactive (irradiance volume)</source>
+        <translation>Interactive (volume d&apos;éclairement)</translation>
+    </message>
+    <message>
+        <source>Distant (sky at infinity, for comparison)</source>
+        <translation>Distante (ciel à l&apos;infini, pour comparer)</translation>
+    </message>
+    <message>
+        <source>Near-field: the objects solved into every basis. Interactive: the paper&apos;s irradiance volume and 64 samples through the windows, nothing solved again. Distant: the baseline without windows.</source>
+        <translation>Champ proche : les objets résolus dans chaque base. Interactive : le volume d&apos;éclairement de l&apos;article et 64 échantillons à travers les fenêtres, rien n&apos;est résolu à nouveau. Distante : la référence sans fenêtres.</translation>
+    </message>
+    <message>
+        <source>Virtual objects</source>
+        <translation>Objets virtuels</translation>
+    </message>
+    <message>
+        <source>File…</source>
+        <translation>Fichier…</translation>
+    </message>
+    <message>
+        <source>A JSON file with virtual_objects (boxes or OBJ meshes with their albedo)</source>
+        <translation>Un fichier JSON avec virtual_objects (boîtes ou maillages OBJ avec leur albédo)</translation>
+    </message>
+    <message>
+        <source>Play</source>
+        <translation>Lire</translation>
+    </message>
+    <message>
+        <source>Play a folder&apos;s skies back, one frame after another</source>
+        <translation>Lire les ciels d&apos;un dossier, une image après l&apos;autre</translation>
+    </message>
+    <message>
+        <source>Original photo</source>
+        <translation>Photo d&apos;origine</translation>
+    </message>
+    <message>
+        <source>Show the photograph as taken, to compare</source>
+        <translation>Montrer la photographie telle que prise, pour comparer</translation>
+    </message>
+    <message>
+        <source>Sky image</source>
+        <translation>Image du ciel</translation>
+    </message>
+    <message>
+        <source>HDR images (*.exr *.hdr)</source>
+        <translation>Images HDR (*.exr *.hdr)</translation>
+    </message>
+    <message>
+        <source>Folder of sky images</source>
+        <translation>Dossier d&apos;images du ciel</translation>
+    </message>
+    <message>
+        <source>JSON (*.json)</source>
+        <translation>JSON (*.json)</translation>
+    </message>
+    <message>
+        <source>%1 (the photos&apos; sky)</source>
+        <translation>%1 (le ciel des photos)</translation>
+    </message>
+    <message>
+        <source>None</source>
+        <translation>Aucun</translation>
+    </message>
+    <message>
+        <source>As in variant %1</source>
+        <translation>Comme dans la variante %1</translation>
+    </message>
+    <message>
+        <source>Preparing daylight for %1</source>
+        <translation>Préparation de la lumière du jour pour %1</translation>
+    </message>
+    <message>
+        <source>%1 holds no HDR sky image (.exr or .hdr)</source>
+        <translation>%1 ne contient aucune image HDR du ciel (.exr ou .hdr)</translation>
+    </message>
+    <message>
+        <source>%1 (frames: %2)</source>
+        <translation>%1 (images : %2)</translation>
+    </message>
+    <message>
+        <source>Open a daylight room (one whose scene lists measured skies and windows) to relight it under another sky.</source>
+        <translation>Ouvrez une pièce éclairée par le jour (dont la scène liste des ciels mesurés et des fenêtres) pour la rééclairer sous un autre ciel.</translation>
+    </message>
+    <message>
+        <source>%1 — measured skies: %2; reflectances estimated from the main photo under %3.</source>
+        <translation>%1 — ciels mesurés : %2 ; réflectances estimées d&apos;après la photo principale sous %3.</translation>
+    </message>
+    <message>
+        <source>Relighting under %1</source>
+        <translation>Rééclairage sous %1</translation>
+    </message>
+    <message>
+        <source>photo</source>
+        <translation>photo</translation>
+    </message>
+    <message>
+        <source>The photograph as taken</source>
+        <translation>La photographie telle que prise</translation>
+    </message>
+    <message>
+        <source>Frame %1 of %2: %3, %4 s</source>
+        <translation>Image %1 sur %2 : %3, %4 s</translation>
+    </message>
+    <message>
+        <source>%1, rendered in %2 s</source>
+        <translation>%1, rendu en %2 s</translation>
     </message>
 </context>
 <context>

@@ -40,6 +40,8 @@
 #include "clicks_panel.h"
 #include "inspector_panel.h"
 #include "photos_panel.h"
+#include "sky_panel.h"
+#include "relume/project/room_io.h"
 #include "reconstruction_panel.h"
 #include "references_panel.h"
 #include "relume/viewport/viewport_widget.h"
@@ -129,6 +131,15 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     if (on && !clicksDock_->isFloating() && clicksDock_->height() < height() / 2)
       resizeDocks({clicksDock_}, {int(height() * 0.6)}, Qt::Vertical);
   });
+  // Daylight rooms (measured skies, windows): relit under another sky in their own panel, on the
+  // left, shown when one opens.
+  sky_ = new SkyPanel(jobs_, this);
+  skyDock_ = new QDockWidget(tr("Sky"), this);
+  skyDock_->setObjectName("SkyDock");
+  skyDock_->setWidget(sky_);
+  addDockWidget(Qt::LeftDockWidgetArea, skyDock_);
+  skyDock_->hide();
+  connect(sky_, &SkyPanel::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
   // Edit > Undo acts on the clicks while they have the focus, else on the document.
   undoGroup_ = new QUndoGroup(this);
   undoGroup_->addStack(doc_->undoStack());
@@ -585,8 +596,34 @@ bool MainWindow::openPath(const QString& path) {
   if (!maybeSave()) return false;
   const QString abs = QFileInfo(path).absoluteFilePath();
   return jobs_->start(tr("Opening %1").arg(QFileInfo(abs).fileName()), [this, abs](Progress& progress) {
+    // A daylight room (its scene lists measured skies) goes to the Sky panel: reflectances from
+    // its photo under its own sky, the basis solutions; the lamp room's document is closed.
+    if (const Scene scene = loadRoom(abs.toStdString()); !scene.skies.empty()) {
+      std::shared_ptr<PreparedDaylight> daylight = SkyPanel::prepare(scene, progress);
+      return JobRunner::Continuation([this, daylight, abs] {
+        doc_->close();
+        sky_->adopt(daylight, abs);
+        // The lamp room's viewport and panels have nothing to show: the Sky panel takes their place
+        // (they come back with the next lamp room).
+        viewport_->hide();
+        for (const char* name : {"LightsDock", "ObjectsDock", "ReferencesDock"})
+          if (auto* d = findChild<QDockWidget*>(name); d && d->isVisible()) {
+            d->hide();
+            hiddenForDaylight_.push_back(d);
+          }
+        skyDock_->show();
+        skyDock_->raise();
+        addRecent(abs);
+        statusBar()->showMessage(tr("Opened %1 (daylight: see the Sky panel)").arg(abs), 5000);
+      });
+    }
     std::shared_ptr<LoadedRoom> room = loadRoomForWorkbench(abs, progress);
     return JobRunner::Continuation([this, room, abs]() mutable {
+      sky_->close();
+      skyDock_->hide();
+      viewport_->show();
+      for (QDockWidget* d : hiddenForDaylight_) d->show();
+      hiddenForDaylight_.clear();
       const std::vector<std::string> notes = room->scene.notes;
       doc_->adopt(std::make_unique<LoadedRoom>(std::move(*room)));
       addRecent(abs);

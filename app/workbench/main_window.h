@@ -4,6 +4,7 @@
 #include <QMainWindow>
 #include <QLockFile>
 #include <memory>
+#include <vector>
 
 class QLabel;
 class QProgressBar;
@@ -23,6 +24,7 @@ class InspectorPanel;
 class PhotosPanel;
 class ReconstructionPanel;
 class ClicksPanel;
+class SkyPanel;
 class EditTool;
 class ViewportWidget;
 
@@ -50,6 +52,8 @@ class MainWindow : public QMainWindow {
   PhotosPanel* photosPanel() const { return photos_; }
   ReconstructionPanel* reconstructionPanel() const { return reconstruction_; }
   ClicksPanel* clicksPanel() const { return clicks_; }
+  SkyPanel* skyPanel() const { return sky_; }
+  QDockWidget* skyDock() const { return skyDock_; }
   QDockWidget* clicksDock() const { return clicksDock_; }
   QDockWidget* inspectorDock() const { return inspectorDock_; }
   EditTool* editTool() const { return tool_; }
@@ -101,6 +105,9 @@ class MainWindow : public QMainWindow {
   QDockWidget* inspectorDock_ = nullptr;
   ClicksPanel* clicks_ = nullptr;
   QDockWidget* clicksDock_ = nullptr;
+  SkyPanel* sky_ = nullptr;
+  QDockWidget* skyDock_ = nullptr;
+  std::vector<QDockWidget*> hiddenForDaylight_;  // lamp-room docks hidden while a daylight room is open
   QUndoGroup* undoGroup_ = nullptr;
   EditTool* tool_;
   QString selected_;

@@ -65,6 +65,10 @@
 #include "relume/geometry/polygon.h"
 #include "relume/raytrace/ray_scene.h"
 #include "main_window.h"
+#include "sky_panel.h"
+#include <QCheckBox>
+#include <QComboBox>
+#include <QSignalSpy>
 #include "relume/geometry/progress.h"
 #include "relume/ibr/fan.h"
 #include "relume/ibr/mesh.h"
@@ -2139,6 +2143,95 @@ class WorkbenchTest : public QObject {
     QVERIFY(window_->openPath(kRoom));
     QVERIFY(waitForJob(600000));
     QVERIFY(doc()->isOpen());
+  }
+
+  void daylightRoomInTheSkyPanel() {
+    // The project's own daylight room opened as a user would: it goes to the Sky panel (no lamp
+    // room document), is relit under its photos' sky, another sun, with a virtual box, and under
+    // a folder of skies played back — each compared with Cycles' render of the same.
+    const QString room = RELUME_SOURCE_DIR "/resources/daylight_room";
+    MainWindow w;
+    w.setInteractive(false);
+    w.resize(1400, 820);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    SkyPanel* sky = w.skyPanel();
+    auto settle = [&](int timeoutMs) {
+      QElapsedTimer t;
+      t.start();
+      for (int idle = 0; idle < 10 && t.elapsed() < timeoutMs;) {
+        QTest::qWait(20);
+        idle = w.jobs()->busy() ? 0 : idle + 1;
+      }
+      return !w.jobs()->busy();
+    };
+    QVERIFY(w.openPath(room));
+    QVERIFY(settle(300000));
+    QVERIFY2(sky->isOpen(), qPrintable(w.lastError()));
+    QVERIFY(w.skyDock()->isVisible());
+    QVERIFY(!w.document()->isOpen());
+    QCOMPARE(sky->skyBox()->count(), 3);
+    QCOMPARE(sky->framesShown(), 1);
+    QCOMPARE(sky->shown().size(), QSize(320, 240));
+    auto png = [&](const char* rel) { return QImage(room + "/" + rel).convertToFormat(QImage::Format_RGB888); };
+    const QImage photo = png("photos/main.png");
+    // Under the photos' own sky, nothing changes: the photo comes back.
+    const double same = psnr8(sky->shown(), photo);
+    qInfo("under the photos' sky: %.1f dB against the photo", same);
+    QVERIFY(same > 35);
+    // Another sun: closer to Cycles' render of it than the unchanged photo is, by far.
+    int shown = sky->framesShown();
+    sky->skyBox()->setCurrentIndex(1);  // sun1
+    QVERIFY(settle(120000));
+    QCOMPARE(sky->framesShown(), shown + 1);
+    const QImage sun1 = png("truth/sun1.png");
+    qInfo("sun1: relit %.1f dB, the photo %.1f dB against Cycles", psnr8(sky->shown(), sun1), psnr8(photo, sun1));
+    QVERIFY(psnr8(sky->shown(), sun1) > psnr8(photo, sun1) + 6);
+    // The box of variant virtual_box_sun0 under the photos' sky.
+    sky->skyBox()->setCurrentIndex(0);
+    QVERIFY(settle(120000));
+    QCOMPARE(sky->objectsBox()->count(), 3);  // none, and each variant's objects (the two box variants)
+    sky->objectsBox()->setCurrentIndex(1);
+    QVERIFY(settle(180000));
+    const QImage box = png("truth/virtual_box_sun0.png");
+    qInfo("virtual box: relit %.1f dB, the photo %.1f dB against Cycles", psnr8(sky->shown(), box), psnr8(photo, box));
+    QVERIFY(psnr8(sky->shown(), box) > psnr8(photo, box) + 6);
+    saveShot(&w, "sky_panel");
+    sky->photoToggle()->setChecked(true);
+    QVERIFY(psnr8(sky->view()->image().convertToFormat(QImage::Format_RGB888), photo) > 40);  // the photo as taken
+    sky->photoToggle()->setChecked(false);
+    // A folder of skies: one entry, its frames played back in turn.
+    const QString frames = tmp_.path() + "/skies";
+    QDir().mkpath(frames);
+    QVERIFY(QFile::copy(room + "/sky/fisheye_sun1.exr", frames + "/a.exr"));
+    QVERIFY(QFile::copy(room + "/sky/fisheye_sun2.exr", frames + "/b.exr"));
+    sky->objectsBox()->setCurrentIndex(0);
+    QVERIFY(settle(120000));
+    QVERIFY(sky->addSkyFolder(frames));
+    QCOMPARE(sky->skyBox()->count(), 4);
+    QCOMPARE(sky->frameCount(), 2);
+    QVERIFY(settle(120000));
+    shown = sky->framesShown();
+    sky->setPlaying(true);
+    QElapsedTimer t;
+    t.start();
+    while (sky->framesShown() < shown + 2 && t.elapsed() < 120000) QTest::qWait(50);
+    sky->setPlaying(false);
+    QVERIFY(settle(120000));
+    QVERIFY(sky->framesShown() >= shown + 2);
+    // A folder with a broken image: refused, naming it; the list unchanged.
+    const QString bad = tmp_.path() + "/badskies";
+    QDir().mkpath(bad);
+    QVERIFY(QFile::copy(room + "/sky/fisheye_sun1.exr", bad + "/a.exr"));
+    {
+      QFile f(bad + "/b.exr");
+      QVERIFY(f.open(QIODevice::WriteOnly));
+      f.write("not an image");
+    }
+    QSignalSpy said(sky, &SkyPanel::message);
+    QVERIFY(!sky->addSkyFolder(bad));
+    QCOMPARE(sky->skyBox()->count(), 4);
+    QVERIFY(!said.isEmpty() && said.last().first().toString().contains("b.exr"));
   }
 
   void frenchInterface() {

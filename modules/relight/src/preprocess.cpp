@@ -35,22 +35,6 @@ glm::dvec3 clampRho(const glm::dvec3& r) { return glm::clamp(r, glm::dvec3(0.005
 
 double grey(const glm::dvec3& c) { return (c.x + c.y + c.z) / 3; }
 
-// Gain g with 8-bit photo ~ sRGB(g x radiance), from the pixels neither dark nor clipped.
-double photoExposure(const Scene& scene, const Photo& ph) {
-  if (ph.hdr.empty()) return 1.0;
-  auto path = [&](const std::string& rel) { return rel.front() == '/' ? rel : scene.baseDir + "/" + rel; };
-  const ImageRGB ldr = readImageLinear(path(ph.file)), hdr = readImageLinear(path(ph.hdr));
-  if (ldr.width != hdr.width || ldr.height != hdr.height) return 1.0;
-  double num = 0, den = 0;
-  for (size_t i = 0; i < ldr.pixels.size(); ++i) {
-    const double a = ldr.pixels[i], b = hdr.pixels[i];
-    if (a < 0.02 || a > 0.9 || b <= 0) continue;
-    num += a * b;
-    den += b * b;
-  }
-  return den > 0 ? num / den : 1.0;
-}
-
 // Area-weighted means of reflectances, over everything added and per material: what a polygon no
 // photo shows takes (polygons that share a material share its reflectance).
 struct MaterialMeans {
@@ -111,6 +95,22 @@ void checkReferenceChoices(const Scene& scene, const std::map<std::string, glm::
 }
 
 }  // namespace
+
+double photoExposure(const Scene& scene, const Photo& ph) {
+  if (ph.hdr.empty()) return 1.0;
+  auto path = [&](const std::string& rel) { return rel.front() == '/' ? rel : scene.baseDir + "/" + rel; };
+  const ImageRGB ldr = readImageLinear(path(ph.file)), hdr = readImageLinear(path(ph.hdr));
+  if (ldr.width != hdr.width || ldr.height != hdr.height) return 1.0;
+  double num = 0, den = 0;
+  for (size_t i = 0; i < ldr.pixels.size(); ++i) {
+    const double a = ldr.pixels[i], b = hdr.pixels[i];
+    if (a < 0.02 || a > 0.9 || b <= 0) continue;
+    num += a * b;
+    den += b * b;
+  }
+  return den > 0 ? num / den : 1.0;
+}
+
 
 // The preprocess's state after §4.2's step 1, kept for redoing step 2.
 struct Preprocessor::Impl {

@@ -307,4 +307,8 @@ class RelightSession {
 // any real polygon. Throws relume::Error naming the object.
 void checkVirtualObject(const Scene& scene, const VirtualObject& object);
 
+// The display gain g of a photo with both encodings (8-bit photo ~ sRGB(g x radiance), fitted
+// over the pixels neither dark nor clipped); 1 without its linear (EXR) image.
+double photoExposure(const Scene& scene, const Photo& photo);
+
 }  // namespace relume

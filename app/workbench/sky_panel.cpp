@@ -1,0 +1,383 @@
+#include "sky_panel.h"
+
+#include <QApplication>
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDir>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QPushButton>
+#include <QTimer>
+#include <QVBoxLayout>
+#include <chrono>
+#include <cmath>
+
+#include "click_photo_view.h"
+#include "job_runner.h"
+#include "relume/daylight/relight.h"
+#include "relume/daylight/sky.h"
+#include "relume/geometry/error.h"
+#include "relume/geometry/progress.h"
+#include "relume/geometry/scene.h"
+#include "relume/image/image.h"
+#include "relume/project/room_io.h"
+#include "relume/relight/relighter.h"
+
+namespace relume {
+
+namespace {
+// The linear image as the photo's 8-bit encoding shows radiance: sRGB(exposure x radiance).
+QImage displayed(const ImageRGB& img, double exposure) {
+  QImage out(img.width, img.height, QImage::Format_RGB888);
+  for (int y = 0; y < img.height; ++y) {
+    uchar* row = out.scanLine(y);
+    for (int x = 0; x < img.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        row[3 * x + c] = uchar(std::lround(255.0 * linearToSrgb(float(exposure) * img.pixels[3 * (size_t(y) * img.width + x) + c])));
+  }
+  return out;
+}
+}  // namespace
+
+struct SkyPanel::State {
+  std::unique_ptr<Scene> scene;
+  QString path;
+  std::shared_ptr<daylight::DaylightRelighting> relit;
+  ImageRGB photo;
+  double exposure = 1.0;
+  daylight::SkyRegions cells{64};
+  struct Sky {
+    QString label;
+    std::vector<daylight::SkyRadiance> frames;  // one, or a folder's in name order
+    std::vector<QString> names;
+  };
+  std::vector<Sky> skies;
+  struct Objects {
+    QString label;
+    std::vector<Polygon> polygons;
+  };
+  std::vector<Objects> objects;
+  size_t frame = 0;  // within a folder's frames
+  bool pending = false, rendering = false, playing = false;
+  QImage shown, photoShown;
+  QString lastFrame;
+  double lastSeconds = 0;
+};
+
+SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jobs), s_(std::make_unique<State>()) {
+  auto* layout = new QVBoxLayout(this);
+  summary_ = new QLabel(this);
+  summary_->setWordWrap(true);
+  layout->addWidget(summary_);
+  auto* skyRow = new QHBoxLayout;
+  skyRow->addWidget(new QLabel(tr("Sky"), this));
+  sky_ = new QComboBox(this);
+  sky_->setToolTip(tr("The room's measured skies, and the fisheye images or folders you added"));
+  skyRow->addWidget(sky_, 1);
+  skyFile_ = new QPushButton(tr("Image…"), this);
+  skyFile_->setToolTip(tr("An HDR fisheye taken outside looking up (equidistant, 180°, image up = +Y)"));
+  skyFolder_ = new QPushButton(tr("Folder…"), this);
+  skyFolder_->setToolTip(tr("A folder of HDR fisheyes: a time-varying sky, played back in name order"));
+  skyRow->addWidget(skyFile_);
+  skyRow->addWidget(skyFolder_);
+  layout->addLayout(skyRow);
+  auto* methodRow = new QHBoxLayout;
+  methodRow->addWidget(new QLabel(tr("Method"), this));
+  method_ = new QComboBox(this);
+  method_->addItem(tr("Near-field (basis solutions)"));
+  method_->addItem(tr("Interactive (irradiance volume)"));
+  method_->addItem(tr("Distant (sky at infinity, for comparison)"));
+  method_->setToolTip(tr("Near-field: the objects solved into every basis. Interactive: the paper's irradiance volume and "
+                         "64 samples through the windows, nothing solved again. Distant: the baseline without windows."));
+  methodRow->addWidget(method_, 1);
+  layout->addLayout(methodRow);
+  auto* objectsRow = new QHBoxLayout;
+  objectsRow->addWidget(new QLabel(tr("Virtual objects"), this));
+  objects_ = new QComboBox(this);
+  objectsRow->addWidget(objects_, 1);
+  objectsFile_ = new QPushButton(tr("File…"), this);
+  objectsFile_->setToolTip(tr("A JSON file with virtual_objects (boxes or OBJ meshes with their albedo)"));
+  objectsRow->addWidget(objectsFile_);
+  layout->addLayout(objectsRow);
+  auto* playRow = new QHBoxLayout;
+  play_ = new QPushButton(tr("Play"), this);
+  play_->setCheckable(true);
+  play_->setToolTip(tr("Play a folder's skies back, one frame after another"));
+  showPhoto_ = new QCheckBox(tr("Original photo"), this);
+  showPhoto_->setToolTip(tr("Show the photograph as taken, to compare"));
+  frame_ = new QLabel(this);
+  playRow->addWidget(play_);
+  playRow->addWidget(showPhoto_);
+  playRow->addWidget(frame_, 1);
+  layout->addLayout(playRow);
+  view_ = new ClickPhotoView(this);
+  view_->setMinimumSize(320, 240);
+  layout->addWidget(view_, 1);
+
+  auto rerender = [this] {
+    s_->frame = 0;
+    requestRender();
+  };
+  connect(sky_, qOverload<int>(&QComboBox::currentIndexChanged), this, rerender);
+  connect(method_, qOverload<int>(&QComboBox::currentIndexChanged), this, rerender);
+  connect(objects_, qOverload<int>(&QComboBox::currentIndexChanged), this, rerender);
+  connect(showPhoto_, &QCheckBox::toggled, this, &SkyPanel::show);
+  connect(play_, &QPushButton::toggled, this, &SkyPanel::setPlaying);
+  connect(skyFile_, &QPushButton::clicked, this, [this] {
+    const QString f = QFileDialog::getOpenFileName(this, tr("Sky image"), QString(), tr("HDR images (*.exr *.hdr)"));
+    if (!f.isEmpty()) addSkyFile(f);
+  });
+  connect(skyFolder_, &QPushButton::clicked, this, [this] {
+    const QString f = QFileDialog::getExistingDirectory(this, tr("Folder of sky images"));
+    if (!f.isEmpty()) addSkyFolder(f);
+  });
+  connect(objectsFile_, &QPushButton::clicked, this, [this] {
+    const QString f = QFileDialog::getOpenFileName(this, tr("Virtual objects"), QString(), tr("JSON (*.json)"));
+    if (!f.isEmpty()) addObjectsFile(f);
+  });
+  connect(jobs_, &JobRunner::finished, this, [this](bool ok, bool, const QString&) {
+    const bool mine = s_->rendering;
+    s_->rendering = false;
+    if (mine && !ok) {
+      s_->playing = false;
+      const QSignalBlocker block(play_);
+      play_->setChecked(false);
+    }
+    // After every other listener has seen this job end (the main window hides its progress bar).
+    QTimer::singleShot(0, this, &SkyPanel::renderDone);
+  });
+  rebuild();
+}
+
+SkyPanel::~SkyPanel() = default;
+
+bool SkyPanel::isOpen() const { return s_->relit != nullptr; }
+int SkyPanel::frameCount() const {
+  const int k = sky_->currentIndex();
+  return k >= 0 && size_t(k) < s_->skies.size() ? int(s_->skies[size_t(k)].frames.size()) : 0;
+}
+const QImage& SkyPanel::shown() const { return s_->shown; }
+bool SkyPanel::playing() const { return s_->playing; }
+
+void SkyPanel::close() {
+  s_ = std::make_unique<State>();
+  framesShown_ = 0;
+  view_->setImage(QImage(), QString());
+  rebuild();
+}
+
+struct PreparedDaylight {
+  Scene scene;
+  std::shared_ptr<daylight::DaylightRelighting> relit;
+  ImageRGB photo;
+  double exposure = 1.0;
+};
+
+std::shared_ptr<PreparedDaylight> SkyPanel::prepare(const Scene& scene, Progress& progress) {
+  auto room = std::make_shared<PreparedDaylight>();
+  room->scene = scene;
+  const Photo* main = scene.findPhoto(scene.mainPhoto);
+  if (!main) throw Error(scene.sourceFile, "main_photo", "the room names no main photo");
+  if (main->hdr.empty()) throw Error(scene.sourceFile, "photo " + main->name, "daylight relighting needs its linear (EXR) image");
+  room->photo = readImageLinear(main->hdr.front() == '/' ? main->hdr : scene.baseDir + "/" + main->hdr);
+  room->exposure = photoExposure(scene, *main);
+  const daylight::SkyRadiance photoSky = daylight::averageSky(daylight::readRoomSky(scene, scene.photoSky), daylight::SkyRegions(64));
+  room->relit = std::make_shared<daylight::DaylightRelighting>(scene, room->photo, main->camera, photoSky, daylight::BasisOptions{}, progress);
+  return room;
+}
+
+void SkyPanel::adopt(std::shared_ptr<PreparedDaylight> room, const QString& path) {
+  s_ = std::make_unique<State>();
+  framesShown_ = 0;
+  s_->scene = std::make_unique<Scene>(room->scene);
+  s_->path = path;
+  s_->relit = room->relit;
+  s_->photo = std::move(room->photo);
+  s_->exposure = room->exposure;
+  s_->photoShown = displayed(s_->photo, s_->exposure);
+  for (const auto& c : s_->scene->skies) {
+    State::Sky sky{QString::fromStdString(c.name), {daylight::averageSky(daylight::readRoomSky(*s_->scene, c.name), s_->cells)}, {}};
+    if (c.name == s_->scene->photoSky) sky.label = tr("%1 (the photos' sky)").arg(sky.label);
+    s_->skies.push_back(std::move(sky));
+  }
+  s_->objects.push_back({tr("None"), {}});
+  for (const auto& v : s_->scene->variants)
+    if (!v.virtualObjects.empty())
+      s_->objects.push_back({tr("As in variant %1").arg(QString::fromStdString(v.name)), daylight::variantObjects(v, s_->scene->sourceFile)});
+  rebuild();
+  {
+    const QSignalBlocker block(sky_);
+    for (size_t k = 0; k < s_->scene->skies.size(); ++k)
+      if (s_->scene->skies[k].name == s_->scene->photoSky) sky_->setCurrentIndex(int(k));
+  }
+  show();
+  QTimer::singleShot(100, view_, &ClickPhotoView::fit);  // once the window has laid the panel out
+  emit opened(path);
+  QTimer::singleShot(0, this, &SkyPanel::requestRender);  // once the opening job has ended
+}
+
+bool SkyPanel::openRoom(const Scene& scene, const QString& path) {
+  if (jobs_->busy()) return false;
+  auto room = std::make_shared<Scene>(scene);
+  return jobs_->start(tr("Preparing daylight for %1").arg(QFileInfo(path).fileName()), [this, room, path](Progress& progress) {
+    std::shared_ptr<PreparedDaylight> prepared = prepare(*room, progress);
+    return JobRunner::Continuation([this, prepared, path] { adopt(prepared, path); });
+  });
+}
+
+bool SkyPanel::addSkyFile(const QString& file) {
+  if (!isOpen()) return false;
+  try {
+    int w = 0, h = 0;
+    imageSize(file.toStdString(), w, h);
+    const auto sky = daylight::averageSky(daylight::readSkyImage(file.toStdString(), daylight::fisheyeLookingUp(w, h)), s_->cells);
+    s_->skies.push_back({QFileInfo(file).completeBaseName(), {sky}, {QFileInfo(file).completeBaseName()}});
+  } catch (const std::exception& e) {
+    emit message(QString::fromUtf8(e.what()));
+    return false;
+  }
+  rebuild();
+  sky_->setCurrentIndex(sky_->count() - 1);
+  return true;
+}
+
+bool SkyPanel::addSkyFolder(const QString& folder) {
+  if (!isOpen()) return false;
+  const QStringList names = QDir(folder).entryList({"*.exr", "*.EXR", "*.hdr", "*.HDR"}, QDir::Files, QDir::Name);
+  if (names.isEmpty()) {
+    emit message(tr("%1 holds no HDR sky image (.exr or .hdr)").arg(folder));
+    return false;
+  }
+  State::Sky entry{tr("%1 (frames: %2)").arg(QFileInfo(folder).fileName()).arg(names.size()), {}, {}};
+  QApplication::setOverrideCursor(Qt::WaitCursor);
+  try {
+    for (const QString& n : names) {
+      const std::string file = QDir(folder).filePath(n).toStdString();
+      int w = 0, h = 0;
+      imageSize(file, w, h);
+      entry.frames.push_back(daylight::averageSky(daylight::readSkyImage(file, daylight::fisheyeLookingUp(w, h)), s_->cells));
+      entry.names.push_back(QFileInfo(n).completeBaseName());
+    }
+  } catch (const std::exception& e) {
+    QApplication::restoreOverrideCursor();
+    emit message(QString::fromUtf8(e.what()));  // names the file and the problem; nothing added
+    return false;
+  }
+  QApplication::restoreOverrideCursor();
+  s_->skies.push_back(std::move(entry));
+  rebuild();
+  sky_->setCurrentIndex(sky_->count() - 1);
+  return true;
+}
+
+bool SkyPanel::addObjectsFile(const QString& file) {
+  if (!isOpen()) return false;
+  try {
+    const Variant v = readVariantFile(file.toStdString());
+    if (v.virtualObjects.empty()) throw Error(file.toStdString(), "virtual_objects", "lists no virtual object");
+    s_->objects.push_back({QFileInfo(file).fileName(), daylight::variantObjects(v, file.toStdString())});
+  } catch (const std::exception& e) {
+    emit message(QString::fromUtf8(e.what()));
+    return false;
+  }
+  rebuild();
+  objects_->setCurrentIndex(objects_->count() - 1);
+  return true;
+}
+
+void SkyPanel::setPlaying(bool on) {
+  s_->playing = on && frameCount() > 1;
+  const QSignalBlocker block(play_);
+  play_->setChecked(s_->playing);
+  if (s_->playing && !s_->rendering) requestRender();
+}
+
+void SkyPanel::rebuild() {
+  const QSignalBlocker b1(sky_), b2(objects_);
+  const int skyAt = sky_->currentIndex(), objectsAt = objects_->currentIndex();
+  sky_->clear();
+  for (const auto& s : s_->skies) sky_->addItem(s.label);
+  objects_->clear();
+  for (const auto& o : s_->objects) objects_->addItem(o.label);
+  if (skyAt >= 0 && skyAt < sky_->count()) sky_->setCurrentIndex(skyAt);
+  if (objectsAt >= 0 && objectsAt < objects_->count()) objects_->setCurrentIndex(objectsAt);
+  const bool open = isOpen();
+  for (QWidget* w : std::initializer_list<QWidget*>{sky_, method_, objects_, skyFile_, skyFolder_, objectsFile_, play_, showPhoto_})
+    w->setEnabled(open);
+  if (!open) {
+    summary_->setText(tr("Open a daylight room (one whose scene lists measured skies and windows) to relight it under "
+                         "another sky."));
+    frame_->clear();
+    return;
+  }
+  summary_->setText(tr("%1 — measured skies: %2; reflectances estimated from the main photo under %3.")
+                        .arg(QFileInfo(s_->path).fileName())
+                        .arg(s_->scene->skies.size())
+                        .arg(QString::fromStdString(s_->scene->photoSky)));
+}
+
+void SkyPanel::requestRender() {
+  if (!isOpen()) return;
+  if (s_->rendering || jobs_->busy()) {
+    s_->pending = true;  // once the running job ends
+    return;
+  }
+  startRender();
+}
+
+void SkyPanel::startRender() {
+  const int k = sky_->currentIndex(), o = objects_->currentIndex();
+  if (k < 0 || size_t(k) >= s_->skies.size()) return;
+  const State::Sky& entry = s_->skies[size_t(k)];
+  const size_t f = s_->frame % entry.frames.size();
+  const daylight::SkyRadiance sky = entry.frames[f];
+  const std::vector<Polygon> objects = o >= 0 && size_t(o) < s_->objects.size() ? s_->objects[size_t(o)].polygons : std::vector<Polygon>{};
+  const daylight::DaylightMethod method = method_->currentIndex() == 1   ? daylight::DaylightMethod::Volume
+                                          : method_->currentIndex() == 2 ? daylight::DaylightMethod::Distant
+                                                                         : daylight::DaylightMethod::NearField;
+  const QString name = entry.names.empty() ? entry.label : entry.names[f];
+  auto relit = s_->relit;
+  auto out = std::make_shared<ImageRGB>();
+  auto seconds = std::make_shared<double>(0.0);
+  s_->pending = false;
+  s_->rendering = jobs_->start(tr("Relighting under %1").arg(name), [relit, sky, objects, method, out, seconds, this, name](Progress& p) {
+    const auto t0 = std::chrono::steady_clock::now();
+    *out = relit->render(sky, objects, method, p);
+    *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return JobRunner::Continuation([this, out, seconds, name] {
+      s_->shown = displayed(*out, s_->exposure);
+      s_->lastFrame = name;
+      s_->lastSeconds = *seconds;
+      ++framesShown_;
+      show();
+    });
+  });
+  if (!s_->rendering) s_->pending = true;
+}
+
+void SkyPanel::renderDone() {
+  if (!isOpen() || jobs_->busy()) return;
+  if (s_->pending) {
+    startRender();
+    return;
+  }
+  if (s_->playing && frameCount() > 1) {
+    s_->frame = (s_->frame + 1) % size_t(frameCount());
+    startRender();
+  }
+}
+
+void SkyPanel::show() {
+  if (!isOpen()) return;
+  const bool photo = showPhoto_->isChecked() || s_->shown.isNull();
+  view_->setImage(photo ? s_->photoShown : s_->shown, photo ? tr("photo") : s_->lastFrame);
+  if (photo && !s_->shown.isNull())
+    frame_->setText(tr("The photograph as taken"));
+  else if (!s_->shown.isNull())
+    frame_->setText(frameCount() > 1 ? tr("Frame %1 of %2: %3, %4 s").arg(int(s_->frame % size_t(frameCount())) + 1).arg(frameCount()).arg(s_->lastFrame).arg(s_->lastSeconds, 0, 'f', 1)
+                                     : tr("%1, rendered in %2 s").arg(s_->lastFrame).arg(s_->lastSeconds, 0, 'f', 1));
+}
+
+}  // namespace relume

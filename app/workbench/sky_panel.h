@@ -1,0 +1,86 @@
+#pragma once
+// The Sky panel: a daylight room (one whose scene lists measured skies) relit under any sky
+// (Grosch, Eble, Mueller 2007, and beyond the paper the real room itself). Opening the room
+// estimates its reflectances from the main photo under the photos' sky and solves the basis
+// radiosity solutions (a job: progress, Cancel); then the user picks one of the room's measured
+// skies, an HDR fisheye file or a folder of them (a time-varying sky, played back frame by
+// frame), the method (near-field, the interactive irradiance volume, or the distant baseline)
+// and the virtual objects (a variant's, or a JSON file's), and sees the photo relit — each
+// render a job calling the library's DaylightRelighting::render, as `relume relight --sky` does.
+#include <QImage>
+#include <QString>
+#include <QWidget>
+#include <memory>
+#include <vector>
+
+class QCheckBox;
+class QComboBox;
+class QLabel;
+class QPushButton;
+
+namespace relume {
+
+class ClickPhotoView;
+class JobRunner;
+class Progress;
+struct Scene;
+// A daylight room made ready off the UI thread (reflectances, basis solutions): see prepare().
+struct PreparedDaylight;
+
+class SkyPanel : public QWidget {
+  Q_OBJECT
+ public:
+  SkyPanel(JobRunner* jobs, QWidget* parent = nullptr);
+  ~SkyPanel() override;
+
+  // Does the work of opening a daylight room (any thread; cancellable through `progress`):
+  // reads its main photo, estimates the reflectances, solves the basis solutions.
+  static std::shared_ptr<PreparedDaylight> prepare(const Scene& scene, Progress& progress);
+  // Shows a prepared room (UI thread) and renders it under the photos' sky.
+  void adopt(std::shared_ptr<PreparedDaylight> room, const QString& path);
+  // prepare() as a job, then adopt(). False when a job runs already.
+  bool openRoom(const Scene& scene, const QString& path);
+  bool isOpen() const;
+  void close();
+  // A fisheye HDR file, or a folder of them (frames, in name order): added to the sky list (a
+  // folder's frames as one entry, played back). False (and a message) when nothing was added.
+  bool addSkyFile(const QString& file);
+  bool addSkyFolder(const QString& folder);
+  void setPlaying(bool on);
+  bool playing() const;
+  // Virtual objects from a JSON file (virtual_objects, as `relume relight --virtual-object`).
+  bool addObjectsFile(const QString& file);
+
+  QComboBox* skyBox() const { return sky_; }
+  QComboBox* methodBox() const { return method_; }
+  QComboBox* objectsBox() const { return objects_; }
+  QCheckBox* photoToggle() const { return showPhoto_; }
+  ClickPhotoView* view() const { return view_; }
+  // The last relit image (linear) and what the view shows (display-encoded).
+  const QImage& shown() const;
+  int framesShown() const { return framesShown_; }
+  int frameCount() const;
+
+ signals:
+  void message(const QString& text);
+  void opened(const QString& path);
+
+ private:
+  struct State;
+  void rebuild();
+  void requestRender();
+  void startRender();
+  void renderDone();
+  void show();
+  JobRunner* jobs_;
+  std::unique_ptr<State> s_;
+  QLabel* summary_;
+  QComboBox *sky_, *method_, *objects_;
+  QPushButton *skyFile_, *skyFolder_, *objectsFile_, *play_;
+  QCheckBox* showPhoto_;
+  QLabel* frame_;
+  ClickPhotoView* view_;
+  int framesShown_ = 0;
+};
+
+}  // namespace relume
