@@ -26,8 +26,8 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from make_sample_room import (add_camera, add_mesh_object, diffuse_material, look_at, quad, setup_cycles,  # noqa: E402
-                              shoot, write_colmap, write_geometry_obj)
+from make_sample_room import (add_camera, add_mesh_object, diffuse_material, look_at, quad, script_options,  # noqa: E402
+                              setup_cycles, shoot, write_colmap, write_geometry_obj)
 
 ROOM = [3.8, 4.4, 2.6]  # x (width), y (depth), z (height)
 # The window: in the right wall (x = ROOM[0]), y from WIN_Y0 to WIN_Y1, z from WIN_Z0 to WIN_Z1.
@@ -240,30 +240,12 @@ def render(out, scene_desc, samples, fisheye_size, skies_only=False):
 
 
 def main():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    out, samples, width, height, fisheye, only_data, skies_only = "resources/daylight_room", 384, 320, 240, 256, False, False
-    i = 0
-    while i < len(argv):
-        a = argv[i]
-        if a == "--out":
-            out = argv[i + 1]; i += 1
-        elif a == "--samples":
-            samples = int(argv[i + 1]); i += 1
-        elif a == "--width":
-            width = int(argv[i + 1]); i += 1
-        elif a == "--height":
-            height = int(argv[i + 1]); i += 1
-        elif a == "--fisheye":
-            fisheye = int(argv[i + 1]); i += 1
-        elif a == "--only-data":
-            only_data = True
-        elif a == "--skies-only":
-            skies_only = True
-        i += 1
+    o = script_options({"out": "resources/daylight_room", "samples": 384, "width": 320, "height": 240, "fisheye": 256,
+                        "only_data": False, "skies_only": False})
     build_room()
-    desc = write_data(out, width, height, samples)
-    if not only_data:
-        render(out, desc, samples, fisheye, skies_only)
+    desc = write_data(o["out"], o["width"], o["height"], o["samples"])
+    if not o["only_data"]:
+        render(o["out"], desc, o["samples"], o["fisheye"], o["skies_only"])
 
 
 if __name__ == "__main__":

@@ -443,27 +443,31 @@ def render(out, scene_desc, samples):
     shoot(bpy, sc, cams[scene_desc["main_photo"]], out, "truth/unoccluded.png", "truth/unoccluded.exr", "sample room")
 
 
-def main():
+def script_options(defaults):
+    """The options after Blender's `--`: `--name value` for each default that is not a bool (its
+    type converts the value), `--name` alone for each bool (dashes for underscores)."""
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    out, samples, width, height, only_data = "resources/sample_room", 256, 640, 480, False
+    opts = dict(defaults)
     i = 0
     while i < len(argv):
-        a = argv[i]
-        if a == "--out":
-            out = argv[i + 1]; i += 1
-        elif a == "--samples":
-            samples = int(argv[i + 1]); i += 1
-        elif a == "--width":
-            width = int(argv[i + 1]); i += 1
-        elif a == "--height":
-            height = int(argv[i + 1]); i += 1
-        elif a == "--only-data":
-            only_data = True
+        key = argv[i].lstrip("-").replace("-", "_")
+        if key not in opts:
+            sys.exit(f"unknown option {argv[i]}; known: " + ", ".join("--" + k.replace("_", "-") for k in opts))
+        if isinstance(opts[key], bool):
+            opts[key] = True
+        else:
+            opts[key] = type(opts[key])(argv[i + 1])
+            i += 1
         i += 1
+    return opts
+
+
+def main():
+    o = script_options({"out": "resources/sample_room", "samples": 256, "width": 640, "height": 480, "only_data": False})
     build_room()
-    desc = write_data(out, width, height, samples)
-    if not only_data:
-        render(out, desc, samples)
+    desc = write_data(o["out"], o["width"], o["height"], o["samples"])
+    if not o["only_data"]:
+        render(o["out"], desc, o["samples"])
 
 
 if __name__ == "__main__":
