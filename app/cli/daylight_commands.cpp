@@ -131,6 +131,7 @@ int daylightBasisCommand(const QStringList& args, Progress& progress) {
     if (p.isSet("render")) {
       const Photo* main = room.findPhoto(room.mainPhoto);
       if (!main) throw Error(room.sourceFile, "--render", "the room has no main photo to look through");
+      if (!QDir().mkpath(p.value("render"))) throw Error(p.value("render").toStdString(), "--render", "cannot create the folder");
       const std::string out = p.value("render").toStdString() + "/" + cap.name + ".exr";
       writeImage(out, renderRadiosity(eng, b, main->camera, stage));
       std::printf("  wrote %s\n", out.c_str());
@@ -315,14 +316,16 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
   writeImage(dir("photo.irradiance.exr"), relit.photoIrradiance());
   QJsonArray reflectances;
   for (size_t s = 0; s < bundle.polygons.size(); ++s) {
-    if (!relit.estimated()[s]) continue;
+    if (bundle.polygons[s].kind != PolygonKind::Real || relit.reflectances()[s].x < 0) continue;
+    const bool seen = relit.estimated()[s];
     const glm::dvec3 r = relit.reflectances()[s], t = bundle.polygons[s].albedo;
     reflectances.append(QJsonObject{{"polygon", QString::fromStdString(bundle.polygons[s].name)},
                                     {"recovered", rgbJson(r)},
+                                    {"estimated_from_photo", seen},
                                     {"truth", rgbJson(t)}});
     if (polygonArea(bundle.polygons[s].vertices) >= 1.0)
-      std::fprintf(stderr, "  reflectance %-16s %.3f (truth %.3f)\n", bundle.polygons[s].name.c_str(), (r.x + r.y + r.z) / 3,
-                   (t.x + t.y + t.z) / 3);
+      std::fprintf(stderr, "  reflectance %-16s %.3f %.3f %.3f (truth %.3f %.3f %.3f)%s\n", bundle.polygons[s].name.c_str(), r.x, r.y,
+                   r.z, t.x, t.y, t.z, seen ? "" : " not in the photo: its material's, or the seen polygons' mean");
   }
   const CompareMasks masks = benchmarkMasks(photo, readImageLinear(path("truth/unoccluded.exr")));
   QJsonArray variants;
