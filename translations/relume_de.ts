@@ -1885,6 +1885,18 @@ Kein Schachbrett gefunden in: %1</translation>
         <source>%1, rendered in %2 s</source>
         <translation>%1, in %2 s berechnet</translation>
     </message>
+    <message>
+        <source>%1: the sun&apos;s pixels are clipped (at 65504, half float&apos;s largest value, or saturated): its light is understated and its colour shifted.</source>
+        <translation>%1: die Pixel der Sonne sind abgeschnitten (bei 65504, dem größten Half-Float-Wert, oder gesättigt): ihr Licht wird unterschätzt und ihre Farbe verschoben.</translation>
+    </message>
+    <message>
+        <source>Not rendered (%1): the image shows the setting before</source>
+        <translation>Nicht berechnet (%1): das Bild zeigt die vorige Einstellung</translation>
+    </message>
+    <message>
+        <source>Variant %1 left out: %2</source>
+        <translation>Variante %1 ausgelassen: %2</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

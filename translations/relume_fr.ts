@@ -1885,6 +1885,18 @@ Aucun damier trouvé dans : %1</translation>
         <source>%1, rendered in %2 s</source>
         <translation>%1, rendu en %2 s</translation>
     </message>
+    <message>
+        <source>%1: the sun&apos;s pixels are clipped (at 65504, half float&apos;s largest value, or saturated): its light is understated and its colour shifted.</source>
+        <translation>%1 : les pixels du soleil sont écrêtés (à 65504, la plus grande valeur du demi-flottant, ou saturés) : sa lumière est sous-estimée et sa couleur décalée.</translation>
+    </message>
+    <message>
+        <source>Not rendered (%1): the image shows the setting before</source>
+        <translation>Pas rendu (%1) : l&apos;image montre le réglage précédent</translation>
+    </message>
+    <message>
+        <source>Variant %1 left out: %2</source>
+        <translation>Variante %1 écartée : %2</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

@@ -14,6 +14,9 @@
 #include "commands.h"
 #include <QDir>
 #include <QFileInfo>
+#include <QFile>
+#include <QJsonDocument>
+#include <QSet>
 
 #include "relume/daylight/basis.h"
 #include "relume/daylight/relight.h"
@@ -36,6 +39,24 @@ namespace relume::cli {
 namespace dl = relume::daylight;
 
 namespace {
+// An empty folder, or one an earlier `relight --sky FOLDER` wrote: frames.json and only the images
+// it lists (the only kind of folder a new run may replace).
+bool isFramesFolder(const QString& dir) {
+  const QStringList entries = QDir(dir).entryList(QDir::AllEntries | QDir::NoDotAndDotDot | QDir::Hidden);
+  if (entries.isEmpty()) return true;
+  QFile f(QDir(dir).filePath("frames.json"));
+  if (!f.open(QIODevice::ReadOnly)) return false;
+  const QJsonObject root = QJsonDocument::fromJson(f.readAll()).object();
+  QSet<QString> listed{"frames.json"};
+  for (const QJsonValue& v : root["frames"].toArray()) {
+    listed.insert(v.toObject()["image"].toString());
+    listed.insert(v.toObject()["linear"].toString());
+  }
+  for (const QString& e : entries)
+    if (!listed.contains(e)) return false;
+  return true;
+}
+
 // The sky averaged into regions; a clipped sun is said on stderr (its light would be understated).
 dl::SkyRadiance averaged(const dl::SkyImage& image, const dl::SkyRegions& cells) {
   dl::SkyRadiance s = dl::averageSky(image, cells);
@@ -419,8 +440,17 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
       const std::string file = QDir(skyInfo.filePath()).filePath(n).toStdString();
       frames.push_back({file, QFileInfo(n).completeBaseName().toStdString(), fisheye(file)});
     }
-    if (QFileInfo(QString::fromStdString(out)).exists() && !QFileInfo(QString::fromStdString(out)).isDir())
+    // Two images with one name (a.exr, a.hdr) would write one frame over the other.
+    for (size_t i = 0; i < frames.size(); ++i)
+      for (size_t j = 0; j < i; ++j)
+        if (frames[i].stem == frames[j].stem)
+          throw Error(frames[i].file, "--sky", "has the same name as " + frames[j].file + ": the frames would overwrite each other");
+    const QFileInfo outInfo(QString::fromStdString(out));
+    if (outInfo.exists() && !outInfo.isDir())
       throw Error(out, "-o", "with a folder of skies the output is a folder (one image per sky), and this is a file");
+    // An earlier run's frames are replaced; a folder holding anything else is never touched.
+    if (outInfo.isDir() && !isFramesFolder(outInfo.absoluteFilePath()))
+      throw Error(out, "-o", "the folder exists and holds other files: give a new or empty folder (or an earlier run's frames)");
   } else {
     frames.push_back({skyName, "", isRadianceFile(skyName) ? fisheye(skyName) : averaged(dl::readRoomSky(room, skyName), cells)});
   }
@@ -438,10 +468,10 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   }
   // Playback: the frames into a folder made beside the output and renamed into place at the end,
   // so that an interrupted run leaves no half sequence (and an earlier one stays whole).
-  const QString outDir = QString::fromStdString(out);
-  const QString partial = outDir + ".partial";
+  const QString outDir = QDir::cleanPath(QFileInfo(QString::fromStdString(out)).absoluteFilePath());
+  const QString partial = outDir + ".partial", old = outDir + ".old";
   QDir(partial).removeRecursively();
-  if (!QDir().mkpath(partial)) throw Error(out, "-o", "cannot create the folder");
+  if (!QDir().mkpath(partial)) throw Error(partial.toStdString(), "-o", "cannot create the folder");
   QJsonArray list;
   std::vector<double> times;
   for (size_t i = 0; i < frames.size(); ++i) {
@@ -468,8 +498,16 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
                       QJsonObject{{"method", QString::fromStdString(method)},
                                   {"frames", list},
                                   {"render_ms_median", sorted[sorted.size() / 2]}});
-  QDir(outDir).removeRecursively();
-  if (!QDir().rename(partial, outDir)) throw Error(out, "-o", "cannot move the finished frames into place");
+  // The earlier run's frames step aside, the new ones move in, then the old go.
+  QDir(old).removeRecursively();
+  const bool hadEarlier = QFileInfo(outDir).isDir();
+  if (hadEarlier && !QDir().rename(outDir, old))
+    throw Error(out, "-o", "cannot move the earlier frames aside; the new ones are in " + partial.toStdString());
+  if (!QDir().rename(partial, outDir)) {
+    if (hadEarlier) QDir().rename(old, outDir);
+    throw Error(out, "-o", "cannot move the finished frames into place; they are in " + partial.toStdString());
+  }
+  QDir(old).removeRecursively();
   std::fprintf(stderr, "wrote %zu frames to %s (median %.0f ms a frame)\n", frames.size(), out.c_str(), sorted[sorted.size() / 2]);
   return 0;
 }

@@ -689,6 +689,14 @@ void MainWindow::closeEvent(QCloseEvent* e) {
   }
   QSettings settings;
   settings.setValue("window/geometry", saveGeometry());
+  // The layout as a lamp room has it: the docks a daylight room hid come back first (the next
+  // start opens no daylight room to bring them back).
+  if (!hiddenForDaylight_.empty() || skyDock_->isVisible()) {
+    skyDock_->hide();
+    viewport_->show();
+    for (QDockWidget* d : hiddenForDaylight_) d->show();
+    hiddenForDaylight_.clear();
+  }
   settings.setValue("window/state", saveState());
   closeEvent_discard();  // a clean exit leaves nothing to recover
   e->accept();

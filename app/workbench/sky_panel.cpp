@@ -41,30 +41,55 @@ QImage displayed(const ImageRGB& img, double exposure) {
 }
 }  // namespace
 
+// One entry of the sky list: a single sky, or a folder's frames in name order.
+struct SkyEntry {
+  QString label;
+  std::vector<daylight::SkyRadiance> frames;
+  std::vector<QString> names;  // per frame (empty: the label)
+};
+struct ObjectsEntry {
+  QString label;
+  std::vector<Polygon> polygons;
+};
+
+// A daylight room made ready off the UI thread: nothing in adopt() can fail.
+struct PreparedDaylight {
+  Scene scene;
+  std::shared_ptr<daylight::DaylightRelighting> relit;
+  double exposure = 1.0;
+  QImage photoShown;
+  std::vector<SkyEntry> skies;
+  std::vector<ObjectsEntry> objects;
+  QStringList notes;  // what the user should hear (a clipped sun, a variant left out)
+};
+
 struct SkyPanel::State {
   std::unique_ptr<Scene> scene;
   QString path;
   std::shared_ptr<daylight::DaylightRelighting> relit;
-  ImageRGB photo;
   double exposure = 1.0;
   daylight::SkyRegions cells{64};
-  struct Sky {
-    QString label;
-    std::vector<daylight::SkyRadiance> frames;  // one, or a folder's in name order
-    std::vector<QString> names;
-  };
-  std::vector<Sky> skies;
-  struct Objects {
-    QString label;
-    std::vector<Polygon> polygons;
-  };
-  std::vector<Objects> objects;
+  std::vector<SkyEntry> skies;
+  std::vector<ObjectsEntry> objects;
   size_t frame = 0;  // within a folder's frames
   bool pending = false, rendering = false, playing = false;
   QImage shown, photoShown;
-  QString lastFrame;
+  QString lastFrame;   // the name of what `shown` shows
+  int lastIndex = 0, lastCount = 1;  // its frame and its sky's frame count
   double lastSeconds = 0;
+  bool stale = false;  // the last render did not finish: `shown` is an earlier setting's
 };
+
+namespace {
+// A sky's warning for the user, or nothing.
+QString clippedNote(const daylight::SkyRadiance& sky, const QString& name) {
+  return sky.sun.found && sky.sun.clipped
+             ? SkyPanel::tr("%1: the sun's pixels are clipped (at 65504, half float's largest value, or saturated): its light is "
+                            "understated and its colour shifted.")
+                   .arg(name)
+             : QString();
+}
+}  // namespace
 
 SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jobs), s_(std::make_unique<State>()) {
   auto* layout = new QVBoxLayout(this);
@@ -118,6 +143,7 @@ SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jo
 
   auto rerender = [this] {
     s_->frame = 0;
+    if (frameCount() <= 1) setPlaying(false);
     requestRender();
   };
   connect(sky_, qOverload<int>(&QComboBox::currentIndexChanged), this, rerender);
@@ -137,13 +163,18 @@ SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jo
     const QString f = QFileDialog::getOpenFileName(this, tr("Virtual objects"), QString(), tr("JSON (*.json)"));
     if (!f.isEmpty()) addObjectsFile(f);
   });
-  connect(jobs_, &JobRunner::finished, this, [this](bool ok, bool, const QString&) {
+  connect(jobs_, &JobRunner::finished, this, [this](bool ok, bool, const QString& why) {
     const bool mine = s_->rendering;
     s_->rendering = false;
     if (mine && !ok) {
+      // Cancelled or failed: playback stops, nothing queued starts, and the view says that its
+      // image is an earlier setting's.
       s_->playing = false;
+      s_->pending = false;
+      s_->stale = true;
       const QSignalBlocker block(play_);
       play_->setChecked(false);
+      frame_->setText(tr("Not rendered (%1): the image shows the setting before").arg(why));
     }
     // After every other listener has seen this job end (the main window hides its progress bar).
     QTimer::singleShot(0, this, &SkyPanel::renderDone);
@@ -159,21 +190,25 @@ int SkyPanel::frameCount() const {
   return k >= 0 && size_t(k) < s_->skies.size() ? int(s_->skies[size_t(k)].frames.size()) : 0;
 }
 const QImage& SkyPanel::shown() const { return s_->shown; }
+QString SkyPanel::shownName() const { return s_->lastFrame; }
 bool SkyPanel::playing() const { return s_->playing; }
 
 void SkyPanel::close() {
   s_ = std::make_unique<State>();
+  ++generation_;  // a render still running for the room before is not shown
   framesShown_ = 0;
+  {
+    const QSignalBlocker b1(sky_), b2(objects_), b3(method_), b4(play_), b5(showPhoto_);
+    sky_->clear();
+    objects_->clear();
+    method_->setCurrentIndex(0);
+    play_->setChecked(false);
+    showPhoto_->setChecked(false);
+  }
   view_->setImage(QImage(), QString());
+  frame_->clear();
   rebuild();
 }
-
-struct PreparedDaylight {
-  Scene scene;
-  std::shared_ptr<daylight::DaylightRelighting> relit;
-  ImageRGB photo;
-  double exposure = 1.0;
-};
 
 std::shared_ptr<PreparedDaylight> SkyPanel::prepare(const Scene& scene, Progress& progress) {
   auto room = std::make_shared<PreparedDaylight>();
@@ -181,31 +216,39 @@ std::shared_ptr<PreparedDaylight> SkyPanel::prepare(const Scene& scene, Progress
   const Photo* main = scene.findPhoto(scene.mainPhoto);
   if (!main) throw Error(scene.sourceFile, "main_photo", "the room names no main photo");
   if (main->hdr.empty()) throw Error(scene.sourceFile, "photo " + main->name, "daylight relighting needs its linear (EXR) image");
-  room->photo = readImageLinear(main->hdr.front() == '/' ? main->hdr : scene.baseDir + "/" + main->hdr);
+  const ImageRGB photo = readImageLinear(main->hdr.front() == '/' ? main->hdr : scene.baseDir + "/" + main->hdr);
   room->exposure = photoExposure(scene, *main);
-  const daylight::SkyRadiance photoSky = daylight::averageSky(daylight::readRoomSky(scene, scene.photoSky), daylight::SkyRegions(64));
-  room->relit = std::make_shared<daylight::DaylightRelighting>(scene, room->photo, main->camera, photoSky, daylight::BasisOptions{}, progress);
+  room->photoShown = displayed(photo, room->exposure);
+  const daylight::SkyRegions cells(64);
+  for (const auto& c : scene.skies) {
+    SkyEntry sky{QString::fromStdString(c.name), {daylight::averageSky(daylight::readRoomSky(scene, c.name), cells)}, {}};
+    if (const QString note = clippedNote(sky.frames.front(), sky.label); !note.isEmpty()) room->notes << note;
+    if (c.name == scene.photoSky) sky.label = tr("%1 (the photos' sky)").arg(sky.label);
+    room->skies.push_back(std::move(sky));
+  }
+  room->objects.push_back({tr("None"), {}});
+  for (const auto& v : scene.variants) {
+    if (v.virtualObjects.empty()) continue;
+    try {
+      room->objects.push_back({tr("As in variant %1").arg(QString::fromStdString(v.name)), daylight::variantObjects(v, scene.sourceFile)});
+    } catch (const std::exception& e) {
+      room->notes << tr("Variant %1 left out: %2").arg(QString::fromStdString(v.name), QString::fromUtf8(e.what()));
+    }
+  }
+  const daylight::SkyRadiance photoSky = daylight::averageSky(daylight::readRoomSky(scene, scene.photoSky), cells);
+  room->relit = std::make_shared<daylight::DaylightRelighting>(scene, photo, main->camera, photoSky, daylight::BasisOptions{}, progress);
   return room;
 }
 
 void SkyPanel::adopt(std::shared_ptr<PreparedDaylight> room, const QString& path) {
-  s_ = std::make_unique<State>();
-  framesShown_ = 0;
-  s_->scene = std::make_unique<Scene>(room->scene);
+  close();  // nothing of an earlier room stays: lists, choices, image, playback
+  s_->scene = std::make_unique<Scene>(std::move(room->scene));
   s_->path = path;
   s_->relit = room->relit;
-  s_->photo = std::move(room->photo);
   s_->exposure = room->exposure;
-  s_->photoShown = displayed(s_->photo, s_->exposure);
-  for (const auto& c : s_->scene->skies) {
-    State::Sky sky{QString::fromStdString(c.name), {daylight::averageSky(daylight::readRoomSky(*s_->scene, c.name), s_->cells)}, {}};
-    if (c.name == s_->scene->photoSky) sky.label = tr("%1 (the photos' sky)").arg(sky.label);
-    s_->skies.push_back(std::move(sky));
-  }
-  s_->objects.push_back({tr("None"), {}});
-  for (const auto& v : s_->scene->variants)
-    if (!v.virtualObjects.empty())
-      s_->objects.push_back({tr("As in variant %1").arg(QString::fromStdString(v.name)), daylight::variantObjects(v, s_->scene->sourceFile)});
+  s_->photoShown = room->photoShown;
+  s_->skies = std::move(room->skies);
+  s_->objects = std::move(room->objects);
   rebuild();
   {
     const QSignalBlocker block(sky_);
@@ -214,6 +257,7 @@ void SkyPanel::adopt(std::shared_ptr<PreparedDaylight> room, const QString& path
   }
   show();
   QTimer::singleShot(100, view_, &ClickPhotoView::fit);  // once the window has laid the panel out
+  for (const QString& note : room->notes) emit message(note);
   emit opened(path);
   QTimer::singleShot(0, this, &SkyPanel::requestRender);  // once the opening job has ended
 }
@@ -234,6 +278,7 @@ bool SkyPanel::addSkyFile(const QString& file) {
     imageSize(file.toStdString(), w, h);
     const auto sky = daylight::averageSky(daylight::readSkyImage(file.toStdString(), daylight::fisheyeLookingUp(w, h)), s_->cells);
     s_->skies.push_back({QFileInfo(file).completeBaseName(), {sky}, {QFileInfo(file).completeBaseName()}});
+    if (const QString note = clippedNote(sky, QFileInfo(file).fileName()); !note.isEmpty()) emit message(note);
   } catch (const std::exception& e) {
     emit message(QString::fromUtf8(e.what()));
     return false;
@@ -250,7 +295,8 @@ bool SkyPanel::addSkyFolder(const QString& folder) {
     emit message(tr("%1 holds no HDR sky image (.exr or .hdr)").arg(folder));
     return false;
   }
-  State::Sky entry{tr("%1 (frames: %2)").arg(QFileInfo(folder).fileName()).arg(names.size()), {}, {}};
+  SkyEntry entry{tr("%1 (frames: %2)").arg(QFileInfo(folder).fileName()).arg(names.size()), {}, {}};
+  QStringList notes;
   QApplication::setOverrideCursor(Qt::WaitCursor);
   try {
     for (const QString& n : names) {
@@ -259,6 +305,7 @@ bool SkyPanel::addSkyFolder(const QString& folder) {
       imageSize(file, w, h);
       entry.frames.push_back(daylight::averageSky(daylight::readSkyImage(file, daylight::fisheyeLookingUp(w, h)), s_->cells));
       entry.names.push_back(QFileInfo(n).completeBaseName());
+      if (const QString note = clippedNote(entry.frames.back(), n); !note.isEmpty()) notes << note;
     }
   } catch (const std::exception& e) {
     QApplication::restoreOverrideCursor();
@@ -266,6 +313,7 @@ bool SkyPanel::addSkyFolder(const QString& folder) {
     return false;
   }
   QApplication::restoreOverrideCursor();
+  for (const QString& note : notes) emit message(note);
   s_->skies.push_back(std::move(entry));
   rebuild();
   sky_->setCurrentIndex(sky_->count() - 1);
@@ -330,7 +378,7 @@ void SkyPanel::requestRender() {
 void SkyPanel::startRender() {
   const int k = sky_->currentIndex(), o = objects_->currentIndex();
   if (k < 0 || size_t(k) >= s_->skies.size()) return;
-  const State::Sky& entry = s_->skies[size_t(k)];
+  const SkyEntry& entry = s_->skies[size_t(k)];
   const size_t f = s_->frame % entry.frames.size();
   const daylight::SkyRadiance sky = entry.frames[f];
   const std::vector<Polygon> objects = o >= 0 && size_t(o) < s_->objects.size() ? s_->objects[size_t(o)].polygons : std::vector<Polygon>{};
@@ -338,18 +386,23 @@ void SkyPanel::startRender() {
                                           : method_->currentIndex() == 2 ? daylight::DaylightMethod::Distant
                                                                          : daylight::DaylightMethod::NearField;
   const QString name = entry.names.empty() ? entry.label : entry.names[f];
+  const int index = int(f), count = int(entry.frames.size()), generation = generation_;
+  const double exposure = s_->exposure;
   auto relit = s_->relit;
-  auto out = std::make_shared<ImageRGB>();
-  auto seconds = std::make_shared<double>(0.0);
   s_->pending = false;
-  s_->rendering = jobs_->start(tr("Relighting under %1").arg(name), [relit, sky, objects, method, out, seconds, this, name](Progress& p) {
+  s_->rendering = jobs_->start(tr("Relighting under %1").arg(name), [=, this](Progress& p) {
     const auto t0 = std::chrono::steady_clock::now();
-    *out = relit->render(sky, objects, method, p);
-    *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return JobRunner::Continuation([this, out, seconds, name] {
-      s_->shown = displayed(*out, s_->exposure);
+    const ImageRGB img = relit->render(sky, objects, method, p);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    auto shown = std::make_shared<QImage>(displayed(img, exposure));  // the display encoding off the UI thread too
+    return JobRunner::Continuation([=, this] {
+      if (generation != generation_) return;  // another room (or none) since
+      s_->shown = *shown;
       s_->lastFrame = name;
-      s_->lastSeconds = *seconds;
+      s_->lastIndex = index;
+      s_->lastCount = count;
+      s_->lastSeconds = seconds;
+      s_->stale = false;
       ++framesShown_;
       show();
     });
@@ -375,9 +428,9 @@ void SkyPanel::show() {
   view_->setImage(photo ? s_->photoShown : s_->shown, photo ? tr("photo") : s_->lastFrame);
   if (photo && !s_->shown.isNull())
     frame_->setText(tr("The photograph as taken"));
-  else if (!s_->shown.isNull())
-    frame_->setText(frameCount() > 1 ? tr("Frame %1 of %2: %3, %4 s").arg(int(s_->frame % size_t(frameCount())) + 1).arg(frameCount()).arg(s_->lastFrame).arg(s_->lastSeconds, 0, 'f', 1)
-                                     : tr("%1, rendered in %2 s").arg(s_->lastFrame).arg(s_->lastSeconds, 0, 'f', 1));
+  else if (!s_->shown.isNull() && !s_->stale)
+    frame_->setText(s_->lastCount > 1 ? tr("Frame %1 of %2: %3, %4 s").arg(s_->lastIndex + 1).arg(s_->lastCount).arg(s_->lastFrame).arg(s_->lastSeconds, 0, 'f', 1)
+                                      : tr("%1, rendered in %2 s").arg(s_->lastFrame).arg(s_->lastSeconds, 0, 'f', 1));
 }
 
 }  // namespace relume

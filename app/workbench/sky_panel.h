@@ -58,6 +58,7 @@ class SkyPanel : public QWidget {
   ClickPhotoView* view() const { return view_; }
   // The last relit image (linear) and what the view shows (display-encoded).
   const QImage& shown() const;
+  QString shownName() const;  // the sky (or frame) the shown image was rendered under
   int framesShown() const { return framesShown_; }
   int frameCount() const;
 
@@ -81,6 +82,7 @@ class SkyPanel : public QWidget {
   QLabel* frame_;
   ClickPhotoView* view_;
   int framesShown_ = 0;
+  int generation_ = 0;  // counts rooms opened and closed: a render for an earlier one is dropped
 };
 
 }  // namespace relume

@@ -23,6 +23,14 @@ assert d['render_ms_median'] > 0\""
 check "the two suns give two different images" "! cmp -s '$tmp/frames/t1.exr' '$tmp/frames/t2.exr'"
 check "no half-written folder left" "[ ! -e '$tmp/frames.partial' ]"
 
+"$relume" relight "$room" --sky "$tmp/skies" --daylight volume -o "$tmp/frames/" 2>"$tmp/again.err"
+check "an earlier run's frames are replaced (the output given with a trailing slash)" "[ $? -eq 0 ] && [ -s '$tmp/frames/t2.png' ] && [ ! -e '$tmp/frames.partial' ]"
+mkdir "$tmp/mine"
+echo "the user's own notes" > "$tmp/mine/notes.txt"
+"$relume" relight "$room" --sky "$tmp/skies" -o "$tmp/mine" 2>"$tmp/mine.err"
+check "a folder of other files is refused and left alone" \
+  "[ $? -eq 1 ] && grep -q 'holds other files' '$tmp/mine.err' && [ \"\$(ls '$tmp/mine')\" = notes.txt ]"
+
 mkdir "$tmp/bad"
 cp "$room/sky/fisheye_sun1.exr" "$tmp/bad/t1.exr"
 printf 'not an image' > "$tmp/bad/t0.exr"

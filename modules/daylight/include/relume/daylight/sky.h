@@ -114,6 +114,8 @@ struct Sun {
   // Its pixels look clipped (at exactly half float's largest value, 65504, or two or more at
   // exactly one peak): its irradiance is then understated, and its colour shifted towards the channels that
   // clipped least. Front ends warn; an HDR sky must be saved as full float, bracketed far enough.
+  // (A synthetic sun of one uniform radiance whose disc covers two whole pixels looks clipped too;
+  // a real sun's limb darkening gives every pixel its own value.)
   bool clipped = false;
 };
 
