@@ -26,8 +26,8 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from make_sample_room import (add_camera, add_mesh_object, diffuse_material, look_at, quad, script_options,  # noqa: E402
-                              setup_cycles, shoot, write_colmap, write_geometry_obj)
+from make_sample_room import (add_camera, add_mesh_object, box_faces, diffuse_material, look_at, quad,  # noqa: E402
+                              script_options, setup_cycles, shoot, write_colmap, write_geometry_obj)
 
 ROOM = [3.8, 4.4, 2.6]  # x (width), y (depth), z (height)
 # The window: in the right wall (x = ROOM[0]), y from WIN_Y0 to WIN_Y1, z from WIN_Z0 to WIN_Z1.
@@ -71,14 +71,8 @@ def add_polygon(name, group, kind, material, verts):
 
 def add_box(prefix, group, material, lo, hi):
     """Axis-aligned box standing on something (no bottom face), outward normals."""
-    x0, y0, z0 = lo
-    x1, y1, z1 = hi
-    dx, dy, dz = x1 - x0, y1 - y0, z1 - z0
-    add_polygon(prefix + "_top", group, "real", material, quad([x0, y0, z1], [dx, 0, 0], [0, dy, 0]))
-    add_polygon(prefix + "_front", group, "real", material, quad([x0, y0, z0], [dx, 0, 0], [0, 0, dz]))
-    add_polygon(prefix + "_back", group, "real", material, quad([x1, y1, z0], [-dx, 0, 0], [0, 0, dz]))
-    add_polygon(prefix + "_left", group, "real", material, quad([x0, y1, z0], [0, -dy, 0], [0, 0, dz]))
-    add_polygon(prefix + "_right", group, "real", material, quad([x1, y0, z0], [0, dy, 0], [0, 0, dz]))
+    for suffix, verts in box_faces(lo, hi):
+        add_polygon(prefix + suffix, group, "real", material, verts)
 
 
 def build_room():
@@ -181,11 +175,7 @@ def render(out, scene_desc, samples, fisheye_size, skies_only=False):
         objects[group] = add_mesh_object(bpy, sc, group, polys, mats[polys[0]["material"]])
     # The virtual box, shown only in its variants.
     lo, hi = VIRTUAL_BOX["box_min"], VIRTUAL_BOX["box_max"]
-    saved = list(polygons)
-    polygons.clear()
-    add_box("vbox", "vbox", "virtual_box", lo, hi)
-    box_polys = list(polygons)
-    polygons[:] = saved
+    box_polys = [{"vertices": verts} for _, verts in box_faces(lo, hi)]
     box = add_mesh_object(bpy, sc, "virtual_box", box_polys, mats["virtual_box"])
 
     cams = {ph["name"]: add_camera(bpy, sc, ph) for ph in scene_desc["photos"]}

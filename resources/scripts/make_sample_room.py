@@ -87,18 +87,25 @@ def quad(origin, u, v):
     return [origin, add(origin, u), add(add(origin, u), v), add(origin, v)]
 
 
-def add_box(prefix, group, material, lo, hi, bottom=False):
-    """Axis-aligned box with outward normals; `bottom` adds the downward face."""
+def box_faces(lo, hi, bottom=False):
+    """An axis-aligned box's faces with outward normals, as (suffix, vertices); `bottom` adds the
+    downward face (a box standing on something has none)."""
     x0, y0, z0 = lo
     x1, y1, z1 = hi
     dx, dy, dz = x1 - x0, y1 - y0, z1 - z0
-    add_polygon(prefix + "_top", group, "real", material, quad([x0, y0, z1], [dx, 0, 0], [0, dy, 0]))
+    faces = [("_top", quad([x0, y0, z1], [dx, 0, 0], [0, dy, 0]))]
     if bottom:
-        add_polygon(prefix + "_bottom", group, "real", material, quad([x0, y0, z0], [0, dy, 0], [dx, 0, 0]))
-    add_polygon(prefix + "_front", group, "real", material, quad([x0, y0, z0], [dx, 0, 0], [0, 0, dz]))
-    add_polygon(prefix + "_back", group, "real", material, quad([x1, y1, z0], [-dx, 0, 0], [0, 0, dz]))
-    add_polygon(prefix + "_left", group, "real", material, quad([x0, y1, z0], [0, -dy, 0], [0, 0, dz]))
-    add_polygon(prefix + "_right", group, "real", material, quad([x1, y0, z0], [0, dy, 0], [0, 0, dz]))
+        faces.append(("_bottom", quad([x0, y0, z0], [0, dy, 0], [dx, 0, 0])))
+    faces += [("_front", quad([x0, y0, z0], [dx, 0, 0], [0, 0, dz])),
+              ("_back", quad([x1, y1, z0], [-dx, 0, 0], [0, 0, dz])),
+              ("_left", quad([x0, y1, z0], [0, -dy, 0], [0, 0, dz])),
+              ("_right", quad([x1, y0, z0], [0, dy, 0], [0, 0, dz]))]
+    return faces
+
+
+def add_box(prefix, group, material, lo, hi, bottom=False):
+    for suffix, verts in box_faces(lo, hi, bottom):
+        add_polygon(prefix + suffix, group, "real", material, verts)
 
 
 def build_room():
