@@ -428,11 +428,7 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
     dl::SkyRadiance sky;
   };
   std::vector<Frame> frames;
-  auto fisheye = [&](const std::string& file) {
-    int w = 0, h = 0;
-    imageSize(file, w, h);
-    return averaged(dl::readSkyImage(file, dl::fisheyeLookingUp(w, h)), cells);
-  };
+  auto fisheye = [&](const std::string& file) { return averaged(dl::readFisheyeLookingUp(file), cells); };
   if (skyInfo.isDir()) {
     const QStringList names = QDir(skyInfo.filePath()).entryList({"*.exr", "*.EXR", "*.hdr", "*.HDR"}, QDir::Files, QDir::Name);
     if (names.isEmpty()) throw Error(skyName, "--sky", "the folder holds no HDR sky image (.exr or .hdr)");

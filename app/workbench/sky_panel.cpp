@@ -274,9 +274,7 @@ bool SkyPanel::openRoom(const Scene& scene, const QString& path) {
 bool SkyPanel::addSkyFile(const QString& file) {
   if (!isOpen()) return false;
   try {
-    int w = 0, h = 0;
-    imageSize(file.toStdString(), w, h);
-    const auto sky = daylight::averageSky(daylight::readSkyImage(file.toStdString(), daylight::fisheyeLookingUp(w, h)), s_->cells);
+    const auto sky = daylight::averageSky(daylight::readFisheyeLookingUp(file.toStdString()), s_->cells);
     s_->skies.push_back({QFileInfo(file).completeBaseName(), {sky}, {QFileInfo(file).completeBaseName()}});
     if (const QString note = clippedNote(sky, QFileInfo(file).fileName()); !note.isEmpty()) emit message(note);
   } catch (const std::exception& e) {
@@ -301,9 +299,7 @@ bool SkyPanel::addSkyFolder(const QString& folder) {
   try {
     for (const QString& n : names) {
       const std::string file = QDir(folder).filePath(n).toStdString();
-      int w = 0, h = 0;
-      imageSize(file, w, h);
-      entry.frames.push_back(daylight::averageSky(daylight::readSkyImage(file, daylight::fisheyeLookingUp(w, h)), s_->cells));
+      entry.frames.push_back(daylight::averageSky(daylight::readFisheyeLookingUp(file), s_->cells));
       entry.names.push_back(QFileInfo(n).completeBaseName());
       if (const QString note = clippedNote(entry.frames.back(), n); !note.isEmpty()) notes << note;
     }

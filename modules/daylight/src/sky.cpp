@@ -183,6 +183,12 @@ void checkSkyImage(const SkyImage& sky) {
   if (!above) throw Error(sky.file, "fisheye", "the image sees only what lies below the horizon: it cannot give the sky");
 }
 
+SkyImage readFisheyeLookingUp(const std::string& path) {
+  int w = 0, h = 0;
+  imageSize(path, w, h);
+  return readSkyImage(path, fisheyeLookingUp(w, h));
+}
+
 SkyImage readRoomSky(const Scene& room, const std::string& name) {
   if (room.skies.empty()) throw Error(room.sourceFile, "daylight", "the room lists no measured sky");
   const std::string want = !name.empty() ? name : room.photoSky.empty() ? room.skies.front().name : room.photoSky;

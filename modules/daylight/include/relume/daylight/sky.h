@@ -79,6 +79,9 @@ SkyImage readSkyImage(const std::string& path, const FisheyeModel& model);
 // fisheye read with the lens the room describes in words, and checked. Throws relume::Error
 // naming the room's file or the image and what is wrong.
 SkyImage readRoomSky(const Scene& room, const std::string& name);
+// An HDR fisheye file in the common convention (fisheyeLookingUp: equidistant, 180 degrees,
+// looking up, image up = +Y, the circle filling the image), read and checked.
+SkyImage readFisheyeLookingUp(const std::string& path);
 void checkSkyImage(const SkyImage& sky);
 
 // The upper hemisphere cut into bands of equal elevation width, each band into cells whose
