@@ -348,6 +348,12 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
       std::fprintf(stderr, "  reflectance %-16s %.3f %.3f %.3f (truth %.3f %.3f %.3f)%s\n", bundle.polygons[s].name.c_str(), r.x, r.y,
                    r.z, t.x, t.y, t.z, seen ? "" : " not in the photo: its material's, or the seen polygons' mean");
   }
+  const dl::UnseenFit& fit = relit.unseenFit();
+  if (fit.ok)
+    std::fprintf(stderr,
+                 "  unseen polygons: reflectance %.3f %.3f %.3f measured from %d shown polygons' sunlit and shaded pixels "
+                 "(%ld / %ld; their light changes %.1f %% from one trial reflectance to the other)\n",
+                 fit.rho.x, fit.rho.y, fit.rho.z, fit.polygons, fit.sunlitPixels, fit.shadedPixels, 100 * fit.sensitivity);
   const CompareMasks masks = benchmarkMasks(photo, readImageLinear(path("truth/unoccluded.exr")));
   QJsonArray variants;
   int done = 0;
@@ -399,6 +405,13 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
   writeJsonAtomically(QString::fromStdString(dir("report.json")),
                       QJsonObject{{"bundle", QString::fromStdString(bundle.baseDir)},
                                   {"reflectances", reflectances},
+                                  {"unseen_reflectance",
+                                   fit.ok ? QJsonValue(QJsonObject{{"measured", rgbJson(fit.rho)},
+                                                                   {"polygons_sunlit_and_shaded", fit.polygons},
+                                                                   {"sunlit_pixels", qint64(fit.sunlitPixels)},
+                                                                   {"shaded_pixels", qint64(fit.shadedPixels)},
+                                                                   {"sensitivity", fit.sensitivity}})
+                                          : QJsonValue("the shown polygons' mean")},
                                   {"variants", variants}});
   std::fprintf(stderr, "wrote %s\n", dir("report.json").c_str());
   return 0;

@@ -266,3 +266,72 @@ TEST(DaylightRelight, TheInteractivePathDrawsTheBoxAndItsSunShadowAsTheFullSolut
   EXPECT_LT(double(wronglyDark), 0.1 * double(lit));
   EXPECT_NEAR(boxFast, boxFull, 0.1 * boxFull);
 }
+
+namespace {
+// Pixels of shown polygons, each with a reflectance of its own, lit in the model
+//   E(rho) = sky + rho x room (the unseen polygons' reflected light, affine in their reflectance)
+// plus, on the sunlit half, the sun; the photo made from a known unseen reflectance. What
+// fitUnseenReflectance is given is only what a renderer gives it: the irradiance at two trial
+// reflectances and the sun.
+struct UnseenScene {
+  SeenPixels px;
+  ImageRGB photo, restA, restB, sun;
+  std::vector<bool> usable{true, true};
+  UnseenScene(double truth, double a, double b, double roomShare) {
+    const int w = 40, h = 20;
+    px.width = w;
+    px.height = h;
+    const size_t n = size_t(w) * size_t(h);
+    px.surface.assign(n, -1);
+    px.normal.assign(n, glm::dvec3(0, 0, 1));
+    photo = restA = restB = sun = ImageRGB(w, h);
+    const glm::dvec3 sunE(3.0, 2.8, 2.5), sky(0.30, 0.35, 0.45), room = roomShare * glm::dvec3(0.5, 0.45, 0.4);
+    const glm::dvec3 rho[2] = {{0.4, 0.3, 0.2}, {0.7, 0.7, 0.6}};
+    for (size_t i = 0; i < n; ++i) {
+      const int x = int(i % size_t(w)), y = int(i / size_t(w));
+      const int s = x < w / 2 ? 0 : 1;
+      px.surface[i] = s;
+      // Shaded pixels see the sky and the room a little less (further from the window).
+      const double k = 1.0 + 0.01 * y;
+      const glm::dvec3 es = y < h / 2 ? sunE * 0.5 : glm::dvec3(0.0);  // the sun at 60 degrees from the normal
+      for (int c = 0; c < 3; ++c) {
+        const double ea = k * (sky[c] + a * room[c]), eb = k * (sky[c] + b * room[c]), et = k * (sky[c] + truth * room[c]);
+        restA.pixels[3 * i + c] = float(ea);
+        restB.pixels[3 * i + c] = float(eb);
+        sun.pixels[3 * i + c] = float(es[c]);
+        photo.pixels[3 * i + c] = float(rho[s][c] * (et + es[c]) / kPi);
+      }
+    }
+  }
+};
+const glm::dvec3 kSunUp(0.0, std::sqrt(0.75), 0.5);  // 60 degrees from the pixels' normal
+}  // namespace
+
+TEST(DaylightRelight, TheUnseenPolygonsReflectanceIsWhereTheSunlitAndShadedPixelsAgree) {
+  for (const double truth : {0.25, 0.55, 0.85}) {
+    UnseenScene scene(truth, 0.5, 0.8, 1.0);
+    const UnseenFit fit = fitUnseenReflectance(scene.px, scene.photo, scene.restA, scene.restB, scene.sun, 0.5, 0.8, kSunUp,
+                                               glm::dvec3(3.0, 2.8, 2.5), scene.usable);
+    ASSERT_TRUE(fit.ok) << truth;
+    EXPECT_EQ(fit.polygons, 2);
+    EXPECT_NEAR(fit.rho.x, truth, 0.01) << "trial reflectances 0.5 and 0.8, truth outside them or between";
+    EXPECT_EQ(fit.rho.x, fit.rho.z) << "grey";
+  }
+  // A shown polygon not usable (a lamp's, say) tells nothing; with none left there is no fit.
+  UnseenScene scene(0.55, 0.5, 0.8, 1.0);
+  scene.usable = {false, false};
+  EXPECT_FALSE(fitUnseenReflectance(scene.px, scene.photo, scene.restA, scene.restB, scene.sun, 0.5, 0.8, kSunUp,
+                                    glm::dvec3(3.0, 2.8, 2.5), scene.usable)
+                   .ok);
+  // Unseen polygons that light the shaded pixels hardly at all: their reflectance is not asked.
+  UnseenScene faint(0.55, 0.5, 0.8, 0.01);
+  EXPECT_FALSE(fitUnseenReflectance(faint.px, faint.photo, faint.restA, faint.restB, faint.sun, 0.5, 0.8, kSunUp,
+                                    glm::dvec3(3.0, 2.8, 2.5), faint.usable)
+                   .ok);
+  // No sun on any pixel: nothing to compare the shaded pixels with.
+  UnseenScene dark(0.55, 0.5, 0.8, 1.0);
+  dark.sun = ImageRGB(dark.px.width, dark.px.height);
+  EXPECT_FALSE(fitUnseenReflectance(dark.px, dark.photo, dark.restA, dark.restB, dark.sun, 0.5, 0.8, kSunUp,
+                                    glm::dvec3(3.0, 2.8, 2.5), dark.usable)
+                   .ok);
+}

@@ -22,7 +22,6 @@ namespace relume::daylight {
 namespace {
 constexpr double kPi = std::numbers::pi;
 
-double luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 double seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -283,12 +283,19 @@ SeenPixels seePixels(const DaylightBasis& basis, const Camera& cam) {
   return px;
 }
 
-ImageRGB irradianceImage(DaylightBasis& basis, const SeenPixels& px, const SkyRadiance& sky, Progress& progress) {
+namespace {
+// The irradiance per pixel in two parts: the sun's direct light, and everything else (the sky
+// through the windows, the ground, the room's own reflections).
+struct IrradianceParts {
+  ImageRGB rest, sun;
+};
+
+IrradianceParts irradianceParts(DaylightBasis& basis, const SeenPixels& px, const SkyRadiance& sky, Progress& progress) {
   const bool sun = sky.sun.found && sky.sun.direction.z > 0;
   const std::vector<glm::vec3> rest = basis.irradiance(sky, false, progress);
   const auto& h = basis.engine();
   const auto corners = leafCornerValues(h, rest);
-  ImageRGB out(px.width, px.height);
+  IrradianceParts out{ImageRGB(px.width, px.height), ImageRGB(px.width, px.height)};
   const glm::vec3 sunE(sky.sun.irradiance);
   const auto& windows = basis.windows();
   const std::vector<glm::dvec3> sunDisc = sunDiscDirections(sun ? sky.sun.direction : glm::dvec3(0, 0, 1));
@@ -299,12 +306,101 @@ ImageRGB irradianceImage(DaylightBasis& basis, const SeenPixels& px, const SkyRa
       int leaf = px.leaf[i];
       if (leaf < 0 || !h.nodes()[size_t(leaf)].isLeaf()) leaf = h.findLeaf(px.surface[i], px.uv[i]);
       glm::vec3 e = leaf >= 0 ? interpolateCorners(h.nodes()[size_t(leaf)], corners[size_t(leaf)], px.uv[i]) : glm::vec3(0.f);
-      e = glm::max(e, glm::vec3(0.f));
-      if (sun) e += sunE * float(footprintSun(h, windows, px.camera, i % size_t(px.width), i / size_t(px.width), sunDisc));
-      put(out, i, e);
+      put(out.rest, i, glm::max(e, glm::vec3(0.f)));
+      if (sun) put(out.sun, i, sunE * float(footprintSun(h, windows, px.camera, i % size_t(px.width), i / size_t(px.width), sunDisc)));
     }
   });
   return out;
+}
+
+ImageRGB sum(ImageRGB a, const ImageRGB& b) {
+  for (size_t i = 0; i < a.pixels.size(); ++i) a.pixels[i] += b.pixels[i];
+  return a;
+}
+}  // namespace
+
+ImageRGB irradianceImage(DaylightBasis& basis, const SeenPixels& px, const SkyRadiance& sky, Progress& progress) {
+  IrradianceParts parts = irradianceParts(basis, px, sky, progress);
+  return sum(std::move(parts.rest), parts.sun);
+}
+
+UnseenFit fitUnseenReflectance(const SeenPixels& px, const ImageRGB& photo, const ImageRGB& restA, const ImageRGB& restB,
+                               const ImageRGB& sun, double a, double b, const glm::dvec3& sunDirection, const glm::dvec3& sunIrradiance,
+                               const std::vector<bool>& usable) {
+  UnseenFit fit;
+  const size_t polygons = usable.size();
+  // Per polygon and channel: photo radiance, irradiance without the sun at a and at b, over the
+  // shaded (index 0) and the wholly sunlit (1) pixels; the sun's irradiance over the sunlit.
+  struct Sums {
+    glm::dvec3 l[2]{}, ea[2]{}, eb[2]{}, sun{0.0};
+    long n[2]{0, 0};
+  };
+  std::vector<Sums> sums(polygons);
+  const double sunLum = luminance(sunIrradiance);
+  for (size_t i = 0; i < px.surface.size(); ++i) {
+    const int s = px.surface[i];
+    if (s < 0 || size_t(s) >= polygons || !usable[size_t(s)]) continue;
+    const glm::dvec3 es(get(sun, i));
+    const double full = sunLum * std::max(0.0, glm::dot(px.normal[i], glm::normalize(sunDirection)));
+    int k;
+    if (luminance(es) <= 0)
+      k = 0;
+    else if (full > 0 && luminance(es) >= 0.98 * full)
+      k = 1;
+    else
+      continue;  // penumbra, or the footprint's edge: neither
+    Sums& m = sums[size_t(s)];
+    m.l[k] += glm::dvec3(get(photo, i));
+    m.ea[k] += glm::dvec3(get(restA, i));
+    m.eb[k] += glm::dvec3(get(restB, i));
+    if (k == 1) m.sun += es;
+    ++m.n[k];
+  }
+  constexpr long kMinPixels = 50;
+  double changeA = 0, changeB = 0;
+  for (const Sums& m : sums)
+    if (m.n[0] >= kMinPixels && m.n[1] >= kMinPixels) {
+      ++fit.polygons;
+      fit.shadedPixels += m.n[0];
+      fit.sunlitPixels += m.n[1];
+      changeA += luminance(m.ea[0]);
+      changeB += luminance(m.eb[0]);
+    }
+  fit.sensitivity = changeA > 0 ? std::abs(changeB - changeA) / changeA : 0;
+  // Too little to go on: no polygon both sunlit and shaded, or the unseen polygons hardly light
+  // the shaded pixels (then their reflectance hardly matters either).
+  if (fit.polygons == 0 || fit.sensitivity < 0.01) return fit;
+  // g(rho): the pixel-weighted mean log ratio of the shaded to the sunlit estimate, in luminance;
+  // it falls as rho rises (the shaded pixels' light grows faster than the sunlit pixels').
+  auto g = [&](double rho) {
+    const double t = (rho - a) / (b - a);
+    double acc = 0, weight = 0;
+    for (const Sums& m : sums) {
+      const double l0 = luminance(m.l[0]), l1 = luminance(m.l[1]);
+      if (m.n[0] < kMinPixels || m.n[1] < kMinPixels || l0 <= 0 || l1 <= 0) continue;
+      const double eShaded = luminance(m.ea[0] + t * (m.eb[0] - m.ea[0]));
+      const double eSunlit = luminance(m.ea[1] + t * (m.eb[1] - m.ea[1]) + m.sun);
+      const double w = double(std::min(m.n[0], m.n[1]));
+      acc += w * (eShaded > 0 ? std::log(l0 / eShaded) : 50.0) - w * std::log(l1 / std::max(eSunlit, 1e-30));
+      weight += w;
+    }
+    return weight > 0 ? acc / weight : 0.0;
+  };
+  double lo = 0.02, hi = 0.98, rho;
+  if (g(lo) <= 0)
+    rho = lo;
+  else if (g(hi) >= 0)
+    rho = hi;
+  else {
+    for (int it = 0; it < 50; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (g(mid) > 0 ? lo : hi) = mid;
+    }
+    rho = 0.5 * (lo + hi);
+  }
+  fit.rho = glm::dvec3(rho);
+  fit.ok = true;
+  return fit;
 }
 
 ImageRGB distantIrradianceImage(const SeenPixels& px, const SkyRegions& regions, const SkyRadiance& sky,
@@ -387,30 +483,25 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
     throw Error(scene.sourceFile, "main photo", "its image is " + std::to_string(photo.width) + "x" + std::to_string(photo.height) +
                                                     ", its camera " + std::to_string(camera.width) + "x" + std::to_string(camera.height));
   Scene room = scene;
+  const size_t n = room.polygons.size();
   for (auto& poly : room.polygons) poly.albedo = glm::dvec3(0.5);
   // Polygons outside (beyond a window: the ground) are not seen from inside: they take the
   // ground's albedo the user gives (default 0.2, an open ground's), never an estimate.
-  std::vector<bool> outside(room.polygons.size(), false);
+  std::vector<bool> outside(n, false);
+  reflectances_.assign(n, glm::dvec3(0.5));
+  estimated_.assign(n, false);
   for (int s : outsidePolygons(room)) {
     outside[size_t(s)] = true;
-    room.polygons[size_t(s)].albedo = glm::dvec3(options.groundReflectance);
+    room.polygons[size_t(s)].albedo = reflectances_[size_t(s)] = glm::dvec3(options.groundReflectance);
   }
-  reflectances_.assign(room.polygons.size(), glm::dvec3(0.5));
-  estimated_.assign(room.polygons.size(), false);
-  constexpr int rounds = 3;
-  for (int round = 0; round < rounds; ++round) {
-    Progress stage(progress, double(round) / rounds, double(round + 1) / rounds);
-    stage.report(0, "estimating reflectances under the photos' sky (round " + std::to_string(round + 1) + " of " +
-                        std::to_string(rounds) + ")");
-    basis_ = std::make_unique<DaylightBasis>(room, photoSky, options, stage);
-    seen_ = seePixels(*basis_, camera);
-    ePhoto_ = irradianceImage(*basis_, seen_, photoSky, stage);
-    if (round + 1 == rounds) break;
-    const auto rho = reflectancesFromPhoto(seen_, photo, ePhoto_, room.polygons.size());
+  // Each polygon's reflectance from the shown polygons' estimates: its own where the photo shows
+  // it, else its material's; the rest (`shared`) take `unseen`, or the shown polygons' mean.
+  std::vector<bool> shared(n, false);
+  auto assign = [&](const std::vector<glm::dvec3>& rho, const glm::dvec3* unseen) {
     std::map<std::string, std::pair<glm::dvec3, double>> byMaterial;
     glm::dvec3 all(0.0);
     double allArea = 0;
-    for (size_t s = 0; s < rho.size(); ++s) {
+    for (size_t s = 0; s < n; ++s) {
       if (rho[s].x < 0) continue;
       const double a = polygonArea(room.polygons[s].vertices);
       auto& m = byMaterial[room.polygons[s].material];
@@ -419,17 +510,71 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
       all += a * rho[s];
       allArea += a;
     }
-    for (size_t s = 0; s < rho.size(); ++s) {
+    const glm::dvec3 mean = allArea > 0 ? all / allArea : glm::dvec3(0.5);
+    for (size_t s = 0; s < n; ++s) {
       if (room.polygons[s].kind != PolygonKind::Real || outside[s]) continue;
       const auto m = byMaterial.find(room.polygons[s].material);
       estimated_[s] = rho[s].x >= 0;
-      room.polygons[s].albedo = rho[s].x >= 0 ? rho[s]
-                                : m != byMaterial.end() && !room.polygons[s].material.empty() ? m->second.first / m->second.second
-                                : allArea > 0 ? all / allArea
-                                              : glm::dvec3(0.5);
+      shared[s] = !estimated_[s] && (m == byMaterial.end() || room.polygons[s].material.empty());
+      room.polygons[s].albedo = estimated_[s] ? rho[s] : !shared[s] ? m->second.first / m->second.second : unseen ? *unseen : mean;
       reflectances_[s] = room.polygons[s].albedo;
     }
+    return mean;
+  };
+  const bool sunlit = photoSky.sun.found && photoSky.sun.direction.z > 0;
+  int rounds = 3;
+  auto solve = [&](int round) {
+    Progress stage(progress, double(round) / rounds, double(round + 1) / rounds);
+    stage.report(0, "estimating reflectances under the photos' sky (round " + std::to_string(round + 1) + " of " +
+                        std::to_string(rounds) + ")");
+    basis_ = std::make_unique<DaylightBasis>(room, photoSky, options, stage);
+    seen_ = seePixels(*basis_, camera);
+    return irradianceParts(*basis_, seen_, photoSky, stage);
+  };
+  // Round 1: every polygon at 0.5.
+  IrradianceParts e = solve(0);
+  std::vector<glm::dvec3> rho = reflectancesFromPhoto(seen_, photo, sum(e.rest, e.sun), n);
+  // Round 2: the shown polygons at their estimates, the unseen at the shown polygons' mean.
+  const glm::dvec3 mean = assign(rho, nullptr);
+  const bool anyShared = std::find(shared.begin(), shared.end(), true) != shared.end();
+  // The unseen polygons' reflectance is measured when the sun lights some shown polygon in part
+  // (a clipped sun's irradiance is only a lower bound, whose error the fit would take up). It is
+  // measured grey, in luminance: no photo shows their colour, and a fit per channel would take up
+  // any error in the colour of the sun against the sky's (a few pixels of a fisheye give it).
+  const bool fitUnseen = anyShared && sunlit && !photoSky.sun.clipped;
+  const double ga = luminance(mean);
+  if (fitUnseen) {
+    rounds = 4;
+    const glm::dvec3 grey(ga);
+    assign(rho, &grey);
   }
+  e = solve(1);
+  rho = reflectancesFromPhoto(seen_, photo, sum(e.rest, e.sun), n);
+  if (fitUnseen) {
+    // Round 3: the same, with the unseen polygons 0.3 lighter (or darker).
+    const double b = ga < 0.6 ? ga + 0.3 : ga - 0.3;
+    const Scene round2 = room;
+    for (size_t s = 0; s < n; ++s)
+      if (shared[s]) room.polygons[s].albedo = glm::dvec3(b);
+    IrradianceParts eb = solve(2);
+    room = round2;
+    std::vector<bool> usable(n);
+    for (size_t s = 0; s < n; ++s) usable[s] = estimated_[s] && !outside[s];
+    unseenFit_ = fitUnseenReflectance(seen_, photo, e.rest, eb.rest, e.sun, ga, b, photoSky.sun.direction,
+                                      photoSky.sun.irradiance, usable);
+    if (unseenFit_.ok) {
+      // The shown polygons' estimates again, with the irradiance the fitted unseen reflectance gives.
+      ImageRGB at = e.rest;
+      for (size_t i = 0; i < at.pixels.size(); ++i) {
+        const double t = (unseenFit_.rho.x - ga) / (b - ga);
+        at.pixels[i] = float(e.rest.pixels[i] + t * (eb.rest.pixels[i] - e.rest.pixels[i]));
+      }
+      rho = reflectancesFromPhoto(seen_, photo, sum(std::move(at), e.sun), n);
+    }
+  }
+  assign(rho, unseenFit_.ok ? &unseenFit_.rho : nullptr);
+  e = solve(rounds - 1);
+  ePhoto_ = sum(std::move(e.rest), e.sun);
 }
 
 namespace {

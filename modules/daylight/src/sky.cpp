@@ -29,7 +29,6 @@ double radiusOf(const FisheyeModel& m, double theta) {
   return std::sin(theta / 2.0) / std::sin(tm / 2.0);
 }
 
-double luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 }  // namespace
 
 FisheyeModel fisheyeLookingUp(int width, int height, FisheyeProjection projection, double fovDeg) {

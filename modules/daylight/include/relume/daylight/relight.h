@@ -56,6 +56,29 @@ ImageRGB distantIrradianceImage(const SeenPixels& px, const SkyRegions& regions,
 std::vector<glm::dvec3> reflectancesFromPhoto(const SeenPixels& px, const ImageRGB& photo, const ImageRGB& irradiance,
                                               size_t polygons, int minPixels = 50);
 
+// The reflectance of the polygons no photo shows (the ceiling over a camera, the wall behind it),
+// measured rather than guessed — inverse global illumination in the sense of Yu et al. 1999: the
+// shown polygons' sunlit and shaded pixels share one reflectance, and the shaded pixels' light is
+// the sky's through the windows plus what the room reflects, to which the unseen polygons add in
+// proportion to their reflectance. Given each pixel's irradiance without the sun with the unseen
+// polygons grey at reflectance `a` (restA) and at `b` (restB), all else equal (affine in between
+// to first order), and the sun's own (`sun`), the grey reflectance in [0.02, 0.98] at which the
+// shown polygons' (those `usable`) shaded and wholly sunlit estimates agree in luminance: the
+// pixel-weighted mean log ratio, found by bisection. Grey because no photo shows those polygons'
+// colour; a fit per channel would take up any error in the colour of the sun against the sky's.
+// Not `ok` when no usable polygon has 50 shaded and 50 sunlit pixels, or when the unseen polygons
+// change the shaded pixels' light by under 1 %.
+struct UnseenFit {
+  bool ok = false;
+  glm::dvec3 rho{0.0};
+  int polygons = 0;  // shown polygons both sunlit and shaded
+  long shadedPixels = 0, sunlitPixels = 0;
+  double sensitivity = 0;  // relative change of the shaded pixels' light from a to b
+};
+UnseenFit fitUnseenReflectance(const SeenPixels& px, const ImageRGB& photo, const ImageRGB& restA, const ImageRGB& restB,
+                               const ImageRGB& sun, double a, double b, const glm::dvec3& sunDirection,
+                               const glm::dvec3& sunIrradiance, const std::vector<bool>& usable);
+
 // Differential rendering: per pixel of a real surface photo x eNew / ePhoto (both seen through
 // the same camera; ePhoto with the photo's room, eNew with the variant's, objects included);
 // pixels where `seenNew` shows a virtual object (a surface index >= `firstVirtual`) are
@@ -65,7 +88,9 @@ ImageRGB differentialRender(const ImageRGB& photo, const ImageRGB& ePhoto, const
 
 // The whole path for a daylight room: reflectances estimated from the main photo under the
 // photos' sky (pi L / E per polygon over its pixels, three rounds of basis solutions; polygons the
-// photo does not show take their material's, or the shown polygons' mean), then any sky and any
+// photo does not show take their material's; the rest share one reflectance, measured by
+// fitUnseenReflectance from a fourth round when the photos' sun lights some shown polygon in part,
+// else the shown polygons' mean), then any sky and any
 // virtual objects rendered into the photo, near-field (the basis solutions, the windows' own
 // light) or distant (the sky at infinity, the objects the only occluders, the room as
 // photographed) — Grosch's comparison.
@@ -104,6 +129,9 @@ class DaylightRelighting {
   // Per polygon of the scene: the reflectance used (estimated, or taken from its material).
   const std::vector<glm::dvec3>& reflectances() const { return reflectances_; }
   const std::vector<bool>& estimated() const { return estimated_; }  // shown by the photo
+  // The reflectance measured for the polygons no photo shows and no shown polygon's material
+  // names (not `ok`: they took the shown polygons' mean).
+  const UnseenFit& unseenFit() const { return unseenFit_; }
   const ImageRGB& photoIrradiance() const { return ePhoto_; }
   const ImageRGB& lastIrradiance() const { return eLast_; }
   DaylightBasis& basis() { return *basis_; }
@@ -130,6 +158,7 @@ class DaylightRelighting {
   SeenPixels seen_;
   std::vector<glm::dvec3> reflectances_;
   std::vector<bool> estimated_;
+  UnseenFit unseenFit_;
 };
 
 }  // namespace relume::daylight

@@ -21,6 +21,9 @@ struct Scene;
 
 namespace relume::daylight {
 
+// Rec. 709 luminance of a linear RGB value.
+inline double luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
 enum class FisheyeProjection {
   Equidistant,  // r = f * theta (the common "f-theta" fisheye)
   Equisolid,    // r = 2 f * sin(theta / 2)
