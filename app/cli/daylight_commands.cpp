@@ -335,6 +335,7 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
   Progress pre(progress, 0.0, 0.4);
   dl::DaylightRelighting relit(bundle, photo, main->camera, photoSky, {}, pre);
   writeImage(dir("photo.irradiance.exr"), relit.photoIrradiance());
+  const dl::UnseenFit& fit = relit.unseenFit();
   QJsonArray reflectances;
   for (size_t s = 0; s < bundle.polygons.size(); ++s) {
     if (bundle.polygons[s].kind != PolygonKind::Real || relit.reflectances()[s].x < 0) continue;
@@ -346,9 +347,10 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
                                     {"truth", rgbJson(t)}});
     if (polygonArea(bundle.polygons[s].vertices) >= 1.0)
       std::fprintf(stderr, "  reflectance %-16s %.3f %.3f %.3f (truth %.3f %.3f %.3f)%s\n", bundle.polygons[s].name.c_str(), r.x, r.y,
-                   r.z, t.x, t.y, t.z, seen ? "" : " not in the photo: its material's, or the seen polygons' mean");
+                   r.z, t.x, t.y, t.z, seen                       ? ""
+                   : fit.ok && r == fit.rho ? " not in the photo: measured (below)"
+                                            : " not in the photo: its material's, or the seen polygons' mean");
   }
-  const dl::UnseenFit& fit = relit.unseenFit();
   if (fit.ok)
     std::fprintf(stderr,
                  "  unseen polygons: reflectance %.3f %.3f %.3f measured from %d shown polygons' sunlit and shaded pixels "
