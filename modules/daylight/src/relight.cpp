@@ -534,6 +534,17 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
   // Round 1: every polygon at 0.5.
   IrradianceParts e = solve(0);
   std::vector<glm::dvec3> rho = reflectancesFromPhoto(seen_, photo, sum(e.rest, e.sun), n);
+  const std::vector<glm::dvec3> first = rho;
+  // From round 2 on, each shown polygon's next reflectance is the geometric mean of the one it was
+  // solved with and pi L / E: a wall lit mostly by the other walls has E nearly proportional to
+  // their reflectances, and the plain update pi L / E then swings about the answer from round to
+  // round (seen: a back wall at 0.75/0.88/0.88, 0.89/0.69/0.55, 0.74/0.89/0.83, ... against
+  // 0.72/0.70/0.64); halving the step in log space converges where E grows at most in proportion.
+  auto damped = [&](std::vector<glm::dvec3> r) {
+    for (size_t s = 0; s < n; ++s)
+      if (r[s].x >= 0 && first[s].x >= 0) r[s] = glm::sqrt(r[s] * first[s]);
+    return r;
+  };
   // Round 2: the shown polygons at their estimates, the unseen at the shown polygons' mean.
   const glm::dvec3 mean = assign(rho, nullptr);
   const bool anyShared = std::find(shared.begin(), shared.end(), true) != shared.end();
@@ -549,7 +560,7 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
     assign(rho, &grey);
   }
   e = solve(1);
-  rho = reflectancesFromPhoto(seen_, photo, sum(e.rest, e.sun), n);
+  rho = damped(reflectancesFromPhoto(seen_, photo, sum(e.rest, e.sun), n));
   if (fitUnseen) {
     // Round 3: the same, with the unseen polygons 0.3 lighter (or darker).
     const double b = ga < 0.6 ? ga + 0.3 : ga - 0.3;
@@ -569,7 +580,7 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
         const double t = (unseenFit_.rho.x - ga) / (b - ga);
         at.pixels[i] = float(e.rest.pixels[i] + t * (eb.rest.pixels[i] - e.rest.pixels[i]));
       }
-      rho = reflectancesFromPhoto(seen_, photo, sum(std::move(at), e.sun), n);
+      rho = damped(reflectancesFromPhoto(seen_, photo, sum(std::move(at), e.sun), n));
     }
   }
   assign(rho, unseenFit_.ok ? &unseenFit_.rho : nullptr);
