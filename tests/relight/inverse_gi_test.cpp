@@ -78,7 +78,7 @@ TEST(InverseGlobalIllumination, RecoversReflectancesAndHiddenLampsFromTheMeasure
   // asks for 3 % on both; the bundle's albedos are the means of procedural textures, which the
   // photographed means match to a few per cent at best.
   EXPECT_LE(full.worstLamp, 0.05) << full.lamp;
-  EXPECT_LE(full.worstPolygon, 0.10) << full.polygon;
+  EXPECT_LE(full.worstPolygon, 0.05) << full.polygon;  // 9.1 % before a swinging update was halved
   EXPECT_LE(full.worstPolygon, 0.25 * paper.worstPolygon) << full.polygon;
   EXPECT_LE(full.worstLamp, 0.25 * paper.worstLamp) << full.lamp;
 }

