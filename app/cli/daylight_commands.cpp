@@ -356,6 +356,8 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
                  "  unseen polygons: reflectance %.3f %.3f %.3f measured from %d shown polygons' sunlit and shaded pixels "
                  "(%ld / %ld; their light changes %.1f %% from one trial reflectance to the other)\n",
                  fit.rho.x, fit.rho.y, fit.rho.z, fit.polygons, fit.sunlitPixels, fit.shadedPixels, 100 * fit.sensitivity);
+  else
+    std::fprintf(stderr, "  unseen polygons: reflectance not measured (%s)\n", fit.why.c_str());
   const CompareMasks masks = benchmarkMasks(photo, readImageLinear(path("truth/unoccluded.exr")));
   QJsonArray variants;
   int done = 0;
@@ -413,7 +415,7 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
                                                                    {"sunlit_pixels", qint64(fit.sunlitPixels)},
                                                                    {"shaded_pixels", qint64(fit.shadedPixels)},
                                                                    {"sensitivity", fit.sensitivity}})
-                                          : QJsonValue("the shown polygons' mean")},
+                                          : QJsonValue(QString::fromStdString("not measured: " + fit.why))},
                                   {"variants", variants}});
   std::fprintf(stderr, "wrote %s\n", dir("report.json").c_str());
   return 0;

@@ -6,7 +6,8 @@
 //   ray casting on the room's model (the test's own rays, not the solver's links);
 // - the relit photos against Cycles' renders of the same changes (the bars).
 // The albedos in scene.json are never given to the method: they are what a user does not have
-// (one test reads the ceiling's, as the truth its estimate is checked against).
+// (one test reads the ceiling's and the back wall's, as the truth their estimates are checked
+// against).
 #include <gtest/gtest.h>
 
 #include <algorithm>

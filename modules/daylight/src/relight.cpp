@@ -369,7 +369,14 @@ UnseenFit fitUnseenReflectance(const SeenPixels& px, const ImageRGB& photo, cons
   fit.sensitivity = changeA > 0 ? std::abs(changeB - changeA) / changeA : 0;
   // Too little to go on: no polygon both sunlit and shaded, or the unseen polygons hardly light
   // the shaded pixels (then their reflectance hardly matters either).
-  if (fit.polygons == 0 || fit.sensitivity < 0.01) return fit;
+  if (fit.polygons == 0) {
+    fit.why = "no polygon the photo shows is both sunlit and shaded";
+    return fit;
+  }
+  if (fit.sensitivity < 0.01) {
+    fit.why = "they hardly light what the photo shows";
+    return fit;
+  }
   // g(rho): the pixel-weighted mean log ratio of the shaded to the sunlit estimate, in luminance;
   // it falls as rho rises (the shaded pixels' light grows faster than the sunlit pixels').
   auto g = [&](double rho) {
@@ -384,21 +391,26 @@ UnseenFit fitUnseenReflectance(const SeenPixels& px, const ImageRGB& photo, cons
       acc += w * (eShaded > 0 ? std::log(l0 / eShaded) : 50.0) - w * std::log(l1 / std::max(eSunlit, 1e-30));
       weight += w;
     }
-    return weight > 0 ? acc / weight : 0.0;
+    return weight > 0 ? acc / weight : std::numeric_limits<double>::quiet_NaN();
   };
-  double lo = 0.02, hi = 0.98, rho;
-  if (g(lo) <= 0)
-    rho = lo;
-  else if (g(hi) >= 0)
-    rho = hi;
-  else {
-    for (int it = 0; it < 50; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      (g(mid) > 0 ? lo : hi) = mid;
-    }
-    rho = 0.5 * (lo + hi);
+  double lo = 0.02, hi = 0.98;
+  const double gLo = g(lo), gHi = g(hi);
+  if (std::isnan(gLo)) {
+    fit.why = "the photo is black where it would be measured";
+    return fit;
   }
-  fit.rho = glm::dvec3(rho);
+  // No root inside: no reflectance makes the two agree, so the model (or the sky's sun) is off
+  // somewhere, and a bound would be no measurement.
+  if (gLo <= 0 || gHi >= 0) {
+    fit.rho = glm::dvec3(gLo <= 0 ? lo : hi);
+    fit.why = "no reflectance in [0.02, 0.98] makes the sunlit and shaded pixels agree";
+    return fit;
+  }
+  for (int it = 0; it < 50; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (g(mid) > 0 ? lo : hi) = mid;
+  }
+  fit.rho = glm::dvec3(0.5 * (lo + hi));
   fit.ok = true;
   return fit;
 }
@@ -445,8 +457,8 @@ std::vector<glm::dvec3> reflectancesFromPhoto(const SeenPixels& px, const ImageR
   std::vector<glm::dvec3> out(polygons, glm::dvec3(-1.0));
   for (size_t s = 0; s < polygons; ++s) {
     if (count[s] < minPixels) continue;
-    for (int c = 0; c < 3; ++c)
-      if (e[s][c] > 0) out[s][c] = std::clamp(kPi * l[s][c] / e[s][c], 0.0, 0.98);
+    if (!(e[s].x > 0 && e[s].y > 0 && e[s].z > 0)) continue;  // a channel with no light says nothing
+    for (int c = 0; c < 3; ++c) out[s][c] = std::clamp(kPi * l[s][c] / e[s][c], 0.0, 0.98);
   }
   return out;
 }
@@ -522,7 +534,10 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
     return mean;
   };
   const bool sunlit = photoSky.sun.found && photoSky.sun.direction.z > 0;
-  int rounds = 3;
+  // A fourth round measures the unseen polygons' reflectance when the photos' sun can tell it
+  // (a clipped sun's irradiance is only a lower bound, whose error the fit would take up).
+  const bool sunUsable = sunlit && !photoSky.sun.clipped;
+  const int rounds = sunUsable ? 4 : 3;
   auto solve = [&](int round) {
     Progress stage(progress, double(round) / rounds, double(round + 1) / rounds);
     stage.report(0, "estimating reflectances under the photos' sky (round " + std::to_string(round + 1) + " of " +
@@ -535,11 +550,14 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
   IrradianceParts e = solve(0);
   std::vector<glm::dvec3> rho = reflectancesFromPhoto(seen_, photo, sum(e.rest, e.sun), n);
   const std::vector<glm::dvec3> first = rho;
-  // From round 2 on, each shown polygon's next reflectance is the geometric mean of the one it was
-  // solved with and pi L / E: a wall lit mostly by the other walls has E nearly proportional to
-  // their reflectances, and the plain update pi L / E then swings about the answer from round to
-  // round (seen: a back wall at 0.75/0.88/0.88, 0.89/0.69/0.55, 0.74/0.89/0.83, ... against
-  // 0.72/0.70/0.64); halving the step in log space converges where E grows at most in proportion.
+  // The update after round 2 is the geometric mean of the reflectance round 2 was solved with and
+  // pi L / E (half the step in log space). A wall lit mostly by the other walls has E nearly
+  // proportional to their reflectances, and the plain update swings about the answer from round
+  // to round (seen: a back wall at 0.75/0.88/0.88, 0.89/0.69/0.55, 0.74/0.89/0.83, ... against
+  // 0.72/0.70/0.64); with one update left, a swing cannot be told from a step in the right
+  // direction, and the half step lands near the answer for a swinging wall, while a polygon lit
+  // directly loses only half of a correction that is small already (its direct light does not
+  // depend on the reflectances round 1 guessed).
   auto damped = [&](std::vector<glm::dvec3> r) {
     for (size_t s = 0; s < n; ++s)
       if (r[s].x >= 0 && first[s].x >= 0) r[s] = glm::sqrt(r[s] * first[s]);
@@ -548,19 +566,33 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
   // Round 2: the shown polygons at their estimates, the unseen at the shown polygons' mean.
   const glm::dvec3 mean = assign(rho, nullptr);
   const bool anyShared = std::find(shared.begin(), shared.end(), true) != shared.end();
-  // The unseen polygons' reflectance is measured when the sun lights some shown polygon in part
-  // (a clipped sun's irradiance is only a lower bound, whose error the fit would take up). It is
-  // measured grey, in luminance: no photo shows their colour, and a fit per channel would take up
-  // any error in the colour of the sun against the sky's (a few pixels of a fisheye give it).
-  const bool fitUnseen = anyShared && sunlit && !photoSky.sun.clipped;
+  // The unseen polygons' reflectance is measured grey, in luminance: no photo shows their colour,
+  // and a fit per channel would take up any error in the colour of the sun against the sky's (a
+  // few pixels of a fisheye give it). Round 2 solves them grey at the shown polygons' mean
+  // luminance; if the fit then fails, the final round gives them the mean itself.
   const double ga = luminance(mean);
+  if (!anyShared)
+    unseenFit_.why = "every polygon is shown by the photo or shares a shown polygon's material";
+  else if (!sunUsable)
+    unseenFit_.why = !sunlit ? "the photos' sky has no sun" : "the photos' sun is clipped in the sky image";
+  std::vector<bool> usable(n);
+  for (size_t s = 0; s < n; ++s) usable[s] = estimated_[s] && !outside[s];
+  bool fitUnseen = anyShared && sunUsable;
   if (fitUnseen) {
-    rounds = 4;
     const glm::dvec3 grey(ga);
     assign(rho, &grey);
   }
   e = solve(1);
   rho = damped(reflectancesFromPhoto(seen_, photo, sum(e.rest, e.sun), n));
+  if (fitUnseen) {
+    // Worth a round only if some shown polygon is both sunlit and shaded.
+    const UnseenFit probe = fitUnseenReflectance(seen_, photo, e.rest, e.rest, e.sun, ga, ga + 0.3, photoSky.sun.direction,
+                                                 photoSky.sun.irradiance, usable);
+    if (probe.polygons == 0) {
+      unseenFit_.why = probe.why;
+      fitUnseen = false;
+    }
+  }
   if (fitUnseen) {
     // Round 3: the same, with the unseen polygons 0.3 lighter (or darker).
     const double b = ga < 0.6 ? ga + 0.3 : ga - 0.3;
@@ -569,22 +601,19 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
       if (shared[s]) room.polygons[s].albedo = glm::dvec3(b);
     IrradianceParts eb = solve(2);
     room = round2;
-    std::vector<bool> usable(n);
-    for (size_t s = 0; s < n; ++s) usable[s] = estimated_[s] && !outside[s];
     unseenFit_ = fitUnseenReflectance(seen_, photo, e.rest, eb.rest, e.sun, ga, b, photoSky.sun.direction,
                                       photoSky.sun.irradiance, usable);
     if (unseenFit_.ok) {
       // The shown polygons' estimates again, with the irradiance the fitted unseen reflectance gives.
       ImageRGB at = e.rest;
-      for (size_t i = 0; i < at.pixels.size(); ++i) {
-        const double t = (unseenFit_.rho.x - ga) / (b - ga);
-        at.pixels[i] = float(e.rest.pixels[i] + t * (eb.rest.pixels[i] - e.rest.pixels[i]));
-      }
+      const double t = (unseenFit_.rho.x - ga) / (b - ga);
+      for (size_t i = 0; i < at.pixels.size(); ++i)
+        at.pixels[i] = std::max(0.f, float(e.rest.pixels[i] + t * (eb.rest.pixels[i] - e.rest.pixels[i])));
       rho = damped(reflectancesFromPhoto(seen_, photo, sum(std::move(at), e.sun), n));
     }
   }
   assign(rho, unseenFit_.ok ? &unseenFit_.rho : nullptr);
-  e = solve(rounds - 1);
+  e = solve(rounds - 1);  // the last round (the third when the fit took no round of its own: progress skips one)
   ePhoto_ = sum(std::move(e.rest), e.sun);
 }
 

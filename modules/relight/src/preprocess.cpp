@@ -771,8 +771,7 @@ void Preprocessor::Impl::run(Progress& progress) {
     h.iterate(progress);
     std::vector<glm::dvec3> rho(leaves.size());
     for (size_t k = 0; k < leaves.size(); ++k)
-      rho[k] = glm::sqrt(rhoOf(leaves[k].surface, leaves[k].tex, glm::dvec3(h.irradiance(leaves[k].node))) *
-                         glm::dvec3(h.reflectanceOf(leaves[k].node)));  // half way, as above
+      rho[k] = rhoOf(leaves[k].surface, leaves[k].tex, glm::dvec3(h.irradiance(leaves[k].node)));
     setLeafReflectance(rho);
     h.iterate(progress);
   }

@@ -14,6 +14,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "relume/daylight/basis.h"
@@ -66,14 +67,16 @@ std::vector<glm::dvec3> reflectancesFromPhoto(const SeenPixels& px, const ImageR
 // shown polygons' (those `usable`) shaded and wholly sunlit estimates agree in luminance: the
 // pixel-weighted mean log ratio, found by bisection. Grey because no photo shows those polygons'
 // colour; a fit per channel would take up any error in the colour of the sun against the sky's.
-// Not `ok` when no usable polygon has 50 shaded and 50 sunlit pixels, or when the unseen polygons
-// change the shaded pixels' light by under 1 %.
+// Not `ok` (and `why` says so) when no usable polygon has 50 shaded and 50 wholly sunlit pixels,
+// when the unseen polygons change the shaded pixels' light by under 1 %, or when no value in
+// [0.02, 0.98] makes the two estimates agree.
 struct UnseenFit {
   bool ok = false;
   glm::dvec3 rho{0.0};
   int polygons = 0;  // shown polygons both sunlit and shaded
   long shadedPixels = 0, sunlitPixels = 0;
   double sensitivity = 0;  // relative change of the shaded pixels' light from a to b
+  std::string why;         // when not ok: why not, in words
 };
 UnseenFit fitUnseenReflectance(const SeenPixels& px, const ImageRGB& photo, const ImageRGB& restA, const ImageRGB& restB,
                                const ImageRGB& sun, double a, double b, const glm::dvec3& sunDirection,
@@ -130,7 +133,7 @@ class DaylightRelighting {
   const std::vector<glm::dvec3>& reflectances() const { return reflectances_; }
   const std::vector<bool>& estimated() const { return estimated_; }  // shown by the photo
   // The reflectance measured for the polygons no photo shows and no shown polygon's material
-  // names (not `ok`: they took the shown polygons' mean).
+  // names (not `ok`: they took the shown polygons' mean, or there are none; `why` says which).
   const UnseenFit& unseenFit() const { return unseenFit_; }
   const ImageRGB& photoIrradiance() const { return ePhoto_; }
   const ImageRGB& lastIrradiance() const { return eLast_; }
