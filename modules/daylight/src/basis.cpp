@@ -22,7 +22,6 @@ namespace relume::daylight {
 namespace {
 constexpr double kPi = std::numbers::pi;
 
-
 double seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }

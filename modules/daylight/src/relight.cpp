@@ -594,13 +594,12 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
     }
   }
   if (fitUnseen) {
-    // Round 3: the same, with the unseen polygons 0.3 lighter (or darker).
+    // Round 3: the same, with the unseen polygons 0.3 lighter (or darker); the final assign()
+    // sets them again.
     const double b = ga < 0.6 ? ga + 0.3 : ga - 0.3;
-    const Scene round2 = room;
     for (size_t s = 0; s < n; ++s)
       if (shared[s]) room.polygons[s].albedo = glm::dvec3(b);
     IrradianceParts eb = solve(2);
-    room = round2;
     unseenFit_ = fitUnseenReflectance(seen_, photo, e.rest, eb.rest, e.sun, ga, b, photoSky.sun.direction,
                                       photoSky.sun.irradiance, usable);
     if (unseenFit_.ok) {
