@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <glm/geometric.hpp>
+#include <limits>
 #include <numbers>
 
 #include "fan_pack.h"
@@ -171,6 +172,15 @@ const FanView& ImageFan::view(int k) const {
       }
     v->cellDepth.resize(sum.size());
     for (size_t c = 0; c < sum.size(); ++c) v->cellDepth[c] = float(count[c] > 0 ? sum[c] / count[c] : radius);
+    const int blocks = (size + kNearBlock - 1) / kNearBlock;
+    v->nearBlock.assign(size_t(blocks) * size_t(blocks), std::numeric_limits<float>::infinity());
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        const size_t i = size_t(y) * size + x;
+        if (!v->alpha[i]) continue;
+        float& b = v->nearBlock[size_t(y / kNearBlock) * size_t(blocks) + size_t(x / kNearBlock)];
+        b = std::min(b, float(depthMetres(v->depth[i])));
+      }
     decoded_[size_t(k)] = std::move(v);
   }
   return *decoded_[size_t(k)];

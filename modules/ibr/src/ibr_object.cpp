@@ -295,9 +295,45 @@ March marchView(const ImageFan& fan, const FanView& v, const ImageFan::Axes& ax,
   };
   const double across = std::hypot(dv[0], dv[1]) * (t1 - t0) * px;
   const int steps = std::max(1, int(std::ceil(2.0 * across)));
+  // Empty space is skipped a block at a time (FanView::nearBlock): where the ray crosses a block
+  // wholly in front of the block's nearest surface, every step inside it would find the ray in
+  // front, so the march jumps to the first step at the block's far edge (the steps, and so the
+  // crossing found, are the same as without the skip).
+  const int blocks = (S + kNearBlock - 1) / kNearBlock;
+  const bool skip = v.nearBlock.size() == size_t(blocks) * size_t(blocks);
+  const double margin = 1e-6 * R;  // the blocks' depths are single precision
+  auto blockExit = [&](double t, int& block) {  // the ray's t where it leaves the block holding t
+    double exit = t1;
+    int b[2];
+    for (int a = 0; a < 2; ++a) {
+      const double pix = a == 0 ? (p0[0] + t * dv[0] + R) * px : (R - (p0[1] + t * dv[1])) * px;
+      const int cell = std::clamp(int(std::floor(pix)), 0, S - 1) / kNearBlock;
+      b[a] = cell;
+      const double slope = (a == 0 ? dv[0] : -dv[1]) * px;  // pixels per unit t
+      if (std::abs(slope) < 1e-15) continue;
+      const double edge = slope > 0 ? double((cell + 1) * kNearBlock) : double(cell * kNearBlock);
+      exit = std::min(exit, t + (edge - pix) / slope);
+    }
+    block = b[1] * blocks + b[0];
+    return exit;
+  };
   double prev = t0;
   for (int i = 0; i <= steps; ++i) {
     const double t = t0 + (t1 - t0) * i / steps;
+    if (skip) {
+      int block;
+      const double exit = blockExit(t, block);
+      const double deepest = std::max(p0[2] + t * dv[2], p0[2] + exit * dv[2]);
+      if (deepest < double(v.nearBlock[size_t(block)]) - margin) {
+        // Every step before the exit (less a hair, for rounding at the edge) is in front.
+        const int last = int(std::floor((exit - t0) / (t1 - t0) * steps - 1e-9));
+        if (last >= i) {
+          prev = t0 + (t1 - t0) * std::min(last, steps) / steps;
+          i = std::min(last, steps);
+          continue;
+        }
+      }
+    }
     size_t ti;
     if (p0[2] + t * dv[2] < surfaceAt(t, ti)) {
       prev = t;
@@ -495,6 +531,11 @@ ObjectShadows::ObjectShadows(const ImageFan& fan, const Placement& place, const 
     const ObjectLamp& lamp = light.lamps[c.lamp];
     shapes_.emplace_back(lamp.polygon, lamp.twoSided, lamp.photometry);
     silhouettes_.push_back(&fan.view(c.view));
+    std::vector<LampPoint>& pts = points_.emplace_back();
+    for (const auto& [point, weight] : c.samples) {
+      const glm::dvec3 q = point - centre_;
+      pts.push_back({point, glm::dot(q, c.right), glm::dot(q, c.up), glm::dot(q, c.toCamera), weight});
+    }
   }
 }
 
@@ -533,32 +574,30 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
       if (d < float(lv.nearSide) || d * d < float(lv.cos2) * glm::dot(v, v)) continue;
     }
     const FanView& silhouette = *silhouettes_[ci];
-    // The lamp's points (a soft shadow: the share of its area the silhouette hides).
+    // The lamp's points (a soft shadow: the share of its area the silhouette hides). The line
+    // X -> P meets the plane of the view through the centre at the share u of the way; there the
+    // silhouette is read. (Coordinates in the view's frame about the centre: linear along the line.)
+    const glm::dvec3 x = X - cw;
+    const double xr = glm::dot(x, lv.right), xu = glm::dot(x, lv.up), xt = glm::dot(x, lv.toCamera);
+    const double toPixel = 0.5 * S / rs;
     double blocked = 0;
-    for (const auto& [point, weight] : lv.samples) {
-      // The segment X -> the point must pass within the object's sphere.
-      const glm::dvec3 seg = point - X;
-      const double len2 = glm::dot(seg, seg);
-      const double s = std::clamp(glm::dot(cw - X, seg) / len2, 0.0, 1.0);
-      const glm::dvec3 closest = X + s * seg - cw;
-      if (glm::dot(closest, closest) > rs * rs) continue;
-      // Where the line meets the plane of the lamp's view through the centre.
-      const double den = glm::dot(seg, lv.toCamera);
+    for (const LampPoint& pt : points_[ci]) {
+      const double den = pt.toCamera - xt;
       if (std::abs(den) < 1e-12) continue;
-      const double u = glm::dot(cw - X, lv.toCamera) / den;
+      const double u = -xt / den;
       if (u <= 0 || u >= 1) continue;
-      const glm::dvec3 q = X + u * seg - cw;
-      const double fx = (glm::dot(q, lv.right) / rs + 1.0) * 0.5 * S, fy = (1.0 - glm::dot(q, lv.up) / rs) * 0.5 * S;
-      const int tx = int(std::floor(fx)), ty = int(std::floor(fy));
-      if (tx < 0 || ty < 0 || tx >= S || ty >= S) continue;
+      const double fx = (xr + u * (pt.right - xr)) * toPixel + 0.5 * S, fy = 0.5 * S - (xu + u * (pt.up - xu)) * toPixel;
+      if (!(fx >= 0 && fy >= 0 && fx < S && fy < S)) continue;
+      const int tx = int(fx), ty = int(fy);
       const size_t ti = size_t(ty) * S + tx;
       if (!silhouette.alpha[ti]) continue;
       // The silhouette's point must lie between X and the lamp (not behind X).
+      const glm::dvec3 seg = pt.world - X;
       const double a = ((tx + 0.5) / S * 2.0 - 1.0) * fan.radius, b = (1.0 - (ty + 0.5) / S * 2.0) * fan.radius;
       const glm::dvec3 p =
           cw + place_.scale * (a * lv.right + b * lv.up + (fan.radius - fan.depthMetres(silhouette.depth[ti])) * lv.toCamera);
-      if (glm::dot(p - X, seg) <= 1e-3 * std::sqrt(len2)) continue;
-      blocked += weight * (silhouette.alpha[ti] / 255.0);
+      if (glm::dot(p - X, seg) <= 1e-3 * glm::length(seg)) continue;
+      blocked += pt.weight * (silhouette.alpha[ti] / 255.0);
     }
     if (!(blocked > 0)) continue;
     // The lamp's direct irradiance at X, if the room lets it through.

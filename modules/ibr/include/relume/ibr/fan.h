@@ -37,9 +37,14 @@ struct FanView {
   // Per cell of a kTableCells x kTableCells grid over the image, the mean depth (m) of its
   // covered pixels (the centre's depth, R, where none is): where the lamps' tables are aimed.
   std::vector<float> cellDepth;
+  // Per block of kNearBlock x kNearBlock pixels (row-major, ceil(size / kNearBlock) across), the
+  // depth (m) of its nearest covered pixel, infinity where none is: a ray marched through the
+  // view skips a block it crosses wholly in front of that depth (see ibr_object.cpp).
+  std::vector<float> nearBlock;
 };
 
 inline constexpr int kTableCells = 4;
+inline constexpr int kNearBlock = 8;
 
 inline constexpr uint16_t kNoDepth = 65535;
 inline constexpr uint32_t kFanVersion = 1;
