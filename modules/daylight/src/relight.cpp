@@ -695,6 +695,14 @@ void DaylightRelighting::setInteractive(const InteractiveOptions& options) {
   interactive_.directSamples = samples;
 }
 
+glm::vec3 DaylightRelighting::relitPixel(size_t i, const glm::vec3& e) const {
+  const glm::vec3 a = get(ePhoto_, i), ph = get(photo_, i);
+  glm::vec3 v = ph;
+  for (int c = 0; c < 3; ++c)
+    if (a[c] > 1e-6f) v[c] = ph[c] * (std::max(e[c], 0.f) / a[c]);
+  return v;
+}
+
 ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vector<Polygon>& objects, Progress& progress) {
   for (size_t o = 0; o < objects.size(); ++o)
     if (objects[o].vertices.size() < 3 || !(polygonArea(objects[o].vertices) > 1e-12))
@@ -710,6 +718,9 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     Progress stage(progress, 0.7, 0.95);
     eRoom_ = irradianceImage(*basis_, seen_, sky, stage);
     roomSky_ = sky;
+    roomOut_ = photo_;
+    for (size_t i = 0; i < seen_.surface.size(); ++i)
+      if (seen_.surface[i] >= 0) put(roomOut_, i, relitPixel(i, get(eRoom_, i)));
   }
   const bool sun = sky.sun.found && sky.sun.direction.z > 0;
   const glm::dvec3 groundL = basis_->groundRadiance(sky);
@@ -748,22 +759,14 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
   }
   const std::vector<glm::dvec3> sunDisc = sunDiscDirections(sun ? sky.sun.direction : glm::dvec3(0, 0, 1));
 
-  ImageRGB out = photo_;
   touched_ = 0;
   const size_t n = seen_.surface.size();
-  auto ratio = [&](size_t i, const glm::vec3& eNew) {
-    const glm::vec3 a = get(ePhoto_, i), ph = get(photo_, i);
-    glm::vec3 v = ph;
-    for (int c = 0; c < 3; ++c)
-      if (a[c] > 1e-6f) v[c] = ph[c] * (std::max(eNew[c], 0.f) / a[c]);
-    put(out, i, v);
-  };
   if (objects.empty()) {
-    for (size_t i = 0; i < n; ++i)
-      if (seen_.surface[i] >= 0) ratio(i, get(eRoom_, i));
     eLast_ = eRoom_;
-    return out;
+    return roomOut_;
   }
+  ImageRGB out = roomOut_;
+  auto ratio = [&](size_t i, const glm::vec3& eNew) { put(out, i, relitPixel(i, eNew)); };
 
   // The objects: their own ray scene, their box and bounding sphere, the volume combined for the
   // grid points they need, and per vertex the indirect light (Eq. 5, their own shadowing).
@@ -1010,11 +1013,12 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     return e;
   };
   // The part of a room pixel's direct daylight that the objects take away.
-  auto blocked = [&](size_t i, bool windowShadow, bool sunShadow) {
+  auto blocked = [&](size_t i, bool windowShadow, bool sunShadow, const uint64_t* reach) {
     glm::dvec3 e(0.0);
     const glm::dvec3& x = seen_.point[i];
     if (windowShadow)
       for (const WindowLight& l : windowLight(i)) {
+        if (!(reach[l.sample / 64] >> (l.sample % 64) & 1)) continue;  // its shadow cannot reach here
         const ObjectShadowMap* map = windowMaps[l.sample].get();
         if (map ? map->blocks(x, kBias) : objectScene.occluded(glm::vec3(x + 1e-4 * seen_.normal[i]), glm::vec3(ws[l.sample].q), 1e-5f))
           e += regionRadiance(l.region) * double(l.weight);
@@ -1035,51 +1039,162 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
   };
 
   // Pixels: the objects where they are in front of the room; the room where their shadow may fall.
+  // In tiles of 8 x 8 pixels, each asked first whether any of its pixels can show the objects (a
+  // ray of the tile meets their bounding sphere) or their shadow (the tile's points, a sphere, may
+  // lie in the window's or the sun's shadow of that sphere); a tile that can do neither keeps the
+  // room's pixels. Per tile also the window samples whose shadow map can reach it: the rest are
+  // not looked up for its pixels.
   const glm::dvec3 eye = seen_.camera.center();
-  std::vector<glm::vec3> eNew(n);
+  const glm::dvec3 toCentre = centre - eye;
+  const double eyeDist = glm::length(toCentre);
+  constexpr int kTile = 8;
+  const int width = seen_.width, height = seen_.height;
+  const int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
+  const size_t sampleWords = (ws.size() + 63) / 64;
+  // Per window sample: its point, and the cone from it around the objects' sphere (none: it lies
+  // inside, every point may be shadowed).
+  struct SampleCone {
+    glm::dvec3 apex, axis;
+    double sinB = 1, cosB = 0;
+    bool all = true;
+  };
+  std::vector<SampleCone> cones(ws.size());
+  for (size_t m = 0; m < ws.size(); ++m) {
+    const glm::dvec3 toObj = centre - ws[m].q;
+    const double d = glm::length(toObj);
+    if (d <= radius) continue;
+    // (Widened by the maps' texel: a texel that holds some of the objects covers directions up
+    // to a texel's width beside them.)
+    const double sb = std::min(1.0, 1.05 * radius / d);
+    cones[m] = {ws[m].q, toObj / d, sb, std::sqrt(1 - sb * sb), false};
+  }
+  eLast_ = eRoom_;
   std::atomic<size_t> touched{0};
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 2048), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i < r.end(); ++i) {
-      const double x = double(i % size_t(seen_.width)) + 0.5, y = double(i / size_t(seen_.width)) + 0.5;
-      const glm::dvec3 dir = seen_.camera.rayDirection(x, y);
-      // The ray meets the objects' bounding sphere before the room's surface: ask the objects.
-      const double roomT = seen_.surface[i] >= 0 ? glm::length(seen_.point[i] - eye) : 1e30;
-      const glm::dvec3 oc = eye - centre;
-      const double b = glm::dot(oc, dir), disc = b * b - (glm::dot(oc, oc) - radius * radius);
-      if (disc >= 0 && -b - std::sqrt(disc) < roomT) {
-        const RayHit hit = objectScene.intersect(Ray{glm::vec3(eye), glm::vec3(dir), 0.f, float(roomT)});
-        if (hit.polygon >= 0) {
-          const size_t o = size_t(hit.polygon);
-          const auto& v = objects[o].vertices;
-          glm::dvec3 nrm = polygonNormal(v);
-          const bool back = glm::dot(nrm, dir) > 0;
-          if (back) nrm = -nrm;
-          const glm::dvec3 p = eye + double(hit.t) * dir;
-          const size_t t = size_t(hit.triangle) - firstTriangle[o];
-          const double bu = hit.barycentric.x, bv = hit.barycentric.y;
-          const auto& ve = back ? vertexBackE[o] : vertexE[o];
-          const glm::dvec3 ind = (1 - bu - bv) * ve[0] + bu * ve[t + 1] + bv * ve[t + 2];
-          const glm::dvec3 e = ind + direct(o, p, nrm);
-          put(out, i, glm::vec3(objects[o].albedo / kPi * e));
-          eNew[i] = glm::vec3(e);
-          ++touched;
-          continue;
+  tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 8), [&](const tbb::blocked_range<int>& r) {
+    std::vector<uint64_t> reach(sampleWords);
+    for (int tile = r.begin(); tile < r.end(); ++tile) {
+      const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
+      const int x1 = std::min(width, x0 + kTile), y1 = std::min(height, y0 + kTile);
+      // Could a ray of the tile meet the objects' sphere? Its rays lie within the cone around the
+      // middle one through the corners' (widened a little: a lens's distortion bends the edges).
+      const glm::dvec3 mid = seen_.camera.rayDirection(0.5 * (x0 + x1), 0.5 * (y0 + y1));
+      double cosTile = 1;
+      for (int c = 0; c < 4; ++c)
+        cosTile = std::min(cosTile, glm::dot(mid, seen_.camera.rayDirection(c & 1 ? x1 : x0, c & 2 ? y1 : y0)));
+      const double tileAngle = 1.1 * std::acos(std::clamp(cosTile, -1.0, 1.0)) + 1e-4;
+      const bool objectHere = eyeDist <= radius || std::acos(std::clamp(glm::dot(mid, toCentre) / eyeDist, -1.0, 1.0)) <=
+                                                       tileAngle + std::asin(std::min(1.0, radius / eyeDist));
+      // The tile's points with a pixel's border (the sun's footprint test looks one pixel out).
+      glm::dvec3 lo(1e300), hi(-1e300);
+      bool gap = false;
+      for (int y = std::max(0, y0 - 1); y < std::min(height, y1 + 1); ++y)
+        for (int x = std::max(0, x0 - 1); x < std::min(width, x1 + 1); ++x) {
+          const size_t i = size_t(y) * size_t(width) + size_t(x);
+          if (seen_.surface[i] < 0) {
+            gap = true;
+            continue;
+          }
+          lo = glm::min(lo, seen_.point[i]);
+          hi = glm::max(hi, seen_.point[i]);
+        }
+      bool shadowHere = false;
+      std::fill(reach.begin(), reach.end(), 0);
+      if (lo.x <= hi.x) {
+        const glm::dvec3 tc = 0.5 * (lo + hi);
+        const double tr = 0.5 * glm::length(hi - lo) + 1e-6;
+        // The window: a segment from a point within tr of tc to a window point passes within tr
+        // of the segment from tc (moved by the same offset), so the tile's sphere widens both.
+        bool window = false;
+        {
+          const glm::dvec3 toObj = centre - tc;
+          const double dObj = glm::length(toObj), rObj = radius + tr;
+          if (dObj <= rObj) window = true;
+          const double sb = std::min(1.0, rObj / std::max(dObj, 1e-12)), cb = std::sqrt(1 - sb * sb);
+          for (const auto& [c, rw] : windowCones) {
+            if (window) break;
+            const glm::dvec3 toWin = c - tc;
+            const double dWin = glm::length(toWin), rWin = rw + tr;
+            if (dWin <= rWin) {
+              window = true;
+              break;
+            }
+            if (dObj - rObj >= dWin + rWin) continue;
+            const double sa = rWin / dWin, ca = std::sqrt(1 - sa * sa);
+            window = glm::dot(toObj, toWin) / (dObj * dWin) >= ca * cb - sa * sb;
+          }
+        }
+        if (window)
+          for (size_t m = 0; m < ws.size(); ++m) {
+            const SampleCone& k = cones[m];
+            bool in = k.all;
+            if (!in) {
+              const glm::dvec3 v = tc - k.apex;
+              const double dv = glm::length(v);
+              if (dv <= tr) {
+                in = true;
+              } else {
+                const double sa = tr / dv, ca = std::sqrt(1 - sa * sa);
+                in = glm::dot(v, k.axis) / dv >= ca * k.cosB - sa * k.sinB;
+              }
+            }
+            if (in) reach[m / 64] |= uint64_t(1) << (m % 64), shadowHere = true;
+          }
+        // The sun: every pixel's test (sunMayBeBlocked) widened by the tile's sphere (its point
+        // within tr of tc, its footprint's spread within 2 tr); a pixel beside a gap asks its own.
+        if (sun && !shadowHere) {
+          if (gap) {
+            shadowHere = true;
+          } else {
+            const glm::dvec3 toC = centre - tc;
+            const double along = glm::dot(toC, sunDir), perp2 = glm::dot(toC, toC) - along * along;
+            const double reach0 = radius + 0.01 * (glm::length(toC) + tr) + 3 * tr + 0.05;
+            shadowHere = along >= -reach0 && perp2 <= reach0 * reach0;
+          }
         }
       }
-      if (seen_.surface[i] < 0) continue;
-      glm::vec3 e = get(eRoom_, i);
-      const bool windowShadow = mayBeShadowed(seen_.point[i]), sunShadow = sun && sunMayBeBlocked(i);
-      if (windowShadow || sunShadow) {
-        e -= glm::vec3(blocked(i, windowShadow, sunShadow));
-        ++touched;
-      }
-      eNew[i] = e;
-      ratio(i, e);
+      if (!objectHere && !shadowHere) continue;
+      size_t count = 0;
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          const size_t i = size_t(y) * size_t(width) + size_t(x);
+          const double roomT = seen_.surface[i] >= 0 ? glm::length(seen_.point[i] - eye) : 1e30;
+          if (objectHere) {
+            const glm::dvec3 dir = seen_.camera.rayDirection(x + 0.5, y + 0.5);
+            // The ray meets the objects' bounding sphere before the room's surface: ask the objects.
+            const double b = -glm::dot(toCentre, dir), disc = b * b - (eyeDist * eyeDist - radius * radius);
+            if (disc >= 0 && -b - std::sqrt(disc) < roomT) {
+              const RayHit hit = objectScene.intersect(Ray{glm::vec3(eye), glm::vec3(dir), 0.f, float(roomT)});
+              if (hit.polygon >= 0) {
+                const size_t o = size_t(hit.polygon);
+                const auto& v = objects[o].vertices;
+                glm::dvec3 nrm = polygonNormal(v);
+                const bool back = glm::dot(nrm, dir) > 0;
+                if (back) nrm = -nrm;
+                const glm::dvec3 p = eye + double(hit.t) * dir;
+                const size_t t = size_t(hit.triangle) - firstTriangle[o];
+                const double bu = hit.barycentric.x, bv = hit.barycentric.y;
+                const auto& ve = back ? vertexBackE[o] : vertexE[o];
+                const glm::dvec3 ind = (1 - bu - bv) * ve[0] + bu * ve[t + 1] + bv * ve[t + 2];
+                const glm::dvec3 e = ind + direct(o, p, nrm);
+                put(out, i, glm::vec3(objects[o].albedo / kPi * e));
+                put(eLast_, i, glm::vec3(e));
+                ++count;
+                continue;
+              }
+            }
+          }
+          if (seen_.surface[i] < 0 || !shadowHere) continue;
+          const bool windowShadow = mayBeShadowed(seen_.point[i]), sunShadow = sun && sunMayBeBlocked(i);
+          if (!windowShadow && !sunShadow) continue;
+          const glm::vec3 e = get(eRoom_, i) - glm::vec3(blocked(i, windowShadow, sunShadow, reach.data()));
+          put(eLast_, i, e);
+          ratio(i, e);
+          ++count;
+        }
+      touched += count;
     }
   });
   touched_ = touched;
-  eLast_ = ImageRGB(seen_.width, seen_.height);
-  for (size_t i = 0; i < n; ++i) put(eLast_, i, eNew[i]);
   return out;
 }
 

@@ -152,6 +152,9 @@ class DaylightRelighting {
   std::unique_ptr<IrradianceVolume> volume_;
   SkyRadiance roomSky_;  // the sky eRoom_ was made for
   ImageRGB eRoom_;
+  ImageRGB roomOut_;  // the photo relit under roomSky_, no objects
+  // Pixel i of the photo relit to irradiance e (the photo times e over the photo's irradiance).
+  glm::vec3 relitPixel(size_t i, const glm::vec3& e) const;
   size_t touched_ = 0;
   // The interactive path's per-pixel light past the room alone (relight.cpp), kept while objects move.
   struct InteractiveCache;
