@@ -214,11 +214,30 @@ class ObjectShadowMap {
     const int y0 = std::max(0, int(std::floor(std::min({a.y, b.y, c.y})))), y1 = std::min(kSize - 1, int(std::ceil(std::max({a.y, b.y, c.y}))));
     // Depth interpolated perspective-correctly (1 / z is linear on the image; z itself when orthographic).
     const double ka = ortho_ ? a.z : 1 / a.z, kb = ortho_ ? b.z : 1 / b.z, kc = ortho_ ? c.z : 1 / c.z;
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) {
-        const double px = x + 0.5, py = y + 0.5;
-        const double wa = ((b.x - px) * (c.y - py) - (b.y - py) * (c.x - px)) / area;
-        const double wb = ((c.x - px) * (a.y - py) - (c.y - py) * (a.x - px)) / area;
+    // The barycentric weights are linear in the texel's centre: w = w0 + wx px + wy py. Per row,
+    // only the span where all three can be >= 0 (widened by a texel against rounding) is visited.
+    const double inv = 1 / area;
+    const double a0 = (b.x * c.y - b.y * c.x) * inv, ax = (b.y - c.y) * inv, ay = (c.x - b.x) * inv;
+    const double b0 = (c.x * a.y - c.y * a.x) * inv, bx = (c.y - a.y) * inv, by = (a.x - c.x) * inv;
+    for (int y = y0; y <= y1; ++y) {
+      const double py = y + 0.5;
+      double lo = x0, hi = x1;
+      // w = p + q px >= 0 for the three weights (the third is 1 - wa - wb).
+      const double pa = a0 + ay * py, pb = b0 + by * py, pc = 1 - pa - pb, qc = -ax - bx;
+      for (const auto& [p0, q] : {std::pair{pa, ax}, std::pair{pb, bx}, std::pair{pc, qc}}) {
+        if (q > 0)
+          lo = std::max(lo, std::floor(-p0 / q - 0.5) - 1);
+        else if (q < 0)
+          hi = std::min(hi, std::ceil(-p0 / q - 0.5) + 1);
+        else if (p0 < 0)
+          hi = lo - 1;
+      }
+      lo = std::min(lo, double(x1) + 1);
+      hi = std::max(hi, double(x0) - 1);
+      for (int x = int(lo); x <= int(hi); ++x) {
+        const double px = x + 0.5;
+        const double wa = a0 + ax * px + ay * py;
+        const double wb = b0 + bx * px + by * py;
         const double wc = 1 - wa - wb;
         if (wa < 0 || wb < 0 || wc < 0) continue;
         const double k = wa * ka + wb * kb + wc * kc;
@@ -226,6 +245,7 @@ class ObjectShadowMap {
         float& d = depth_[size_t(y) * kSize + size_t(x)];
         d = std::min(d, z);
       }
+    }
   }
 };
 
