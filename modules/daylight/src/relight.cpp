@@ -215,7 +215,8 @@ class ObjectShadowMap {
     // Depth interpolated perspective-correctly (1 / z is linear on the image; z itself when orthographic).
     const double ka = ortho_ ? a.z : 1 / a.z, kb = ortho_ ? b.z : 1 / b.z, kc = ortho_ ? c.z : 1 / c.z;
     // The barycentric weights are linear in the texel's centre: w = w0 + wx px + wy py. Per row,
-    // only the span where all three can be >= 0 (widened by a texel against rounding) is visited.
+    // only the span where all three can be >= 0 (widened by a texel against rounding) is visited;
+    // inside it each texel's weights are computed as a whole (the test at the edges unchanged).
     const double inv = 1 / area;
     const double a0 = (b.x * c.y - b.y * c.x) * inv, ax = (b.y - c.y) * inv, ay = (c.x - b.x) * inv;
     const double b0 = (c.x * a.y - c.y * a.x) * inv, bx = (c.y - a.y) * inv, by = (a.x - c.x) * inv;
@@ -232,12 +233,11 @@ class ObjectShadowMap {
         else if (p0 < 0)
           hi = lo - 1;
       }
-      lo = std::min(lo, double(x1) + 1);
-      hi = std::max(hi, double(x0) - 1);
+      if (!(lo <= hi)) continue;  // (then both lie in [x0, x1])
       for (int x = int(lo); x <= int(hi); ++x) {
         const double px = x + 0.5;
-        const double wa = a0 + ax * px + ay * py;
-        const double wb = b0 + bx * px + by * py;
+        const double wa = ((b.x - px) * (c.y - py) - (b.y - py) * (c.x - px)) / area;
+        const double wb = ((c.x - px) * (a.y - py) - (c.y - py) * (a.x - px)) / area;
         const double wc = 1 - wa - wb;
         if (wa < 0 || wb < 0 || wc < 0) continue;
         const double k = wa * ka + wb * kb + wc * kc;
@@ -1095,8 +1095,8 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     for (int tile = r.begin(); tile < r.end(); ++tile) {
       const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
       const int x1 = std::min(width, x0 + kTile), y1 = std::min(height, y0 + kTile);
-      // Could a ray of the tile meet the objects' sphere? Its rays lie within the cone around the
-      // middle one through the corners' (widened a little: a lens's distortion bends the edges).
+      // Could a ray of the tile meet the objects' sphere? A pinhole's rays over the tile lie within
+      // the cone around the middle one through the corners' (widened a little for safety).
       const glm::dvec3 mid = seen_.camera.rayDirection(0.5 * (x0 + x1), 0.5 * (y0 + y1));
       double cosTile = 1;
       for (int c = 0; c < 4; ++c)
@@ -1181,7 +1181,7 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
           if (objectHere) {
             const glm::dvec3 dir = seen_.camera.rayDirection(x + 0.5, y + 0.5);
             // The ray meets the objects' bounding sphere before the room's surface: ask the objects.
-            const double b = -glm::dot(toCentre, dir), disc = b * b - (eyeDist * eyeDist - radius * radius);
+            const double b = -glm::dot(toCentre, dir), disc = b * b - (glm::dot(toCentre, toCentre) - radius * radius);
             if (disc >= 0 && -b - std::sqrt(disc) < roomT) {
               const RayHit hit = objectScene.intersect(Ray{glm::vec3(eye), glm::vec3(dir), 0.f, float(roomT)});
               if (hit.polygon >= 0) {

@@ -325,11 +325,19 @@ March marchView(const ImageFan& fan, const FanView& v, const ImageFan::Axes& ax,
       const double exit = blockExit(t, block);
       const double deepest = std::max(p0[2] + t * dv[2], p0[2] + exit * dv[2]);
       if (deepest < double(v.nearBlock[size_t(block)]) - margin) {
-        // Every step before the exit (less a hair, for rounding at the edge) is in front.
-        const int last = int(std::floor((exit - t0) / (t1 - t0) * steps - 1e-9));
+        // Every step before the exit is in front; the last of them is checked to lie in the
+        // block (rounding at its edge), else the one before it, else no skip.
+        const double lastD = std::floor((exit - t0) / (t1 - t0) * steps - 1e-9);
+        int last = lastD >= double(i) ? int(std::min(lastD, double(steps))) : i - 1;
+        for (int tries = 0; last >= i && tries < 2; ++tries) {
+          int at;
+          blockExit(t0 + (t1 - t0) * last / steps, at);
+          if (at == block) break;
+          last = tries == 0 ? last - 1 : i - 1;
+        }
         if (last >= i) {
-          prev = t0 + (t1 - t0) * std::min(last, steps) / steps;
-          i = std::min(last, steps);
+          prev = t0 + (t1 - t0) * last / steps;
+          i = last;
           continue;
         }
       }
@@ -582,7 +590,14 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
     const double toPixel = 0.5 * S / rs;
     double blocked = 0;
     for (const LampPoint& pt : points_[ci]) {
-      const double den = pt.toCamera - xt;
+      // The segment X -> P must pass within the object's sphere (the frame is orthonormal: a
+      // rotation of the fan's axes).
+      const double sr = pt.right - xr, su = pt.up - xu, st = pt.toCamera - xt;
+      const double len2 = sr * sr + su * su + st * st;
+      const double s = std::clamp(-(xr * sr + xu * su + xt * st) / len2, 0.0, 1.0);
+      const double cr = xr + s * sr, cu = xu + s * su, ct = xt + s * st;
+      if (!(cr * cr + cu * cu + ct * ct <= rs * rs)) continue;
+      const double den = st;
       if (std::abs(den) < 1e-12) continue;
       const double u = -xt / den;
       if (u <= 0 || u >= 1) continue;

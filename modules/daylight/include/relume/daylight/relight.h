@@ -142,7 +142,8 @@ class DaylightRelighting {
   IrradianceVolume& volume(Progress& progress = silentProgress());
   void setInteractive(const InteractiveOptions& options);
   const InteractiveOptions& interactive() const { return interactive_; }
-  // Pixels the last Volume render touched for the objects (drawn or shadowed), for the bench.
+  // Pixels the last Volume render worked on for the objects (drawn, or asked for their shadow: in
+  // a tile that may be shadowed, where the pixel's own window or sun test says it may), for the bench.
   size_t lastTouchedPixels() const { return touched_; }
 
  private:
