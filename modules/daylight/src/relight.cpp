@@ -860,16 +860,18 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     for (const auto& q : v) r = std::max(r, glm::length(q - c));
     windowCones.push_back({c, r});
   }
-  auto mayBeShadowed = [&](const glm::dvec3& x) {
+  // `grow` widens both spheres: then it answers for every point within `grow` of x (a segment
+  // from such a point to a window point lies within `grow` of the same segment moved to x).
+  auto mayBeShadowed = [&](const glm::dvec3& x, double grow = 0) {
     const glm::dvec3 toObj = centre - x;
-    const double dObj = glm::length(toObj);
-    if (dObj <= radius) return true;
-    const double sb = radius / dObj, cb = std::sqrt(1 - sb * sb);
-    for (const auto& [c, r] : windowCones) {
+    const double dObj = glm::length(toObj), rObj = radius + grow;
+    if (dObj <= rObj) return true;
+    const double sb = rObj / dObj, cb = std::sqrt(1 - sb * sb);
+    for (const auto& [c, rw] : windowCones) {
       const glm::dvec3 toWin = c - x;
-      const double dWin = glm::length(toWin);
+      const double dWin = glm::length(toWin), r = rw + grow;
       if (dWin <= r) return true;
-      if (dObj - radius >= dWin + r) continue;  // the objects lie beyond the window
+      if (dObj - rObj >= dWin + r) continue;  // the objects lie beyond the window
       const double sa = r / dWin, ca = std::sqrt(1 - sa * sa);
       // angle <= alpha + beta, i.e. cos(angle) >= cos(alpha + beta) (alpha + beta < pi here)
       if (glm::dot(toObj, toWin) / (dObj * dWin) >= ca * cb - sa * sb) return true;
@@ -1122,27 +1124,7 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
       if (lo.x <= hi.x) {
         const glm::dvec3 tc = 0.5 * (lo + hi);
         const double tr = 0.5 * glm::length(hi - lo) + 1e-6;
-        // The window: a segment from a point within tr of tc to a window point passes within tr
-        // of the segment from tc (moved by the same offset), so the tile's sphere widens both.
-        bool window = false;
-        {
-          const glm::dvec3 toObj = centre - tc;
-          const double dObj = glm::length(toObj), rObj = radius + tr;
-          if (dObj <= rObj) window = true;
-          const double sb = std::min(1.0, rObj / std::max(dObj, 1e-12)), cb = std::sqrt(1 - sb * sb);
-          for (const auto& [c, rw] : windowCones) {
-            if (window) break;
-            const glm::dvec3 toWin = c - tc;
-            const double dWin = glm::length(toWin), rWin = rw + tr;
-            if (dWin <= rWin) {
-              window = true;
-              break;
-            }
-            if (dObj - rObj >= dWin + rWin) continue;
-            const double sa = rWin / dWin, ca = std::sqrt(1 - sa * sa);
-            window = glm::dot(toObj, toWin) / (dObj * dWin) >= ca * cb - sa * sb;
-          }
-        }
+        const bool window = mayBeShadowed(tc, tr);
         if (window)
           for (size_t m = 0; m < ws.size(); ++m) {
             const SampleCone& k = cones[m];

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <limits>
 #include <numbers>
 
 #include "relume/geometry/polygon.h"
@@ -318,11 +319,13 @@ March marchView(const ImageFan& fan, const FanView& v, const ImageFan::Axes& ax,
     return exit;
   };
   double prev = t0;
+  double unskippedTo = -std::numeric_limits<double>::infinity();  // a block found not skippable ends here
   for (int i = 0; i <= steps; ++i) {
     const double t = t0 + (t1 - t0) * i / steps;
-    if (skip) {
+    if (skip && t >= unskippedTo) {
       int block;
       const double exit = blockExit(t, block);
+      unskippedTo = exit;  // not asked again before the exit unless the block is skipped
       const double deepest = std::max(p0[2] + t * dv[2], p0[2] + exit * dv[2]);
       if (deepest < double(v.nearBlock[size_t(block)]) - margin) {
         // Every step before the exit is in front; the last of them is checked to lie in the
@@ -338,6 +341,7 @@ March marchView(const ImageFan& fan, const FanView& v, const ImageFan::Axes& ax,
         if (last >= i) {
           prev = t0 + (t1 - t0) * last / steps;
           i = last;
+          unskippedTo = -std::numeric_limits<double>::infinity();
           continue;
         }
       }
@@ -539,10 +543,10 @@ ObjectShadows::ObjectShadows(const ImageFan& fan, const Placement& place, const 
     const ObjectLamp& lamp = light.lamps[c.lamp];
     shapes_.emplace_back(lamp.polygon, lamp.twoSided, lamp.photometry);
     silhouettes_.push_back(&fan.view(c.view));
-    std::vector<LampPoint>& pts = points_.emplace_back();
-    for (const auto& [point, weight] : c.samples) {
-      const glm::dvec3 q = point - centre_;
-      pts.push_back({point, glm::dot(q, c.right), glm::dot(q, c.up), glm::dot(q, c.toCamera), weight});
+    std::vector<glm::dvec3>& pts = inFrame_.emplace_back();
+    for (const auto& sample : c.samples) {
+      const glm::dvec3 q = sample.first - centre_;
+      pts.emplace_back(glm::dot(q, c.right), glm::dot(q, c.up), glm::dot(q, c.toCamera));
     }
   }
 }
@@ -589,10 +593,11 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
     const double xr = glm::dot(x, lv.right), xu = glm::dot(x, lv.up), xt = glm::dot(x, lv.toCamera);
     const double toPixel = 0.5 * S / rs;
     double blocked = 0;
-    for (const LampPoint& pt : points_[ci]) {
+    for (size_t k = 0; k < lv.samples.size(); ++k) {
+      const glm::dvec3& pt = inFrame_[ci][k];  // (right, up, toCamera)
       // The segment X -> P must pass within the object's sphere (the frame is orthonormal: a
       // rotation of the fan's axes).
-      const double sr = pt.right - xr, su = pt.up - xu, st = pt.toCamera - xt;
+      const double sr = pt.x - xr, su = pt.y - xu, st = pt.z - xt;
       const double len2 = sr * sr + su * su + st * st;
       const double s = std::clamp(-(xr * sr + xu * su + xt * st) / len2, 0.0, 1.0);
       const double cr = xr + s * sr, cu = xu + s * su, ct = xt + s * st;
@@ -601,18 +606,19 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
       if (std::abs(den) < 1e-12) continue;
       const double u = -xt / den;
       if (u <= 0 || u >= 1) continue;
-      const double fx = (xr + u * (pt.right - xr)) * toPixel + 0.5 * S, fy = 0.5 * S - (xu + u * (pt.up - xu)) * toPixel;
+      const double fx = (xr + u * sr) * toPixel + 0.5 * S, fy = 0.5 * S - (xu + u * su) * toPixel;
       if (!(fx >= 0 && fy >= 0 && fx < S && fy < S)) continue;
       const int tx = int(fx), ty = int(fy);
       const size_t ti = size_t(ty) * S + tx;
       if (!silhouette.alpha[ti]) continue;
       // The silhouette's point must lie between X and the lamp (not behind X).
-      const glm::dvec3 seg = pt.world - X;
+      const auto& [point, weight] = lv.samples[k];
+      const glm::dvec3 seg = point - X;
       const double a = ((tx + 0.5) / S * 2.0 - 1.0) * fan.radius, b = (1.0 - (ty + 0.5) / S * 2.0) * fan.radius;
       const glm::dvec3 p =
           cw + place_.scale * (a * lv.right + b * lv.up + (fan.radius - fan.depthMetres(silhouette.depth[ti])) * lv.toCamera);
       if (glm::dot(p - X, seg) <= 1e-3 * glm::length(seg)) continue;
-      blocked += pt.weight * (silhouette.alpha[ti] / 255.0);
+      blocked += weight * (silhouette.alpha[ti] / 255.0);
     }
     if (!(blocked > 0)) continue;
     // The lamp's direct irradiance at X, if the room lets it through.

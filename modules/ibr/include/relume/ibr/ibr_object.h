@@ -163,13 +163,10 @@ class ObjectShadows {
   std::vector<ShadowCaster> casters_;
   std::vector<radiosity::EmitterShape> shapes_;
   std::vector<const FanView*> silhouettes_;  // each caster's view, decoded once
-  // Each caster's lamp points in its view's frame about the object's centre (world metres along
-  // right, up, toCamera): a line's crossing of the view's plane is then a few products per point.
-  struct LampPoint {
-    glm::dvec3 world{0.0};
-    double right = 0, up = 0, toCamera = 0, weight = 0;
-  };
-  std::vector<std::vector<LampPoint>> points_;
+  // Each caster's lamp points (ShadowCaster::samples, in order) in its view's frame about the
+  // object's centre (metres along right, up, toCamera): a line's crossing of the view's plane is
+  // then a few products per point.
+  std::vector<std::vector<glm::dvec3>> inFrame_;
 };
 
 // Per engine surface: whether it emits (a lamp keeps its glow: shadows fall on what reflects).
