@@ -265,6 +265,19 @@ TEST(DaylightRelight, TheInteractivePathDrawsTheBoxAndItsSunShadowAsTheFullSolut
   EXPECT_GT(double(darkened), 0.8 * double(shadow));
   EXPECT_LT(double(wronglyDark), 0.1 * double(lit));
   EXPECT_NEAR(boxFast, boxFull, 0.1 * boxFull);
+
+  // The room's light the interactive path keeps follows the solutions: after another sun's
+  // solution (links refined for its patch, so the first sun's is solved again on them), the room
+  // alone under the first sky is what the solutions say now, not what they said before.
+  relit.render(sky, {}, DaylightMethod::Volume);
+  const ImageRGB before = relit.lastIrradiance();
+  relit.basis().sunSolution(glm::dvec3(0.75, 0.35, 0.55));  // through the window too
+  relit.render(sky, {}, DaylightMethod::Volume);
+  const ImageRGB now = irradianceImage(relit.basis(), seePixels(relit.basis(), cam), sky);
+  float changed = 0;
+  for (size_t i = 0; i < now.pixels.size(); ++i) changed = std::max(changed, std::abs(now.pixels[i] - before.pixels[i]));
+  std::printf("the room alone after another sun's solution: largest change of irradiance %.3g\n", double(changed));
+  EXPECT_EQ(relit.lastIrradiance().pixels, now.pixels);
 }
 
 namespace {

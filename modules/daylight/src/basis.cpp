@@ -212,6 +212,7 @@ void DaylightBasis::solveBases(Progress& progress) {
                              stage));
   }
   bases_ = std::move(bases);
+  ++revision_;
   haveSun_ = false;  // solved again on demand, on the links as they are now
   secondsPerBasis_ = seconds(t0) / n;
 }
@@ -306,6 +307,7 @@ const std::vector<glm::vec3>& DaylightBasis::sunSolution(const glm::dvec3& direc
     if (nodes[n].parent >= 0) sunDirect_[n] += sunDirect_[size_t(nodes[n].parent)];
   sunDirection_ = d;
   haveSun_ = true;
+  ++revision_;
   return sun_;
 }
 

@@ -734,10 +734,13 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     volume(stage);
   }
   // The room under this sky (cached: the sky changes far less often than an object moves).
-  if (eRoom_.pixels.empty() || !sameSky(sky, roomSky_)) {
+  // It is made again when the sky changes, or when a NearField render (objects solved into the
+  // bases and taken out again) or another sun re-solved what it was made from.
+  if (eRoom_.pixels.empty() || !sameSky(sky, roomSky_) || roomRevision_ != basis_->revision()) {
     Progress stage(progress, 0.7, 0.95);
     eRoom_ = irradianceImage(*basis_, seen_, sky, stage);
     roomSky_ = sky;
+    roomRevision_ = basis_->revision();  // after: the sky's sun may have been solved just now
     roomOut_ = photo_;
     for (size_t i = 0; i < seen_.surface.size(); ++i)
       if (seen_.surface[i] >= 0) put(roomOut_, i, relitPixel(i, get(eRoom_, i)));

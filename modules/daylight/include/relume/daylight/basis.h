@@ -103,6 +103,9 @@ class DaylightBasis {
   glm::dvec3 surfaceMean(const std::vector<glm::vec3>& b, int surface) const;
   double secondsPerBasis() const { return secondsPerBasis_; }
   double refineSeconds() const { return refineSeconds_; }
+  // Counts the times any solution was solved again (the bases, or the sun's for a new direction):
+  // a result made from the solutions is current while this is what it was then.
+  unsigned revision() const { return revision_; }
 
  private:
   SkyRegions regions_;
@@ -115,6 +118,7 @@ class DaylightBasis {
   bool haveSun_ = false;
   double groundReflectance_ = 0.2;
   double secondsPerBasis_ = 0, refineSeconds_ = 0;
+  unsigned revision_ = 0;
   void solveBases(Progress& progress);
   void extendToNodes();
   std::vector<bool> lamp_;  // per scene polygon: a lamp (dark here, each lamp its own term)

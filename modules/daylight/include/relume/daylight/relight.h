@@ -152,6 +152,7 @@ class DaylightRelighting {
   InteractiveOptions interactive_;
   std::unique_ptr<IrradianceVolume> volume_;
   SkyRadiance roomSky_;  // the sky eRoom_ was made for
+  unsigned roomRevision_ = 0;  // and the basis's revision then (a NearField render re-solves it)
   ImageRGB eRoom_;
   ImageRGB roomOut_;  // the photo relit under roomSky_, no objects
   // Pixel i of the photo relit to irradiance e (the photo times e over the photo's irradiance).
