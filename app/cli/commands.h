@@ -3,6 +3,8 @@
 #include <QJsonObject>
 #include <QStringList>
 #include <chrono>
+#include <map>
+#include <string>
 #include <vector>
 
 #include "relume/geometry/camera.h"
@@ -55,8 +57,10 @@ Scene openRoom(const QString& path);
 // and the distant method, report.json with the all and change masks.
 int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progress);
 // relume relight ROOM --sky NAME|FISHEYE.exr: the main photo (or `camera`'s) under that sky, with
-// virtual objects, by the near-field or the distant method.
+// virtual objects and the room's lamps named in `lampScale` switched on (S x their radiance), by
+// the near-field, volume or distant method.
 int daylightRelight(const Scene& room, const std::string& sky, const std::vector<std::string>& objectFiles,
+                    const std::map<std::string, glm::dvec3>& lampScale,
                     const std::string& method, const std::string& camera, const std::string& out, Progress& progress);
 // The relighting figures of `relume bench` (medians of `runs`).
 QJsonObject relightBench(const Scene& scene, int runs, Progress& progress);

@@ -422,9 +422,34 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
 }
 
 int daylightRelight(const Scene& room, const std::string& skyName, const std::vector<std::string>& objectFiles,
-                    const std::string& method, const std::string& camera, const std::string& out, Progress& progress) {
+                    const std::map<std::string, glm::dvec3>& lampScale, const std::string& method, const std::string& camera,
+                    const std::string& out, Progress& progress) {
   if (method != "near-field" && method != "distant" && method != "volume")
     throw Error("", "--daylight", "must be near-field, volume or distant, not '" + method + "'");
+  // Lamps switched on beside the daylight: S x the radiance the room gives the lamp (the photos
+  // show them off, so they cannot tell it), every other lamp off.
+  std::vector<glm::dvec3> lampExitance(room.lamps.size(), glm::dvec3(0.0));
+  for (const auto& [name, scale] : lampScale) {
+    const int l = room.findLamp(name);
+    if (l < 0) {
+      std::string names;
+      for (const auto& lamp : room.lamps) names += (names.empty() ? "" : ", ") + lamp.name;
+      throw Error(room.sourceFile, "lamp '" + name + "'", "the room has no such lamp" + (names.empty() ? std::string() : " (lamps: " + names + ")"));
+    }
+    for (double c : {scale.x, scale.y, scale.z})
+      if (!(c >= 0) || !std::isfinite(c)) throw Error("", "--lamp " + name, "a scale must be a finite number >= 0");
+    const glm::dvec3 radiance = room.lamps[size_t(l)].radiance;
+    if (scale != glm::dvec3(0.0) && !(std::max({radiance.x, radiance.y, radiance.z}) > 0))
+      throw Error(room.sourceFile, "lamp '" + name + "'",
+                  "the room gives no radiance for it, and a daylight photo (lamps off) cannot tell it: give its radiance_rgb");
+    lampExitance[size_t(l)] = std::numbers::pi * radiance * scale;
+  }
+  bool anyLamp = false;
+  for (const auto& e : lampExitance) anyLamp = anyLamp || e != glm::dvec3(0.0);
+  if (anyLamp && method == "distant")
+    throw Error("", "--lamp", "the distant method is the sky at infinity alone: no lamp with --daylight distant");
+  if (anyLamp && method == "volume" && !objectFiles.empty())
+    throw Error("", "--lamp", "the volume method lights virtual objects by daylight only: with a lamp on, use near-field");
   const Photo* main = room.findPhoto(camera.empty() ? room.mainPhoto : camera);
   if (!main) throw Error(room.sourceFile, "--camera", "the room has no photo named '" + camera + "'");
   if (main->hdr.empty()) throw Error(room.sourceFile, "photo " + main->name, "daylight relighting needs its linear (EXR) image");
@@ -473,6 +498,7 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   const ImageRGB photo = readImageLinear(hdr);
   Progress pre(progress, 0.0, 0.7);
   dl::DaylightRelighting relit(room, photo, main->camera, averaged(dl::readRoomSky(room, room.photoSky), cells), {}, pre);
+  for (size_t l = 0; l < lampExitance.size(); ++l) relit.setLampExitance(int(l), lampExitance[l]);
   if (!skyInfo.isDir()) {
     Progress draw(progress, 0.7, 1.0);
     writeImage(out, relit.render(frames.front().sky, objects, how, draw));

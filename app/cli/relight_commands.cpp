@@ -267,7 +267,9 @@ int relightCommand(const QStringList& args, Progress& progress) {
   QCommandLineParser p;
   p.setApplicationDescription("Relight a preprocessed project and write the image seen from its photo.");
   p.addPositionalArgument("PROJECT", "A project written by relume preprocess.");
-  p.addOption({"lamp", "NAME=S or NAME=R,G,B: scale of a real lamp's emittance (0 off, 2 doubled).", "NAME=S"});
+  p.addOption({"lamp", "NAME=S or NAME=R,G,B: scale of a real lamp's emittance (0 off, 2 doubled). With --sky: the lamp "
+                       "switched on beside the daylight at S x its radiance as the room gives it (the photos are taken "
+                       "with the lamps off).", "NAME=S"});
   p.addOption({"virtual-lamp", "JSON file with virtual_lights (as in a scene.json variant).", "FILE"});
   p.addOption({"virtual-object",
                "JSON file with virtual_objects (box_min/box_max or obj, albedo; or an image-based object: fan, "
@@ -285,30 +287,13 @@ int relightCommand(const QStringList& args, Progress& progress) {
                            "comparison).", "METHOD"});
   p.addOption({{"o", "output"}, "Output image (.exr linear radiance, .png at the photo's exposure).", "IMG"});
   parseOrThrow(p, args, 1, "relume relight PROJECT --lamp A=0 [--virtual-lamp F] [--virtual-object F] -o IMG\n"
-                           "       relume relight ROOM --sky NAME|FISHEYE.exr [--virtual-object F] [--daylight near-field|volume|distant] -o IMG\n"
+                           "       relume relight ROOM --sky NAME|FISHEYE.exr [--lamp A=1] [--virtual-object F] [--daylight near-field|volume|distant] -o IMG\n"
                            "       relume relight ROOM --sky FOLDER [--virtual-object F] [--daylight ...] -o FRAMES_DIR");
   if (!p.isSet("output")) throw Error("", "command line", "-o IMG is required");
   const QString out = p.value("output");
   const QString ext = QFileInfo(out).suffix().toLower();
   const bool skyFolder = p.isSet("sky") && QFileInfo(p.value("sky")).isDir();  // frames into a folder
   if (!skyFolder && ext != "exr" && ext != "png") throw Error(str(out), "", "the output must end in .exr or .png");
-  if (p.isSet("sky")) {
-    if (p.isSet("lamp") || p.isSet("virtual-lamp") || p.isSet("method"))
-      throw Error("", "--sky", "daylight relighting takes no --lamp, --virtual-lamp or --method yet");
-    std::vector<std::string> files;
-    for (const QString& f : p.values("virtual-object")) files.push_back(str(f));
-    return daylightRelight(openRoom(p.positionalArguments()[0]), str(p.value("sky")), files,
-                           p.isSet("daylight") ? str(p.value("daylight")) : "near-field", str(p.value("camera")), str(out),
-                           progress);
-  }
-  if (p.isSet("daylight")) throw Error("", "--daylight", "needs --sky");
-  RelightMethod method = RelightMethod::Full;
-  if (p.isSet("method")) {
-    if (p.value("method") == "ratio-only") method = RelightMethod::RatioOnly;
-    else if (p.value("method") != "full") throw Error("", "--method", "must be full or ratio-only");
-  }
-  const Scene scene = readProject(str(p.positionalArguments()[0]));
-  const RelightData data = readRelightData(scene);
   std::map<std::string, glm::dvec3> scales;
   for (const QString& s : p.values("lamp")) {
     const int eq = s.indexOf('=');
@@ -320,6 +305,23 @@ int relightCommand(const QStringList& args, Progress& progress) {
     if (!ok) throw Error("", "--lamp " + str(s), "expected NAME=S or NAME=R,G,B with numbers");
     scales[str(s.left(eq))] = v;
   }
+  if (p.isSet("sky")) {
+    if (p.isSet("virtual-lamp") || p.isSet("method"))
+      throw Error("", "--sky", "daylight relighting takes no --virtual-lamp or --method yet");
+    std::vector<std::string> files;
+    for (const QString& f : p.values("virtual-object")) files.push_back(str(f));
+    return daylightRelight(openRoom(p.positionalArguments()[0]), str(p.value("sky")), files, scales,
+                           p.isSet("daylight") ? str(p.value("daylight")) : "near-field", str(p.value("camera")), str(out),
+                           progress);
+  }
+  if (p.isSet("daylight")) throw Error("", "--daylight", "needs --sky");
+  RelightMethod method = RelightMethod::Full;
+  if (p.isSet("method")) {
+    if (p.value("method") == "ratio-only") method = RelightMethod::RatioOnly;
+    else if (p.value("method") != "full") throw Error("", "--method", "must be full or ratio-only");
+  }
+  const Scene scene = readProject(str(p.positionalArguments()[0]));
+  const RelightData data = readRelightData(scene);
   const auto lampScale = lampScales(scene, scales, "--lamp");
   std::vector<VirtualLamp> vlamps;
   std::vector<VirtualObject> objects;

@@ -42,4 +42,35 @@ mkdir "$tmp/empty"
 "$relume" relight "$room" --sky "$tmp/empty" -o "$tmp/emptyframes" 2>"$tmp/empty.err"
 check "a folder with no sky image is an error saying so" "[ $? -eq 1 ] && grep -q 'no HDR sky image' '$tmp/empty.err'"
 
+# A lamp beside the daylight: a copy of the room with a 20 cm panel 3 cm below the ceiling, facing
+# down, switched on under the photos' own sky (near-field): every pixel of the room can only gain
+# light over the photo (taken with the lamp off), and the room as a whole gains some.
+cp -r "$room" "$tmp/lamproom"
+python3 - "$tmp/lamproom/scene.json" <<'PY'
+import json, sys
+f = sys.argv[1]
+s = json.load(open(f))
+z = s["room"][2] - 0.03
+x, y, a = 1.2, 1.6, 0.1
+s["polygons"].append({"name": "lamp_L", "group": "lamp_L", "kind": "light", "material": "lamp", "albedo": [0, 0, 0],
+                      "vertices": [[x - a, y - a, z], [x - a, y + a, z], [x + a, y + a, z], [x + a, y - a, z]]})
+s["lights"].append({"name": "L", "polygon": s["polygons"][-1]["vertices"], "radiance_rgb": [60.0, 55.0, 45.0]})
+json.dump(s, open(f, "w"))
+PY
+"$relume" relight "$tmp/lamproom" --sky sun0 --lamp L=1 -o "$tmp/lamp_on.exr" 2>"$tmp/lamp.err"
+check "a lamp switched on beside the daylight renders (exit 0)" "[ $? -eq 0 ] && [ -s '$tmp/lamp_on.exr' ]"
+oiiotool "$tmp/lamp_on.exr" "$room/photos/main.exr" --sub --printstats >"$tmp/lamp.stats" 2>&1
+check "with the lamp on no pixel is darker than the photo, and the room gains light" \
+  "python3 -c \"import re; t=open('$tmp/lamp.stats').read(); \
+mn=[float(v) for v in re.search(r'Stats Min: ([-0-9.e]+) ([-0-9.e]+) ([-0-9.e]+)', t).groups()]; \
+av=[float(v) for v in re.search(r'Stats Avg: ([-0-9.e]+) ([-0-9.e]+) ([-0-9.e]+)', t).groups()]; \
+assert min(mn) > -1e-4, mn; assert min(av) > 1e-3, av\""
+"$relume" relight "$tmp/lamproom" --sky sun0 --lamp L=1 --daylight distant -o "$tmp/x.png" 2>"$tmp/lampd.err"
+check "a lamp with the distant method (the sky alone) is refused" "[ $? -eq 1 ] && grep -q 'sky at infinity alone' '$tmp/lampd.err'"
+"$relume" relight "$tmp/lamproom" --sky sun0 --lamp L=1 --daylight volume --virtual-object "$tmp/box.json" -o "$tmp/x.png" 2>"$tmp/lampv.err"
+check "a lamp with virtual objects on the volume path is refused" "[ $? -eq 1 ] && grep -q 'daylight only' '$tmp/lampv.err'"
+"$relume" relight "$room" --sky sun0 --lamp Q=1 -o "$tmp/x.png" 2>"$tmp/lampq.err"
+check "a lamp the room does not have is an error naming it" "[ $? -eq 1 ] && grep -q \"lamp 'Q'\" '$tmp/lampq.err'"
+check "and no image is written by any of them" "[ ! -e '$tmp/x.png' ]"
+
 exit $fail

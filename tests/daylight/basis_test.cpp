@@ -200,3 +200,55 @@ TEST(DaylightBasis, ConeTestNeverRulesOutADirectionInsideTheCell) {
     ASSERT_TRUE(coneMeetsCell(axis, half, regions.cell(k))) << "axis " << axis.x << " " << axis.y << " " << axis.z;
   }
 }
+
+TEST(DaylightBasis, ALampsTermIsTheEngineSolvingThatLampAloneAndAddsToTheSky) {
+  // A lamp in the daylight room (Loscos's per-lamp term beside the sky's): its solution, made on
+  // the hierarchy refined for the sky and then for the lamp, against the engine solving the same
+  // room lit by that lamp alone from scratch (the window an opening, nothing through it) — per
+  // surface and right under the lamp; and the sky's combination with the lamp on is the sky's
+  // plus the lamp's.
+  Scene room = windowRoom(0.3, 0.6, 0.8);
+  const double a = 0.15, cx = 1.4, cy = 2.3, z = H - 0.05;
+  room.polygons.push_back(poly("lamp", {{cx - a, cy - a, z}, {cx - a, cy + a, z}, {cx + a, cy + a, z}, {cx + a, cy - a, z}}, 0.0,
+                               PolygonKind::Light));
+  Lamp lamp;
+  lamp.name = "A";
+  lamp.polygon = int(room.polygons.size()) - 1;
+  lamp.radiance = glm::dvec3(40.0, 36.0, 30.0);
+  room.lamps.push_back(lamp);
+  const glm::dvec3 m = kPi * lamp.radiance;
+  const SkyRadiance sky = uniformSky(16, 2.0);
+  DaylightBasis basis(room, sky, coarse(16));
+  ASSERT_EQ(basis.lampCount(), 1);
+  const std::vector<glm::vec3> skyOnly = basis.combine(sky);
+  basis.setLampExitance(0, m);
+  const std::vector<glm::vec3> both = basis.combine(sky);
+  const std::vector<glm::vec3>& unit = basis.lampSolution(0);
+  ASSERT_EQ(both.size(), unit.size());
+  double worstSum = 0;
+  for (size_t n = 0; n < skyOnly.size(); ++n)  // the nodes made for the lamp hold their parents' sky values
+    for (int c = 0; c < 3; ++c)
+      worstSum = std::max(worstSum, std::abs(double(both[n][c]) - double(skyOnly[n][c]) - m[c] * double(unit[n][c])) /
+                                        std::max(1e-3, double(both[n][c])));
+  EXPECT_LT(worstSum, 1e-4);
+
+  std::vector<radiosity::Surface> surfaces = radiosity::surfacesFromScene(room);
+  for (size_t i = 0; i < room.polygons.size(); ++i)
+    if (room.polygons[i].kind == PolygonKind::Window) surfaces[i].opening = true;
+  radiosity::HierarchicalRadiosity alone(surfaces, *coarse(16).engine);
+  alone.solve();
+  for (int s : {0, 1, 2, 4, 5}) {  // floor, ceiling, back wall, left wall, the wall below the window
+    const double mine = basis.surfaceMean(unit, s).y * m.y, theirs = alone.surfaceRadiosity(s).y;
+    std::printf("%-18s lamp's term %.4f, the lamp alone %.4f (%+.2f %%)\n", room.polygons[size_t(s)].name.c_str(), mine, theirs,
+                100 * (mine / theirs - 1));
+    EXPECT_NEAR(mine, theirs, 0.03 * theirs) << room.polygons[size_t(s)].name;
+  }
+  const glm::dvec2 under = basis.engine().toUV(0, {cx, cy, 0.0});
+  const double mine = unit[size_t(basis.engine().findLeaf(0, under))].y * m.y;
+  const double theirs = alone.radiosity(alone.findLeaf(0, alone.toUV(0, {cx, cy, 0.0}))).y;
+  std::printf("floor under the lamp: lamp's term %.4f, the lamp alone %.4f (%+.2f %%)\n", mine, theirs, 100 * (mine / theirs - 1));
+  EXPECT_NEAR(mine, theirs, 0.05 * theirs);
+
+  EXPECT_THROW(basis.setLampExitance(1, m), Error);
+  EXPECT_THROW(basis.setLampExitance(0, glm::dvec3(-1.0)), Error);
+}

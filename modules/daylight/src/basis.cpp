@@ -177,6 +177,13 @@ DaylightBasis::DaylightBasis(const Scene& scene, const SkyRadiance& refineFor, c
       refineLight->beams.push_back({glm::normalize(refineFor.sun.direction), luminance(refineFor.sun.irradiance)});
   }
   for (size_t i = 0; i < scene.polygons.size(); ++i) lamp_.push_back(scene.polygons[i].kind == PolygonKind::Light || scene.lampOfPolygon(int(i)) >= 0);
+  for (const auto& l : scene.lamps) {
+    if (l.polygon < 0 || size_t(l.polygon) >= scene.polygons.size())
+      throw Error(scene.sourceFile, "lamp " + l.name, "names no polygon of the room");
+    lampSurface_.push_back(l.polygon);
+  }
+  lampExitance_.assign(lampSurface_.size(), glm::dvec3(0.0));
+  lampSolution_.resize(lampSurface_.size());
   for (int w : windows_) {
     surfaces[size_t(w)].opening = true;
     surfaces[size_t(w)].exitance = glm::dvec3(kPi);
@@ -214,6 +221,7 @@ void DaylightBasis::solveBases(Progress& progress) {
   bases_ = std::move(bases);
   ++revision_;
   haveSun_ = false;  // solved again on demand, on the links as they are now
+  for (auto& l : lampSolution_) l.clear();  // so are the lamps'
   secondsPerBasis_ = seconds(t0) / n;
 }
 
@@ -228,6 +236,71 @@ void DaylightBasis::extendToNodes() {
   for (auto& b : bases_) extend(b);
   extend(sun_);
   extend(sunDirect_);
+  for (auto& l : lampSolution_) extend(l);
+}
+
+bool DaylightBasis::anyLampOn() const {
+  for (const auto& e : lampExitance_)
+    if (e != glm::dvec3(0.0)) return true;
+  return false;
+}
+
+int DaylightBasis::lampOfSurface(int surface) const {
+  for (size_t l = 0; l < lampSurface_.size(); ++l)
+    if (lampSurface_[l] == surface) return int(l);
+  return -1;
+}
+
+void DaylightBasis::setLampExitance(int lamp, const glm::dvec3& exitance) {
+  if (lamp < 0 || size_t(lamp) >= lampExitance_.size()) throw Error("", "lamp", "no lamp " + std::to_string(lamp + 1) + " in the room");
+  for (int c = 0; c < 3; ++c)
+    if (!(exitance[c] >= 0) || !std::isfinite(exitance[c]))
+      throw Error("", "lamp", "exitance must be finite and >= 0");
+  if (exitance == lampExitance_[size_t(lamp)]) return;
+  lampExitance_[size_t(lamp)] = exitance;
+  ++revision_;  // what is made from the combination is made again
+}
+
+const std::vector<glm::vec3>& DaylightBasis::lampSolution(int lamp, Progress& progress) {
+  if (lamp < 0 || size_t(lamp) >= lampSolution_.size()) throw Error("", "lamp", "no lamp " + std::to_string(lamp + 1) + " in the room");
+  auto& out = lampSolution_[size_t(lamp)];
+  if (!out.empty()) return out;
+  const int s = lampSurface_[size_t(lamp)];
+  const double lampArea = polygonArea(engine_->surfaces()[size_t(s)].vertices);
+  if (!(lampArea > 0)) throw Error("", "lamp", "lamp " + std::to_string(lamp + 1) + "'s polygon has no area");
+  // The links refined for this lamp: the refinement threshold is relative to the emitted power
+  // (the windows count at their full exitance there, whatever shines through them), so the lamp
+  // is refined at a power a thousand times the windows', with a faint sky through the windows so
+  // that no link another solution needs is dropped.
+  double windowArea = 0;
+  for (int w : windows_) windowArea += polygonArea(engine_->surfaces()[size_t(w)].vertices);
+  const double faces = engine_->surfaces()[size_t(s)].twoSided ? 2.0 : 1.0;
+  auto faint = std::make_shared<radiosity::DistantLight>();
+  faint->pieceDeg = options_.pieceDeg;
+  faint->radiance = [](const glm::dvec3&) { return 1e-3; };
+  auto dark = std::make_shared<radiosity::DistantLight>();
+  dark->radiance = [](const glm::dvec3&) { return 0.0; };
+  dark->mayShine = [](const glm::dvec3&, double) { return false; };
+  try {
+    {
+      for (int w : windows_) engine_->setDistantLight(w, faint);
+      engine_->setExitance(s, glm::dvec3(1e3 * kPi * windowArea / (faces * lampArea)));
+      Progress stage(progress, 0.0, 0.8);
+      stage.report(0, "refining the links for lamp " + std::to_string(lamp + 1));
+      engine_->solve(stage);
+      extendToNodes();
+    }
+    engine_->setExitance(s, glm::dvec3(1.0));
+    Progress stage(progress, 0.8, 1.0);
+    std::vector<glm::vec3> b = solveFor(dark, stage);
+    engine_->setExitance(s, glm::dvec3(0.0));
+    out = std::move(b);
+  } catch (...) {
+    engine_->setExitance(s, glm::dvec3(0.0));  // dark again in every other solution
+    throw;
+  }
+  ++revision_;
+  return out;
 }
 
 std::vector<int> DaylightBasis::addObjects(const std::vector<Polygon>& polygons, Progress& progress) {
@@ -337,6 +410,8 @@ std::vector<glm::vec3> DaylightBasis::combine(const SkyRadiance& sky, Progress& 
   // The sun first: its links may refine the hierarchy, and every basis then covers the new elements.
   const bool sun = sky.sun.found && sky.sun.direction.z > 0;
   if (sun) sunSolution(sky.sun.direction, progress);
+  for (size_t l = 0; l < lampExitance_.size(); ++l)
+    if (lampExitance_[l] != glm::dvec3(0.0)) lampSolution(int(l), progress);
   extendToNodes();
   // The weights and their solutions, then one pass over the nodes in parallel chunks.
   std::vector<const glm::vec3*> src;
@@ -349,6 +424,8 @@ std::vector<glm::vec3> DaylightBasis::combine(const SkyRadiance& sky, Progress& 
   for (int k = 0; k < regions_.size(); ++k) term(bases_[size_t(k)], sky.region[size_t(k)]);
   term(bases_.back(), groundRadiance(sky));
   if (sun) term(sun_, sky.sun.irradiance);
+  for (size_t l = 0; l < lampExitance_.size(); ++l)
+    if (lampExitance_[l] != glm::dvec3(0.0)) term(lampSolution_[l], lampExitance_[l]);
   std::vector<glm::vec3> b(engine_->nodes().size(), glm::vec3(0.f));
   tbb::parallel_for(tbb::blocked_range<size_t>(0, b.size(), 2048), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t t = 0; t < src.size(); ++t) {

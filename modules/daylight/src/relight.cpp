@@ -277,6 +277,7 @@ SeenPixels seePixels(const DaylightBasis& basis, const Camera& cam) {
   px.uv.assign(n, glm::dvec2(0.0));
   px.point.assign(n, glm::dvec3(0.0));
   px.normal.assign(n, glm::dvec3(0.0));
+  px.lamp.assign(n, -1);
   const glm::dvec3 eye = cam.center();
   tbb::parallel_for(tbb::blocked_range<int>(0, cam.height, 8), [&](const tbb::blocked_range<int>& rows) {
     std::vector<Ray> rays(size_t(cam.width));
@@ -287,9 +288,15 @@ SeenPixels seePixels(const DaylightBasis& basis, const Camera& cam) {
       h.rayScene().intersect(rays, hits);
       for (int x = 0; x < cam.width; ++x) {
         const RayHit& hit = hits[size_t(x)];
-        if (hit.polygon < 0 || basis.isLamp(hit.polygon) || h.surfaces()[size_t(hit.polygon)].opening) continue;
+        if (hit.polygon < 0 || h.surfaces()[size_t(hit.polygon)].opening) continue;
         const size_t i = size_t(y) * size_t(cam.width) + size_t(x);
         const glm::dvec3 p = eye + double(hit.t) * glm::dvec3(rays[size_t(x)].direction);
+        if (basis.isLamp(hit.polygon)) {
+          const auto& s = h.surfaces()[size_t(hit.polygon)];
+          if (s.twoSided || s.photometry || glm::dot(polygonNormal(s.vertices), eye - p) > 0)
+            px.lamp[i] = basis.lampOfSurface(hit.polygon);
+          continue;
+        }
         glm::dvec3 nrm = polygonNormal(h.surfaces()[size_t(hit.polygon)].vertices);
         if (glm::dot(nrm, eye - p) < 0) continue;  // a back face: nothing a photo shows
         px.surface[i] = hit.polygon;
@@ -657,8 +664,20 @@ struct DaylightRelighting::InteractiveCache {
 
 DaylightRelighting::~DaylightRelighting() = default;
 
+namespace {
+// The lamps switched on show their own radiance (exitance / pi; the photo shows them off) where
+// the camera sees their emitting faces.
+void paintLamps(ImageRGB& out, const SeenPixels& px, const DaylightBasis& basis) {
+  if (!basis.anyLampOn() || px.lamp.size() != size_t(out.width) * size_t(out.height)) return;
+  for (size_t i = 0; i < px.lamp.size(); ++i)
+    if (px.lamp[i] >= 0) put(out, i, get(out, i) + glm::vec3(basis.lampExitance(px.lamp[i]) / std::numbers::pi));
+}
+}  // namespace
+
 ImageRGB DaylightRelighting::render(const SkyRadiance& sky, const std::vector<Polygon>& objects, DaylightMethod method,
                                     Progress& progress) {
+  if (method == DaylightMethod::Distant && basis_->anyLampOn())
+    throw Error("", "daylight", "the distant method is the sky at infinity alone: switch the lamps off for it");
   if (method == DaylightMethod::Volume) return renderVolume(sky, objects, progress);
   std::vector<glm::dvec3> albedos;
   std::vector<std::vector<glm::dvec3>> occluders;
@@ -680,6 +699,7 @@ ImageRGB DaylightRelighting::render(const SkyRadiance& sky, const std::vector<Po
       Progress stage(progress, 0.6, 0.9);
       eLast_ = irradianceImage(*basis_, seen, sky, stage);
       out = differentialRender(photo_, ePhoto_, eLast_, seen, firstVirtual, albedos);
+      paintLamps(out, seen, *basis_);
     } else if (objects.empty()) {
       out = photo_;  // the sky at infinity changes nothing the photo shows of the room
     } else {
@@ -724,6 +744,9 @@ glm::vec3 DaylightRelighting::relitPixel(size_t i, const glm::vec3& e) const {
 }
 
 ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vector<Polygon>& objects, Progress& progress) {
+  if (!objects.empty() && basis_->anyLampOn())
+    throw Error("", "virtual object", "the interactive path lights virtual objects by daylight only: with a lamp on, use the "
+                                      "near-field method");
   for (size_t o = 0; o < objects.size(); ++o)
     if (objects[o].vertices.size() < 3 || !(polygonArea(objects[o].vertices) > 1e-12))
       throw Error("", "virtual object", "face " + std::to_string(o + 1) + " (" + objects[o].name + ") has no area");
@@ -744,6 +767,7 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     roomOut_ = photo_;
     for (size_t i = 0; i < seen_.surface.size(); ++i)
       if (seen_.surface[i] >= 0) put(roomOut_, i, relitPixel(i, get(eRoom_, i)));
+    paintLamps(roomOut_, seen_, *basis_);
   }
   const bool sun = sky.sun.found && sky.sun.direction.z > 0;
   const glm::dvec3 groundL = basis_->groundRadiance(sky);

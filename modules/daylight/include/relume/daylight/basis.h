@@ -69,7 +69,18 @@ class DaylightBasis {
   // The radiosity per unit irradiance (normal to the beam) of a sun in `direction` (towards the
   // sun); the last direction's solution is kept.
   const std::vector<glm::vec3>& sunSolution(const glm::dvec3& direction, Progress& progress = silentProgress());
-  // Eq. 3: B = sum_k L_k B_k + L_ground B_ground + E_sun B_sun.
+  // The room's lamps beside the sky (Loscos §4.4's per-lamp terms in the same sum): per scene lamp
+  // the radiosity per unit exitance of that lamp alone (windows dark), solved on first use on the
+  // shared hierarchy with its links refined for the lamp (the other solutions hold their values on
+  // the new elements, as for the sun), and the exitance it shines with now (W/m^2 in the photos'
+  // units, pi x radiance; zero, the default, is off: the photos are taken with the lamps off).
+  int lampCount() const { return int(lampSurface_.size()); }
+  const std::vector<glm::vec3>& lampSolution(int lamp, Progress& progress = silentProgress());
+  void setLampExitance(int lamp, const glm::dvec3& exitance);
+  const glm::dvec3& lampExitance(int lamp) const { return lampExitance_.at(size_t(lamp)); }
+  bool anyLampOn() const;
+  int lampOfSurface(int surface) const;  // the scene lamp on this polygon (-1: none)
+  // Eq. 3 with the lamps: B = sum_k L_k B_k + L_ground B_ground + E_sun B_sun + sum_l M_l B_lamp_l.
   std::vector<glm::vec3> combine(const SkyRadiance& sky, Progress& progress = silentProgress());
   // Per node: the irradiance under `sky` (B / rho of the combination; 0 where nothing reflects;
   // without the direct sun it is exact on leaves only, which is what the display interpolates),
@@ -122,6 +133,9 @@ class DaylightBasis {
   void solveBases(Progress& progress);
   void extendToNodes();
   std::vector<bool> lamp_;  // per scene polygon: a lamp (dark here, each lamp its own term)
+  std::vector<int> lampSurface_;                      // per scene lamp: its polygon (engine surface)
+  std::vector<glm::dvec3> lampExitance_;              // per scene lamp: as it shines now
+  std::vector<std::vector<glm::vec3>> lampSolution_;  // per scene lamp: empty until solved
   std::shared_ptr<const radiosity::DistantLight> refineLight_;
   mutable std::vector<double> horizontal_;  // per region: projected solid angle on a horizontal plane
 };

@@ -34,6 +34,7 @@ struct SeenPixels {
   std::vector<int> surface, leaf;
   std::vector<glm::dvec2> uv;
   std::vector<glm::dvec3> point, normal;
+  std::vector<int> lamp;  // the scene lamp whose emitting face the pixel shows (-1: none)
 };
 SeenPixels seePixels(const DaylightBasis& basis, const Camera& camera);
 
@@ -141,6 +142,13 @@ class DaylightRelighting {
   // The irradiance volume of the room (built on first use of DaylightMethod::Volume, or here).
   IrradianceVolume& volume(Progress& progress = silentProgress());
   void setInteractive(const InteractiveOptions& options);
+  // The room's lamps beside the daylight: the exitance lamp `lamp` (scene order) shines with, W/m^2
+  // in the photo's units (pi x radiance; zero: off, as in the photos, the default). Each lamp is
+  // one more term of the combination (DaylightBasis::lampSolution); its own pixels show its
+  // radiance. NearField renders lamps and objects together; Volume renders the lamps on the room
+  // but refuses virtual objects with a lamp on (its objects are lit by daylight only); Distant,
+  // the sky at infinity, refuses any lamp on.
+  void setLampExitance(int lamp, const glm::dvec3& exitance) { basis_->setLampExitance(lamp, exitance); }
   const InteractiveOptions& interactive() const { return interactive_; }
   // Pixels the last Volume render worked on for the objects (drawn, or asked for their shadow: in
   // a tile that may be shadowed, where the pixel's own window or sun test says it may), for the bench.
