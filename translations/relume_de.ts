@@ -1897,6 +1897,26 @@ Kein Schachbrett gefunden in: %1</translation>
         <source>Variant %1 left out: %2</source>
         <translation>Variante %1 ausgelassen: %2</translation>
     </message>
+    <message>
+        <source>Lamps on beside the daylight</source>
+        <translation>Lampen zusätzlich zum Tageslicht eingeschaltet</translation>
+    </message>
+    <message>
+        <source>Check a lamp to switch it on at the radiance the room gives it (the photos are taken with the lamps off)</source>
+        <translation>Eine Lampe ankreuzen, um sie mit der Leuchtdichte einzuschalten, die der Raum für sie angibt (die Fotos sind bei ausgeschalteten Lampen aufgenommen)</translation>
+    </message>
+    <message>
+        <source>Lamp %1</source>
+        <translation>Lampe %1</translation>
+    </message>
+    <message>
+        <source>The room gives no radiance for this lamp, and a daylight photo (lamps off) cannot tell it</source>
+        <translation>Der Raum gibt für diese Lampe keine Leuchtdichte an, und ein Tageslichtfoto (Lampen aus) kann sie nicht zeigen</translation>
+    </message>
+    <message>
+        <source>Lamps (left out: the distant method is the sky alone)</source>
+        <translation>Lampen (weggelassen: die ferne Methode ist nur der Himmel)</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

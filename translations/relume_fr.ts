@@ -1897,6 +1897,26 @@ Aucun damier trouvé dans : %1</translation>
         <source>Variant %1 left out: %2</source>
         <translation>Variante %1 écartée : %2</translation>
     </message>
+    <message>
+        <source>Lamps on beside the daylight</source>
+        <translation>Lampes allumées en plus de la lumière du jour</translation>
+    </message>
+    <message>
+        <source>Check a lamp to switch it on at the radiance the room gives it (the photos are taken with the lamps off)</source>
+        <translation>Cochez une lampe pour l’allumer à la luminance que la pièce lui donne (les photos sont prises lampes éteintes)</translation>
+    </message>
+    <message>
+        <source>Lamp %1</source>
+        <translation>Lampe %1</translation>
+    </message>
+    <message>
+        <source>The room gives no radiance for this lamp, and a daylight photo (lamps off) cannot tell it</source>
+        <translation>La pièce ne donne pas de luminance pour cette lampe, et une photo en lumière du jour (lampes éteintes) ne peut pas l’indiquer</translation>
+    </message>
+    <message>
+        <source>Lamps (left out: the distant method is the sky alone)</source>
+        <translation>Lampes (écartées : la méthode distante est le ciel seul)</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

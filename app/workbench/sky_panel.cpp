@@ -8,11 +8,14 @@
 #include <QFileInfo>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QListWidget>
 #include <QPushButton>
 #include <QTimer>
 #include <QVBoxLayout>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 
 #include "click_photo_view.h"
 #include "job_runner.h"
@@ -126,6 +129,13 @@ SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jo
   objectsFile_->setToolTip(tr("A JSON file with virtual_objects (boxes or OBJ meshes with their albedo)"));
   objectsRow->addWidget(objectsFile_);
   layout->addLayout(objectsRow);
+  lampsLabel_ = new QLabel(tr("Lamps on beside the daylight"), this);
+  layout->addWidget(lampsLabel_);
+  lamps_ = new QListWidget(this);
+  lamps_->setToolTip(tr("Check a lamp to switch it on at the radiance the room gives it (the photos are taken with the "
+                        "lamps off)"));
+  lamps_->setMaximumHeight(4 * lamps_->fontMetrics().height() + 12);
+  layout->addWidget(lamps_);
   auto* playRow = new QHBoxLayout;
   play_ = new QPushButton(tr("Play"), this);
   play_->setCheckable(true);
@@ -149,6 +159,8 @@ SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jo
   connect(sky_, qOverload<int>(&QComboBox::currentIndexChanged), this, rerender);
   connect(method_, qOverload<int>(&QComboBox::currentIndexChanged), this, rerender);
   connect(objects_, qOverload<int>(&QComboBox::currentIndexChanged), this, rerender);
+  connect(lamps_, &QListWidget::itemChanged, this, [this] { requestRender(); });
+  connect(method_, qOverload<int>(&QComboBox::currentIndexChanged), this, [this] { rebuild(); });
   connect(showPhoto_, &QCheckBox::toggled, this, &SkyPanel::show);
   connect(play_, &QPushButton::toggled, this, &SkyPanel::setPlaying);
   connect(skyFile_, &QPushButton::clicked, this, [this] {
@@ -198,9 +210,10 @@ void SkyPanel::close() {
   ++generation_;  // a render still running for the room before is not shown
   framesShown_ = 0;
   {
-    const QSignalBlocker b1(sky_), b2(objects_), b3(method_), b4(play_), b5(showPhoto_);
+    const QSignalBlocker b1(sky_), b2(objects_), b3(method_), b4(play_), b5(showPhoto_), b6(lamps_);
     sky_->clear();
     objects_->clear();
+    lamps_->clear();
     method_->setCurrentIndex(0);
     play_->setChecked(false);
     showPhoto_->setChecked(false);
@@ -350,6 +363,25 @@ void SkyPanel::rebuild() {
   const bool open = isOpen();
   for (QWidget* w : std::initializer_list<QWidget*>{sky_, method_, objects_, skyFile_, skyFolder_, objectsFile_, play_, showPhoto_})
     w->setEnabled(open);
+  // The room's lamps (kept checked as they were while the room stays open).
+  const size_t lampCount = open ? s_->scene->lamps.size() : 0;
+  if (size_t(lamps_->count()) != lampCount) {
+    const QSignalBlocker block(lamps_);
+    lamps_->clear();
+    for (size_t l = 0; l < lampCount; ++l) {
+      const Lamp& lamp = s_->scene->lamps[l];
+      auto* item = new QListWidgetItem(tr("Lamp %1").arg(QString::fromStdString(lamp.name)), lamps_);
+      const bool known = std::max({lamp.radiance.x, lamp.radiance.y, lamp.radiance.z}) > 0;
+      item->setFlags(known ? Qt::ItemIsEnabled | Qt::ItemIsUserCheckable : Qt::ItemIsUserCheckable);
+      item->setCheckState(Qt::Unchecked);
+      if (!known) item->setToolTip(tr("The room gives no radiance for this lamp, and a daylight photo (lamps off) cannot tell it"));
+    }
+  }
+  lampsLabel_->setVisible(lampCount > 0);
+  lamps_->setVisible(lampCount > 0);
+  const bool distant = method_->currentIndex() == 2;
+  lamps_->setEnabled(open && !distant);
+  lampsLabel_->setText(distant ? tr("Lamps (left out: the distant method is the sky alone)") : tr("Lamps on beside the daylight"));
   if (!open) {
     summary_->setText(tr("Open a daylight room (one whose scene lists measured skies and windows) to relight it under "
                          "another sky."));
@@ -381,6 +413,11 @@ void SkyPanel::startRender() {
   const daylight::DaylightMethod method = method_->currentIndex() == 1   ? daylight::DaylightMethod::Volume
                                           : method_->currentIndex() == 2 ? daylight::DaylightMethod::Distant
                                                                          : daylight::DaylightMethod::NearField;
+  // The lamps checked, at the radiance the room gives them (none for the distant baseline).
+  std::vector<glm::dvec3> lampExitance(s_->scene->lamps.size(), glm::dvec3(0.0));
+  if (method != daylight::DaylightMethod::Distant)
+    for (size_t l = 0; l < lampExitance.size() && int(l) < lamps_->count(); ++l)
+      if (lamps_->item(int(l))->checkState() == Qt::Checked) lampExitance[l] = std::numbers::pi * s_->scene->lamps[l].radiance;
   const QString name = entry.names.empty() ? entry.label : entry.names[f];
   const int index = int(f), count = int(entry.frames.size()), generation = generation_;
   const double exposure = s_->exposure;
@@ -388,6 +425,7 @@ void SkyPanel::startRender() {
   s_->pending = false;
   s_->rendering = jobs_->start(tr("Relighting under %1").arg(name), [=, this](Progress& p) {
     const auto t0 = std::chrono::steady_clock::now();
+    for (size_t l = 0; l < lampExitance.size(); ++l) relit->setLampExitance(int(l), lampExitance[l]);
     const ImageRGB img = relit->render(sky, objects, method, p);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     auto shown = std::make_shared<QImage>(displayed(img, exposure));  // the display encoding off the UI thread too

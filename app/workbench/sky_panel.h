@@ -5,7 +5,8 @@
 // radiosity solutions (a job: progress, Cancel); then the user picks one of the room's measured
 // skies, an HDR fisheye file or a folder of them (a time-varying sky, played back frame by
 // frame), the method (near-field, the interactive irradiance volume, or the distant baseline)
-// and the virtual objects (a variant's, or a JSON file's), and sees the photo relit — each
+// the virtual objects (a variant's, or a JSON file's) and the room's lamps switched on beside the
+// daylight, and sees the photo relit — each
 // render a job calling the library's DaylightRelighting::render, as `relume relight --sky` does.
 #include <QImage>
 #include <QString>
@@ -16,6 +17,7 @@
 class QCheckBox;
 class QComboBox;
 class QLabel;
+class QListWidget;
 class QPushButton;
 
 namespace relume {
@@ -54,6 +56,10 @@ class SkyPanel : public QWidget {
   QComboBox* skyBox() const { return sky_; }
   QComboBox* methodBox() const { return method_; }
   QComboBox* objectsBox() const { return objects_; }
+  // The room's lamps, one checkable row each: checked, the lamp shines beside the daylight at the
+  // radiance the room gives it (each lamp one more term of the same combination). Not for the
+  // distant method (the sky alone): the list is then disabled and the lamps left out.
+  QListWidget* lampList() const { return lamps_; }
   QCheckBox* photoToggle() const { return showPhoto_; }
   ClickPhotoView* view() const { return view_; }
   // The last relit image (linear) and what the view shows (display-encoded).
@@ -77,6 +83,8 @@ class SkyPanel : public QWidget {
   std::unique_ptr<State> s_;
   QLabel* summary_;
   QComboBox *sky_, *method_, *objects_;
+  QListWidget* lamps_;
+  QLabel* lampsLabel_;
   QPushButton *skyFile_, *skyFolder_, *objectsFile_, *play_;
   QCheckBox* showPhoto_;
   QLabel* frame_;

@@ -14,6 +14,7 @@
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
+#include <QListWidget>
 #include <QDateTime>
 #include <QLockFile>
 #include <QSettings>
@@ -2236,6 +2237,99 @@ class WorkbenchTest : public QObject {
     QVERIFY(!sky->addSkyFolder(bad));
     QCOMPARE(sky->skyBox()->count(), 4);
     QVERIFY(!said.isEmpty() && said.last().first().toString().contains("b.exr"));
+  }
+
+  void daylightWithALampInTheSkyPanel() {
+    // A lamp beside the daylight: the daylight room with a 20 cm panel 3 cm below its ceiling
+    // (facing down, radiance given), opened as a user would. The Sky panel lists the lamp, off;
+    // checked, the relit photo only gains light (it was taken with the lamp off), most of it near
+    // the lamp; the distant baseline (the sky alone) leaves the lamps out and says so.
+    const QString room = tmp_.path() + "/lamproom";
+    QVERIFY(copyFolder(RELUME_SOURCE_DIR "/resources/daylight_room", room));
+    {
+      QFile f(room + "/scene.json");
+      QVERIFY(f.open(QIODevice::ReadOnly));
+      QJsonObject s = QJsonDocument::fromJson(f.readAll()).object();
+      f.close();
+      const double z = s["room"].toArray()[2].toDouble() - 0.03, x = 1.2, y = 1.6, a = 0.1;
+      const QJsonArray quad{QJsonArray{x - a, y - a, z}, QJsonArray{x - a, y + a, z}, QJsonArray{x + a, y + a, z},
+                            QJsonArray{x + a, y - a, z}};
+      QJsonArray polys = s["polygons"].toArray();
+      polys.append(QJsonObject{{"name", "lamp_L"}, {"group", "lamp_L"}, {"kind", "light"}, {"vertices", quad}});
+      s["polygons"] = polys;
+      QJsonArray lights = s["lights"].toArray();
+      lights.append(QJsonObject{{"name", "L"}, {"polygon", quad}, {"radiance_rgb", QJsonArray{60.0, 55.0, 45.0}}});
+      s["lights"] = lights;
+      QVERIFY(f.open(QIODevice::WriteOnly | QIODevice::Truncate));
+      f.write(QJsonDocument(s).toJson());
+    }
+    MainWindow w;
+    w.setInteractive(false);
+    w.resize(1400, 820);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    SkyPanel* sky = w.skyPanel();
+    auto settle = [&](int timeoutMs) {
+      QElapsedTimer t;
+      t.start();
+      for (int idle = 0; idle < 10 && t.elapsed() < timeoutMs;) {
+        QTest::qWait(20);
+        idle = w.jobs()->busy() ? 0 : idle + 1;
+      }
+      return !w.jobs()->busy();
+    };
+    QVERIFY(w.openPath(room));
+    QVERIFY(settle(300000));
+    QVERIFY2(sky->isOpen(), qPrintable(w.lastError()));
+    QCOMPARE(sky->lampList()->count(), 1);
+    QVERIFY(sky->lampList()->isVisible() && sky->lampList()->isEnabled());
+    QCOMPARE(sky->lampList()->item(0)->checkState(), Qt::Unchecked);
+    const QImage off = sky->shown().convertToFormat(QImage::Format_RGB888);
+    const int before = sky->framesShown();
+    sky->lampList()->item(0)->setCheckState(Qt::Checked);
+    QVERIFY(settle(180000));
+    QCOMPARE(sky->framesShown(), before + 1);
+    const QImage on = sky->shown().convertToFormat(QImage::Format_RGB888);
+    QCOMPARE(on.size(), off.size());
+    // Per pixel: never darker (beyond 8-bit rounding), brighter on average; on the floor more
+    // right under the lamp than 2.5 m away from it (in linear light: the display's sRGB undone).
+    long darker = 0;
+    double gain = 0;
+    for (int y = 0; y < on.height(); ++y)
+      for (int x = 0; x < on.width(); ++x) {
+        const int d = qGray(on.pixel(x, y)) - qGray(off.pixel(x, y));
+        darker += d < -1;
+        gain += d;
+      }
+    gain /= double(on.width()) * on.height();
+    const Camera cam = loadRoom(room.toStdString()).findPhoto("main")->camera;
+    QCOMPARE(QSize(cam.width, cam.height), on.size());
+    auto ratioAt = [&](const glm::dvec3& p) {  // linear on / off over 7 x 7 pixels around p's image
+      glm::dvec2 q;
+      if (!cam.project(p, q)) return -1.0;
+      double a = 0, b = 0;
+      for (int dy = -3; dy <= 3; ++dy)
+        for (int dx = -3; dx <= 3; ++dx) {
+          const int x = std::clamp(int(q.x) + dx, 0, on.width() - 1), y = std::clamp(int(q.y) + dy, 0, on.height() - 1);
+          a += srgbToLinear(qGray(on.pixel(x, y)) / 255.f);
+          b += srgbToLinear(qGray(off.pixel(x, y)) / 255.f);
+        }
+      return a / std::max(b, 1e-9);
+    };
+    const double under = ratioAt({1.2, 1.6, 0.0}), away = ratioAt({3.0, 3.4, 0.0});
+    qInfo("lamp on: %ld pixels darker than with it off; mean gain %.2f grey levels; on the floor under the lamp x%.3f, "
+          "2.5 m away x%.3f",
+          darker, gain, under, away);
+    QCOMPARE(darker, 0L);
+    QVERIFY(gain > 2.0);
+    QVERIFY(under > 0 && away > 0);
+    QVERIFY(under > away);
+    saveShot(&w, "sky_panel_lamp");
+    // The distant baseline: the sky alone, the lamp list disabled and the lamp left out.
+    sky->methodBox()->setCurrentIndex(2);
+    QVERIFY(settle(180000));
+    QVERIFY(!sky->lampList()->isEnabled());
+    QVERIFY2(psnr8(sky->shown(), off) > 35, "the distant baseline under the photos' sky is the photo, lamp or not");
   }
 
   void frenchInterface() {
