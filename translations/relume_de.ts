@@ -1917,6 +1917,10 @@ Kein Schachbrett gefunden in: %1</translation>
         <source>Lamps (left out: the distant method is the sky alone)</source>
         <translation>Lampen (weggelassen: die ferne Methode ist nur der Himmel)</translation>
     </message>
+    <message>
+        <source>Lamps (left out: the interactive path lights virtual objects by daylight only; choose near-field)</source>
+        <translation>Lampen (weggelassen: der interaktive Pfad beleuchtet virtuelle Objekte nur mit Tageslicht; Nahfeld wählen)</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

@@ -1917,6 +1917,10 @@ Aucun damier trouvé dans : %1</translation>
         <source>Lamps (left out: the distant method is the sky alone)</source>
         <translation>Lampes (écartées : la méthode distante est le ciel seul)</translation>
     </message>
+    <message>
+        <source>Lamps (left out: the interactive path lights virtual objects by daylight only; choose near-field)</source>
+        <translation>Lampes (écartées : le chemin interactif n’éclaire les objets virtuels qu’à la lumière du jour ; choisissez le champ proche)</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

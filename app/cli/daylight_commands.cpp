@@ -654,8 +654,29 @@ QJsonObject daylightBench(const Scene& scene, int runs, Progress& progress) {
                                   {"pixels_touched", double(session.lastTouchedPixels())},
                                   {"direct_samples", session.interactive().directSamples}};
   }
+  // A lamp beside the daylight (last: its refinement adds elements): its solution, solved once,
+  // and the combination with it on.
+  QJsonObject lamp;
+  if (basis.lampCount() > 0) {
+    progress.report(0.95, "bench: a lamp beside the daylight");
+    t0 = std::chrono::steady_clock::now();
+    basis.lampSolution(0);
+    const double lampSeconds = ms(t0) / 1000;
+    basis.setLampExitance(0, glm::dvec3(100.0));
+    std::vector<double> withLamp;
+    for (int r = 0; r < std::max(runs, 5); ++r) {
+      t0 = std::chrono::steady_clock::now();
+      const auto b = basis.combine(sky);
+      withLamp.push_back(ms(t0));
+    }
+    basis.setLampExitance(0, glm::dvec3(0.0));
+    lamp = QJsonObject{{"lamp", QString::fromStdString(scene.lamps.front().name)},
+                       {"solution_seconds", lampSeconds},
+                       {"combination_with_lamp_median_ms", median(withLamp)}};
+  }
   const auto& eng = basis.engine();
   return QJsonObject{{"regions", cells.size()},
+                     {"lamp_beside_daylight", lamp},
                      {"elements", double(eng.nodes().size())},
                      {"links", double(eng.links().size())},
                      {"basis_seconds", basisSeconds},

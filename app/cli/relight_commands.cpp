@@ -288,7 +288,7 @@ int relightCommand(const QStringList& args, Progress& progress) {
   p.addOption({{"o", "output"}, "Output image (.exr linear radiance, .png at the photo's exposure).", "IMG"});
   parseOrThrow(p, args, 1, "relume relight PROJECT --lamp A=0 [--virtual-lamp F] [--virtual-object F] -o IMG\n"
                            "       relume relight ROOM --sky NAME|FISHEYE.exr [--lamp A=1] [--virtual-object F] [--daylight near-field|volume|distant] -o IMG\n"
-                           "       relume relight ROOM --sky FOLDER [--virtual-object F] [--daylight ...] -o FRAMES_DIR");
+                           "       relume relight ROOM --sky FOLDER [--lamp A=1] [--virtual-object F] [--daylight ...] -o FRAMES_DIR");
   if (!p.isSet("output")) throw Error("", "command line", "-o IMG is required");
   const QString out = p.value("output");
   const QString ext = QFileInfo(out).suffix().toLower();

@@ -160,7 +160,8 @@ SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jo
   connect(method_, qOverload<int>(&QComboBox::currentIndexChanged), this, rerender);
   connect(objects_, qOverload<int>(&QComboBox::currentIndexChanged), this, rerender);
   connect(lamps_, &QListWidget::itemChanged, this, [this] { requestRender(); });
-  connect(method_, qOverload<int>(&QComboBox::currentIndexChanged), this, [this] { rebuild(); });
+  connect(method_, qOverload<int>(&QComboBox::currentIndexChanged), this, &SkyPanel::updateLamps);
+  connect(objects_, qOverload<int>(&QComboBox::currentIndexChanged), this, &SkyPanel::updateLamps);
   connect(showPhoto_, &QCheckBox::toggled, this, &SkyPanel::show);
   connect(play_, &QPushButton::toggled, this, &SkyPanel::setPlaying);
   connect(skyFile_, &QPushButton::clicked, this, [this] {
@@ -379,9 +380,7 @@ void SkyPanel::rebuild() {
   }
   lampsLabel_->setVisible(lampCount > 0);
   lamps_->setVisible(lampCount > 0);
-  const bool distant = method_->currentIndex() == 2;
-  lamps_->setEnabled(open && !distant);
-  lampsLabel_->setText(distant ? tr("Lamps (left out: the distant method is the sky alone)") : tr("Lamps on beside the daylight"));
+  updateLamps();
   if (!open) {
     summary_->setText(tr("Open a daylight room (one whose scene lists measured skies and windows) to relight it under "
                          "another sky."));
@@ -392,6 +391,20 @@ void SkyPanel::rebuild() {
                         .arg(QFileInfo(s_->path).fileName())
                         .arg(s_->scene->skies.size())
                         .arg(QString::fromStdString(s_->scene->photoSky)));
+}
+
+void SkyPanel::updateLamps() {
+  lamps_->setEnabled(isOpen() && lampsApply());
+  lampsLabel_->setText(method_->currentIndex() == 2 ? tr("Lamps (left out: the distant method is the sky alone)")
+                       : !lampsApply()             ? tr("Lamps (left out: the interactive path lights virtual objects by "
+                                                        "daylight only; choose near-field)")
+                                                   : tr("Lamps on beside the daylight"));
+}
+
+bool SkyPanel::lampsApply() const {
+  const int o = objects_->currentIndex();
+  const bool objects = o >= 0 && size_t(o) < s_->objects.size() && !s_->objects[size_t(o)].polygons.empty();
+  return method_->currentIndex() == 0 || (method_->currentIndex() == 1 && !objects);
 }
 
 void SkyPanel::requestRender() {
@@ -415,7 +428,7 @@ void SkyPanel::startRender() {
                                                                          : daylight::DaylightMethod::NearField;
   // The lamps checked, at the radiance the room gives them (none for the distant baseline).
   std::vector<glm::dvec3> lampExitance(s_->scene->lamps.size(), glm::dvec3(0.0));
-  if (method != daylight::DaylightMethod::Distant)
+  if (lampsApply())
     for (size_t l = 0; l < lampExitance.size() && int(l) < lamps_->count(); ++l)
       if (lamps_->item(int(l))->checkState() == Qt::Checked) lampExitance[l] = std::numbers::pi * s_->scene->lamps[l].radiance;
   const QString name = entry.names.empty() ? entry.label : entry.names[f];

@@ -58,7 +58,8 @@ class SkyPanel : public QWidget {
   QComboBox* objectsBox() const { return objects_; }
   // The room's lamps, one checkable row each: checked, the lamp shines beside the daylight at the
   // radiance the room gives it (each lamp one more term of the same combination). Not for the
-  // distant method (the sky alone): the list is then disabled and the lamps left out.
+  // distant method (the sky alone), nor with virtual objects on the interactive path: the list is
+  // then disabled, says why, and the lamps are left out.
   QListWidget* lampList() const { return lamps_; }
   QCheckBox* photoToggle() const { return showPhoto_; }
   ClickPhotoView* view() const { return view_; }
@@ -75,6 +76,10 @@ class SkyPanel : public QWidget {
  private:
   struct State;
   void rebuild();
+  // Whether the checked lamps are rendered: near-field always; the interactive path without
+  // virtual objects (it lights them by daylight only); never the distant baseline (the sky alone).
+  bool lampsApply() const;
+  void updateLamps();  // the lamp list enabled, and its label, as lampsApply() says
   void requestRender();
   void startRender();
   void renderDone();

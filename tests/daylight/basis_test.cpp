@@ -221,8 +221,11 @@ TEST(DaylightBasis, ALampsTermIsTheEngineSolvingThatLampAloneAndAddsToTheSky) {
   DaylightBasis basis(room, sky, coarse(16));
   ASSERT_EQ(basis.lampCount(), 1);
   const std::vector<glm::vec3> skyOnly = basis.combine(sky);
+  const double scale = basis.engine().refinementScale();
   basis.setLampExitance(0, m);
   const std::vector<glm::vec3> both = basis.combine(sky);
+  // Objects added later are refined against the sky's threshold, not the lamp's.
+  EXPECT_EQ(basis.engine().refinementScale(), scale);
   const std::vector<glm::vec3>& unit = basis.lampSolution(0);
   ASSERT_EQ(both.size(), unit.size());
   double worstSum = 0;

@@ -268,10 +268,11 @@ const std::vector<glm::vec3>& DaylightBasis::lampSolution(int lamp, Progress& pr
   const int s = lampSurface_[size_t(lamp)];
   const double lampArea = polygonArea(engine_->surfaces()[size_t(s)].vertices);
   if (!(lampArea > 0)) throw Error("", "lamp", "lamp " + std::to_string(lamp + 1) + "'s polygon has no area");
-  // The links refined for this lamp: the refinement threshold is relative to the emitted power
-  // (the windows count at their full exitance there, whatever shines through them), so the lamp
-  // is refined at a power a thousand times the windows', with a faint sky through the windows so
-  // that no link another solution needs is dropped.
+  // The links refined for this lamp: the refinement threshold is relative to the emitted power,
+  // so the lamp is refined at a thousand times the power the windows would let in under a sky of
+  // unit radiance (the faint sky through them, kept so that no link another solution needs is
+  // dropped, is a thousandth of that again); the threshold's scale is put back after, so that
+  // objects added later are refined as before.
   double windowArea = 0;
   for (int w : windows_) windowArea += polygonArea(engine_->surfaces()[size_t(w)].vertices);
   const double faces = engine_->surfaces()[size_t(s)].twoSided ? 2.0 : 1.0;
@@ -281,6 +282,7 @@ const std::vector<glm::vec3>& DaylightBasis::lampSolution(int lamp, Progress& pr
   auto dark = std::make_shared<radiosity::DistantLight>();
   dark->radiance = [](const glm::dvec3&) { return 0.0; };
   dark->mayShine = [](const glm::dvec3&, double) { return false; };
+  const double scale = engine_->refinementScale();
   try {
     {
       for (int w : windows_) engine_->setDistantLight(w, faint);
@@ -294,9 +296,11 @@ const std::vector<glm::vec3>& DaylightBasis::lampSolution(int lamp, Progress& pr
     Progress stage(progress, 0.8, 1.0);
     std::vector<glm::vec3> b = solveFor(dark, stage);
     engine_->setExitance(s, glm::dvec3(0.0));
+    engine_->setRefinementScale(scale);
     out = std::move(b);
   } catch (...) {
     engine_->setExitance(s, glm::dvec3(0.0));  // dark again in every other solution
+    engine_->setRefinementScale(scale);
     throw;
   }
   ++revision_;

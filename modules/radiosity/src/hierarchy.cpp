@@ -343,6 +343,10 @@ HierarchicalRadiosity::HierarchicalRadiosity(std::vector<Surface> surfaces, Opti
 HierarchicalRadiosity::~HierarchicalRadiosity() = default;
 
 const RayScene& HierarchicalRadiosity::rayScene() const { return *impl_->rays; }
+double HierarchicalRadiosity::refinementScale() const { return impl_->eRef; }
+void HierarchicalRadiosity::setRefinementScale(double eRef) {
+  if (eRef > 0 && std::isfinite(eRef)) impl_->eRef = eRef;
+}
 
 bool HierarchicalRadiosity::isEmitter(int surface) const {
   return std::max({surfaces_[surface].exitance.x, surfaces_[surface].exitance.y,

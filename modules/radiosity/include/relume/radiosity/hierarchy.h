@@ -191,6 +191,11 @@ class HierarchicalRadiosity {
   // Does `node` (or a cluster containing it) contain emitting surfaces only?
   bool sourceIsEmitter(int node) const;
   const RayScene& rayScene() const;
+  // The refinement threshold's scale (the mean first-bounce irradiance solve() last computed from
+  // the emitters): later refinements (addSurfaces, forceRefine) measure links against it. A caller
+  // that solved once for a light at another scale puts the earlier value back with this.
+  double refinementScale() const;
+  void setRefinementScale(double eRef);
 
  struct Impl;  // engine internals (opaque to users)
 
