@@ -62,6 +62,9 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
 int daylightRelight(const Scene& room, const std::string& sky, const std::vector<std::string>& objectFiles,
                     const std::map<std::string, glm::dvec3>& lampScale,
                     const std::string& method, const std::string& camera, const std::string& out, Progress& progress);
+// The index of the room's lamp `name`, its `scale` checked (finite, >= 0); relume::Error naming
+// `where` and listing the room's lamps when it has no such lamp.
+int lampNamed(const Scene& scene, const std::string& name, const glm::dvec3& scale, const std::string& where);
 // The relighting figures of `relume bench` (medians of `runs`).
 QJsonObject relightBench(const Scene& scene, int runs, Progress& progress);
 // The reconstruction figures: COLMAP on the room's photos, triangulation and polygon fitting.

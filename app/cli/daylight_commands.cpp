@@ -430,14 +430,7 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   // show them off, so they cannot tell it), every other lamp off.
   std::vector<glm::dvec3> lampExitance(room.lamps.size(), glm::dvec3(0.0));
   for (const auto& [name, scale] : lampScale) {
-    const int l = room.findLamp(name);
-    if (l < 0) {
-      std::string names;
-      for (const auto& lamp : room.lamps) names += (names.empty() ? "" : ", ") + lamp.name;
-      throw Error(room.sourceFile, "lamp '" + name + "'", "the room has no such lamp" + (names.empty() ? std::string() : " (lamps: " + names + ")"));
-    }
-    for (double c : {scale.x, scale.y, scale.z})
-      if (!(c >= 0) || !std::isfinite(c)) throw Error("", "--lamp " + name, "a scale must be a finite number >= 0");
+    const int l = lampNamed(room, name, scale, room.sourceFile);
     const glm::dvec3 radiance = room.lamps[size_t(l)].radiance;
     if (scale != glm::dvec3(0.0) && !(std::max({radiance.x, radiance.y, radiance.z}) > 0))
       throw Error(room.sourceFile, "lamp '" + name + "'",

@@ -24,6 +24,18 @@
 
 namespace relume::cli {
 
+int lampNamed(const Scene& scene, const std::string& name, const glm::dvec3& scale, const std::string& where) {
+  const int l = scene.findLamp(name);
+  if (l < 0) {
+    std::string names;
+    for (const auto& lamp : scene.lamps) names += (names.empty() ? "" : ", ") + lamp.name;
+    throw Error(where, "lamp '" + name + "'", "the room has no such lamp" + (names.empty() ? std::string() : " (lamps: " + names + ")"));
+  }
+  for (double c : {scale.x, scale.y, scale.z})
+    if (!(c >= 0) || !std::isfinite(c)) throw Error(where, "lamp '" + name + "'", "a scale must be a finite number >= 0");
+  return l;
+}
+
 namespace {
 
 std::string str(const QString& s) { return s.toStdString(); }
@@ -179,20 +191,11 @@ QJsonObject estimatesJson(const RelightData& d) {
           {"preprocess_seconds", e.seconds}};
 }
 
+
 // Lamp scales by name; every name must be a lamp of the room.
 std::vector<glm::dvec3> lampScales(const Scene& scene, const std::map<std::string, glm::dvec3>& byName, const std::string& where) {
   std::vector<glm::dvec3> s(scene.lamps.size(), glm::dvec3(1.0));
-  for (const auto& [name, v] : byName) {
-    const int l = scene.findLamp(name);
-    if (l < 0) {
-      std::string names;
-      for (const auto& lamp : scene.lamps) names += (names.empty() ? "" : ", ") + lamp.name;
-      throw Error(where, "lamp '" + name + "'", "the room has no such lamp (lamps: " + names + ")");
-    }
-    for (double c : {v.x, v.y, v.z})
-      if (!(c >= 0) || !std::isfinite(c)) throw Error(where, "lamp '" + name + "'", "a scale must be a finite number >= 0");
-    s[l] = v;
-  }
+  for (const auto& [name, v] : byName) s[size_t(lampNamed(scene, name, v, where))] = v;
   return s;
 }
 

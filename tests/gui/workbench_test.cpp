@@ -158,6 +158,18 @@ void writeJson(const QString& file, const QJsonObject& o) {
 }
 
 // A copy of a folder tree (a project), for edits that must not touch the original.
+// Waits until the window's jobs have been idle for ten 20 ms probes in a row (a job that starts
+// another from its continuation is waited for too), or `timeoutMs` passed; true when idle.
+bool jobsSettled(MainWindow& w, int timeoutMs) {
+  QElapsedTimer t;
+  t.start();
+  for (int idle = 0; idle < 10 && t.elapsed() < timeoutMs;) {
+    QTest::qWait(20);
+    idle = w.jobs()->busy() ? 0 : idle + 1;
+  }
+  return !w.jobs()->busy();
+}
+
 bool copyFolder(const QString& from, const QString& to) {
   QDirIterator it(from, QDir::Files | QDir::NoDotAndDotDot, QDirIterator::Subdirectories);
   while (it.hasNext()) {
@@ -2157,15 +2169,7 @@ class WorkbenchTest : public QObject {
     w.show();
     QVERIFY(QTest::qWaitForWindowExposed(&w));
     SkyPanel* sky = w.skyPanel();
-    auto settle = [&](int timeoutMs) {
-      QElapsedTimer t;
-      t.start();
-      for (int idle = 0; idle < 10 && t.elapsed() < timeoutMs;) {
-        QTest::qWait(20);
-        idle = w.jobs()->busy() ? 0 : idle + 1;
-      }
-      return !w.jobs()->busy();
-    };
+    auto settle = [&](int timeoutMs) { return jobsSettled(w, timeoutMs); };
     QVERIFY(w.openPath(room));
     QVERIFY(settle(300000));
     QVERIFY2(sky->isOpen(), qPrintable(w.lastError()));
@@ -2269,15 +2273,7 @@ class WorkbenchTest : public QObject {
     w.show();
     QVERIFY(QTest::qWaitForWindowExposed(&w));
     SkyPanel* sky = w.skyPanel();
-    auto settle = [&](int timeoutMs) {
-      QElapsedTimer t;
-      t.start();
-      for (int idle = 0; idle < 10 && t.elapsed() < timeoutMs;) {
-        QTest::qWait(20);
-        idle = w.jobs()->busy() ? 0 : idle + 1;
-      }
-      return !w.jobs()->busy();
-    };
+    auto settle = [&](int timeoutMs) { return jobsSettled(w, timeoutMs); };
     QVERIFY(w.openPath(room));
     QVERIFY(settle(300000));
     QVERIFY2(sky->isOpen(), qPrintable(w.lastError()));
