@@ -191,7 +191,6 @@ QJsonObject estimatesJson(const RelightData& d) {
           {"preprocess_seconds", e.seconds}};
 }
 
-
 // Lamp scales by name; every name must be a lamp of the room.
 std::vector<glm::dvec3> lampScales(const Scene& scene, const std::map<std::string, glm::dvec3>& byName, const std::string& where) {
   std::vector<glm::dvec3> s(scene.lamps.size(), glm::dvec3(1.0));

@@ -114,8 +114,9 @@ class DaylightBasis {
   glm::dvec3 surfaceMean(const std::vector<glm::vec3>& b, int surface) const;
   double secondsPerBasis() const { return secondsPerBasis_; }
   double refineSeconds() const { return refineSeconds_; }
-  // Counts the times any solution was solved again (the bases, or the sun's for a new direction):
-  // a result made from the solutions is current while this is what it was then.
+  // Counts the times any solution was solved again (the bases, the sun's for a new direction, a
+  // lamp's) or a lamp's strength changed: a result made from the combination is current while
+  // this is what it was then.
   unsigned revision() const { return revision_; }
 
  private:
