@@ -170,6 +170,15 @@ bool jobsSettled(MainWindow& w, int timeoutMs) {
   return !w.jobs()->busy();
 }
 
+// The window shown as a user sees it (1400 x 820) and a daylight room opened in it as File ▸ Open
+// does (the opening job waited for): true when the Sky panel holds the room.
+bool openDaylightRoom(MainWindow& w, const QString& room) {
+  w.setInteractive(false);
+  w.resize(1400, 820);
+  w.show();
+  return QTest::qWaitForWindowExposed(&w) && w.openPath(room) && jobsSettled(w, 300000) && w.skyPanel()->isOpen();
+}
+
 bool copyFolder(const QString& from, const QString& to) {
   QDirIterator it(from, QDir::Files | QDir::NoDotAndDotDot, QDirIterator::Subdirectories);
   while (it.hasNext()) {
@@ -2164,15 +2173,9 @@ class WorkbenchTest : public QObject {
     // a folder of skies played back — each compared with Cycles' render of the same.
     const QString room = RELUME_SOURCE_DIR "/resources/daylight_room";
     MainWindow w;
-    w.setInteractive(false);
-    w.resize(1400, 820);
-    w.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    QVERIFY2(openDaylightRoom(w, room), qPrintable(w.lastError()));
     SkyPanel* sky = w.skyPanel();
     auto settle = [&](int timeoutMs) { return jobsSettled(w, timeoutMs); };
-    QVERIFY(w.openPath(room));
-    QVERIFY(settle(300000));
-    QVERIFY2(sky->isOpen(), qPrintable(w.lastError()));
     QVERIFY(w.skyDock()->isVisible());
     QVERIFY(!w.document()->isOpen());
     QCOMPARE(sky->skyBox()->count(), 3);
@@ -2268,15 +2271,9 @@ class WorkbenchTest : public QObject {
       f.write(QJsonDocument(s).toJson());
     }
     MainWindow w;
-    w.setInteractive(false);
-    w.resize(1400, 820);
-    w.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    QVERIFY2(openDaylightRoom(w, room), qPrintable(w.lastError()));
     SkyPanel* sky = w.skyPanel();
     auto settle = [&](int timeoutMs) { return jobsSettled(w, timeoutMs); };
-    QVERIFY(w.openPath(room));
-    QVERIFY(settle(300000));
-    QVERIFY2(sky->isOpen(), qPrintable(w.lastError()));
     QCOMPARE(sky->lampList()->count(), 1);
     QVERIFY(sky->lampList()->isVisible() && sky->lampList()->isEnabled());
     QCOMPARE(sky->lampList()->item(0)->checkState(), Qt::Unchecked);
