@@ -253,6 +253,7 @@ int benchCommand(const QStringList& args, Progress& progress) {
   p.addOption({"runs", "Repetitions per figure (median reported; default 5).", "N"});
   p.addOption({"edit-links", "Link count for the lamp-edit figure (default 50000).", "N"});
   p.addOption({"daylight-only", "Only the daylight figures (a room with windows and measured skies)."});
+  p.addOption({"ibr-only", "Only the image-based object figures (a room with lamps and a photo)."});
   addEngineOptions(p);
   parseOrThrow(p, args, 1, "relume bench ROOM --json OUT.json [--runs N]");
   if (!p.isSet("json")) throw Error("", "command line", "--json OUT.json is required");
@@ -265,13 +266,22 @@ int benchCommand(const QStringList& args, Progress& progress) {
   out["room"] = QString::fromStdString(scene.sourceFile);
   out["runs"] = runs;
   out["threads"] = int(std::thread::hardware_concurrency());
-  if (p.isSet("daylight-only")) {
-    if (scene.skies.empty()) throw Error(scene.sourceFile, "--daylight-only", "the room has no measured sky");
-    out["daylight"] = daylightBench(scene, runs, progress);
+  auto finish = [&] {
     out["peak_memory_bytes"] = qint64(peakRssBytes());
     writeJsonAtomically(p.value("json"), out);
     std::fprintf(stderr, "%s\n", QJsonDocument(out).toJson(QJsonDocument::Indented).constData());
     return 0;
+  };
+  if (p.isSet("daylight-only")) {
+    if (scene.skies.empty()) throw Error(scene.sourceFile, "--daylight-only", "the room has no measured sky");
+    out["daylight"] = daylightBench(scene, runs, progress);
+    return finish();
+  }
+  if (p.isSet("ibr-only")) {
+    if (scene.lamps.empty() || scene.photos.empty())
+      throw Error(scene.sourceFile, "--ibr-only", "the room needs a lamp and a photo to draw an image-based object in");
+    out["image_based_objects"] = ibrBench(scene, runs, progress);
+    return finish();
   }
 
   // 1. Full solve at the given (default) settings.
@@ -378,10 +388,7 @@ int benchCommand(const QStringList& args, Progress& progress) {
     ProgressScope rp(progress, 0.97, 1.0);
     out["reconstruct"] = reconstructBench(scene, runs, rp);
   }
-  out["peak_memory_bytes"] = qint64(peakRssBytes());
-  writeJsonAtomically(p.value("json"), out);
-  std::fprintf(stderr, "%s\n", QJsonDocument(out).toJson(QJsonDocument::Indented).constData());
-  return 0;
+  return finish();
 }
 
 ImageRGB sideBySide(const std::vector<const ImageRGB*>& imgs) {

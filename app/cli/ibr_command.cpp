@@ -1,6 +1,7 @@
 // relume ibr-fan: the image fan of a mesh (Dinh, Metoyer, Turk), for image-based virtual objects.
 // The image-based object figures of relume bench.
 #include <QCommandLineParser>
+#include <QJsonArray>
 #include <QJsonObject>
 #include <cmath>
 #include <cstdio>
@@ -9,9 +10,11 @@
 
 #include "commands.h"
 #include "relume/geometry/error.h"
+#include "relume/geometry/polygon.h"
 #include "relume/ibr/fan.h"
 #include "relume/ibr/ibr_object.h"
 #include "relume/ibr/relit_objects.h"
+#include "relume/raytrace/ray_scene.h"
 #include "relume/relight/relighter.h"
 
 namespace relume::cli {
@@ -112,14 +115,46 @@ QJsonObject ibrBench(const Scene& sceneIn, int runs, Progress& progress) {
   object.name = "bench ball";
   object.fanFile = "(bench)";
   object.fan = ibr::buildFan(ibr::bumpyBall(200, 100, 0.25, 0.08), ibr::FanOptions{}, progress);
-  object.place.position = glm::dvec3(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z);
-  try {
-    ibr::checkImageObject(scene, object);
-  } catch (const Error& e) {
-    out["object"] = QString::fromStdString("not placed: " + std::string(e.what()));
-    return out;
-  }
   const auto& h = session.engine();
+  // Where a designer would put it: on the floor in the open (not cutting the room, seen by the
+  // camera), lit by as many lamps as any floor point on a 10 cm grid (the lines from its top to
+  // the lamps' centres unblocked), the one nearest the room's middle among those — so that its
+  // shadows fall where the photo shows them rather than under a table.
+  {
+    const glm::dvec3 middle(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z);
+    const double top = object.fan->boundsMax.z - object.fan->boundsMin.z;
+    int bestLit = -1;
+    double bestDist = 1e300;
+    for (double y = lo.y + 0.05; y < hi.y; y += 0.1)
+      for (double x = lo.x + 0.05; x < hi.x; x += 0.1) {
+        ibr::ImageObject o = object;
+        o.place.position = glm::dvec3(x, y, lo.z);
+        glm::dvec2 pix;
+        if (!cam.project(o.place.toWorld(*o.fan, o.fan->centre), pix) || pix.x < 0 || pix.y < 0 || pix.x >= cam.width ||
+            pix.y >= cam.height)
+          continue;
+        try {
+          ibr::checkImageObject(scene, o);
+        } catch (const Error&) {
+          continue;
+        }
+        int lit = 0;
+        for (const auto& lamp : scene.lamps) {
+          const glm::dvec3 centre = polygonCentroid(scene.polygons[size_t(lamp.polygon)].vertices);
+          lit += h.rayScene().occluded(glm::vec3(x, y, lo.z + 1.01 * top), glm::vec3(centre)) ? 0 : 1;
+        }
+        const double d = glm::length(o.place.position - middle);
+        if (lit > bestLit || (lit == bestLit && d < bestDist)) {
+          bestLit = lit;
+          bestDist = d;
+          object.place.position = o.place.position;
+        }
+      }
+    if (bestLit < 0) {
+      out["object"] = "not placed: no floor point in the open seen by the camera";
+      return out;
+    }
+  }
   const glm::dvec3 centre = object.place.toWorld(*object.fan, object.fan->centre);
   std::vector<double> lighting, tables, roomViews, composite, shadows, drawing;
   const ImageRGB relit = session.render(cam, RelightMethod::Full);
@@ -151,6 +186,7 @@ QJsonObject ibrBench(const Scene& sceneIn, int runs, Progress& progress) {
     composite.push_back(seconds(t0));
   }
   out["object"] = QJsonObject{{"lamps", qint64(scene.lamps.size())},
+                              {"position", QJsonArray{object.place.position.x, object.place.position.y, object.place.position.z}},
                               {"object_pixels", qint64(pixels)},
                               {"shadow_pixels", qint64(shadowPixels)},
                               {"image", "640x480"},

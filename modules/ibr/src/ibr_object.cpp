@@ -49,7 +49,15 @@ glm::dvec3 fromView(const ImageFan& fan, int view, const glm::vec3& n) {
   return double(n.x) * fan.right(view) + double(n.y) * fan.up(view) + double(n.z) * fan.toCamera(view);
 }
 
-float decode(uint8_t s) { return srgbToLinear(float(s) / 255.f); }
+// A stored (sRGB) albedo byte, linear: looked up (the shading loop reads three per fan texel).
+float decode(uint8_t s) {
+  static const std::array<float, 256> linear = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[size_t(i)] = srgbToLinear(float(i) / 255.f);
+    return t;
+  }();
+  return linear[s];
+}
 
 }  // namespace
 
@@ -460,6 +468,9 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
   // Fan pixels per screen pixel at the object's distance (1 to 4 across).
   const double texel = 2.0 * rs / S, pixel = dist / std::max(cam.fx(), 1e-9);
   const int foot = std::clamp(int(std::lround(pixel / texel)), 1, 4);
+  // Every point of the fan's depth images lies within its sphere widened by two of its pixels
+  // (a pixel's square about the surface point it saw): a ray that misses that sphere meets none.
+  const double reach = rs * (1.0 + 4.0 / S), reach2 = reach * reach;
   std::atomic<size_t> drawn{0};
   tbb::parallel_for(tbb::blocked_range<int>(iy0, iy1 + 1, 4), [&](const tbb::blocked_range<int>& rows) {
     size_t count = 0;
@@ -467,6 +478,10 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
     for (int y = rows.begin(); y < rows.end(); ++y)
       for (int x = ix0; x <= ix1; ++x) {
         const glm::dvec3 r = cam.rayDirection(x + 0.5, y + 0.5);
+        if (dist > reach) {
+          const double along = glm::dot(toEye, r);  // toEye = eye - centre; r unit
+          if (along > 0 || dist * dist - along * along > reach2) continue;
+        }
         const glm::dvec3 dObj(cosYaw * r.x + sinYaw * r.y, -sinYaw * r.x + cosYaw * r.y, r.z / place.scale);  // t stays the world distance
         // The first view that sees what the ray meets. A ray that stays in front of a view's depth
         // all the way misses the object (every point of it lies at or behind that depth); one that
@@ -496,7 +511,7 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
         const int cx = std::min(int(gx), kTableCells - 2), cy = std::min(int(gy), kTableCells - 2);
         const double fx = gx - cx, fy = gy - cy;
         const size_t c00 = size_t(cy) * kTableCells + cx;
-        const double w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+        const float w[4] = {float((1 - fx) * (1 - fy)), float(fx * (1 - fy)), float((1 - fx) * fy), float(fx * fy)};
         const size_t cell[4] = {c00, c00 + 1, c00 + kTableCells, c00 + kTableCells + 1};
         // The pixel's footprint in the fan image: its texels shaded and averaged (a dithered
         // normal image is meant to be averaged; point sampling it where the fan is finer than
@@ -510,16 +525,16 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
             const size_t ti = size_t(yy) * S + xx;
             const uint8_t code = v.code[ti];
             if (!v.alpha[ti] || code == kNoNormal) continue;
-            glm::dvec3 e = glm::dvec3(lit[j].indirect[code]);
+            // (Single precision: the tables are.)
+            glm::vec3 e = lit[j].indirect[code];
             for (size_t l = 0; l < lamps.size(); ++l) {
               const auto& t = lit[j].lamps[l].table;
-              glm::dvec3 entry(0.0);
-              for (int c = 0; c < 4; ++c) entry += w[c] * glm::dvec3(t[cell[c]][code]);
-              e += entry * falloff[l];
+              e += float(falloff[l]) * (w[0] * t[cell[0]][code] + w[1] * t[cell[1]][code] + w[2] * t[cell[2]][code] +
+                                        w[3] * t[cell[3]][code]);
             }
-            const glm::dvec3 albedo(decode(v.colour[3 * ti]), decode(v.colour[3 * ti + 1]), decode(v.colour[3 * ti + 2]));
+            const glm::vec3 albedo(decode(v.colour[3 * ti]), decode(v.colour[3 * ti + 1]), decode(v.colour[3 * ti + 2]));
             const double a = v.alpha[ti] / 255.0;
-            sum += a * albedo / std::numbers::pi * e;
+            sum += a / std::numbers::pi * glm::dvec3(albedo * e);
             alphaSum += a;
           }
         if (!(alphaSum > 0)) continue;
@@ -544,35 +559,99 @@ ObjectShadows::ObjectShadows(const ImageFan& fan, const Placement& place, const 
     shapes_.emplace_back(lamp.polygon, lamp.twoSided, lamp.photometry);
     silhouettes_.push_back(&fan.view(c.view));
     std::vector<glm::dvec3>& pts = inFrame_.emplace_back();
-    for (const auto& sample : c.samples) {
-      const glm::dvec3 q = sample.first - centre_;
-      pts.emplace_back(glm::dot(q, c.right), glm::dot(q, c.up), glm::dot(q, c.toCamera));
+    auto inFrame = [&](const glm::dvec3& w) {
+      const glm::dvec3 q = w - centre_;
+      return glm::dvec3(glm::dot(q, c.right), glm::dot(q, c.up), glm::dot(q, c.toCamera));
+    };
+    for (const auto& sample : c.samples) pts.push_back(inFrame(sample.first));
+    // The silhouette's pixel box, in metres on the view's plane (taken reads pixel
+    // (int(fx), int(fy)) at fx = r * toPixel + S / 2, fy = S / 2 - u * toPixel).
+    Reach& r = reach_.emplace_back();
+    r.lampCentre = inFrame(lamp.position);
+    const FanView& v = fan.view(c.view);
+    const int S = fan.size;
+    int x0 = S, y0 = S, x1 = -1, y1 = -1;
+    for (int y = 0; y < S; ++y)
+      for (int x = 0; x < S; ++x)
+        if (v.alpha[size_t(y) * S + x]) {
+          x0 = std::min(x0, x), x1 = std::max(x1, x);
+          y0 = std::min(y0, y), y1 = std::max(y1, y);
+        }
+    if (x1 >= 0) {
+      const double toPixel = 0.5 * S / radius_;
+      r.lo = glm::dvec2((x0 - 0.5 * S) / toPixel, (0.5 * S - (y1 + 1)) / toPixel);
+      r.hi = glm::dvec2((x1 + 1 - 0.5 * S) / toPixel, (0.5 * S - y0) / toPixel);
     }
   }
 }
 
-bool ObjectShadows::mayShadow(const glm::dvec3& centre, double radius) const {
-  for (const auto& c : casters_) {
-    if (!c.cone) return true;
-    const glm::dvec3 v = centre - c.apex;
-    const double len = glm::length(v), d = glm::dot(v, c.axis);
-    if (len <= radius) return true;
-    if (d + radius < c.nearSide) continue;
-    const double half = std::acos(std::sqrt(std::clamp(c.cos2, 0.0, 1.0)));
-    const double angle = std::acos(std::clamp(d / len, -1.0, 1.0));
-    if (angle <= half + std::asin(std::min(1.0, radius / len)) + 1e-6) return true;
+namespace {
+
+// Whether some line from a point x to a point within rho of a lamp's centre p may cross a
+// caster's view plane inside [lo, hi] (all in the caster's frame, p in front of the plane:
+// p.z - rho > 0), for x anywhere in the box [xlo, xhi]. Behind the plane at depth a = -x.z, the
+// line to a lamp point q at height b crosses it at (b x + a q) / (a + b): increasing in x and q,
+// and monotonic in a and in b for the others fixed, so its extremes over the boxes lie at their
+// corners (exact: no point is passed over that some lamp point would find blocked).
+bool mayCross(const glm::dvec3& xlo, const glm::dvec3& xhi, const glm::dvec3& p, double rho, const glm::dvec2& lo,
+              const glm::dvec2& hi) {
+  if (lo.x > hi.x) return false;  // no silhouette
+  // On the lamp's side of the plane (a <= 0) no line crosses it before the lamp.
+  if (!(xlo.z < 0)) return false;
+  const double a[2] = {std::max(0.0, -xhi.z), -xlo.z};
+  const double b[2] = {p.z - rho, p.z + rho};
+  double inv[2][2];
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) inv[i][j] = 1.0 / (a[i] + b[j]);
+  for (int axis = 0; axis < 2; ++axis) {
+    double cmin = std::numeric_limits<double>::infinity(), cmax = -cmin;
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) {
+        cmin = std::min(cmin, (b[j] * xlo[axis] + a[i] * (p[axis] - rho)) * inv[i][j]);
+        cmax = std::max(cmax, (b[j] * xhi[axis] + a[i] * (p[axis] + rho)) * inv[i][j]);
+      }
+    if (cmax < lo[axis] || cmin > hi[axis]) return false;
   }
-  return false;
+  return true;
+}
+
+}  // namespace
+
+ObjectShadows::Casters ObjectShadows::castersNear(const glm::dvec3& centre, double radius) const {
+  Casters out = 0;
+  for (size_t ci = 0; ci < casters_.size(); ++ci) {
+    const Casters bit = Casters(1) << std::min<size_t>(ci, 63);  // the 64th on share the last bit
+    const ShadowCaster& c = casters_[ci];
+    if (c.cone) {
+      const glm::dvec3 v = centre - c.apex;
+      const double len = glm::length(v), d = glm::dot(v, c.axis);
+      if (len > radius) {
+        if (d + radius < c.nearSide) continue;
+        const double half = std::acos(std::sqrt(std::clamp(c.cos2, 0.0, 1.0)));
+        const double angle = std::acos(std::clamp(d / len, -1.0, 1.0));
+        if (angle > half + std::asin(std::min(1.0, radius / len)) + 1e-6) continue;
+      }
+    }
+    const Reach& re = reach_[ci];
+    if (re.lampCentre.z - c.lampRadius > 0) {
+      const glm::dvec3 q = centre - centre_;
+      const glm::dvec3 x(glm::dot(q, c.right), glm::dot(q, c.up), glm::dot(q, c.toCamera));
+      if (!mayCross(x - radius, x + radius, re.lampCentre, c.lampRadius, re.lo, re.hi)) continue;
+    }
+    out |= bit;
+  }
+  return out;
 }
 
 glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int surface, const glm::dvec3& X,
-                                const glm::dvec3& n) const {
+                                const glm::dvec3& n, Casters casters) const {
   const ImageFan& fan = *fan_;
   const int S = fan.size;
   const glm::dvec3 cw = centre_;
   const double rs = radius_;
   glm::dvec3 out(0.0);
   for (size_t ci = 0; ci < casters_.size(); ++ci) {
+    if (!(casters >> std::min<size_t>(ci, 63) & 1)) continue;
     const ShadowCaster& lv = casters_[ci];
     const ObjectLamp& lamp = light_->lamps[lv.lamp];
     if (surface == lamp.surface) continue;
@@ -591,34 +670,39 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
     // silhouette is read. (Coordinates in the view's frame about the centre: linear along the line.)
     const glm::dvec3 x = X - cw;
     const double xr = glm::dot(x, lv.right), xu = glm::dot(x, lv.up), xt = glm::dot(x, lv.toCamera);
+    // First whether any of those lines can cross the silhouette's box at all (exact: no point
+    // is passed over that some lamp point would find blocked).
+    const Reach& re = reach_[ci];
+    const glm::dvec3 xf(xr, xu, xt);
+    if (re.lampCentre.z - lv.lampRadius > 0 && !mayCross(xf, xf, re.lampCentre, lv.lampRadius, re.lo, re.hi)) continue;
     const double toPixel = 0.5 * S / rs;
     double blocked = 0;
+    // Per lamp point P, in that frame (no division but u's, no square root): the tests that
+    // reject most lines first.
+    const double x2 = xr * xr + xu * xu + xt * xt, rs2 = rs * rs;
     for (size_t k = 0; k < lv.samples.size(); ++k) {
       const glm::dvec3& pt = inFrame_[ci][k];  // (right, up, toCamera)
-      // The segment X -> P must pass within the object's sphere (the frame is orthonormal: a
-      // rotation of the fan's axes).
       const double sr = pt.x - xr, su = pt.y - xu, st = pt.z - xt;
-      const double len2 = sr * sr + su * su + st * st;
-      const double s = std::clamp(-(xr * sr + xu * su + xt * st) / len2, 0.0, 1.0);
-      const double cr = xr + s * sr, cu = xu + s * su, ct = xt + s * st;
-      if (!(cr * cr + cu * cu + ct * ct <= rs * rs)) continue;
-      const double den = st;
-      if (std::abs(den) < 1e-12) continue;
-      const double u = -xt / den;
-      if (u <= 0 || u >= 1) continue;
+      // The crossing u = -xt / st of the plane must lie strictly between X and P.
+      if (std::abs(st) < 1e-12 || !(st > 0 ? (xt < 0 && -xt < st) : (xt > 0 && xt < -st))) continue;
+      const double u = -xt / st;
       const double fx = (xr + u * sr) * toPixel + 0.5 * S, fy = 0.5 * S - (xu + u * su) * toPixel;
       if (!(fx >= 0 && fy >= 0 && fx < S && fy < S)) continue;
       const int tx = int(fx), ty = int(fy);
       const size_t ti = size_t(ty) * S + tx;
       if (!silhouette.alpha[ti]) continue;
-      // The silhouette's point must lie between X and the lamp (not behind X).
-      const auto& [point, weight] = lv.samples[k];
-      const glm::dvec3 seg = point - X;
+      // The segment X -> P must pass within the object's sphere: its nearest point to the centre
+      // is X (dot <= 0), P (dot >= len2) or between, at squared distance x2 - dot^2 / len2.
+      const double len2 = sr * sr + su * su + st * st;
+      const double dot = -(xr * sr + xu * su + xt * st);
+      if (dot <= 0 ? x2 > rs2 : dot >= len2 ? glm::dot(pt, pt) > rs2 : x2 * len2 - dot * dot > rs2 * len2) continue;
+      // The silhouette's point must lie between X and the lamp (not behind X): its offset from X
+      // along the segment more than a thousandth of the segment's length.
       const double a = ((tx + 0.5) / S * 2.0 - 1.0) * fan.radius, b = (1.0 - (ty + 0.5) / S * 2.0) * fan.radius;
-      const glm::dvec3 p =
-          cw + place_.scale * (a * lv.right + b * lv.up + (fan.radius - fan.depthMetres(silhouette.depth[ti])) * lv.toCamera);
-      if (glm::dot(p - X, seg) <= 1e-3 * glm::length(seg)) continue;
-      blocked += weight * (silhouette.alpha[ti] / 255.0);
+      const double c = fan.radius - fan.depthMetres(silhouette.depth[ti]);
+      const double along = (place_.scale * a - xr) * sr + (place_.scale * b - xu) * su + (place_.scale * c - xt) * st;
+      if (along <= 0 || along * along <= 1e-6 * len2) continue;
+      blocked += lv.samples[k].second * (silhouette.alpha[ti] / 255.0);
     }
     if (!(blocked > 0)) continue;
     // The lamp's direct irradiance at X, if the room lets it through.
@@ -647,7 +731,8 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
   const std::vector<char> emitters = emittingSurfaces(h);
   std::atomic<size_t> shaded{0};
   // In tiles of 8 x 8 pixels: a tile whose points all lie out of every lamp's reach (the sphere
-  // around them, ObjectShadows::mayShadow) is passed over whole.
+  // around them, ObjectShadows::castersNear) is passed over whole, and the others ask only the
+  // lamps that may shadow some of it.
   constexpr int kTile = 8;
   const int tilesX = (cam.width + kTile - 1) / kTile, tilesY = (cam.height + kTile - 1) / kTile;
   tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 4), [&](const tbb::blocked_range<int>& tiles) {
@@ -663,7 +748,9 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
           lo = glm::min(lo, glm::dvec3(room.point[pi]));
           hi = glm::max(hi, glm::dvec3(room.point[pi]));
         }
-      if (lo.x > hi.x || !shadows.mayShadow(0.5 * (lo + hi), 0.5 * glm::length(hi - lo) + 1e-6)) continue;
+      if (lo.x > hi.x) continue;
+      const ObjectShadows::Casters near = shadows.castersNear(0.5 * (lo + hi), 0.5 * glm::length(hi - lo) + 1e-6);
+      if (!near) continue;
       for (int y = ty0; y < ty1; ++y)
         for (int x = tx0; x < tx1; ++x) {
         const size_t pi = size_t(y) * cam.width + x;
@@ -671,7 +758,7 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
         // Lamps keep their glow: a shadow falls on what reflects.
         if (surface < 0 || emitters[size_t(surface)]) continue;
         const glm::dvec3 X(room.point[pi]);
-        const glm::dvec3 taken = shadows.taken(h, surface, X, glm::dvec3(room.normal[pi]));
+        const glm::dvec3 taken = shadows.taken(h, surface, X, glm::dvec3(room.normal[pi]), near);
         if (taken == glm::dvec3(0.0)) continue;
         const glm::dvec3 total = irradiance(surface, X);
         glm::dvec3 keep;

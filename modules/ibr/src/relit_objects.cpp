@@ -107,7 +107,7 @@ std::vector<SurfaceShadow> shadowMaps(const radiosity::HierarchicalRadiosity& h,
     // In tiles of 8 x 8 texels: only the objects whose shadow may reach a tile are asked about
     // its texels (most of a room is out of every object's reach).
     constexpr int kTile = 8;
-    std::vector<const ObjectShadows*> near;
+    std::vector<std::pair<const ObjectShadows*, ObjectShadows::Casters>> near;
     for (int ty = 0; ty < H; ty += kTile)
       for (int tx = 0; tx < W; tx += kTile) {
         const int tw = std::min(kTile, W - tx), th = std::min(kTile, H - ty);
@@ -115,7 +115,7 @@ std::vector<SurfaceShadow> shadowMaps(const radiosity::HierarchicalRadiosity& h,
         const double reach = 0.5 * texel * std::hypot(double(tw), double(th));
         near.clear();
         for (const auto& c : casters)
-          if (c.mayShadow(h.toWorld(sid, mid), reach)) near.push_back(&c);
+          if (const auto which = c.castersNear(h.toWorld(sid, mid), reach)) near.emplace_back(&c, which);
         if (near.empty()) continue;
         if (keep.empty()) keep.assign(size_t(W) * H, glm::vec3(1.f));
         for (int y = ty; y < ty + th; ++y)
@@ -125,8 +125,8 @@ std::vector<SurfaceShadow> shadowMaps(const radiosity::HierarchicalRadiosity& h,
         // Each object's share kept, multiplied (as drawImageObjects applies one object's shadow
         // after the other): where two hide the same lamp its light is not taken off twice.
         glm::dvec3 kept(1.0), total(-1.0);
-        for (const ObjectShadows* c : near) {
-          const glm::dvec3 taken = c->taken(h, sid, X, n);
+        for (const auto& [c, which] : near) {
+          const glm::dvec3 taken = c->taken(h, sid, X, n, which);
           if (taken == glm::dvec3(0.0)) continue;
           if (total.x < 0) {
             // The irradiance shown there (texels beyond the polygon's edge, which the display's

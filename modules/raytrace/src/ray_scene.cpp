@@ -4,14 +4,22 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <atomic>
+#include <functional>
 #include <glm/geometric.hpp>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 namespace relume {
 
 struct RayScene::Impl {
+  static constexpr size_t kCountSlots = 16;
+  struct alignas(64) Count {
+    std::atomic<uint64_t> rays{0};
+  };
+  Count counts[kCountSlots];
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   std::vector<int> triangleToPolygon;
@@ -127,7 +135,7 @@ inline bool occludedOne(RTCScene scene, const Segment& s, float eps) {
 
 void RayScene::occluded(std::span<const Segment> segs, std::span<uint8_t> blocked, float eps) const {
   const size_t n = segs.size();
-  rays_.fetch_add(n, std::memory_order_relaxed);
+  count(n);
   RTCScene scene = impl_->scene;
   auto body = [&](size_t b, size_t e) {
     for (size_t i = b; i < e; ++i) blocked[i] = occludedOne(scene, segs[i], eps) ? 1 : 0;
@@ -140,15 +148,30 @@ void RayScene::occluded(std::span<const Segment> segs, std::span<uint8_t> blocke
                     [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
 }
 
+void RayScene::count(uint64_t n) const {
+  static thread_local const size_t slot = std::hash<std::thread::id>{}(std::this_thread::get_id()) % Impl::kCountSlots;
+  impl_->counts[slot].rays.fetch_add(n, std::memory_order_relaxed);
+}
+
+uint64_t RayScene::raysCast() const {
+  uint64_t n = 0;
+  for (const auto& c : impl_->counts) n += c.rays.load(std::memory_order_relaxed);
+  return n;
+}
+
+void RayScene::resetRayCount() {
+  for (auto& c : impl_->counts) c.rays.store(0);
+}
+
 bool RayScene::occluded(const glm::vec3& from, const glm::vec3& to, float eps) const {
-  rays_.fetch_add(1, std::memory_order_relaxed);
+  count(1);
   return occludedOne(impl_->scene, Segment{from, to}, eps);
 }
 
 float RayScene::visibility(std::span<const glm::vec3> a, std::span<const glm::vec3> b, float eps) const {
   const size_t n = std::min(a.size(), b.size());
   if (n == 0) return 1.f;
-  rays_.fetch_add(n, std::memory_order_relaxed);
+  count(n);
   size_t free = 0;
   for (size_t i = 0; i < n; ++i) free += occludedOne(impl_->scene, Segment{a[i], b[i]}, eps) ? 0 : 1;
   return float(free) / float(n);
@@ -191,12 +214,12 @@ RayHit intersectOne(RTCScene scene, const std::vector<int>& triangleToPolygon, c
 }  // namespace
 
 RayHit RayScene::intersect(const Ray& ray) const {
-  rays_.fetch_add(1, std::memory_order_relaxed);
+  count(1);
   return intersectOne(impl_->scene, impl_->triangleToPolygon, ray);
 }
 
 void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits) const {
-  rays_.fetch_add(rays.size(), std::memory_order_relaxed);  // counted once, not per ray
+  count(rays.size());  // counted once, not per ray
   auto body = [&](size_t b, size_t e) {
     for (size_t i = b; i < e; ++i) hits[i] = intersectOne(impl_->scene, impl_->triangleToPolygon, rays[i]);
   };

@@ -149,10 +149,16 @@ class ObjectShadows {
   // (Keeps references to `fan` and `light`: both must outlive it.)
   ObjectShadows(const ImageFan& fan, const Placement& place, const ObjectLighting& light);
   bool empty() const { return casters_.empty(); }
-  // Whether some point within `radius` of `centre` may be shadowed (false: none is).
-  bool mayShadow(const glm::dvec3& centre, double radius) const;
-  // The irradiance (W/m^2, RGB) taken off point X (normal n) of engine surface `surface`.
-  glm::dvec3 taken(const radiosity::HierarchicalRadiosity& h, int surface, const glm::dvec3& X, const glm::dvec3& n) const;
+  // The casters (bit i: the i-th lamp that casts; the 64th on share bit 63) that may shadow some
+  // point within `radius` of `centre` (0: none can).
+  using Casters = uint64_t;
+  static constexpr Casters kAllCasters = ~Casters(0);
+  Casters castersNear(const glm::dvec3& centre, double radius) const;
+  bool mayShadow(const glm::dvec3& centre, double radius) const { return castersNear(centre, radius) != 0; }
+  // The irradiance (W/m^2, RGB) taken off point X (normal n) of engine surface `surface`, by the
+  // casters in `casters` (from castersNear around X: the others take nothing there).
+  glm::dvec3 taken(const radiosity::HierarchicalRadiosity& h, int surface, const glm::dvec3& X, const glm::dvec3& n,
+                   Casters casters = kAllCasters) const;
 
  private:
   const ImageFan* fan_;
@@ -167,6 +173,15 @@ class ObjectShadows {
   // object's centre (metres along right, up, toCamera): a line's crossing of the view's plane is
   // then a few products per point.
   std::vector<std::vector<glm::dvec3>> inFrame_;
+  // Per caster, in the same frame: the lamp's centre, and the box on the view's plane that holds
+  // every silhouette pixel (metres along right, up; empty: lo > hi). A point whose lines to the
+  // lamp (its points lie within lampRadius of the centre) all cross the plane outside the box is
+  // passed over before its points are tried.
+  struct Reach {
+    glm::dvec3 lampCentre{0.0};
+    glm::dvec2 lo{1.0}, hi{-1.0};
+  };
+  std::vector<Reach> reach_;
 };
 
 // Per engine surface: whether it emits (a lamp keeps its glow: shadows fall on what reflects).
