@@ -551,9 +551,9 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
   return st;
 }
 
-ObjectShadows::ObjectShadows(const ImageFan& fan, const Placement& place, const ObjectLighting& light)
+ObjectShadows::ObjectShadows(const ImageFan& fan, const Placement& place, const ObjectLighting& light, bool cull)
     : fan_(&fan), place_(place), light_(&light), centre_(place.toWorld(fan, fan.centre)), radius_(fan.radius * place.scale),
-      casters_(shadowCasters(fan, place, light)) {
+      cull_(cull), casters_(shadowCasters(fan, place, light)) {
   for (const auto& c : casters_) {
     const ObjectLamp& lamp = light.lamps[c.lamp];
     shapes_.emplace_back(lamp.polygon, lamp.twoSided, lamp.photometry);
@@ -621,6 +621,10 @@ ObjectShadows::Casters ObjectShadows::castersNear(const glm::dvec3& centre, doub
   Casters out = 0;
   for (size_t ci = 0; ci < casters_.size(); ++ci) {
     const Casters bit = Casters(1) << std::min<size_t>(ci, 63);  // the 64th on share the last bit
+    if (!cull_) {
+      out |= bit;
+      continue;
+    }
     const ShadowCaster& c = casters_[ci];
     if (c.cone) {
       const glm::dvec3 v = centre - c.apex;
@@ -659,7 +663,7 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
     // widened by the lamp's own radius (every line to a point of the lamp lies within that radius
     // of it): X inside the cone from the lamp's centre around that sphere, and beyond its near
     // side. (Single precision: it only picks the points tested exactly.)
-    if (lv.cone) {
+    if (cull_ && lv.cone) {
       const glm::vec3 v = glm::vec3(X) - glm::vec3(lv.apex);
       const float d = glm::dot(v, glm::vec3(lv.axis));
       if (d < float(lv.nearSide) || d * d < float(lv.cos2) * glm::dot(v, v)) continue;
@@ -674,7 +678,8 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
     // is passed over that some lamp point would find blocked).
     const Reach& re = reach_[ci];
     const glm::dvec3 xf(xr, xu, xt);
-    if (re.lampCentre.z - lv.lampRadius > 0 && !mayCross(xf, xf, re.lampCentre, lv.lampRadius, re.lo, re.hi)) continue;
+    if (cull_ && re.lampCentre.z - lv.lampRadius > 0 && !mayCross(xf, xf, re.lampCentre, lv.lampRadius, re.lo, re.hi))
+      continue;
     const double toPixel = 0.5 * S / rs;
     double blocked = 0;
     // Per lamp point P, in that frame (no division but u's, no square root): the tests that

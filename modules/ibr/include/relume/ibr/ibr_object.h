@@ -146,8 +146,9 @@ using IrradianceAt = std::function<glm::dvec3(int surface, const glm::dvec3& poi
 // the lamp through, is taken off. A lamp switched off or dimmed takes off as much less.
 class ObjectShadows {
  public:
-  // (Keeps references to `fan` and `light`: both must outlive it.)
-  ObjectShadows(const ImageFan& fan, const Placement& place, const ObjectLighting& light);
+  // (Keeps references to `fan` and `light`: both must outlive it.) `cull` false: every lamp is
+  // tried at every point, its lines to all the lamp's points (what culling must not change).
+  ObjectShadows(const ImageFan& fan, const Placement& place, const ObjectLighting& light, bool cull = true);
   bool empty() const { return casters_.empty(); }
   // The casters (bit i: the i-th lamp that casts; the 64th on share bit 63) that may shadow some
   // point within `radius` of `centre` (0: none can).
@@ -166,6 +167,7 @@ class ObjectShadows {
   const ObjectLighting* light_;
   glm::dvec3 centre_{0.0};
   double radius_ = 0;
+  bool cull_ = true;
   std::vector<ShadowCaster> casters_;
   std::vector<radiosity::EmitterShape> shapes_;
   std::vector<const FanView*> silhouettes_;  // each caster's view, decoded once
