@@ -122,20 +122,23 @@ QJsonObject ibrBench(const Scene& sceneIn, int runs, Progress& progress) {
   // shadows fall where the photo shows them rather than under a table.
   {
     const glm::dvec3 middle(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z);
-    const double top = object.fan->boundsMax.z - object.fan->boundsMin.z;
+    const double top = object.place.scale * (object.fan->boundsMax.z - object.fan->boundsMin.z);
     int bestLit = -1;
+    std::string lastReason = "no floor point seen by the camera";
     double bestDist = 1e300;
     for (double y = lo.y + 0.05; y < hi.y; y += 0.1)
       for (double x = lo.x + 0.05; x < hi.x; x += 0.1) {
         ibr::ImageObject o = object;
         o.place.position = glm::dvec3(x, y, lo.z);
         glm::dvec2 pix;
-        if (!cam.project(o.place.toWorld(*o.fan, o.fan->centre), pix) || pix.x < 0 || pix.y < 0 || pix.x >= cam.width ||
-            pix.y >= cam.height)
+        const glm::dvec3 c = o.place.toWorld(*o.fan, o.fan->centre);
+        if (!cam.project(c, pix) || pix.x < 0 || pix.y < 0 || pix.x >= cam.width || pix.y >= cam.height ||
+            h.rayScene().occluded(glm::vec3(cam.center()), glm::vec3(c)))
           continue;
         try {
           ibr::checkImageObject(scene, o);
-        } catch (const Error&) {
+        } catch (const Error& e) {
+          lastReason = e.what();
           continue;
         }
         int lit = 0;
@@ -151,7 +154,7 @@ QJsonObject ibrBench(const Scene& sceneIn, int runs, Progress& progress) {
         }
       }
     if (bestLit < 0) {
-      out["object"] = "not placed: no floor point in the open seen by the camera";
+      out["object"] = QString::fromStdString("not placed: no floor point in the open seen by the camera (" + lastReason + ")");
       return out;
     }
   }

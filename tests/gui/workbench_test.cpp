@@ -835,6 +835,8 @@ class WorkbenchTest : public QObject {
 
     // Dragged 40 px to the right along the floor: it follows the cursor; one undo step.
     const int steps = doc()->undoStack()->index();
+    // Where the object stands now (the panels beside the viewport may have changed its size).
+    QVERIFY(vp->widgetPosition(placed.place.position, pos));
     const QPoint start = pos.toPoint() + QPoint(0, -8), end = start + QPoint(40, 0);
     QVERIFY(!window_->editTool()->imageObjectAt(vp->pickAt(QPointF(start))).empty());
     QTest::mousePress(vp, Qt::LeftButton, {}, start);

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <limits>
@@ -468,9 +469,10 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
   // Fan pixels per screen pixel at the object's distance (1 to 4 across).
   const double texel = 2.0 * rs / S, pixel = dist / std::max(cam.fx(), 1e-9);
   const int foot = std::clamp(int(std::lround(pixel / texel)), 1, 4);
-  // Every point of the fan's depth images lies within its sphere widened by two of its pixels
-  // (a pixel's square about the surface point it saw): a ray that misses that sphere meets none.
-  const double reach = rs * (1.0 + 4.0 / S), reach2 = reach * reach;
+  // Every point the march can hit lies within the fan's sphere widened by three of its pixels (a
+  // pixel's square about the surface point it saw, its diagonal, and the march's curtain tolerance
+  // of one and a half pixels): a ray that misses that sphere meets none.
+  const double reach = rs * (1.0 + 6.0 / S), reach2 = reach * reach;
   std::atomic<size_t> drawn{0};
   tbb::parallel_for(tbb::blocked_range<int>(iy0, iy1 + 1, 4), [&](const tbb::blocked_range<int>& rows) {
     size_t count = 0;
@@ -701,8 +703,8 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
       const double len2 = sr * sr + su * su + st * st;
       const double dot = -(xr * sr + xu * su + xt * st);
       if (dot <= 0 ? x2 > rs2 : dot >= len2 ? glm::dot(pt, pt) > rs2 : x2 * len2 - dot * dot > rs2 * len2) continue;
-      // The silhouette's point must lie between X and the lamp (not behind X): its offset from X
-      // along the segment more than a thousandth of the segment's length.
+      // The silhouette's point must lie between X and the lamp (not behind X): its offset from X,
+      // projected on the segment's direction, more than a millimetre.
       const double a = ((tx + 0.5) / S * 2.0 - 1.0) * fan.radius, b = (1.0 - (ty + 0.5) / S * 2.0) * fan.radius;
       const double c = fan.radius - fan.depthMetres(silhouette.depth[ti]);
       const double along = (place_.scale * a - xr) * sr + (place_.scale * b - xu) * su + (place_.scale * c - xt) * st;

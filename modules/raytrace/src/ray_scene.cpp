@@ -10,7 +10,6 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 namespace relume {
 
@@ -149,7 +148,10 @@ void RayScene::occluded(std::span<const Segment> segs, std::span<uint8_t> blocke
 }
 
 void RayScene::count(uint64_t n) const {
-  static thread_local const size_t slot = std::hash<std::thread::id>{}(std::this_thread::get_id()) % Impl::kCountSlots;
+  // Each thread takes the next slot in turn the first time it counts, so that threads spread
+  // over the slots evenly (a hash of the thread id may put two of them on one cache line).
+  static std::atomic<unsigned> next{0};
+  static thread_local const size_t slot = next.fetch_add(1, std::memory_order_relaxed) % Impl::kCountSlots;
   impl_->counts[slot].rays.fetch_add(n, std::memory_order_relaxed);
 }
 
