@@ -57,10 +57,10 @@ Scene openRoom(const QString& path);
 // and the distant method, report.json with the all and change masks.
 int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progress);
 // relume relight ROOM --sky NAME|FISHEYE.exr: the main photo (or `camera`'s) under that sky, with
-// virtual objects and the room's lamps named in `lampScale` switched on (S x their radiance), by
-// the near-field, volume or distant method.
+// virtual objects, virtual lamps (files with virtual_lights, near-field only) and the room's lamps
+// named in `lampScale` switched on (S x their radiance), by the near-field, volume or distant method.
 int daylightRelight(const Scene& room, const std::string& sky, const std::vector<std::string>& objectFiles,
-                    const std::map<std::string, glm::dvec3>& lampScale,
+                    const std::vector<std::string>& lampFiles, const std::map<std::string, glm::dvec3>& lampScale,
                     const std::string& method, const std::string& camera, const std::string& out, Progress& progress);
 // The index of the room's lamp `name`, its `scale` checked (finite, >= 0); relume::Error naming
 // `where` and listing the room's lamps when it has no such lamp.

@@ -422,7 +422,7 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
 }
 
 int daylightRelight(const Scene& room, const std::string& skyName, const std::vector<std::string>& objectFiles,
-                    const std::map<std::string, glm::dvec3>& lampScale, const std::string& method, const std::string& camera,
+                    const std::vector<std::string>& lampFiles, const std::map<std::string, glm::dvec3>& lampScale, const std::string& method, const std::string& camera,
                     const std::string& out, Progress& progress) {
   if (method != "near-field" && method != "distant" && method != "volume")
     throw Error("", "--daylight", "must be near-field, volume or distant, not '" + method + "'");
@@ -443,6 +443,22 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
     throw Error("", "--lamp", "the distant method is the sky at infinity alone: no lamp with --daylight distant");
   if (anyLamp && method == "volume" && !objectFiles.empty())
     throw Error("", "--lamp", "the volume method lights virtual objects by daylight only: with a lamp on, use near-field");
+  // Virtual lamps: their radiance per face as the lamp path takes it (exitance pi x radiance).
+  std::vector<dl::BasisLamp> virtualLamps;
+  for (const auto& f : lampFiles) {
+    const Variant v = readVariantFile(f);
+    if (v.virtualLamps.empty()) throw Error(f, "virtual_lights", "lists no virtual lamp");
+    for (size_t i = 0; i < v.virtualLamps.size(); ++i) {
+      const Lamp& l = v.virtualLamps[i];
+      const std::string name = l.name.empty() ? "virtual_lamp_" + std::to_string(i) : l.name;
+      if (l.photometry)
+        throw Error(f, "virtual lamp " + name, "a photometric lamp (IES / EULUMDAT) is not lit under daylight yet: give it "
+                                               "without its photometry file, or relight without --sky");
+      virtualLamps.push_back({name, v.virtualLampPolygons[i], std::numbers::pi * l.radiance, l.twoSided});
+    }
+  }
+  if (!virtualLamps.empty() && method != "near-field")
+    throw Error("", "--virtual-lamp", "virtual lamps under daylight take the near-field method (--daylight near-field)");
   const Photo* main = room.findPhoto(camera.empty() ? room.mainPhoto : camera);
   if (!main) throw Error(room.sourceFile, "--camera", "the room has no photo named '" + camera + "'");
   if (main->hdr.empty()) throw Error(room.sourceFile, "photo " + main->name, "daylight relighting needs its linear (EXR) image");
@@ -494,7 +510,7 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   for (size_t l = 0; l < lampExitance.size(); ++l) relit.setLampExitance(int(l), lampExitance[l]);
   if (!skyInfo.isDir()) {
     Progress draw(progress, 0.7, 1.0);
-    writeImage(out, relit.render(frames.front().sky, objects, how, draw));
+    writeImage(out, relit.render(frames.front().sky, objects, how, draw, virtualLamps));
     std::fprintf(stderr, "wrote %s\n", out.c_str());
     return 0;
   }
@@ -509,7 +525,7 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   for (size_t i = 0; i < frames.size(); ++i) {
     Progress draw(progress, 0.7 + 0.3 * double(i) / double(frames.size()), 0.7 + 0.3 * double(i + 1) / double(frames.size()));
     const auto t0 = std::chrono::steady_clock::now();
-    const ImageRGB img = relit.render(frames[i].sky, objects, how, draw);
+    const ImageRGB img = relit.render(frames[i].sky, objects, how, draw, virtualLamps);
     const double ms = 1000.0 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     times.push_back(ms);
     for (const char* ext : {".exr", ".png"}) writeImage(QDir(partial).filePath(QString::fromStdString(frames[i].stem + ext)).toStdString(), img);

@@ -289,7 +289,7 @@ int relightCommand(const QStringList& args, Progress& progress) {
                            "comparison).", "METHOD"});
   p.addOption({{"o", "output"}, "Output image (.exr linear radiance, .png at the photo's exposure).", "IMG"});
   parseOrThrow(p, args, 1, "relume relight PROJECT --lamp A=0 [--virtual-lamp F] [--virtual-object F] -o IMG\n"
-                           "       relume relight ROOM --sky NAME|FISHEYE.exr [--lamp A=1] [--virtual-object F] [--daylight near-field|volume|distant] -o IMG\n"
+                           "       relume relight ROOM --sky NAME|FISHEYE.exr [--lamp A=1] [--virtual-lamp F] [--virtual-object F] [--daylight near-field|volume|distant] -o IMG\n"
                            "       relume relight ROOM --sky FOLDER [--lamp A=1] [--virtual-object F] [--daylight ...] -o FRAMES_DIR");
   if (!p.isSet("output")) throw Error("", "command line", "-o IMG is required");
   const QString out = p.value("output");
@@ -308,11 +308,12 @@ int relightCommand(const QStringList& args, Progress& progress) {
     scales[str(s.left(eq))] = v;
   }
   if (p.isSet("sky")) {
-    if (p.isSet("virtual-lamp") || p.isSet("method"))
-      throw Error("", "--sky", "daylight relighting takes no --virtual-lamp or --method yet");
-    std::vector<std::string> files;
+    if (p.isSet("method"))
+      throw Error("", "--sky", "daylight relighting takes no --method (full / ratio-only are the lamp path's): see --daylight");
+    std::vector<std::string> files, lampFiles;
     for (const QString& f : p.values("virtual-object")) files.push_back(str(f));
-    return daylightRelight(openRoom(p.positionalArguments()[0]), str(p.value("sky")), files, scales,
+    for (const QString& f : p.values("virtual-lamp")) lampFiles.push_back(str(f));
+    return daylightRelight(openRoom(p.positionalArguments()[0]), str(p.value("sky")), files, lampFiles, scales,
                            p.isSet("daylight") ? str(p.value("daylight")) : "near-field", str(p.value("camera")), str(out),
                            progress);
   }

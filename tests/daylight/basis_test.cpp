@@ -255,3 +255,68 @@ TEST(DaylightBasis, ALampsTermIsTheEngineSolvingThatLampAloneAndAddsToTheSky) {
   EXPECT_THROW(basis.setLampExitance(1, m), Error);
   EXPECT_THROW(basis.setLampExitance(0, glm::dvec3(-1.0)), Error);
 }
+
+TEST(DaylightBasis, AVirtualLampShinesAsTheSameLampSolvedAloneAndGoesWithoutATrace) {
+  // A virtual lamp added to the live basis (Loscos §4.4 beside the sky) against the engine
+  // solving the room lit by that lamp alone, the lamp in it from the start: per surface and right
+  // under the lamp, one-sided and two-sided; taken out again, the sky's combination is what it was.
+  const Scene room = windowRoom(0.3, 0.6, 0.8);
+  const double a = 0.15, cx = 1.4, cy = 2.3, z = H - 0.4;
+  const std::vector<glm::dvec3> quad{{cx - a, cy - a, z}, {cx - a, cy + a, z}, {cx + a, cy + a, z}, {cx + a, cy - a, z}};
+  const glm::dvec3 m(120.0, 110.0, 95.0);
+  const SkyRadiance sky = uniformSky(16, 2.0);
+  DaylightBasis basis(room, sky, coarse(16));
+  ASSERT_EQ(basis.lampCount(), 0);
+  const std::vector<glm::vec3> before = basis.combine(sky);
+  std::vector<glm::dvec3> beforeMeans;
+  for (size_t s = 0; s < room.polygons.size(); ++s) beforeMeans.push_back(basis.surfaceMean(before, int(s)));
+  const size_t surfaces = basis.engine().surfaces().size();
+  // Refused before anything is added: no area, a negative or non-finite exitance.
+  EXPECT_THROW(basis.addObjects({}, {BasisLamp{"flat", {{1, 1, 1}, {2, 1, 1}, {3, 1, 1}}, m, false}}), Error);
+  EXPECT_THROW(basis.addObjects({}, {BasisLamp{"negative", quad, glm::dvec3(-1.0), false}}), Error);
+  EXPECT_THROW(basis.addObjects({}, {BasisLamp{"nan", quad, glm::dvec3(std::nan("")), false}}), Error);
+  EXPECT_EQ(basis.engine().surfaces().size(), surfaces);
+  EXPECT_EQ(basis.lampCount(), 0);
+
+  double oneFacedCeiling = 0;
+  for (bool twoSided : {false, true}) {
+    const std::vector<int> ids = basis.addObjects({}, {BasisLamp{"pendant", quad, m, twoSided}});
+    ASSERT_EQ(ids.size(), 1u);
+    ASSERT_EQ(basis.lampCount(), 1);
+    EXPECT_EQ(basis.sceneLampCount(), 0);
+    EXPECT_EQ(basis.lampOfSurface(ids[0]), 0);
+    EXPECT_TRUE(basis.isLamp(ids[0]));
+    EXPECT_EQ(basis.lampExitance(0), m);
+    const std::vector<glm::vec3> both = basis.combine(sky);
+
+    // The same room with the lamp in it from the start, solved by the engine for the lamp alone.
+    std::vector<radiosity::Surface> s = radiosity::surfacesFromScene(room);
+    for (size_t i = 0; i < room.polygons.size(); ++i)
+      if (room.polygons[i].kind == PolygonKind::Window) s[i].opening = true;
+    radiosity::Surface lamp;
+    lamp.name = "pendant";
+    lamp.vertices = quad;
+    lamp.exitance = m;
+    lamp.twoSided = twoSided;
+    s.push_back(lamp);
+    radiosity::HierarchicalRadiosity alone(s, *coarse(16).engine);
+    alone.solve();
+    for (int f : {0, 1, 2, 4, 5}) {  // floor, ceiling, back wall, left wall, the wall below the window
+      const double mine = basis.surfaceMean(both, f).y - beforeMeans[size_t(f)].y, theirs = alone.surfaceRadiosity(f).y;
+      std::printf("%s, %-18s virtual lamp's share %.4f, the lamp alone %.4f (%+.2f %%)\n", twoSided ? "two faces" : "one face",
+                  room.polygons[size_t(f)].name.c_str(), mine, theirs, 100 * (mine / theirs - 1));
+      EXPECT_NEAR(mine, theirs, 0.04 * theirs) << room.polygons[size_t(f)].name << (twoSided ? ", two-sided" : "");
+    }
+    // The ceiling 40 cm above the lamp: lit directly by its upper face only when it has one.
+    const double ceilingShare = basis.surfaceMean(both, 1).y - beforeMeans[1].y;
+    if (twoSided) EXPECT_GT(ceilingShare, 3.0 * oneFacedCeiling);
+    oneFacedCeiling = ceilingShare;
+    basis.removeObjects(ids);
+    EXPECT_EQ(basis.lampCount(), 0);
+    EXPECT_FALSE(basis.isLamp(ids[0]));
+    const std::vector<glm::vec3> after = basis.combine(sky);
+    for (size_t f = 0; f < room.polygons.size(); ++f)
+      if (room.polygons[f].kind != PolygonKind::Window)
+        EXPECT_NEAR(basis.surfaceMean(after, int(f)).y, beforeMeans[f].y, 2e-3 * beforeMeans[f].y) << room.polygons[f].name;
+  }
+}

@@ -182,6 +182,7 @@ DaylightBasis::DaylightBasis(const Scene& scene, const SkyRadiance& refineFor, c
       throw Error(scene.sourceFile, "lamp " + l.name, "names no polygon of the room");
     lampSurface_.push_back(l.polygon);
   }
+  sceneLamps_ = int(lampSurface_.size());
   lampExitance_.assign(lampSurface_.size(), glm::dvec3(0.0));
   lampSolution_.resize(lampSurface_.size());
   for (int w : windows_) {
@@ -308,6 +309,18 @@ const std::vector<glm::vec3>& DaylightBasis::lampSolution(int lamp, Progress& pr
 }
 
 std::vector<int> DaylightBasis::addObjects(const std::vector<Polygon>& polygons, Progress& progress) {
+  return addObjects(polygons, {}, progress);
+}
+
+std::vector<int> DaylightBasis::addObjects(const std::vector<Polygon>& polygons, const std::vector<BasisLamp>& lamps,
+                                           Progress& progress) {
+  for (const auto& l : lamps) {
+    if (l.polygon.size() < 3 || !(polygonArea(l.polygon) > 1e-12))
+      throw Error("", "virtual lamp " + l.name, "its polygon has no area");
+    for (int c = 0; c < 3; ++c)
+      if (!(l.exitance[c] >= 0) || !std::isfinite(l.exitance[c]))
+        throw Error("", "virtual lamp " + l.name, "its exitance must be finite and >= 0");
+  }
   haveSun_ = false;
   std::vector<radiosity::Surface> add;
   for (const auto& p : polygons) {
@@ -317,12 +330,27 @@ std::vector<int> DaylightBasis::addObjects(const std::vector<Polygon>& polygons,
     s.reflectance = p.albedo;
     add.push_back(std::move(s));
   }
+  for (const auto& l : lamps) {  // dark in every basis (reflectance 0): each lamp is its own term
+    radiosity::Surface s;
+    s.name = l.name;
+    s.vertices = l.polygon;
+    s.twoSided = l.twoSided;
+    add.push_back(std::move(s));
+  }
   std::vector<int> ids;
   {
     // Their links are refined under the sky the hierarchy was refined for (never dark anywhere).
     for (int w : windows_) engine_->setDistantLight(w, refineLight_);
     Progress stage(progress, 0.0, 0.3);
     ids = engine_->addSurfaces(add, stage);
+  }
+  lamp_.resize(engine_->surfaces().size(), false);
+  for (size_t k = 0; k < lamps.size(); ++k) {
+    const int s = ids[polygons.size() + k];
+    lamp_[size_t(s)] = true;
+    lampSurface_.push_back(s);
+    lampExitance_.push_back(lamps[k].exitance);
+    lampSolution_.emplace_back();
   }
   try {
     Progress stage(progress, 0.3, 1.0);
@@ -336,6 +364,13 @@ std::vector<int> DaylightBasis::addObjects(const std::vector<Polygon>& polygons,
 
 void DaylightBasis::removeObjects(const std::vector<int>& surfaces, Progress& progress) {
   haveSun_ = false;
+  for (size_t l = lampSurface_.size(); l-- > size_t(sceneLamps_);)
+    if (std::find(surfaces.begin(), surfaces.end(), lampSurface_[l]) != surfaces.end()) {
+      lamp_[size_t(lampSurface_[l])] = false;
+      lampSurface_.erase(lampSurface_.begin() + std::ptrdiff_t(l));
+      lampExitance_.erase(lampExitance_.begin() + std::ptrdiff_t(l));
+      lampSolution_.erase(lampSolution_.begin() + std::ptrdiff_t(l));
+    }
   engine_->removeSurfaces(surfaces);
   solveBases(progress);
 }

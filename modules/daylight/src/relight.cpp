@@ -667,17 +667,25 @@ DaylightRelighting::~DaylightRelighting() = default;
 namespace {
 // The lamps switched on show their own radiance (exitance / pi; the photo shows them off) where
 // the camera sees their emitting faces.
+// A virtual lamp's pixels show the lamp alone (the photo there shows what stands behind it).
 void paintLamps(ImageRGB& out, const SeenPixels& px, const DaylightBasis& basis) {
-  if (!basis.anyLampOn() || px.lamp.size() != size_t(out.width) * size_t(out.height)) return;
-  for (size_t i = 0; i < px.lamp.size(); ++i)
-    if (px.lamp[i] >= 0) put(out, i, get(out, i) + glm::vec3(basis.lampExitance(px.lamp[i]) / std::numbers::pi));
+  if (px.lamp.size() != size_t(out.width) * size_t(out.height)) return;
+  for (size_t i = 0; i < px.lamp.size(); ++i) {
+    const int l = px.lamp[i];
+    if (l < 0) continue;
+    const glm::vec3 own(basis.lampExitance(l) / std::numbers::pi);
+    put(out, i, l >= basis.sceneLampCount() ? own : get(out, i) + own);
+  }
 }
 }  // namespace
 
 ImageRGB DaylightRelighting::render(const SkyRadiance& sky, const std::vector<Polygon>& objects, DaylightMethod method,
-                                    Progress& progress) {
-  if (method == DaylightMethod::Distant && basis_->anyLampOn())
+                                    Progress& progress, const std::vector<BasisLamp>& lamps) {
+  if (method == DaylightMethod::Distant && (basis_->anyLampOn() || !lamps.empty()))
     throw Error("", "daylight", "the distant method is the sky at infinity alone: switch the lamps off for it");
+  if (method == DaylightMethod::Volume && !lamps.empty())
+    throw Error("", "virtual lamp", "the volume method lights the room from the solved bases alone: for a virtual lamp, use "
+                                    "the near-field method");
   if (method == DaylightMethod::Volume) return renderVolume(sky, objects, progress);
   std::vector<glm::dvec3> albedos;
   std::vector<std::vector<glm::dvec3>> occluders;
@@ -687,9 +695,9 @@ ImageRGB DaylightRelighting::render(const SkyRadiance& sky, const std::vector<Po
   }
   std::vector<int> ids;
   SeenPixels seen = seen_;
-  if (!objects.empty()) {
+  if (!objects.empty() || !lamps.empty()) {
     Progress stage(progress, 0.0, 0.6);
-    ids = basis_->addObjects(objects, stage);
+    ids = basis_->addObjects(objects, lamps, stage);
     seen = seePixels(*basis_, camera_);
   }
   const int firstVirtual = ids.empty() ? int(basis_->engine().surfaces().size()) : ids.front();

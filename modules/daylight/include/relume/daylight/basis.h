@@ -20,6 +20,7 @@
 // that its sun patch is resolved. Lamps are dark in every solution (each lamp is its own term).
 #include <glm/vec3.hpp>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "relume/daylight/sky.h"
@@ -36,6 +37,16 @@ struct Options;
 }  // namespace relume
 
 namespace relume::daylight {
+
+// A virtual lamp beside the sky (Loscos §4.4: a lamp the user adds, each its own term of the sum):
+// a planar polygon emitting `exitance` (W/m^2, pi x radiance) from its front face (the side its
+// vertices turn anticlockwise towards), or from both faces.
+struct BasisLamp {
+  std::string name;
+  std::vector<glm::dvec3> polygon;
+  glm::dvec3 exitance{0.0};
+  bool twoSided = false;
+};
 
 struct BasisOptions {
   int regions = 64;
@@ -104,7 +115,16 @@ class DaylightBasis {
   // surfaces' indices (after every polygon of the scene, in order). A Cancel while adding takes
   // them out again.
   std::vector<int> addObjects(const std::vector<Polygon>& polygons, Progress& progress = silentProgress());
+  // The same with virtual lamps: their polygons are added after the objects' (they block light and
+  // reflect none) and become lamps after the scene's (lampCount() grows; lampOfSurface, isLamp
+  // and the combination take them in), shining with their exitance. Their solutions are solved
+  // on first use, as the scene lamps' are. Throws relume::Error when a lamp has no area or a
+  // negative or non-finite exitance, before anything is added.
+  std::vector<int> addObjects(const std::vector<Polygon>& polygons, const std::vector<BasisLamp>& lamps,
+                              Progress& progress = silentProgress());
+  // Takes surfaces added by addObjects out again (virtual lamps among them stop being lamps).
   void removeObjects(const std::vector<int>& surfaces, Progress& progress = silentProgress());
+  int sceneLampCount() const { return sceneLamps_; }  // lamps 0 .. sceneLampCount() - 1 are the scene's
 
   const radiosity::HierarchicalRadiosity& engine() const { return *engine_; }
   const std::vector<int>& windows() const { return windows_; }
@@ -133,7 +153,8 @@ class DaylightBasis {
   unsigned revision_ = 0;
   void solveBases(Progress& progress);
   void extendToNodes();
-  std::vector<bool> lamp_;  // per scene polygon: a lamp (dark here, each lamp its own term)
+  std::vector<bool> lamp_;  // per surface: a lamp (dark here, each lamp its own term)
+  int sceneLamps_ = 0;
   std::vector<int> lampSurface_;                      // per scene lamp: its polygon (engine surface)
   std::vector<glm::dvec3> lampExitance_;              // per scene lamp: as it shines now
   std::vector<std::vector<glm::vec3>> lampSolution_;  // per scene lamp: empty until solved

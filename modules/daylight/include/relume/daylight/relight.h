@@ -128,8 +128,11 @@ class DaylightRelighting {
                      const BasisOptions& options = {}, Progress& progress = silentProgress());
   ~DaylightRelighting();
   // The photo under `sky` with `objects` (polygons with their albedos) inserted.
+  // Virtual lamps (near-field only: the volume and distant methods light objects by daylight
+  // alone, and say so) are added with the objects for this render and shown at their radiance
+  // where the camera sees their emitting faces; they block the light as the objects do.
   ImageRGB render(const SkyRadiance& sky, const std::vector<Polygon>& objects, DaylightMethod method,
-                  Progress& progress = silentProgress());
+                  Progress& progress = silentProgress(), const std::vector<BasisLamp>& lamps = {});
   // Per polygon of the scene: the reflectance used (estimated, or taken from its material).
   const std::vector<glm::dvec3>& reflectances() const { return reflectances_; }
   const std::vector<bool>& estimated() const { return estimated_; }  // shown by the photo
