@@ -65,6 +65,24 @@ check "with the lamp on no pixel is darker than the photo, and the room gains li
 mn=[float(v) for v in re.search(r'Stats Min: ([-0-9.e]+) ([-0-9.e]+) ([-0-9.e]+)', t).groups()]; \
 av=[float(v) for v in re.search(r'Stats Avg: ([-0-9.e]+) ([-0-9.e]+) ([-0-9.e]+)', t).groups()]; \
 assert min(mn) > -1e-4, mn; assert min(av) > 1e-3, av\""
+# The same panel as a virtual lamp in the room as it is: the same light, within 3 % of what the
+# lamp adds (the scene's lamp sits in the hierarchy from the start, the virtual one joins it).
+python3 - "$tmp/lamproom/scene.json" "$tmp/vlamp.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+json.dump({"virtual_lights": [{"name": "V", "polygon": s["polygons"][-1]["vertices"], "radiance_rgb": [60.0, 55.0, 45.0]}]},
+          open(sys.argv[2], "w"))
+PY
+"$relume" relight "$room" --sky sun0 --virtual-lamp "$tmp/vlamp.json" -o "$tmp/vlamp_on.exr" 2>"$tmp/vlamp.err"
+check "a virtual lamp beside the daylight renders (exit 0)" "[ $? -eq 0 ] && [ -s '$tmp/vlamp_on.exr' ]"
+oiiotool "$tmp/vlamp_on.exr" "$tmp/lamp_on.exr" --absdiff --printstats >"$tmp/vlamp.stats" 2>&1
+check "the virtual lamp lights the room as the same lamp in the model does" \
+  "python3 -c \"import re; d=open('$tmp/vlamp.stats').read(); t=open('$tmp/lamp.stats').read(); \
+dv=[float(v) for v in re.search(r'Stats Avg: ([-0-9.e]+) ([-0-9.e]+) ([-0-9.e]+)', d).groups()]; \
+av=[float(v) for v in re.search(r'Stats Avg: ([-0-9.e]+) ([-0-9.e]+) ([-0-9.e]+)', t).groups()]; \
+assert all(x < 0.03 * y for x, y in zip(dv, av)), (dv, av)\""
+"$relume" relight "$room" --sky sun0 --virtual-lamp "$tmp/vlamp.json" --daylight volume -o "$tmp/x.png" 2>"$tmp/vlampv.err"
+check "a virtual lamp on the volume path is refused, saying which method takes it" "[ $? -eq 1 ] && grep -q 'near-field' '$tmp/vlampv.err'"
 "$relume" relight "$tmp/lamproom" --sky sun0 --lamp L=1 --daylight distant -o "$tmp/x.png" 2>"$tmp/lampd.err"
 check "a lamp with the distant method (the sky alone) is refused" "[ $? -eq 1 ] && grep -q 'sky at infinity alone' '$tmp/lampd.err'"
 "$relume" relight "$tmp/lamproom" --sky sun0 --lamp L=1 --daylight volume --virtual-object "$tmp/box.json" -o "$tmp/x.png" 2>"$tmp/lampv.err"
