@@ -1798,10 +1798,6 @@ Kein Schachbrett gefunden in: %1</translation>
         <translation>Datei…</translation>
     </message>
     <message>
-        <source>A JSON file with virtual_objects (boxes or OBJ meshes with their albedo)</source>
-        <translation>Eine JSON-Datei mit virtual_objects (Quader oder OBJ-Netze mit ihrer Albedo)</translation>
-    </message>
-    <message>
         <source>Play</source>
         <translation>Abspielen</translation>
     </message>
@@ -1920,6 +1916,18 @@ Kein Schachbrett gefunden in: %1</translation>
     <message>
         <source>Lamps (left out: the interactive path lights virtual objects by daylight only; choose near-field)</source>
         <translation>Lampen (weggelassen: der interaktive Pfad beleuchtet virtuelle Objekte nur mit Tageslicht; Nahfeld wählen)</translation>
+    </message>
+    <message>
+        <source>Virtual objects and lamps</source>
+        <translation>Virtuelle Objekte und Lampen</translation>
+    </message>
+    <message>
+        <source>A JSON file with virtual_objects (boxes or OBJ meshes with their albedo) and/or virtual_lights (lamps, lit with the near-field method)</source>
+        <translation>Eine JSON-Datei mit virtual_objects (Quader oder OBJ-Netze mit ihrer Albedo) und/oder virtual_lights (Lampen, mit der Nahfeld-Methode beleuchtet)</translation>
+    </message>
+    <message>
+        <source>The virtual lamps of %1 are left out: they are lit with the near-field method only</source>
+        <translation>Die virtuellen Lampen von %1 werden weggelassen: sie leuchten nur mit der Nahfeld-Methode</translation>
     </message>
 </context>
 <context>

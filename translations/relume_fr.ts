@@ -1798,10 +1798,6 @@ Aucun damier trouvé dans : %1</translation>
         <translation>Fichier…</translation>
     </message>
     <message>
-        <source>A JSON file with virtual_objects (boxes or OBJ meshes with their albedo)</source>
-        <translation>Un fichier JSON avec virtual_objects (boîtes ou maillages OBJ avec leur albédo)</translation>
-    </message>
-    <message>
         <source>Play</source>
         <translation>Lire</translation>
     </message>
@@ -1920,6 +1916,18 @@ Aucun damier trouvé dans : %1</translation>
     <message>
         <source>Lamps (left out: the interactive path lights virtual objects by daylight only; choose near-field)</source>
         <translation>Lampes (écartées : le chemin interactif n’éclaire les objets virtuels qu’à la lumière du jour ; choisissez le champ proche)</translation>
+    </message>
+    <message>
+        <source>Virtual objects and lamps</source>
+        <translation>Objets et lampes virtuels</translation>
+    </message>
+    <message>
+        <source>A JSON file with virtual_objects (boxes or OBJ meshes with their albedo) and/or virtual_lights (lamps, lit with the near-field method)</source>
+        <translation>Un fichier JSON avec virtual_objects (boîtes ou maillages OBJ avec leur albédo) et/ou virtual_lights (lampes, éclairées par la méthode en champ proche)</translation>
+    </message>
+    <message>
+        <source>The virtual lamps of %1 are left out: they are lit with the near-field method only</source>
+        <translation>Les lampes virtuelles de %1 sont laissées de côté : elles ne sont éclairées que par la méthode en champ proche</translation>
     </message>
 </context>
 <context>

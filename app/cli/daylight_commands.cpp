@@ -448,14 +448,7 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   for (const auto& f : lampFiles) {
     const Variant v = readVariantFile(f);
     if (v.virtualLamps.empty()) throw Error(f, "virtual_lights", "lists no virtual lamp");
-    for (size_t i = 0; i < v.virtualLamps.size(); ++i) {
-      const Lamp& l = v.virtualLamps[i];
-      const std::string name = l.name.empty() ? "virtual_lamp_" + std::to_string(i) : l.name;
-      if (l.photometry)
-        throw Error(f, "virtual lamp " + name, "a photometric lamp (IES / EULUMDAT) is not lit under daylight yet: give it "
-                                               "without its photometry file, or relight without --sky");
-      virtualLamps.push_back({name, v.virtualLampPolygons[i], std::numbers::pi * l.radiance, l.twoSided});
-    }
+    for (auto& l : dl::variantLamps(v, f)) virtualLamps.push_back(std::move(l));
   }
   if (!virtualLamps.empty() && method != "near-field")
     throw Error("", "--virtual-lamp", "virtual lamps under daylight take the near-field method (--daylight near-field)");

@@ -53,6 +53,7 @@ struct SkyEntry {
 struct ObjectsEntry {
   QString label;
   std::vector<Polygon> polygons;
+  std::vector<daylight::BasisLamp> lamps;  // virtual lamps (near-field only)
 };
 
 // A daylight room made ready off the UI thread: nothing in adopt() can fail.
@@ -122,11 +123,12 @@ SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jo
   methodRow->addWidget(method_, 1);
   layout->addLayout(methodRow);
   auto* objectsRow = new QHBoxLayout;
-  objectsRow->addWidget(new QLabel(tr("Virtual objects"), this));
+  objectsRow->addWidget(new QLabel(tr("Virtual objects and lamps"), this));
   objects_ = new QComboBox(this);
   objectsRow->addWidget(objects_, 1);
   objectsFile_ = new QPushButton(tr("File…"), this);
-  objectsFile_->setToolTip(tr("A JSON file with virtual_objects (boxes or OBJ meshes with their albedo)"));
+  objectsFile_->setToolTip(tr("A JSON file with virtual_objects (boxes or OBJ meshes with their albedo) and/or "
+                              "virtual_lights (lamps, lit with the near-field method)"));
   objectsRow->addWidget(objectsFile_);
   layout->addLayout(objectsRow);
   lampsLabel_ = new QLabel(tr("Lamps on beside the daylight"), this);
@@ -240,11 +242,12 @@ std::shared_ptr<PreparedDaylight> SkyPanel::prepare(const Scene& scene, Progress
     if (c.name == scene.photoSky) sky.label = tr("%1 (the photos' sky)").arg(sky.label);
     room->skies.push_back(std::move(sky));
   }
-  room->objects.push_back({tr("None"), {}});
+  room->objects.push_back({tr("None"), {}, {}});
   for (const auto& v : scene.variants) {
-    if (v.virtualObjects.empty()) continue;
+    if (v.virtualObjects.empty() && v.virtualLamps.empty()) continue;
     try {
-      room->objects.push_back({tr("As in variant %1").arg(QString::fromStdString(v.name)), daylight::variantObjects(v, scene.sourceFile)});
+      room->objects.push_back({tr("As in variant %1").arg(QString::fromStdString(v.name)), daylight::variantObjects(v, scene.sourceFile),
+                               daylight::variantLamps(v, scene.sourceFile)});
     } catch (const std::exception& e) {
       room->notes << tr("Variant %1 left out: %2").arg(QString::fromStdString(v.name), QString::fromUtf8(e.what()));
     }
@@ -334,8 +337,10 @@ bool SkyPanel::addObjectsFile(const QString& file) {
   if (!isOpen()) return false;
   try {
     const Variant v = readVariantFile(file.toStdString());
-    if (v.virtualObjects.empty()) throw Error(file.toStdString(), "virtual_objects", "lists no virtual object");
-    s_->objects.push_back({QFileInfo(file).fileName(), daylight::variantObjects(v, file.toStdString())});
+    if (v.virtualObjects.empty() && v.virtualLamps.empty())
+      throw Error(file.toStdString(), "virtual_objects", "lists no virtual object and no virtual lamp (virtual_lights)");
+    s_->objects.push_back({QFileInfo(file).fileName(), daylight::variantObjects(v, file.toStdString()),
+                           daylight::variantLamps(v, file.toStdString())});
   } catch (const std::exception& e) {
     emit message(QString::fromUtf8(e.what()));
     return false;
@@ -422,7 +427,9 @@ void SkyPanel::startRender() {
   const SkyEntry& entry = s_->skies[size_t(k)];
   const size_t f = s_->frame % entry.frames.size();
   const daylight::SkyRadiance sky = entry.frames[f];
-  const std::vector<Polygon> objects = o >= 0 && size_t(o) < s_->objects.size() ? s_->objects[size_t(o)].polygons : std::vector<Polygon>{};
+  const ObjectsEntry none;
+  const ObjectsEntry& chosen = o >= 0 && size_t(o) < s_->objects.size() ? s_->objects[size_t(o)] : none;
+  const std::vector<Polygon> objects = chosen.polygons;
   const daylight::DaylightMethod method = method_->currentIndex() == 1   ? daylight::DaylightMethod::Volume
                                           : method_->currentIndex() == 2 ? daylight::DaylightMethod::Distant
                                                                          : daylight::DaylightMethod::NearField;
@@ -431,6 +438,11 @@ void SkyPanel::startRender() {
   if (lampsApply())
     for (size_t l = 0; l < lampExitance.size() && int(l) < lamps_->count(); ++l)
       if (lamps_->item(int(l))->checkState() == Qt::Checked) lampExitance[l] = std::numbers::pi * s_->scene->lamps[l].radiance;
+  // Virtual lamps are lit near-field only (the interactive path lights by daylight alone).
+  std::vector<daylight::BasisLamp> virtualLamps;
+  if (method == daylight::DaylightMethod::NearField) virtualLamps = chosen.lamps;
+  else if (!chosen.lamps.empty())
+    emit message(tr("The virtual lamps of %1 are left out: they are lit with the near-field method only").arg(chosen.label));
   const QString name = entry.names.empty() ? entry.label : entry.names[f];
   const int index = int(f), count = int(entry.frames.size()), generation = generation_;
   const double exposure = s_->exposure;
@@ -439,7 +451,7 @@ void SkyPanel::startRender() {
   s_->rendering = jobs_->start(tr("Relighting under %1").arg(name), [=, this](Progress& p) {
     const auto t0 = std::chrono::steady_clock::now();
     for (size_t l = 0; l < lampExitance.size(); ++l) relit->setLampExitance(int(l), lampExitance[l]);
-    const ImageRGB img = relit->render(sky, objects, method, p);
+    const ImageRGB img = relit->render(sky, objects, method, p, virtualLamps);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     auto shown = std::make_shared<QImage>(displayed(img, exposure));  // the display encoding off the UI thread too
     return JobRunner::Continuation([=, this] {

@@ -50,7 +50,8 @@ class SkyPanel : public QWidget {
   bool addSkyFolder(const QString& folder);
   void setPlaying(bool on);
   bool playing() const;
-  // Virtual objects from a JSON file (virtual_objects, as `relume relight --virtual-object`).
+  // Virtual objects and lamps from a JSON file (virtual_objects and/or virtual_lights, as
+  // `relume relight --virtual-object` / `--virtual-lamp`); the lamps shine with the near-field method.
   bool addObjectsFile(const QString& file);
 
   QComboBox* skyBox() const { return sky_; }

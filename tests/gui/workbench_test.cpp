@@ -2331,6 +2331,73 @@ class WorkbenchTest : public QObject {
     QVERIFY2(psnr8(sky->shown(), photo) > 45, "the distant baseline under the photos' sky is the photo");
   }
 
+  void daylightWithAVirtualLampFromAFile() {
+    // A virtual lamp beside the daylight from a file (virtual_lights, as `relume relight
+    // --virtual-lamp`): the same 20 cm panel as daylightWithALampInTheSkyPanel's, in the room as
+    // it is. Near-field, the relit photo only gains light, most of it under the lamp; on the
+    // interactive path (daylight alone) the lamp is left out, the user told so, and the image is
+    // the one without it.
+    const QString room = RELUME_SOURCE_DIR "/resources/daylight_room";
+    const QString file = tmp_.path() + "/pendant.json";
+    {
+      QFile f(file);
+      QVERIFY(f.open(QIODevice::WriteOnly));
+      f.write(R"({"virtual_lights": [{"name": "pendant", "radiance_rgb": [60.0, 55.0, 45.0],
+                  "polygon": [[1.1, 1.5, 2.57], [1.1, 1.7, 2.57], [1.3, 1.7, 2.57], [1.3, 1.5, 2.57]]}]})");
+    }
+    MainWindow w;
+    QVERIFY2(openDaylightRoom(w, room), qPrintable(w.lastError()));
+    SkyPanel* sky = w.skyPanel();
+    auto settle = [&](int timeoutMs) { return jobsSettled(w, timeoutMs); };
+    QVERIFY(settle(120000));
+    const QImage off = sky->shown().convertToFormat(QImage::Format_RGB888);
+    const int entries = sky->objectsBox()->count(), before = sky->framesShown();
+    QVERIFY(sky->addObjectsFile(file));
+    QCOMPARE(sky->objectsBox()->count(), entries + 1);
+    QCOMPARE(sky->objectsBox()->currentText(), QString("pendant.json"));
+    QVERIFY(settle(180000));
+    QCOMPARE(sky->framesShown(), before + 1);
+    const QImage on = sky->shown().convertToFormat(QImage::Format_RGB888);
+    QCOMPARE(on.size(), off.size());
+    long darker = 0;
+    double gain = 0;
+    for (int y = 0; y < on.height(); ++y)
+      for (int x = 0; x < on.width(); ++x) {
+        const int d = qGray(on.pixel(x, y)) - qGray(off.pixel(x, y));
+        darker += d < -1;
+        gain += d;
+      }
+    gain /= double(on.width()) * on.height();
+    const Camera cam = loadRoom(room.toStdString()).findPhoto("main")->camera;
+    auto ratioAt = [&](const glm::dvec3& p) {  // linear on / off over 7 x 7 pixels around p's image
+      glm::dvec2 q;
+      if (!cam.project(p, q)) return -1.0;
+      double a = 0, b = 0;
+      for (int dy = -3; dy <= 3; ++dy)
+        for (int dx = -3; dx <= 3; ++dx) {
+          const int x = std::clamp(int(q.x) + dx, 0, on.width() - 1), y = std::clamp(int(q.y) + dy, 0, on.height() - 1);
+          a += srgbToLinear(qGray(on.pixel(x, y)) / 255.f);
+          b += srgbToLinear(qGray(off.pixel(x, y)) / 255.f);
+        }
+      return a / std::max(b, 1e-9);
+    };
+    const double under = ratioAt({1.2, 1.6, 0.0}), away = ratioAt({3.0, 3.4, 0.0});
+    qInfo("virtual lamp on: %ld pixels darker; mean gain %.2f grey levels; on the floor under it x%.3f, 2.5 m away x%.3f", darker,
+          gain, under, away);
+    QCOMPARE(darker, 0L);
+    QVERIFY(gain > 2.0);
+    QVERIFY(under > away && away > 0);
+    saveShot(&w, "sky_panel_virtual_lamp");
+    // The interactive path lights by daylight alone: the lamp left out, and said.
+    QSignalSpy said(sky, &SkyPanel::message);
+    sky->methodBox()->setCurrentIndex(1);
+    QVERIFY(settle(180000));
+    bool told = false;
+    for (const auto& m : said) told = told || m.first().toString().contains("near-field");
+    QVERIFY(told);
+    QVERIFY2(psnr8(sky->shown(), off) > 40, "without the lamp the interactive path shows the room as before");
+  }
+
   void frenchInterface() {
     QTranslator fr;
     QVERIFY(fr.load(":/i18n/relume_fr.qm"));

@@ -41,6 +41,19 @@ std::vector<Polygon> variantObjects(const Variant& variant, const std::string& f
   return faces;
 }
 
+std::vector<BasisLamp> variantLamps(const Variant& variant, const std::string& file) {
+  std::vector<BasisLamp> lamps;
+  for (size_t i = 0; i < variant.virtualLamps.size(); ++i) {
+    const Lamp& l = variant.virtualLamps[i];
+    const std::string name = l.name.empty() ? "virtual_lamp_" + std::to_string(i) : l.name;
+    if (l.photometry)
+      throw Error(file, "virtual lamp " + name, "a photometric lamp (IES / EULUMDAT) is not lit under daylight yet: give it "
+                                                "without its photometry file, or relight without a sky");
+    lamps.push_back({name, variant.virtualLampPolygons.at(i), std::numbers::pi * l.radiance, l.twoSided});
+  }
+  return lamps;
+}
+
 namespace {
 constexpr double kPi = std::numbers::pi;
 

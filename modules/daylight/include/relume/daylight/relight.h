@@ -116,6 +116,9 @@ enum class DaylightMethod { NearField, Distant, Volume };
 // A variant's virtual objects (boxes and meshes) as polygons with their albedos, for render().
 // Image-based objects are refused (relume::Error naming `file`): not lit by daylight yet.
 std::vector<Polygon> variantObjects(const Variant& variant, const std::string& file);
+// A variant's virtual lamps (virtual_lights) for render(): exitance pi x radiance per face.
+// Photometric lamps are refused (relume::Error naming `file` and the lamp): not lit by daylight yet.
+std::vector<BasisLamp> variantLamps(const Variant& variant, const std::string& file);
 
 struct InteractiveOptions {
   VolumeOptions volume;
