@@ -223,6 +223,40 @@ bool sameTree(const QString& a, const QString& b) {
   return true;
 }
 
+// What a lamp switched on did to the Sky panel's 8-bit image: the pixels darker than with it off
+// (beyond 8-bit rounding), the mean gain in grey levels, and per point of the room the linear
+// on / off ratio over 7 x 7 pixels around its image (-1: behind the camera).
+struct LampGain {
+  long darker = 0;
+  double gain = 0;
+  double under = 0, away = 0;
+};
+LampGain lampGain(const QImage& on, const QImage& off, const Camera& cam, const glm::dvec3& under, const glm::dvec3& away) {
+  LampGain g;
+  for (int y = 0; y < on.height(); ++y)
+    for (int x = 0; x < on.width(); ++x) {
+      const int d = qGray(on.pixel(x, y)) - qGray(off.pixel(x, y));
+      g.darker += d < -1;
+      g.gain += d;
+    }
+  g.gain /= double(on.width()) * on.height();
+  auto ratioAt = [&](const glm::dvec3& p) {
+    glm::dvec2 q;
+    if (!cam.project(p, q)) return -1.0;
+    double a = 0, b = 0;
+    for (int dy = -3; dy <= 3; ++dy)
+      for (int dx = -3; dx <= 3; ++dx) {
+        const int x = std::clamp(int(q.x) + dx, 0, on.width() - 1), y = std::clamp(int(q.y) + dy, 0, on.height() - 1);
+        a += srgbToLinear(qGray(on.pixel(x, y)) / 255.f);
+        b += srgbToLinear(qGray(off.pixel(x, y)) / 255.f);
+      }
+    return a / std::max(b, 1e-9);
+  };
+  g.under = ratioAt(under);
+  g.away = ratioAt(away);
+  return g;
+}
+
 }  // namespace
 
 class WorkbenchTest : public QObject {
@@ -2288,37 +2322,16 @@ class WorkbenchTest : public QObject {
     QCOMPARE(on.size(), off.size());
     // Per pixel: never darker (beyond 8-bit rounding), brighter on average; on the floor more
     // right under the lamp than 2.5 m away from it (in linear light: the display's sRGB undone).
-    long darker = 0;
-    double gain = 0;
-    for (int y = 0; y < on.height(); ++y)
-      for (int x = 0; x < on.width(); ++x) {
-        const int d = qGray(on.pixel(x, y)) - qGray(off.pixel(x, y));
-        darker += d < -1;
-        gain += d;
-      }
-    gain /= double(on.width()) * on.height();
     const Camera cam = loadRoom(room.toStdString()).findPhoto("main")->camera;
     QCOMPARE(QSize(cam.width, cam.height), on.size());
-    auto ratioAt = [&](const glm::dvec3& p) {  // linear on / off over 7 x 7 pixels around p's image
-      glm::dvec2 q;
-      if (!cam.project(p, q)) return -1.0;
-      double a = 0, b = 0;
-      for (int dy = -3; dy <= 3; ++dy)
-        for (int dx = -3; dx <= 3; ++dx) {
-          const int x = std::clamp(int(q.x) + dx, 0, on.width() - 1), y = std::clamp(int(q.y) + dy, 0, on.height() - 1);
-          a += srgbToLinear(qGray(on.pixel(x, y)) / 255.f);
-          b += srgbToLinear(qGray(off.pixel(x, y)) / 255.f);
-        }
-      return a / std::max(b, 1e-9);
-    };
-    const double under = ratioAt({1.2, 1.6, 0.0}), away = ratioAt({3.0, 3.4, 0.0});
+    const LampGain g = lampGain(on, off, cam, {1.2, 1.6, 0.0}, {3.0, 3.4, 0.0});
     qInfo("lamp on: %ld pixels darker than with it off; mean gain %.2f grey levels; on the floor under the lamp x%.3f, "
           "2.5 m away x%.3f",
-          darker, gain, under, away);
-    QCOMPARE(darker, 0L);
-    QVERIFY(gain > 2.0);
-    QVERIFY(under > 0 && away > 0);
-    QVERIFY(under > away);
+          g.darker, g.gain, g.under, g.away);
+    QCOMPARE(g.darker, 0L);
+    QVERIFY(g.gain > 2.0);
+    QVERIFY(g.under > 0 && g.away > 0);
+    QVERIFY(g.under > g.away);
     saveShot(&w, "sky_panel_lamp");
     // The distant baseline: the sky alone, the lamp list disabled and the lamp left out.
     const int shownBefore = sky->framesShown();
@@ -2359,34 +2372,12 @@ class WorkbenchTest : public QObject {
     QCOMPARE(sky->framesShown(), before + 1);
     const QImage on = sky->shown().convertToFormat(QImage::Format_RGB888);
     QCOMPARE(on.size(), off.size());
-    long darker = 0;
-    double gain = 0;
-    for (int y = 0; y < on.height(); ++y)
-      for (int x = 0; x < on.width(); ++x) {
-        const int d = qGray(on.pixel(x, y)) - qGray(off.pixel(x, y));
-        darker += d < -1;
-        gain += d;
-      }
-    gain /= double(on.width()) * on.height();
-    const Camera cam = loadRoom(room.toStdString()).findPhoto("main")->camera;
-    auto ratioAt = [&](const glm::dvec3& p) {  // linear on / off over 7 x 7 pixels around p's image
-      glm::dvec2 q;
-      if (!cam.project(p, q)) return -1.0;
-      double a = 0, b = 0;
-      for (int dy = -3; dy <= 3; ++dy)
-        for (int dx = -3; dx <= 3; ++dx) {
-          const int x = std::clamp(int(q.x) + dx, 0, on.width() - 1), y = std::clamp(int(q.y) + dy, 0, on.height() - 1);
-          a += srgbToLinear(qGray(on.pixel(x, y)) / 255.f);
-          b += srgbToLinear(qGray(off.pixel(x, y)) / 255.f);
-        }
-      return a / std::max(b, 1e-9);
-    };
-    const double under = ratioAt({1.2, 1.6, 0.0}), away = ratioAt({3.0, 3.4, 0.0});
-    qInfo("virtual lamp on: %ld pixels darker; mean gain %.2f grey levels; on the floor under it x%.3f, 2.5 m away x%.3f", darker,
-          gain, under, away);
-    QCOMPARE(darker, 0L);
-    QVERIFY(gain > 2.0);
-    QVERIFY(under > away && away > 0);
+    const LampGain g = lampGain(on, off, loadRoom(room.toStdString()).findPhoto("main")->camera, {1.2, 1.6, 0.0}, {3.0, 3.4, 0.0});
+    qInfo("virtual lamp on: %ld pixels darker; mean gain %.2f grey levels; on the floor under it x%.3f, 2.5 m away x%.3f",
+          g.darker, g.gain, g.under, g.away);
+    QCOMPARE(g.darker, 0L);
+    QVERIFY(g.gain > 2.0);
+    QVERIFY(g.under > g.away && g.away > 0);
     saveShot(&w, "sky_panel_virtual_lamp");
     // The interactive path lights by daylight alone: the lamp left out, and said.
     QSignalSpy said(sky, &SkyPanel::message);
