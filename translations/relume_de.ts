@@ -1929,6 +1929,14 @@ Kein Schachbrett gefunden in: %1</translation>
         <source>The virtual lamps of %1 are left out: they are lit with the near-field method only</source>
         <translation>Die virtuellen Lampen von %1 werden weggelassen: sie leuchten nur mit der Nahfeld-Methode</translation>
     </message>
+    <message>
+        <source>Variant %1: its virtual lamps are left out: %2</source>
+        <translation>Variante %1: ihre virtuellen Leuchten werden weggelassen: %2</translation>
+    </message>
+    <message>
+        <source>The virtual lamps of %1 are left out: %2</source>
+        <translation>Die virtuellen Leuchten von %1 werden weggelassen: %2</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

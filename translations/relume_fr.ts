@@ -1929,6 +1929,14 @@ Aucun damier trouvé dans : %1</translation>
         <source>The virtual lamps of %1 are left out: they are lit with the near-field method only</source>
         <translation>Les lampes virtuelles de %1 sont laissées de côté : elles ne sont éclairées que par la méthode en champ proche</translation>
     </message>
+    <message>
+        <source>Variant %1: its virtual lamps are left out: %2</source>
+        <translation>Variante %1 : ses lampes virtuelles sont laissées de côté : %2</translation>
+    </message>
+    <message>
+        <source>The virtual lamps of %1 are left out: %2</source>
+        <translation>Les lampes virtuelles de %1 sont laissées de côté : %2</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

@@ -439,29 +439,29 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   }
   bool anyLamp = false;
   for (const auto& e : lampExitance) anyLamp = anyLamp || e != glm::dvec3(0.0);
+  // Virtual lamps and objects, as the lamp path takes them: a file given with --virtual-lamp
+  // or --virtual-object adds all it lists (a lamp's exitance is pi x its radiance, per face).
+  std::vector<dl::BasisLamp> virtualLamps;
+  std::vector<Polygon> objects;
+  auto takeFile = [&](const std::string& f, bool lampsAsked) {
+    const Variant v = readVariantFile(f);
+    if (lampsAsked && v.virtualLamps.empty()) throw Error(f, "virtual_lights", "lists no virtual lamp");
+    if (!lampsAsked && v.virtualObjects.empty()) throw Error(f, "virtual_objects", "lists no virtual object");
+    for (auto& l : dl::variantLamps(v, f)) virtualLamps.push_back(std::move(l));
+    for (auto& o : dl::variantObjects(v, f)) objects.push_back(std::move(o));
+  };
+  for (const auto& f : lampFiles) takeFile(f, true);
+  for (const auto& f : objectFiles) takeFile(f, false);
   if (anyLamp && method == "distant")
     throw Error("", "--lamp", "the distant method is the sky at infinity alone: no lamp with --daylight distant");
-  if (anyLamp && method == "volume" && !objectFiles.empty())
+  if (anyLamp && method == "volume" && !objects.empty())
     throw Error("", "--lamp", "the volume method lights virtual objects by daylight only: with a lamp on, use near-field");
-  // Virtual lamps: their radiance per face as the lamp path takes it (exitance pi x radiance).
-  std::vector<dl::BasisLamp> virtualLamps;
-  for (const auto& f : lampFiles) {
-    const Variant v = readVariantFile(f);
-    if (v.virtualLamps.empty()) throw Error(f, "virtual_lights", "lists no virtual lamp");
-    for (auto& l : dl::variantLamps(v, f)) virtualLamps.push_back(std::move(l));
-  }
   if (!virtualLamps.empty() && method != "near-field")
     throw Error("", "--virtual-lamp", "virtual lamps under daylight take the near-field method (--daylight near-field)");
   const Photo* main = room.findPhoto(camera.empty() ? room.mainPhoto : camera);
   if (!main) throw Error(room.sourceFile, "--camera", "the room has no photo named '" + camera + "'");
   if (main->hdr.empty()) throw Error(room.sourceFile, "photo " + main->name, "daylight relighting needs its linear (EXR) image");
   const std::string hdr = main->hdr.front() == '/' ? main->hdr : room.baseDir + "/" + main->hdr;
-  std::vector<Polygon> objects;
-  for (const auto& f : objectFiles) {
-    const Variant v = readVariantFile(f);
-    if (v.virtualObjects.empty()) throw Error(f, "virtual_objects", "lists no virtual object");
-    for (auto& o : dl::variantObjects(v, f)) objects.push_back(std::move(o));
-  }
   // The sky: one of the room's measured skies by name, an HDR fisheye file (looking up, image up
   // +Y), or a folder of them — a time-varying sky, played back one frame per image. Every sky is
   // read and checked before anything is solved or written.

@@ -246,8 +246,14 @@ std::shared_ptr<PreparedDaylight> SkyPanel::prepare(const Scene& scene, Progress
   for (const auto& v : scene.variants) {
     if (v.virtualObjects.empty() && v.virtualLamps.empty()) continue;
     try {
-      room->objects.push_back({tr("As in variant %1").arg(QString::fromStdString(v.name)), daylight::variantObjects(v, scene.sourceFile),
-                               daylight::variantLamps(v, scene.sourceFile)});
+      ObjectsEntry entry{tr("As in variant %1").arg(QString::fromStdString(v.name)), daylight::variantObjects(v, scene.sourceFile), {}};
+      try {
+        entry.lamps = daylight::variantLamps(v, scene.sourceFile);
+      } catch (const std::exception& e) {  // its objects stay; its lamps go, and the user hears why
+        if (entry.polygons.empty()) throw;
+        room->notes << tr("Variant %1: its virtual lamps are left out: %2").arg(QString::fromStdString(v.name), QString::fromUtf8(e.what()));
+      }
+      room->objects.push_back(std::move(entry));
     } catch (const std::exception& e) {
       room->notes << tr("Variant %1 left out: %2").arg(QString::fromStdString(v.name), QString::fromUtf8(e.what()));
     }
@@ -339,8 +345,14 @@ bool SkyPanel::addObjectsFile(const QString& file) {
     const Variant v = readVariantFile(file.toStdString());
     if (v.virtualObjects.empty() && v.virtualLamps.empty())
       throw Error(file.toStdString(), "virtual_objects", "lists no virtual object and no virtual lamp (virtual_lights)");
-    s_->objects.push_back({QFileInfo(file).fileName(), daylight::variantObjects(v, file.toStdString()),
-                           daylight::variantLamps(v, file.toStdString())});
+    ObjectsEntry entry{QFileInfo(file).fileName(), daylight::variantObjects(v, file.toStdString()), {}};
+    try {
+      entry.lamps = daylight::variantLamps(v, file.toStdString());
+    } catch (const std::exception& e) {  // its objects stay; its lamps go, and the user hears why
+      if (entry.polygons.empty()) throw;
+      emit message(tr("The virtual lamps of %1 are left out: %2").arg(entry.label, QString::fromUtf8(e.what())));
+    }
+    s_->objects.push_back(std::move(entry));
   } catch (const std::exception& e) {
     emit message(QString::fromUtf8(e.what()));
     return false;
@@ -404,6 +416,15 @@ void SkyPanel::updateLamps() {
                        : !lampsApply()             ? tr("Lamps (left out: the interactive path lights virtual objects by "
                                                         "daylight only; choose near-field)")
                                                    : tr("Lamps on beside the daylight"));
+  // Virtual lamps are lit with the near-field method only: said when the choice leaves them out.
+  const int o = objects_->currentIndex();
+  const bool virtualLamps = isOpen() && o >= 0 && size_t(o) < s_->objects.size() && !s_->objects[size_t(o)].lamps.empty();
+  const QString note = virtualLamps && method_->currentIndex() != 0
+                           ? tr("The virtual lamps of %1 are left out: they are lit with the near-field method only")
+                                 .arg(s_->objects[size_t(o)].label)
+                           : QString();
+  if (note != lampsNote_ && !note.isEmpty()) emit message(note);
+  lampsNote_ = note;
 }
 
 bool SkyPanel::lampsApply() const {
@@ -441,8 +462,6 @@ void SkyPanel::startRender() {
   // Virtual lamps are lit near-field only (the interactive path lights by daylight alone).
   std::vector<daylight::BasisLamp> virtualLamps;
   if (method == daylight::DaylightMethod::NearField) virtualLamps = chosen.lamps;
-  else if (!chosen.lamps.empty())
-    emit message(tr("The virtual lamps of %1 are left out: they are lit with the near-field method only").arg(chosen.label));
   const QString name = entry.names.empty() ? entry.label : entry.names[f];
   const int index = int(f), count = int(entry.frames.size()), generation = generation_;
   const double exposure = s_->exposure;

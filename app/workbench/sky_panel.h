@@ -96,6 +96,7 @@ class SkyPanel : public QWidget {
   QLabel* frame_;
   ClickPhotoView* view_;
   int framesShown_ = 0;
+  QString lampsNote_;    // the last word on virtual lamps left out (said once per choice, not per render)
   int generation_ = 0;  // counts rooms opened and closed: a render for an earlier one is dropped
 };
 

@@ -83,6 +83,15 @@ av=[float(v) for v in re.search(r'Stats Avg: ([-0-9.e]+) ([-0-9.e]+) ([-0-9.e]+)
 assert all(x < 0.03 * y for x, y in zip(dv, av)), (dv, av)\""
 "$relume" relight "$room" --sky sun0 --virtual-lamp "$tmp/vlamp.json" --daylight volume -o "$tmp/x.png" 2>"$tmp/vlampv.err"
 check "a virtual lamp on the volume path is refused, saying which method takes it" "[ $? -eq 1 ] && grep -q 'near-field' '$tmp/vlampv.err'"
+# A --virtual-object file's lamps are taken as well (as the lamp path takes them): the box with
+# the lamp beside it on the volume path is refused for the lamp, not drawn without it.
+python3 - "$tmp/box.json" "$tmp/vlamp.json" "$tmp/boxlamp.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1])); d.update(json.load(open(sys.argv[2])))
+json.dump(d, open(sys.argv[3], "w"))
+PY
+"$relume" relight "$room" --sky sun0 --virtual-object "$tmp/boxlamp.json" --daylight volume -o "$tmp/x.png" 2>"$tmp/boxlampv.err"
+check "a virtual-object file's lamp is not dropped: on the volume path it is refused" "[ $? -eq 1 ] && grep -q 'near-field' '$tmp/boxlampv.err'"
 "$relume" relight "$tmp/lamproom" --sky sun0 --lamp L=1 --daylight distant -o "$tmp/x.png" 2>"$tmp/lampd.err"
 check "a lamp with the distant method (the sky alone) is refused" "[ $? -eq 1 ] && grep -q 'sky at infinity alone' '$tmp/lampd.err'"
 "$relume" relight "$tmp/lamproom" --sky sun0 --lamp L=1 --daylight volume --virtual-object "$tmp/box.json" -o "$tmp/x.png" 2>"$tmp/lampv.err"

@@ -11,6 +11,7 @@
 
 #include "relume/daylight/basis.h"
 #include "relume/geometry/error.h"
+#include "relume/geometry/progress.h"
 #include "relume/geometry/scene.h"
 #include "relume/radiosity/form_factor.h"
 #include "relume/radiosity/hierarchy.h"
@@ -319,4 +320,33 @@ TEST(DaylightBasis, AVirtualLampShinesAsTheSameLampSolvedAloneAndGoesWithoutATra
       if (room.polygons[f].kind != PolygonKind::Window)
         EXPECT_NEAR(basis.surfaceMean(after, int(f)).y, beforeMeans[f].y, 2e-3 * beforeMeans[f].y) << room.polygons[f].name;
   }
+
+  // A Cancel at any point of the add (the lamp's links refined, the bases solved again) leaves the
+  // basis as it was: no lamp, no surface that blocks light, the same light everywhere.
+  int cancels = 0;
+  for (int at = 1;; at *= 5) {
+    int reports = 0;
+    Progress* self = nullptr;
+    Progress p([&](double, const std::string&) {
+      if (++reports == at) self->cancel();
+    });
+    self = &p;
+    try {
+      basis.removeObjects(basis.addObjects({}, {BasisLamp{"pendant", quad, m, false}}, p));
+      break;  // never reached the report at which it cancels
+    } catch (const Cancelled&) {
+      ++cancels;
+    }
+    EXPECT_EQ(basis.lampCount(), 0) << "cancelled at report " << at;
+    size_t live = 0;
+    for (const auto& sf : basis.engine().surfaces()) live += sf.vertices.empty() ? 0 : 1;
+    EXPECT_EQ(live, surfaces) << "cancelled at report " << at;
+    const std::vector<glm::vec3> after = basis.combine(sky);
+    for (size_t f = 0; f < room.polygons.size(); ++f)
+      if (room.polygons[f].kind != PolygonKind::Window)
+        EXPECT_NEAR(basis.surfaceMean(after, int(f)).y, beforeMeans[f].y, 2e-3 * beforeMeans[f].y)
+            << room.polygons[f].name << ", cancelled at report " << at;
+  }
+  std::printf("cancelled %d times at different points of the add, each time the basis was as before\n", cancels);
+  EXPECT_GE(cancels, 2);
 }

@@ -357,3 +357,62 @@ TEST(DaylightRelight, TheUnseenPolygonsReflectanceIsWhereTheSunlitAndShadedPixel
                                     glm::dvec3(3.0, 2.8, 2.5), dark.usable)
                    .ok);
 }
+
+TEST(DaylightRelight, AOneSidedVirtualLampSeenFromBehindIsADarkPanelAndFromTheFrontItsOwnRadiance) {
+  // A 40 cm virtual panel 80 cm above the floor, seen from above: facing up, the camera sees its
+  // emitting face (exitance / pi); facing down, its back — a panel that reflects nothing (one face
+  // emits, the other is the lamp's dark housing), never the floor behind it showing through.
+  const Scene room = windowRoom(0.5, 0.6, 0.7);
+  SkyRadiance sky = sunOnly(16);
+  for (auto& r : sky.region) r = glm::dvec3(0.05);
+  sky.sun.found = false;  // an overcast sky: the lamp's light on the floor stands out
+  const double xc = 1.6, yc = 2.3, a = 0.2, z = 0.8;
+  const Camera cam = Camera::lookAt({0.4, 0.6, 2.3}, {xc, yc, 0.0}, 320, 240, 220);
+  ImageRGB photo(cam.width, cam.height);
+  for (auto& v : photo.pixels) v = 0.25f;
+  BasisOptions coarse = options();  // the panel's pixels and its light on the floor need no fine mesh
+  auto engine = std::make_shared<radiosity::Options>();
+  engine->minArea = 0.05;
+  coarse.engine = engine;
+  DaylightRelighting relit(room, photo, cam, sky, coarse);
+  const std::vector<glm::dvec3> up{{xc - a, yc - a, z}, {xc + a, yc - a, z}, {xc + a, yc + a, z}, {xc - a, yc + a, z}};
+  const std::vector<glm::dvec3> down(up.rbegin(), up.rend());
+  const glm::dvec3 m(3.0, 2.0, 1.0);
+  const RayScene panel(std::vector<std::vector<glm::dvec3>>{up});
+  std::vector<size_t> inner;  // pixels well inside the panel's outline
+  for (int y = 2; y < cam.height - 2; ++y)
+    for (int x = 2; x < cam.width - 2; ++x) {
+      bool all = true;
+      for (int d = -2; d <= 2 && all; d += 4)
+        for (int e = -2; e <= 2 && all; e += 4)
+          all = panel.intersect(Ray{glm::vec3(cam.center()), glm::vec3(cam.rayDirection(x + 0.5 + d, y + 0.5 + e)), 0.f, 1e30f})
+                    .polygon >= 0;
+      if (all) inner.push_back(size_t(y) * size_t(cam.width) + size_t(x));
+    }
+  ASSERT_GT(inner.size(), 300u);
+  const ImageRGB front = relit.render(sky, {}, DaylightMethod::NearField, silentProgress(), {BasisLamp{"up", up, m, false}});
+  const ImageRGB back = relit.render(sky, {}, DaylightMethod::NearField, silentProgress(), {BasisLamp{"down", down, m, false}});
+  size_t ownRadiance = 0, dark = 0;
+  for (size_t i : inner) {
+    const glm::vec3 f = pixel(front, i), b = pixel(back, i);
+    ownRadiance += glm::length(f - glm::vec3(m / kPi)) < 1e-4f;
+    dark += std::max({b.x, b.y, b.z}) < 1e-6f;
+  }
+  std::printf("%zu pixels inside the panel: facing the camera %zu show exitance / pi, facing away %zu are dark\n", inner.size(),
+              ownRadiance, dark);
+  EXPECT_EQ(ownRadiance, inner.size());
+  EXPECT_EQ(dark, inner.size());
+  // Facing down it lights the floor below it, which the camera sees beside it.
+  const SeenPixels seen = seePixels(relit.basis(), cam);
+  double gain = 0;
+  size_t floor = 0;
+  for (size_t i = 0; i < seen.surface.size(); ++i)
+    if (seen.surface[i] == 0 && std::hypot(seen.point[i].x - xc, seen.point[i].y - yc) < 0.6) {
+      gain += pixel(back, i).x / 0.25 - pixel(front, i).x / 0.25;
+      ++floor;
+    }
+  ASSERT_GT(floor, 100u);
+  std::printf("the floor within 60 cm of the panel: %.2f x the photo more light with the panel facing down than up\n",
+              gain / double(floor));
+  EXPECT_GT(gain / double(floor), 0.5);
+}

@@ -342,7 +342,14 @@ std::vector<int> DaylightBasis::addObjects(const std::vector<Polygon>& polygons,
     // Their links are refined under the sky the hierarchy was refined for (never dark anywhere).
     for (int w : windows_) engine_->setDistantLight(w, refineLight_);
     Progress stage(progress, 0.0, 0.3);
-    ids = engine_->addSurfaces(add, stage);
+    const size_t first = engine_->surfaces().size();
+    try {
+      ids = engine_->addSurfaces(add, stage);
+    } catch (...) {  // a Cancel while their links were refined: the surfaces added so far go again
+      for (size_t s = first; s < engine_->surfaces().size(); ++s) ids.push_back(int(s));
+      if (!ids.empty()) removeObjects(ids);
+      throw;
+    }
   }
   lamp_.resize(engine_->surfaces().size(), false);
   for (size_t k = 0; k < lamps.size(); ++k) {

@@ -304,14 +304,21 @@ SeenPixels seePixels(const DaylightBasis& basis, const Camera& cam) {
         if (hit.polygon < 0 || h.surfaces()[size_t(hit.polygon)].opening) continue;
         const size_t i = size_t(y) * size_t(cam.width) + size_t(x);
         const glm::dvec3 p = eye + double(hit.t) * glm::dvec3(rays[size_t(x)].direction);
+        glm::dvec3 nrm = polygonNormal(h.surfaces()[size_t(hit.polygon)].vertices);
         if (basis.isLamp(hit.polygon)) {
           const auto& s = h.surfaces()[size_t(hit.polygon)];
-          if (s.twoSided || s.photometry || glm::dot(polygonNormal(s.vertices), eye - p) > 0)
-            px.lamp[i] = basis.lampOfSurface(hit.polygon);
-          continue;
+          const int l = basis.lampOfSurface(hit.polygon);
+          if (s.twoSided || s.photometry || glm::dot(nrm, eye - p) > 0) {
+            px.lamp[i] = l;
+            continue;
+          }
+          // The back of a one-sided virtual lamp is a dark object (the render gives it albedo 0);
+          // a room lamp's back is what the photo shows there.
+          if (l < basis.sceneLampCount()) continue;
+          nrm = -nrm;
+        } else if (glm::dot(nrm, eye - p) < 0) {
+          continue;  // a back face: nothing a photo shows
         }
-        glm::dvec3 nrm = polygonNormal(h.surfaces()[size_t(hit.polygon)].vertices);
-        if (glm::dot(nrm, eye - p) < 0) continue;  // a back face: nothing a photo shows
         px.surface[i] = hit.polygon;
         px.uv[i] = h.toUV(hit.polygon, p);
         px.leaf[i] = h.findLeaf(hit.polygon, px.uv[i]);
@@ -706,6 +713,7 @@ ImageRGB DaylightRelighting::render(const SkyRadiance& sky, const std::vector<Po
     albedos.push_back(o.albedo);
     occluders.push_back(o.vertices);
   }
+  albedos.resize(objects.size() + lamps.size(), glm::dvec3(0.0));  // a virtual lamp's back reflects nothing
   std::vector<int> ids;
   SeenPixels seen = seen_;
   if (!objects.empty() || !lamps.empty()) {
