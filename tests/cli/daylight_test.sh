@@ -92,6 +92,17 @@ json.dump(d, open(sys.argv[3], "w"))
 PY
 "$relume" relight "$room" --sky sun0 --virtual-object "$tmp/boxlamp.json" --daylight volume -o "$tmp/x.png" 2>"$tmp/boxlampv.err"
 check "a virtual-object file's lamp is not dropped: on the volume path it is refused" "[ $? -eq 1 ] && grep -q 'near-field' '$tmp/boxlampv.err'"
+# A photometric lamp beside the box is not lit under daylight: the box is drawn, the lamp left
+# out with a warning naming it (asked for with --virtual-lamp, the same lamp is an error).
+python3 - "$tmp/box.json" "$(dirname "$0")/../../resources/examples/virtual_downlight.json" "$tmp/boxies.json" <<'PY'
+import json, os, sys
+d = json.load(open(sys.argv[1])); l = json.load(open(sys.argv[2]))
+for v in l["virtual_lights"]: v["photometry"] = os.path.join(os.path.dirname(sys.argv[2]), v["photometry"])
+d.update(l); json.dump(d, open(sys.argv[3], "w"))
+PY
+"$relume" relight "$room" --sky sun0 --virtual-object "$tmp/boxies.json" --daylight volume -o "$tmp/boxies.png" 2>"$tmp/boxies.err"
+check "a virtual-object file's photometric lamp is left out with a warning, its box drawn" \
+  "[ $? -eq 0 ] && [ -s '$tmp/boxies.png' ] && grep -q 'warning: left out: .*downlight' '$tmp/boxies.err'"
 "$relume" relight "$tmp/lamproom" --sky sun0 --lamp L=1 --daylight distant -o "$tmp/x.png" 2>"$tmp/lampd.err"
 check "a lamp with the distant method (the sky alone) is refused" "[ $? -eq 1 ] && grep -q 'sky at infinity alone' '$tmp/lampd.err'"
 "$relume" relight "$tmp/lamproom" --sky sun0 --lamp L=1 --daylight volume --virtual-object "$tmp/box.json" -o "$tmp/x.png" 2>"$tmp/lampv.err"

@@ -268,10 +268,17 @@ TEST(DaylightBasis, AVirtualLampShinesAsTheSameLampSolvedAloneAndGoesWithoutATra
   const SkyRadiance sky = uniformSky(16, 2.0);
   DaylightBasis basis(room, sky, coarse(16));
   ASSERT_EQ(basis.lampCount(), 0);
+  // The same sky with a sun shining through the window: its solution solved first (its links
+  // refined, which adds elements), and kept.
+  SkyRadiance sunny = sky;
+  sunny.sun.found = true;
+  sunny.sun.direction = glm::normalize(glm::dvec3(std::cos(kPi / 6), 0.2, std::sin(kPi / 6)));
+  sunny.sun.irradiance = glm::dvec3(40.0);
+  const std::vector<glm::vec3> beforeSunny = basis.combine(sunny);
   const std::vector<glm::vec3> before = basis.combine(sky);
   std::vector<glm::dvec3> beforeMeans;
   for (size_t s = 0; s < room.polygons.size(); ++s) beforeMeans.push_back(basis.surfaceMean(before, int(s)));
-  const size_t surfaces = basis.engine().surfaces().size();
+  const size_t surfaces = basis.engine().surfaces().size(), nodes = basis.engine().nodes().size();
   // Refused before anything is added: no area, a negative or non-finite exitance.
   EXPECT_THROW(basis.addObjects({}, {BasisLamp{"flat", {{1, 1, 1}, {2, 1, 1}, {3, 1, 1}}, m, false}}), Error);
   EXPECT_THROW(basis.addObjects({}, {BasisLamp{"negative", quad, glm::dvec3(-1.0), false}}), Error);
@@ -316,6 +323,10 @@ TEST(DaylightBasis, AVirtualLampShinesAsTheSameLampSolvedAloneAndGoesWithoutATra
     EXPECT_EQ(basis.lampCount(), 0);
     EXPECT_FALSE(basis.isLamp(ids[0]));
     const std::vector<glm::vec3> after = basis.combine(sky);
+    // Exactly as before: the hierarchy put back, nothing left behind, nothing solved again.
+    EXPECT_EQ(basis.engine().nodes().size(), nodes);
+    EXPECT_TRUE(after == before);
+    EXPECT_TRUE(basis.combine(sunny) == beforeSunny);  // the sun's solution from before, not one solved with the lamp
     for (size_t f = 0; f < room.polygons.size(); ++f)
       if (room.polygons[f].kind != PolygonKind::Window)
         EXPECT_NEAR(basis.surfaceMean(after, int(f)).y, beforeMeans[f].y, 2e-3 * beforeMeans[f].y) << room.polygons[f].name;
@@ -341,7 +352,9 @@ TEST(DaylightBasis, AVirtualLampShinesAsTheSameLampSolvedAloneAndGoesWithoutATra
     size_t live = 0;
     for (const auto& sf : basis.engine().surfaces()) live += sf.vertices.empty() ? 0 : 1;
     EXPECT_EQ(live, surfaces) << "cancelled at report " << at;
+    EXPECT_EQ(basis.engine().nodes().size(), nodes) << "cancelled at report " << at;
     const std::vector<glm::vec3> after = basis.combine(sky);
+    EXPECT_TRUE(after == before) << "cancelled at report " << at;
     for (size_t f = 0; f < room.polygons.size(); ++f)
       if (room.polygons[f].kind != PolygonKind::Window)
         EXPECT_NEAR(basis.surfaceMean(after, int(f)).y, beforeMeans[f].y, 2e-3 * beforeMeans[f].y)

@@ -352,3 +352,50 @@ TEST(Hierarchy, LightThatATwoSidedLampSendsToTheCeilingMostlyFallsBackOnIt) {
   EXPECT_NEAR(hrTwo, mcTwo, 0.03);
   EXPECT_NEAR(hrUpper, mcUpper, 0.06);
 }
+
+TEST(Hierarchy, ASavedStateComesBackExactlyAfterSurfacesWereAddedRefinedAndSolved) {
+  // A virtual box added for a while (its links refined, visibility redone where it crosses, the
+  // room solved with it), then the saved state put back: every element, link and radiosity as it
+  // was, bit for bit, and the ray scene is the room's again (the box no longer blocks). Removing
+  // the box instead leaves its elements behind and changes the solution by the solve's tolerance.
+  HierarchicalRadiosity h(occluderScene(), Options{});
+  h.solve();
+  const size_t nodes = h.nodes().size(), links = h.links().size(), surfaces = h.surfaces().size();
+  std::vector<glm::vec3> before(nodes), irradiance(nodes);
+  for (size_t i = 0; i < nodes; ++i) {
+    before[i] = h.radiosity(int(i));
+    irradiance[i] = h.irradiance(int(i));
+  }
+  const double eRef = h.refinementScale();
+  const auto saved = h.saveState();
+  // A box on the floor beside the occluder's shadow.
+  std::vector<Surface> box;
+  const glm::dvec3 lo(1.4, 0.2, 0.0), hi(1.7, 0.5, 0.3);
+  box.push_back({"top", quad({lo.x, lo.y, hi.z}, {hi.x - lo.x, 0, 0}, {0, hi.y - lo.y, 0}), glm::dvec3(0.7), glm::dvec3(0.0)});
+  box.push_back({"side", quad({lo.x, lo.y, lo.z}, {0, 0, hi.z - lo.z}, {hi.x - lo.x, 0, 0}), glm::dvec3(0.7), glm::dvec3(0.0)});
+  const std::vector<int> ids = h.addSurfaces(box);
+  h.solve();
+  ASSERT_GT(h.nodes().size(), nodes);
+  auto blockedThroughTop = [&] {  // a ray down through the box's top
+    const RayHit hit = h.rayScene().intersect(Ray{glm::vec3(1.55f, 0.35f, 1.5f), glm::vec3(0.f, 0.f, -1.f), 0.f, 1e30f});
+    return hit.polygon;
+  };
+  EXPECT_EQ(blockedThroughTop(), ids[0]);
+  h.restoreState(*saved);
+  EXPECT_EQ(h.nodes().size(), nodes);
+  EXPECT_EQ(h.links().size(), links);
+  EXPECT_EQ(h.surfaces().size(), surfaces);
+  EXPECT_EQ(h.refinementScale(), eRef);
+  size_t differ = 0;
+  for (size_t i = 0; i < nodes; ++i) differ += h.radiosity(int(i)) != before[i] || h.irradiance(int(i)) != irradiance[i];
+  EXPECT_EQ(differ, 0u);
+  EXPECT_EQ(blockedThroughTop(), 0);  // the floor again
+  // And it goes on as the room it was: solving again changes nothing beyond the tolerance.
+  h.solve();
+  for (size_t i = 0; i < nodes; ++i)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(h.radiosity(int(i))[c], before[i][c], 1e-3f * (before[i][c] + 1e-3f)) << i;
+  // Removing instead of restoring leaves the box's elements in the arrays (never reclaimed).
+  const std::vector<int> again = h.addSurfaces(box);
+  h.removeSurfaces(again);
+  EXPECT_GT(h.nodes().size(), nodes);
+}

@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 
 #include "relume/geometry/error.h"
@@ -312,6 +313,33 @@ std::vector<int> DaylightBasis::addObjects(const std::vector<Polygon>& polygons,
   return addObjects(polygons, {}, progress);
 }
 
+struct DaylightBasis::Undo {
+  std::vector<int> surfaces;  // what the add put in
+  std::shared_ptr<const radiosity::HierarchicalRadiosity::State> engine;
+  std::vector<std::vector<glm::vec3>> bases, lampSolution;
+  std::vector<glm::vec3> sun, sunDirect;
+  glm::dvec3 sunDirection{0.0};
+  bool haveSun = false;
+  std::vector<bool> lamp;
+  std::vector<int> lampSurface;
+  double secondsPerBasis = 0;
+};
+
+void DaylightBasis::putBack(Undo&& u) {
+  engine_->restoreState(*u.engine);
+  bases_ = std::move(u.bases);
+  sun_ = std::move(u.sun);
+  sunDirect_ = std::move(u.sunDirect);
+  sunDirection_ = u.sunDirection;
+  haveSun_ = u.haveSun;
+  lamp_ = std::move(u.lamp);
+  lampSurface_ = std::move(u.lampSurface);
+  lampSolution_ = std::move(u.lampSolution);
+  lampExitance_.resize(lampSurface_.size());  // the lamps there before shine as they were set since
+  secondsPerBasis_ = u.secondsPerBasis;
+  ++revision_;
+}
+
 std::vector<int> DaylightBasis::addObjects(const std::vector<Polygon>& polygons, const std::vector<BasisLamp>& lamps,
                                            Progress& progress) {
   for (const auto& l : lamps) {
@@ -321,6 +349,8 @@ std::vector<int> DaylightBasis::addObjects(const std::vector<Polygon>& polygons,
       if (!(l.exitance[c] >= 0) || !std::isfinite(l.exitance[c]))
         throw Error("", "virtual lamp " + l.name, "its exitance must be finite and >= 0");
   }
+  auto undo = std::make_shared<Undo>(Undo{{}, engine_->saveState(), bases_, lampSolution_, sun_, sunDirect_, sunDirection_,
+                                          haveSun_, lamp_, lampSurface_, secondsPerBasis_});
   haveSun_ = false;
   std::vector<radiosity::Surface> add;
   for (const auto& p : polygons) {
@@ -342,15 +372,14 @@ std::vector<int> DaylightBasis::addObjects(const std::vector<Polygon>& polygons,
     // Their links are refined under the sky the hierarchy was refined for (never dark anywhere).
     for (int w : windows_) engine_->setDistantLight(w, refineLight_);
     Progress stage(progress, 0.0, 0.3);
-    const size_t first = engine_->surfaces().size();
     try {
       ids = engine_->addSurfaces(add, stage);
-    } catch (...) {  // a Cancel while their links were refined: the surfaces added so far go again
-      for (size_t s = first; s < engine_->surfaces().size(); ++s) ids.push_back(int(s));
-      if (!ids.empty()) removeObjects(ids);
+    } catch (...) {  // a Cancel while their links were refined: all as it was
+      putBack(std::move(*undo));
       throw;
     }
   }
+  undo->surfaces = ids;
   lamp_.resize(engine_->surfaces().size(), false);
   for (size_t k = 0; k < lamps.size(); ++k) {
     const int s = ids[polygons.size() + k];
@@ -363,13 +392,20 @@ std::vector<int> DaylightBasis::addObjects(const std::vector<Polygon>& polygons,
     Progress stage(progress, 0.3, 1.0);
     solveBases(stage);
   } catch (...) {  // a Cancel: the objects go again, and the bases are those without them
-    removeObjects(ids);
+    putBack(std::move(*undo));
     throw;
   }
+  if (!ids.empty()) undo_ = std::move(undo);  // (an earlier add's surfaces are then removed by solving again)
   return ids;
 }
 
 void DaylightBasis::removeObjects(const std::vector<int>& surfaces, Progress& progress) {
+  if (undo_ && undo_->surfaces == surfaces) {
+    const std::shared_ptr<Undo> u = std::move(undo_);
+    putBack(std::move(*u));
+    return;
+  }
+  undo_.reset();  // what was saved after these were added holds them
   haveSun_ = false;
   for (size_t l = lampSurface_.size(); l-- > size_t(sceneLamps_);)
     if (std::find(surfaces.begin(), surfaces.end(), lampSurface_[l]) != surfaces.end()) {
@@ -499,6 +535,9 @@ std::vector<glm::vec3> DaylightBasis::irradiance(const SkyRadiance& sky, bool di
 glm::dvec3 DaylightBasis::surfaceMean(const std::vector<glm::vec3>& b, int surface) const {
   const auto& nodes = engine_->nodes();
   const auto& children = engine_->children();
+  if (b.size() < nodes.size())  // a solution from before the hierarchy was refined further
+    throw std::invalid_argument("surfaceMean: a solution of " + std::to_string(b.size()) + " nodes for a hierarchy of " +
+                                std::to_string(nodes.size()));
   glm::dvec3 sum(0.0);
   double area = 0;
   std::vector<int> stack{engine_->surfaceRoot(surface)};

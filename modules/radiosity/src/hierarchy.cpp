@@ -115,7 +115,7 @@ std::vector<Surface> surfacesFromScene(const Scene& scene) {
 }
 
 struct HierarchicalRadiosity::Impl {
-  std::unique_ptr<RayScene> rays;
+  std::shared_ptr<RayScene> rays;  // replaced whole when surfaces change (a saved state keeps its own)
   std::vector<PlaneFrame> frames;
   std::vector<std::vector<glm::dvec2>> uvPolys;
   std::vector<std::vector<double>> fanCdf;  // cumulative triangle-fan areas per surface
@@ -309,7 +309,7 @@ struct Builder {
 HierarchicalRadiosity::HierarchicalRadiosity(std::vector<Surface> surfaces, Options options)
     : impl_(std::make_unique<Impl>()), surfaces_(std::move(surfaces)), options_(options) {
   const size_t ns = surfaces_.size();
-  impl_->rays = std::make_unique<RayScene>(occluders(surfaces_));
+  impl_->rays = std::make_shared<RayScene>(occluders(surfaces_));
   impl_->frames.resize(ns);
   impl_->uvPolys.resize(ns);
   impl_->fanCdf.resize(ns);
@@ -341,6 +341,31 @@ HierarchicalRadiosity::HierarchicalRadiosity(std::vector<Surface> surfaces, Opti
 }
 
 HierarchicalRadiosity::~HierarchicalRadiosity() = default;
+
+struct HierarchicalRadiosity::State {
+  Impl impl;  // its ray scene shared, never changed in place
+  std::vector<Surface> surfaces;
+  std::vector<Node> nodes;
+  std::vector<int32_t> children, surfaceRoot;
+  std::vector<Link> links;
+  std::vector<glm::vec3> B, E, Edown;
+};
+
+std::shared_ptr<const HierarchicalRadiosity::State> HierarchicalRadiosity::saveState() const {
+  return std::make_shared<const State>(State{*impl_, surfaces_, nodes_, children_, surfaceRoot_, links_, B_, E_, Edown_});
+}
+
+void HierarchicalRadiosity::restoreState(const State& state) {
+  *impl_ = state.impl;  // (the ray counts are the saved scene's: the rays cast on other scenes since are not)
+  surfaces_ = state.surfaces;
+  nodes_ = state.nodes;
+  children_ = state.children;
+  surfaceRoot_ = state.surfaceRoot;
+  links_ = state.links;
+  B_ = state.B;
+  E_ = state.E;
+  Edown_ = state.Edown;
+}
 
 const RayScene& HierarchicalRadiosity::rayScene() const { return *impl_->rays; }
 double HierarchicalRadiosity::refinementScale() const { return impl_->eRef; }
@@ -1095,7 +1120,7 @@ size_t HierarchicalRadiosity::translateSurfaces(const std::vector<int>& moved, c
 void HierarchicalRadiosity::rebuildRays() {
   auto& im = *impl_;
   const uint64_t counted = im.rays->raysCast();
-  im.rays = std::make_unique<RayScene>(occluders(surfaces_));
+  im.rays = std::make_shared<RayScene>(occluders(surfaces_));
   im.raysAtStart -= std::min(im.raysAtStart, counted);
 }
 

@@ -123,6 +123,10 @@ class DaylightBasis {
   std::vector<int> addObjects(const std::vector<Polygon>& polygons, const std::vector<BasisLamp>& lamps,
                               Progress& progress = silentProgress());
   // Takes surfaces added by addObjects out again (virtual lamps among them stop being lamps).
+  // The surfaces of the latest addObjects are taken out by putting the hierarchy and the
+  // solutions back as they were before it: exact, and nothing is solved; any other set (an
+  // earlier add's, or these after another add) is removed from the hierarchy and every basis
+  // solved again.
   void removeObjects(const std::vector<int>& surfaces, Progress& progress = silentProgress());
   int sceneLampCount() const { return sceneLamps_; }  // lamps 0 .. sceneLampCount() - 1 are the scene's
 
@@ -159,6 +163,12 @@ class DaylightBasis {
   std::vector<glm::dvec3> lampExitance_;              // per scene lamp: as it shines now
   std::vector<std::vector<glm::vec3>> lampSolution_;  // per scene lamp: empty until solved
   std::shared_ptr<const radiosity::DistantLight> refineLight_;
+  // For the latest addObjects whose surfaces are still in: the hierarchy and every solution as
+  // they were before it, put back when exactly those surfaces are removed (no solve, and none of
+  // their elements left behind). One only: it holds a copy of the links and the solutions.
+  struct Undo;
+  std::shared_ptr<Undo> undo_;
+  void putBack(Undo&& u);
   mutable std::vector<double> horizontal_;  // per region: projected solid angle on a horizontal plane
 };
 

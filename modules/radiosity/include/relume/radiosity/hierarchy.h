@@ -197,6 +197,14 @@ class HierarchicalRadiosity {
   double refinementScale() const;
   void setRefinementScale(double eRef);
 
+  // Everything refining, adding, removing and solving change (surfaces, elements, links, the
+  // solution, the refinement scale), kept aside and put back exactly: a caller that adds
+  // surfaces for a while (virtual objects) gets the hierarchy back as it was, without the
+  // elements a removal leaves behind and without solving again. Holds a copy of the links.
+  struct State;
+  std::shared_ptr<const State> saveState() const;
+  void restoreState(const State& state);
+
  struct Impl;  // engine internals (opaque to users)
 
  private:
