@@ -2394,6 +2394,28 @@ class WorkbenchTest : public QObject {
     QVERIFY(settle(180000));
     QCOMPARE(sky->framesShown(), frames + 1);
     for (const auto& m : said) QVERIFY2(!m.first().toString().contains("near-field"), qPrintable(m.first().toString()));
+    // A file with a box and a photometric downlight (not lit under daylight yet): the box is kept
+    // as an entry, the lamp left out, and the user told which.
+    const QString mixed = tmp_.path() + "/box_and_downlight.json";
+    {
+      QFile f(mixed);
+      QVERIFY(f.open(QIODevice::WriteOnly));
+      f.write(QString(R"({"virtual_objects": [{"name": "box", "box_min": [2.1, 1.95, 0.0], "box_max": [2.45, 2.3, 0.35],
+                  "albedo": [0.8, 0.38, 0.06]}],
+                  "virtual_lights": [{"name": "downlight", "radiance_rgb": [80.0, 72.0, 60.0], "photometry": "%1",
+                  "polygon": [[2.8, 1.9, 2.55], [2.8, 2.1, 2.55], [3.0, 2.1, 2.55], [3.0, 1.9, 2.55]]}]})")
+                  .arg(RELUME_SOURCE_DIR "/resources/examples/downlight.ies")
+                  .toUtf8());
+    }
+    said.clear();
+    const int count = sky->objectsBox()->count();
+    QVERIFY(sky->addObjectsFile(mixed));
+    QCOMPARE(sky->objectsBox()->count(), count + 1);
+    QCOMPARE(sky->objectsBox()->currentText(), QString("box_and_downlight.json"));
+    bool lampLeftOut = false;
+    for (const auto& m : said) lampLeftOut = lampLeftOut || m.first().toString().contains("downlight");
+    QVERIFY(lampLeftOut);
+    QVERIFY(settle(180000));
   }
 
   void frenchInterface() {
