@@ -56,6 +56,20 @@ struct ObjectsEntry {
   std::vector<daylight::BasisLamp> lamps;  // virtual lamps (near-field only)
 };
 
+// A variant's (or file's) objects and virtual lamps as one entry. Lamps daylight cannot light (a
+// photometric one) are left out beside objects, and `lampsLeftOut` says why; without objects the
+// error is the entry's.
+static ObjectsEntry objectsEntry(const QString& label, const Variant& v, const std::string& file, QString& lampsLeftOut) {
+  ObjectsEntry entry{label, daylight::variantObjects(v, file), {}};
+  try {
+    entry.lamps = daylight::variantLamps(v, file);
+  } catch (const std::exception& e) {
+    if (entry.polygons.empty()) throw;
+    lampsLeftOut = QString::fromUtf8(e.what());
+  }
+  return entry;
+}
+
 // A daylight room made ready off the UI thread: nothing in adopt() can fail.
 struct PreparedDaylight {
   Scene scene;
@@ -246,14 +260,10 @@ std::shared_ptr<PreparedDaylight> SkyPanel::prepare(const Scene& scene, Progress
   for (const auto& v : scene.variants) {
     if (v.virtualObjects.empty() && v.virtualLamps.empty()) continue;
     try {
-      ObjectsEntry entry{tr("As in variant %1").arg(QString::fromStdString(v.name)), daylight::variantObjects(v, scene.sourceFile), {}};
-      try {
-        entry.lamps = daylight::variantLamps(v, scene.sourceFile);
-      } catch (const std::exception& e) {  // its objects stay; its lamps go, and the user hears why
-        if (entry.polygons.empty()) throw;
-        room->notes << tr("Variant %1: its virtual lamps are left out: %2").arg(QString::fromStdString(v.name), QString::fromUtf8(e.what()));
-      }
-      room->objects.push_back(std::move(entry));
+      QString lampsLeftOut;
+      room->objects.push_back(objectsEntry(tr("As in variant %1").arg(QString::fromStdString(v.name)), v, scene.sourceFile, lampsLeftOut));
+      if (!lampsLeftOut.isEmpty())
+        room->notes << tr("Variant %1: its virtual lamps are left out: %2").arg(QString::fromStdString(v.name), lampsLeftOut);
     } catch (const std::exception& e) {
       room->notes << tr("Variant %1 left out: %2").arg(QString::fromStdString(v.name), QString::fromUtf8(e.what()));
     }
@@ -345,14 +355,10 @@ bool SkyPanel::addObjectsFile(const QString& file) {
     const Variant v = readVariantFile(file.toStdString());
     if (v.virtualObjects.empty() && v.virtualLamps.empty())
       throw Error(file.toStdString(), "virtual_objects", "lists no virtual object and no virtual lamp (virtual_lights)");
-    ObjectsEntry entry{QFileInfo(file).fileName(), daylight::variantObjects(v, file.toStdString()), {}};
-    try {
-      entry.lamps = daylight::variantLamps(v, file.toStdString());
-    } catch (const std::exception& e) {  // its objects stay; its lamps go, and the user hears why
-      if (entry.polygons.empty()) throw;
-      emit message(tr("The virtual lamps of %1 are left out: %2").arg(entry.label, QString::fromUtf8(e.what())));
-    }
-    s_->objects.push_back(std::move(entry));
+    QString lampsLeftOut;
+    s_->objects.push_back(objectsEntry(QFileInfo(file).fileName(), v, file.toStdString(), lampsLeftOut));
+    if (!lampsLeftOut.isEmpty())
+      emit message(tr("The virtual lamps of %1 are left out: %2").arg(s_->objects.back().label, lampsLeftOut));
   } catch (const std::exception& e) {
     emit message(QString::fromUtf8(e.what()));
     return false;
