@@ -38,9 +38,9 @@ const float INV_PI = 0.31830988618379067;
 #if SHADOWS
 // Shadows of image-based objects (Dinh, Metoyer, Turk §4, onto any real surface): the share of
 // the light kept, mapped over this surface's plane by the library (ibr::shadowMaps, the light
-// each silhouette takes off over the irradiance shown), 1 where no shadow reaches.
+// each silhouette takes off over the irradiance shown), 1 where no shadow reaches. Only the
+// surfaces that have a map are drawn with this variant.
 uniform sampler2D shadowMap;
-uniform int shadowed;           // 1: this surface has a map
 uniform vec4 shadowFrame;       // its origin (plane coordinates), 1 / its width and height in metres
 #endif
 
@@ -69,7 +69,7 @@ vec3 radiance() {
   result = kind == 2 ? vB * INV_PI : (kind == 1 ? t.rgb : t.rgb * ratio(vB, vDen));
 #endif
 #if SHADOWS && (MODE == 0 || MODE == 1)
-  if (shadowed == 1) result *= texture(shadowMap, (vUV - shadowFrame.xy) * shadowFrame.zw).rgb;
+  result *= texture(shadowMap, (vUV - shadowFrame.xy) * shadowFrame.zw).rgb;
 #endif
 #if CHECKER
   if (kind != 2 && t.a < 1.0) {

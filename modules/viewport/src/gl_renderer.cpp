@@ -425,63 +425,76 @@ struct GlRelightRenderer::Impl {
     // Away from the photo's own view, texels no photo saw are drawn as a checker.
     const bool objectsShown = !objects.empty() && (mode == ViewMode::Relit || mode == ViewMode::RatioOnly);
     const bool shadows = objectsShown && !shadowMaps.empty();
-    auto& relight = program(mode, s.output, glowOn, !sameCamera(camera, photoCamera), shadows);
-    relight.bind();
+    // Only the surfaces a shadow reaches take the shadow-map fetch: a texture fetch costs every
+    // fragment of a surface on llvmpipe (a branch on a uniform does not skip it), and the floor's
+    // map should not cost the walls and the ceiling.
+    const bool checker = !sameCamera(camera, photoCamera);
+    QOpenGLShaderProgram* plain = &program(mode, s.output, glowOn, checker, false);
+    QOpenGLShaderProgram* shadowing = shadows ? &program(mode, s.output, glowOn, checker, true) : nullptr;
     const glm::mat4 clip = worldToClip(camera, nearZ, farZ);
-    relight.setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(clip)[0][0]));
-    if (shadows) relight.setUniformValue("shadowMap", 5);
-    relight.setUniformValue("eye", QVector3D(float(eye.x), float(eye.y), float(eye.z)));
-    relight.setUniformValue("corners", 0);
-    relight.setUniformValue("rects", 1);
-    relight.setUniformValue("original", 2);
-    relight.setUniformValue("unoccluded", 3);
-    relight.setUniformValue("glow", 4);
+    for (QOpenGLShaderProgram* relight : {plain, shadowing}) {
+      if (!relight) continue;
+      relight->bind();
+      relight->setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(clip)[0][0]));
+      relight->setUniformValue("eye", QVector3D(float(eye.x), float(eye.y), float(eye.z)));
+      relight->setUniformValue("corners", 0);
+      relight->setUniformValue("rects", 1);
+      relight->setUniformValue("original", 2);
+      relight->setUniformValue("unoccluded", 3);
+      relight->setUniformValue("glow", 4);
+      if (relight == shadowing) relight->setUniformValue("shadowMap", 5);
+      if (glowOn) {
+        relight->setUniformValue("glowBox", QVector4D(glowBox.x, glowBox.y, glowBox.z, glowBox.w));
+        std::vector<GLfloat> scales(3 * kMaxLamps, 1.f);
+        for (size_t l = 0; l < lampScale.size() && l < size_t(kMaxLamps); ++l)
+          for (int c = 0; c < 3; ++c) scales[3 * l + c] = lampScale[l][c];
+        relight->setUniformValueArray("lampScale", scales.data(), kMaxLamps, 3);
+      }
+      relight->setUniformValue("viewOrigin", QVector2D(float(rect.x), float(rect.y)));
+      relight->setUniformValue("viewSize", QVector2D(float(rect.width), float(rect.height)));
+      relight->setUniformValue("exposure", float(s.exposure));
+      relight->setUniformValue("falseMin", float(s.falseMin));
+      relight->setUniformValue("falseMax", float(s.falseMax));
+    }
     if (glowOn) {
       gl->glActiveTexture(GL_TEXTURE4);
       gl->glBindTexture(GL_TEXTURE_2D, glow);
-      relight.setUniformValue("glowBox", QVector4D(glowBox.x, glowBox.y, glowBox.z, glowBox.w));
-      std::vector<GLfloat> scales(3 * kMaxLamps, 1.f);
-      for (size_t l = 0; l < lampScale.size() && l < size_t(kMaxLamps); ++l)
-        for (int c = 0; c < 3; ++c) scales[3 * l + c] = lampScale[l][c];
-      relight.setUniformValueArray("lampScale", scales.data(), kMaxLamps, 3);
     }
-    relight.setUniformValue("viewOrigin", QVector2D(float(rect.x), float(rect.y)));
-    relight.setUniformValue("viewSize", QVector2D(float(rect.width), float(rect.height)));
-    relight.setUniformValue("exposure", float(s.exposure));
-    relight.setUniformValue("falseMin", float(s.falseMin));
-    relight.setUniformValue("falseMax", float(s.falseMax));
     gl->glActiveTexture(GL_TEXTURE0);
     gl->glBindTexture(GL_TEXTURE_BUFFER, cornerTexture);
     gl->glActiveTexture(GL_TEXTURE1);
     gl->glBindTexture(GL_TEXTURE_BUFFER, rectTexture);
     gl->glBindVertexArray(vao);
+    QOpenGLShaderProgram* bound = nullptr;
     for (const auto& r : mesh.ranges) {
-      relight.setUniformValue("kind", int(r.kind));
-      if (shadows) {
-        const auto m = r.kind == DisplaySurfaceKind::Window ? shadowMaps.end() : shadowMaps.find(r.surface);
-        relight.setUniformValue("shadowed", m == shadowMaps.end() ? 0 : 1);
-        if (m != shadowMaps.end()) {
-          gl->glActiveTexture(GL_TEXTURE5);
-          gl->glBindTexture(GL_TEXTURE_2D, m->second.texture);
-          relight.setUniformValue("shadowFrame", QVector4D(m->second.frame.x, m->second.frame.y, m->second.frame.z, m->second.frame.w));
-        }
+      const auto m = !shadows || r.kind == DisplaySurfaceKind::Window ? shadowMaps.end() : shadowMaps.find(r.surface);
+      QOpenGLShaderProgram* relight = m == shadowMaps.end() ? plain : shadowing;
+      if (relight != bound) {
+        relight->bind();
+        bound = relight;
       }
-      relight.setUniformValue("normal", QVector3D(r.normal.x, r.normal.y, r.normal.z));
+      relight->setUniformValue("kind", int(r.kind));
+      if (m != shadowMaps.end()) {
+        gl->glActiveTexture(GL_TEXTURE5);
+        gl->glBindTexture(GL_TEXTURE_2D, m->second.texture);
+        relight->setUniformValue("shadowFrame", QVector4D(m->second.frame.x, m->second.frame.y, m->second.frame.z, m->second.frame.w));
+      }
+      relight->setUniformValue("normal", QVector3D(r.normal.x, r.normal.y, r.normal.z));
       if (size_t(r.surface) < textures.size()) {
         const auto& t = textures[r.surface];
         gl->glActiveTexture(GL_TEXTURE2);
         gl->glBindTexture(GL_TEXTURE_2D, t.original);
         gl->glActiveTexture(GL_TEXTURE3);
         gl->glBindTexture(GL_TEXTURE_2D, t.unoccluded);
-        relight.setUniformValue("texOrigin", QVector2D(t.origin.x, t.origin.y));
-        relight.setUniformValue("texelSize", t.texel);
-        relight.setUniformValue("texSize", QVector2D(t.size.x, t.size.y));
+        relight->setUniformValue("texOrigin", QVector2D(t.origin.x, t.origin.y));
+        relight->setUniformValue("texelSize", t.texel);
+        relight->setUniformValue("texSize", QVector2D(t.size.x, t.size.y));
       }
       gl->glDrawElements(GL_TRIANGLES, GLsizei(r.count), GL_UNSIGNED_INT,
                          reinterpret_cast<const void*>(r.first * sizeof(uint32_t)));
     }
     gl->glBindVertexArray(0);
-    relight.release();
+    if (bound) bound->release();
     if (objectsShown) {
       try {
         drawObjects(camera, clip, s);
