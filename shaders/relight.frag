@@ -7,7 +7,6 @@
 // (read back as radiance), or exposed and sRGB-encoded as the photo was (8-bit =
 // sRGB(exposure x radiance)), or false-colour luminance.
 in vec2 vUV;
-in vec3 vWorld;
 in vec3 vB;
 in vec3 vDen;
 #if MODE == 6
@@ -23,8 +22,7 @@ uniform float texelSize;        // metres per texel
 uniform vec2 texSize;           // texels
 uniform int kind;               // 0 textured, 1 window, 2 virtual (radiance B / pi)
 // MODE: 0 relit, 1 ratio-only, 2 photo, 3 unoccluded, 4 B, 5 D, 6 leaves, 7 references
-uniform vec3 normal;
-uniform vec3 eye;
+uniform float front;            // 1, or 0 where the camera sees this surface's back (drawn black)
 // CHECKER 1: texels no photo saw drawn as a checker (away from the photo's own view)
 uniform sampler2D glow;         // GLOW 1: photo-sized linear glow, alpha = its lamp's index (-1 none)
 uniform vec4 glowBox;           // the glow's pixels lie in [x0, x1) x [y0, y1), texture coordinates
@@ -49,7 +47,6 @@ vec3 ratio(vec3 b, vec3 d) {
 }
 
 vec3 radiance() {
-  if (dot(vWorld - eye, normal) > 0.0) return vec3(0.0);  // back faces are black
   vec3 result;
 #if MODE == 4
   result = vB * INV_PI;
@@ -103,7 +100,7 @@ vec3 radiance() {
     if (lamp >= 0) result += g.rgb * lampScale[lamp];
   }
 #endif
-  return result;
+  return result * front;  // back faces are black
 }
 
 void main() {

@@ -14,7 +14,6 @@ uniform mat4 worldToClip;
 uniform samplerBuffer corners;  // per leaf 12 texels: B, D, B_orig at its corners; texel 4's alpha its §4.3 category
 uniform samplerBuffer rects;    // per leaf u0, v0, u1, v1
 out vec2 vUV;
-out vec3 vWorld;
 out vec3 vB;
 out vec3 vDen;                  // D (relit), B_orig (ratio-only)
 #if MODE == 6
@@ -26,7 +25,6 @@ flat out float vCategory;
 
 void main() {
   vUV = uv;
-  vWorld = position;
   vB = B;
 #if MODE == 1
   vDen = Borig;  // ratio-only: B / B_orig

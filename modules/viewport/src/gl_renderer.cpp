@@ -436,7 +436,6 @@ struct GlRelightRenderer::Impl {
       if (!relight) continue;
       relight->bind();
       relight->setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(clip)[0][0]));
-      relight->setUniformValue("eye", QVector3D(float(eye.x), float(eye.y), float(eye.z)));
       relight->setUniformValue("corners", 0);
       relight->setUniformValue("rects", 1);
       relight->setUniformValue("original", 2);
@@ -479,7 +478,9 @@ struct GlRelightRenderer::Impl {
         gl->glBindTexture(GL_TEXTURE_2D, m->second.texture);
         relight->setUniformValue("shadowFrame", QVector4D(m->second.frame.x, m->second.frame.y, m->second.frame.z, m->second.frame.w));
       }
-      relight->setUniformValue("normal", QVector3D(r.normal.x, r.normal.y, r.normal.z));
+      // A range lies in its surface's plane: the camera sees all of its front or all of its back.
+      const glm::vec3 p0 = r.count ? mesh.vertices[mesh.indices[r.first]].position : glm::vec3(0.f);
+      relight->setUniformValue("front", glm::dot(glm::dvec3(p0) - eye, glm::dvec3(r.normal)) > 0.0 ? 0.f : 1.f);
       if (size_t(r.surface) < textures.size()) {
         const auto& t = textures[r.surface];
         gl->glActiveTexture(GL_TEXTURE2);
