@@ -6,7 +6,10 @@
 // (the CPU renderer does the same). Then the display transform in the same pass: linear out
 // (read back as radiance), or exposed and sRGB-encoded as the photo was (8-bit =
 // sRGB(exposure x radiance)), or false-colour luminance.
+#if CHECKER || MODE == 6 || SHADOWS
 in vec2 vUV;
+#endif
+in vec2 vTC;                    // the texture coordinates of vUV (relight.vert)
 in vec3 vB;
 in vec3 vDen;
 #if MODE == 6
@@ -17,9 +20,6 @@ flat in float vCategory;
 #endif
 uniform sampler2D original;     // the photo texture (linear radiance; alpha 0 where no photo saw it)
 uniform sampler2D unoccluded;   // T_final: real shadows removed
-uniform vec2 texOrigin;         // uv of texel (0, 0)'s corner
-uniform float texelSize;        // metres per texel
-uniform vec2 texSize;           // texels
 uniform int kind;               // 0 textured, 1 window, 2 virtual (radiance B / pi)
 // MODE: 0 relit, 1 ratio-only, 2 photo, 3 unoccluded, 4 B, 5 D, 6 leaves, 7 references
 uniform float front;            // 1, or 0 where the camera sees this surface's back (drawn black)
@@ -54,7 +54,7 @@ vec3 radiance() {
   result = (kind == 2 ? vB : vDen) * INV_PI;
 #else
   // One texture fetch: the photo's for photo and ratio-only, T_final otherwise.
-  vec2 tc = (vUV - texOrigin) / texelSize / texSize;
+  vec2 tc = vTC;
 #if MODE == 1 || MODE == 2
   vec4 t = texture(original, tc);
 #else
