@@ -42,8 +42,8 @@ uniform sampler2D shadowMap;
 uniform vec4 shadowFrame;       // its origin (plane coordinates), 1 / its width and height in metres
 #endif
 
-vec3 ratio(vec3 b, vec3 d) {
-  return vec3(d.r > 1e-12 ? b.r / d.r : 1.0, d.g > 1e-12 ? b.g / d.g : 1.0, d.b > 1e-12 ? b.b / d.b : 1.0);
+vec3 ratio(vec3 b, vec3 d) {  // B / D, and 1 where D is 0
+  return mix(vec3(1.0), b / max(d, vec3(1e-12)), greaterThan(d, vec3(1e-12)));
 }
 
 vec3 radiance() {
@@ -71,7 +71,7 @@ vec3 radiance() {
 #if CHECKER
   if (kind != 2 && t.a < 1.0) {
     // Seen by no photo (filled smoothly by the preprocess): a 10 cm checker says so.
-    float cell = mod(floor(vUV.x / 0.1) + floor(vUV.y / 0.1), 2.0);
+    float cell = mod(floor(vUV.x * 10.0) + floor(vUV.y * 10.0), 2.0);
     vec3 mark = cell > 0.5 ? result * 0.35 + vec3(0.004, 0.004, 0.012) : result;
     result = mix(result, mark, 1.0 - t.a);
   }
