@@ -372,6 +372,33 @@ class WorkbenchTest : public QObject {
     QVERIFY(p90 / p10 > 2.0);   // two kinds of cells
   }
 
+  // A wall seen from outside the room shows its back, black (and hides what lies behind it); the
+  // same wall seen from inside shows its relit texture.
+  void wallSeenFromBehindIsBlackAndFromTheFrontLit() {
+    auto wallPixels = [&](const Camera& c, const ImageRGB& img) {
+      std::vector<glm::vec3> out;
+      for (double x = 0.6; x <= 3.4; x += 0.05)
+        for (double z = 0.4; z <= 2.2; z += 0.05) {
+          glm::dvec2 px;
+          if (!c.project(glm::dvec3(x, 5.2, z), px) || px.x < 0 || px.y < 0 || px.x >= c.width || px.y >= c.height) continue;
+          out.push_back(img.at(int(px.x), int(px.y)));
+        }
+      return out;
+    };
+    const Camera outside = Camera::lookAt(glm::dvec3(2.0, 8.0, 1.3), glm::dvec3(2.0, 5.2, 1.3), 640, 480, 300.0);
+    const Camera inside = Camera::lookAt(glm::dvec3(2.0, 2.5, 1.3), glm::dvec3(2.0, 5.2, 1.3), 640, 480, 300.0);
+    const auto behind = wallPixels(outside, window_->viewport()->renderLinear(outside, ViewMode::Relit));
+    const auto front = wallPixels(inside, window_->viewport()->renderLinear(inside, ViewMode::Relit));
+    QVERIFY(behind.size() > 1000 && front.size() > 1000);
+    size_t black = 0, lit = 0;
+    for (const auto& c : behind) black += c.x + c.y + c.z == 0.f;
+    for (const auto& c : front) lit += c.x + c.y + c.z > 0.f;
+    qInfo("back wall from outside: %zu of %zu points black; from inside: %zu of %zu lit", black, behind.size(), lit,
+          front.size());
+    QCOMPARE(black, behind.size());
+    QCOMPARE(lit, front.size());
+  }
+
   // Lamp A's slider to 0: its old shadow is gone (benchmark protocol); undo gives the frame back.
   void lampSliderToZeroThenUndo() {
     const Camera cam = photoCamera();
