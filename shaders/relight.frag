@@ -6,10 +6,9 @@
 // (the CPU renderer does the same). Then the display transform in the same pass: linear out
 // (read back as radiance), or exposed and sRGB-encoded as the photo was (8-bit =
 // sRGB(exposure x radiance)), or false-colour luminance.
-#if CHECKER || MODE == 6 || SHADOWS
-in vec2 vUV;
-#endif
-in vec2 vTC;                    // the texture coordinates of vUV (relight.vert)
+in vec2 vTC;                    // the surface texture's coordinates of this point (relight.vert)
+uniform vec2 texOrigin;         // uv of the texture's texel (0, 0) corner
+uniform vec2 texExtent;         // the texture's width and height in metres
 in vec3 vB;
 in vec3 vDen;
 #if MODE == 6
@@ -47,6 +46,9 @@ vec3 ratio(vec3 b, vec3 d) {  // B / D, and 1 where D is 0
 }
 
 vec3 radiance() {
+  // The point's plane coordinates (metres), from the texture coordinates (one varying fewer per
+  // triangle and pixel: the display mesh's triangles are small).
+  vec2 vUV = texOrigin + vTC * texExtent;
   vec3 result;
 #if MODE == 4
   result = vB * INV_PI;

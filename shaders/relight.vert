@@ -13,13 +13,9 @@ layout(location = 5) in vec3 Borig;
 uniform mat4 worldToClip;
 uniform samplerBuffer corners;  // per leaf 12 texels: B, D, B_orig at its corners; texel 4's alpha its §4.3 category
 uniform samplerBuffer rects;    // per leaf u0, v0, u1, v1
-#if CHECKER || MODE == 6 || SHADOWS
-out vec2 vUV;
-#endif
 out vec2 vTC;
 uniform vec2 texOrigin;         // uv of the surface texture's texel (0, 0) corner
-uniform float texelSize;        // metres per texel
-uniform vec2 texSize;           // texels
+uniform vec2 texExtent;         // its width and height in metres ((0, 0) and (1, 1) on a surface with no texture)
 out vec3 vB;
 out vec3 vDen;                  // D (relit), B_orig (ratio-only)
 #if MODE == 6
@@ -30,10 +26,7 @@ flat out float vCategory;
 #endif
 
 void main() {
-#if CHECKER || MODE == 6 || SHADOWS
-  vUV = uv;
-#endif
-  vTC = (uv - texOrigin) / (texelSize * texSize);  // (per vertex: it is affine in uv)
+  vTC = (uv - texOrigin) / texExtent;  // (per vertex: it is affine in uv)
   vB = B;
 #if MODE == 1
   vDen = Borig;  // ratio-only: B / B_orig

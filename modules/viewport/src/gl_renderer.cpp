@@ -488,8 +488,10 @@ struct GlRelightRenderer::Impl {
         gl->glActiveTexture(GL_TEXTURE3);
         gl->glBindTexture(GL_TEXTURE_2D, t.unoccluded);
         relight->setUniformValue("texOrigin", QVector2D(t.origin.x, t.origin.y));
-        relight->setUniformValue("texelSize", t.texel);
-        relight->setUniformValue("texSize", QVector2D(t.size.x, t.size.y));
+        relight->setUniformValue("texExtent", QVector2D(t.texel * t.size.x, t.texel * t.size.y));
+      } else {  // (texture coordinates = plane coordinates: the shader's uv is exact)
+        relight->setUniformValue("texOrigin", QVector2D(0.f, 0.f));
+        relight->setUniformValue("texExtent", QVector2D(1.f, 1.f));
       }
       gl->glDrawElements(GL_TRIANGLES, GLsizei(r.count), GL_UNSIGNED_INT,
                          reinterpret_cast<const void*>(r.first * sizeof(uint32_t)));
