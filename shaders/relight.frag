@@ -6,7 +6,7 @@
 // (the CPU renderer does the same). Then the display transform in the same pass: linear out
 // (read back as radiance), or exposed and sRGB-encoded as the photo was (8-bit =
 // sRGB(exposure x radiance)), or false-colour luminance.
-in vec2 vTC;                    // the surface texture's coordinates of this point (relight.vert)
+in vec2 vTC;                    // the surface texture's coordinates of this point (relight.vert; plane coordinates on a surface with no texture)
 uniform vec2 texOrigin;         // uv of the texture's texel (0, 0) corner
 uniform vec2 texExtent;         // the texture's width and height in metres
 in vec3 vB;
@@ -41,7 +41,7 @@ uniform sampler2D shadowMap;
 uniform vec4 shadowFrame;       // its origin (plane coordinates), 1 / its width and height in metres
 #endif
 
-vec3 ratio(vec3 b, vec3 d) {  // B / D, and 1 where D is 0
+vec3 ratio(vec3 b, vec3 d) {  // B / D, and 1 where D is 0 (at most 1e-12)
   return mix(vec3(1.0), b / max(d, vec3(1e-12)), greaterThan(d, vec3(1e-12)));
 }
 
@@ -102,7 +102,7 @@ vec3 radiance() {
     if (lamp >= 0) result += g.rgb * lampScale[lamp];
   }
 #endif
-  return result * front;  // back faces are black
+  return mix(vec3(0.0), result, bvec3(front > 0.5));  // back faces are black (a select: exact 0)
 }
 
 void main() {

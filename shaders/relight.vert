@@ -15,7 +15,7 @@ uniform samplerBuffer corners;  // per leaf 12 texels: B, D, B_orig at its corne
 uniform samplerBuffer rects;    // per leaf u0, v0, u1, v1
 out vec2 vTC;
 uniform vec2 texOrigin;         // uv of the surface texture's texel (0, 0) corner
-uniform vec2 texExtent;         // its width and height in metres ((0, 0) and (1, 1) on a surface with no texture)
+uniform vec2 texExtent;         // its width and height in metres (texOrigin 0 and texExtent 1 on a surface with no texture)
 out vec3 vB;
 out vec3 vDen;                  // D (relit), B_orig (ratio-only)
 #if MODE == 6

@@ -149,7 +149,7 @@ QJsonObject benchRoom(const QString& room, int runs) {
       const int before = count;
       request();
       waitUntil([&] { return count != before || wall.elapsed() >= 60000; }, 60000);
-      ms.push_back(lastMs);
+      if (count != before) ms.push_back(lastMs);
     }
     medianMs = median(ms);
     return (count - start) / (double(wall.nsecsElapsed()) * 1e-9);

@@ -422,12 +422,12 @@ struct GlRelightRenderer::Impl {
     farZ = farZ * 1.05 + 0.1;
     const double nearZ = std::clamp(farZ * 1e-3, 0.005, 0.05);
     const bool glowOn = hasGlow && sameCamera(camera, photoCamera);
-    // Away from the photo's own view, texels no photo saw are drawn as a checker.
     const bool objectsShown = !objects.empty() && (mode == ViewMode::Relit || mode == ViewMode::RatioOnly);
     const bool shadows = objectsShown && !shadowMaps.empty();
     // Only the surfaces a shadow reaches take the shadow-map fetch: a texture fetch costs every
     // fragment of a surface on llvmpipe (a branch on a uniform does not skip it), and the floor's
     // map should not cost the walls and the ceiling.
+    // Away from the photo's own view, texels no photo saw are drawn as a checker.
     const bool checker = !sameCamera(camera, photoCamera);
     QOpenGLShaderProgram* plain = &program(mode, s.output, glowOn, checker, false);
     QOpenGLShaderProgram* shadowing = shadows ? &program(mode, s.output, glowOn, checker, true) : nullptr;
@@ -464,7 +464,7 @@ struct GlRelightRenderer::Impl {
     gl->glActiveTexture(GL_TEXTURE1);
     gl->glBindTexture(GL_TEXTURE_BUFFER, rectTexture);
     gl->glBindVertexArray(vao);
-    QOpenGLShaderProgram* bound = nullptr;
+    QOpenGLShaderProgram* bound = shadowing ? shadowing : plain;  // (the last one set up above)
     for (const auto& r : mesh.ranges) {
       const auto m = !shadows || r.kind == DisplaySurfaceKind::Window ? shadowMaps.end() : shadowMaps.find(r.surface);
       QOpenGLShaderProgram* relight = m == shadowMaps.end() ? plain : shadowing;
@@ -497,7 +497,7 @@ struct GlRelightRenderer::Impl {
                          reinterpret_cast<const void*>(r.first * sizeof(uint32_t)));
     }
     gl->glBindVertexArray(0);
-    if (bound) bound->release();
+    bound->release();
     if (objectsShown) {
       try {
         drawObjects(camera, clip, s);
