@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <memory>
 #include <numbers>
-#include <set>
+#include <map>
 
 #include "commands.h"
 #include <QDir>
@@ -442,34 +442,69 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   for (const auto& e : lampExitance) anyLamp = anyLamp || e != glm::dvec3(0.0);
   // Virtual lamps and objects, as the lamp path takes them: a file given with --virtual-lamp
   // or --virtual-object adds all it lists (a lamp's exitance is pi x its radiance, per face).
-  std::vector<dl::BasisLamp> virtualLamps;
-  std::vector<Polygon> objects;
-  // What the option asks for must be there and lit under daylight; what else the file lists is
-  // taken when it can be, and said when it cannot. A file given twice is taken once.
-  std::set<QString> taken;
-  auto takeFile = [&](const std::string& f, bool lampsAsked) {
-    const QString key = QFileInfo(QString::fromStdString(f)).absoluteFilePath();
-    if (!taken.insert(key).second) return;
-    const Variant v = readVariantFile(f);
-    if (lampsAsked && v.virtualLamps.empty()) throw Error(f, "virtual_lights", "lists no virtual lamp");
-    if (!lampsAsked && v.virtualObjects.empty()) throw Error(f, "virtual_objects", "lists no virtual object");
-    auto take = [&](bool asked, auto&& add) {
-      try {
-        add();
-      } catch (const std::exception& e) {
-        if (asked) throw;
-        std::fprintf(stderr, "warning: left out: %s\n", e.what());
-      }
-    };
-    take(lampsAsked, [&] {
-      for (auto& l : dl::variantLamps(v, f)) virtualLamps.push_back(std::move(l));
-    });
-    take(!lampsAsked, [&] {
-      for (auto& o : dl::variantObjects(v, f)) objects.push_back(std::move(o));
-    });
+  // What the options ask of a file must be there and lit under daylight (given with both, it must
+  // list both); what else it lists is taken item by item when it can be, and each item left out is
+  // said. A file is read once, with everything asked of it.
+  struct AskedFile {
+    std::string path;
+    bool lamps = false, objects = false;
   };
-  for (const auto& f : lampFiles) takeFile(f, true);
-  for (const auto& f : objectFiles) takeFile(f, false);
+  std::vector<AskedFile> files;
+  std::map<QString, size_t> fileIndex;
+  auto ask = [&](const std::string& f, bool lamps) {
+    const auto [it, fresh] = fileIndex.emplace(QFileInfo(QString::fromStdString(f)).absoluteFilePath(), files.size());
+    if (fresh) files.push_back({f});
+    (lamps ? files[it->second].lamps : files[it->second].objects) = true;
+  };
+  for (const auto& f : lampFiles) ask(f, true);
+  for (const auto& f : objectFiles) ask(f, false);
+  std::vector<dl::BasisLamp> virtualLamps, besideLamps;  // asked for; listed beside objects
+  std::vector<std::string> besideLampFiles;
+  std::vector<Polygon> objects;
+  auto leftOut = [](const std::exception& e) { std::fprintf(stderr, "warning: left out: %s\n", e.what()); };
+  for (const auto& file : files) {
+    const std::string& f = file.path;
+    const Variant v = readVariantFile(f);
+    if (file.lamps && v.virtualLamps.empty()) throw Error(f, "virtual_lights", "lists no virtual lamp");
+    if (file.objects && v.virtualObjects.empty()) throw Error(f, "virtual_objects", "lists no virtual object");
+    if (file.lamps) {
+      for (auto& l : dl::variantLamps(v, f)) virtualLamps.push_back(std::move(l));
+    } else {
+      for (size_t i = 0; i < v.virtualLamps.size(); ++i) {
+        Variant one;
+        one.virtualLamps = {v.virtualLamps[i]};
+        if (one.virtualLamps[0].name.empty()) one.virtualLamps[0].name = "virtual_lamp_" + std::to_string(i);
+        one.virtualLampPolygons = {v.virtualLampPolygons.at(i)};
+        try {
+          for (auto& l : dl::variantLamps(one, f)) {
+            besideLamps.push_back(std::move(l));
+            besideLampFiles.push_back(f);
+          }
+        } catch (const std::exception& e) {
+          leftOut(e);
+        }
+      }
+    }
+    if (file.objects) {
+      for (auto& o : dl::variantObjects(v, f)) objects.push_back(std::move(o));
+    } else {
+      for (const auto& b : v.virtualObjects) {
+        Variant one;
+        one.virtualObjects = {b};
+        try {
+          for (auto& o : dl::variantObjects(one, f)) objects.push_back(std::move(o));
+        } catch (const std::exception& e) {
+          leftOut(e);
+        }
+      }
+    }
+  }
+  // Lamps a file lists beside the objects asked for: lit by the near-field method only.
+  for (size_t i = 0; i < besideLamps.size(); ++i)
+    if (method == "near-field") virtualLamps.push_back(std::move(besideLamps[i]));
+    else
+      leftOut(Error(besideLampFiles[i], "virtual lamp " + besideLamps[i].name,
+                    "virtual lamps under daylight take the near-field method (--daylight near-field)"));
   if (anyLamp && method == "distant")
     throw Error("", "--lamp", "the distant method is the sky at infinity alone: no lamp with --daylight distant");
   if (anyLamp && method == "volume" && !objects.empty())

@@ -83,15 +83,21 @@ av=[float(v) for v in re.search(r'Stats Avg: ([-0-9.e]+) ([-0-9.e]+) ([-0-9.e]+)
 assert all(x < 0.03 * y for x, y in zip(dv, av)), (dv, av)\""
 "$relume" relight "$room" --sky sun0 --virtual-lamp "$tmp/vlamp.json" --daylight volume -o "$tmp/x.png" 2>"$tmp/vlampv.err"
 check "a virtual lamp on the volume path is refused, saying which method takes it" "[ $? -eq 1 ] && grep -q 'near-field' '$tmp/vlampv.err'"
-# A --virtual-object file's lamps are taken as well (as the lamp path takes them): the box with
-# the lamp beside it on the volume path is refused for the lamp, not drawn without it.
+# A --virtual-object file's lamps are taken as well (as the lamp path takes them), where daylight
+# can light them: on the volume path the lamp beside the box is left out, saying which method
+# takes it, and the box is drawn.
 python3 - "$tmp/box.json" "$tmp/vlamp.json" "$tmp/boxlamp.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1])); d.update(json.load(open(sys.argv[2])))
 json.dump(d, open(sys.argv[3], "w"))
 PY
-"$relume" relight "$room" --sky sun0 --virtual-object "$tmp/boxlamp.json" --daylight volume -o "$tmp/x.png" 2>"$tmp/boxlampv.err"
-check "a virtual-object file's lamp is not dropped: on the volume path it is refused" "[ $? -eq 1 ] && grep -q 'near-field' '$tmp/boxlampv.err'"
+"$relume" relight "$room" --sky sun0 --virtual-object "$tmp/boxlamp.json" --daylight volume -o "$tmp/boxlamp.png" 2>"$tmp/boxlampv.err"
+check "a virtual-object file's lamp on the volume path is left out with a warning naming the method, the box drawn" \
+  "[ $? -eq 0 ] && [ -s '$tmp/boxlamp.png' ] && grep -q 'warning: left out: .*near-field' '$tmp/boxlampv.err'"
+# One file given with both options must list both: asked for objects, it is refused when it has none.
+"$relume" relight "$room" --sky sun0 --virtual-lamp "$tmp/vlamp.json" --virtual-object "$tmp/vlamp.json" -o "$tmp/x.png" 2>"$tmp/both.err"
+check "a file given with --virtual-lamp and --virtual-object that lists no object is refused" \
+  "[ $? -eq 1 ] && grep -q 'lists no virtual object' '$tmp/both.err'"
 # A photometric lamp beside the box is not lit under daylight: the box is drawn, the lamp left
 # out with a warning naming it (asked for with --virtual-lamp, the same lamp is an error).
 python3 - "$tmp/box.json" "$(dirname "$0")/../../resources/examples/virtual_downlight.json" "$tmp/boxies.json" <<'PY'

@@ -719,11 +719,11 @@ ImageRGB DaylightRelighting::render(const SkyRadiance& sky, const std::vector<Po
   if (!objects.empty() || !lamps.empty()) {
     Progress stage(progress, 0.0, 0.6);
     ids = basis_->addObjects(objects, lamps, stage);
-    seen = seePixels(*basis_, camera_);
   }
   const int firstVirtual = ids.empty() ? int(basis_->engine().surfaces().size()) : ids.front();
   ImageRGB out;
-  try {
+  try {  // from here on, whatever goes wrong takes the objects out again
+    if (!ids.empty()) seen = seePixels(*basis_, camera_);
     if (method == DaylightMethod::NearField) {
       Progress stage(progress, 0.6, 0.9);
       eLast_ = irradianceImage(*basis_, seen, sky, stage);
