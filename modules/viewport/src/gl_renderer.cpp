@@ -288,9 +288,7 @@ struct GlRelightRenderer::Impl {
     // Colour blended by coverage; the target's alpha stays 1 (a frame with see-through edges is
     // composed over whatever lies behind the window: pale fringes).
     gl->glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
-    gl->glEnable(GL_CULL_FACE);
-    gl->glCullFace(GL_FRONT);  // the cube's back faces: drawn wherever the eye is outside the sphere
-    gl->glBindVertexArray(cubeVao);
+    gl->glBindVertexArray(cubeVao);  // (a vertex array must be bound; the octagon is made in the shader)
     for (size_t i : order) {
       ObjectGpu& o = objects[i];
       const ibr::ImageFan& fan = *o.fan;
@@ -360,7 +358,7 @@ struct GlRelightRenderer::Impl {
       gl->glBindTexture(GL_TEXTURE_2D_ARRAY, o.albedo);
       gl->glActiveTexture(GL_TEXTURE2);
       gl->glBindTexture(GL_TEXTURE_2D, o.tableTexture);
-      gl->glDrawArrays(GL_TRIANGLES, 0, 36);
+      gl->glDrawArrays(GL_TRIANGLE_FAN, 0, 8);  // the octagon around the sphere's outline (ibr_object.vert)
     }
     gl->glBindVertexArray(0);
     gl->glDisable(GL_CULL_FACE);
