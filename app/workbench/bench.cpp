@@ -154,6 +154,9 @@ QJsonObject benchRoom(const QString& room, int runs) {
     medianMs = median(ms);
     return (count - start) / (double(wall.nsecsElapsed()) * 1e-9);
   };
+  // Lamp edits alternate 0.6 and 1 across every phase: an edit to the value the lamp already has
+  // would bring no frame.
+  int lampEdits = 0;
   // An edit (run r of `runs`) to the next frame on screen, milliseconds.
   auto toFrame = [&](const std::function<void(int)>& edit) {
     std::vector<double> ms;
@@ -173,7 +176,7 @@ QJsonObject benchRoom(const QString& room, int runs) {
     double gpu = 0;
     const double fps = onScreen([&] { vp->requestFrame(); }, viewportFrames, viewportMs, gpu);
     // Slider event -> new frame on screen: the edit, the session's update, the upload, a frame.
-    const std::vector<double> edit = toFrame([&](int r) { doc->editLampScale(0, glm::dvec3(r % 2 ? 1.0 : 0.6), 0); });
+    const std::vector<double> edit = toFrame([&](int) { doc->editLampScale(0, glm::dvec3(lampEdits++ % 2 ? 1.0 : 0.6), 0); });
     // The same frames through a QOpenGLWidget.
     double widgetFps = 0, widgetGpu = 0;
     {
@@ -227,7 +230,7 @@ QJsonObject benchRoom(const QString& room, int runs) {
     vp->show();
     double gpu = 0;
     const double fps = onScreen([&] { vp->requestFrame(); }, viewportFrames, viewportMs, gpu);
-    const std::vector<double> edit = toFrame([&](int r) { doc->editLampScale(0, glm::dvec3(r % 2 ? 1.0 : 0.6), 0); });
+    const std::vector<double> edit = toFrame([&](int) { doc->editLampScale(0, glm::dvec3(lampEdits++ % 2 ? 1.0 : 0.6), 0); });
     // One object moved by 2 cm (a drag's step) to the frame on screen: its light, every shadow map.
     std::vector<double> move;
     if (placed > 0)

@@ -112,6 +112,7 @@ class MainWindow : public QMainWindow {
   EditTool* tool_;
   QString selected_;
   QLabel* statusView_;
+  class QTimer* statusTimer_ = nullptr;  // paces the status bar's updates from frames
   QLabel* jobLabel_;
   QProgressBar* jobProgress_;
   QPushButton* jobCancel_;
