@@ -126,7 +126,8 @@ class DaylightBasis {
   // The surfaces of the latest addObjects are taken out by putting the hierarchy and the
   // solutions back as they were before it: exact, and nothing is solved; any other set (an
   // earlier add's, or these after another add) is removed from the hierarchy and every basis
-  // solved again.
+  // solved again. After a put-back the indices are free again: the next addObjects may return
+  // the same ones, so a caller drops the ids it removed.
   void removeObjects(const std::vector<int>& surfaces, Progress& progress = silentProgress());
   int sceneLampCount() const { return sceneLamps_; }  // lamps 0 .. sceneLampCount() - 1 are the scene's
 
