@@ -187,7 +187,7 @@ struct GlRelightRenderer::Impl {
   };
   std::vector<ObjectGpu> objects;
   uint64_t frame = 0;
-  GLuint cubeVao = 0, cubeVbo = 0;
+  GLuint objectVao = 0;
   struct ShadowMap {  // the objects' shadows over one surface (ibr::shadowMaps)
     GLuint texture = 0;
     glm::vec4 frame{0.f};  // origin u, v; 1 / width, 1 / height (metres)
@@ -288,7 +288,7 @@ struct GlRelightRenderer::Impl {
     // Colour blended by coverage; the target's alpha stays 1 (a frame with see-through edges is
     // composed over whatever lies behind the window: pale fringes).
     gl->glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
-    gl->glBindVertexArray(cubeVao);  // (a vertex array must be bound; the octagon is made in the shader)
+    gl->glBindVertexArray(objectVao);
     for (size_t i : order) {
       ObjectGpu& o = objects[i];
       const ibr::ImageFan& fan = *o.fan;
@@ -415,7 +415,7 @@ struct GlRelightRenderer::Impl {
       const glm::dvec3 p((k & 1) ? boundsHi.x : boundsLo.x, (k & 2) ? boundsHi.y : boundsLo.y, (k & 4) ? boundsHi.z : boundsLo.z);
       farZ = std::max(farZ, glm::length(p - eye));
     }
-    for (const auto& o : objects)  // an object's cube may reach beyond the room's walls
+    for (const auto& o : objects)  // an object's octagon may reach beyond the room's walls
       farZ = std::max(farZ, glm::length(o.place.toWorld(*o.fan, o.fan->centre) - eye) + 1.8 * o.fan->radius * o.place.scale);
     farZ = farZ * 1.05 + 0.1;
     const double nearZ = std::clamp(farZ * 1e-3, 0.005, 0.05);
@@ -522,8 +522,7 @@ GlRelightRenderer::~GlRelightRenderer() {
   im.releaseRoom();
   im.releaseObjects();
   im.readback.release(*im.gl);
-  if (im.cubeVbo) im.gl->glDeleteBuffers(1, &im.cubeVbo);
-  if (im.cubeVao) im.gl->glDeleteVertexArrays(1, &im.cubeVao);
+  if (im.objectVao) im.gl->glDeleteVertexArrays(1, &im.objectVao);
   for (GLuint* b : {&im.vbo, &im.ebo, &im.lightVbo, &im.cornerBuffer, &im.rectBuffer})
     if (*b) im.gl->glDeleteBuffers(1, b);
   for (GLuint* t : {&im.cornerTexture, &im.rectTexture})
@@ -578,20 +577,9 @@ void GlRelightRenderer::initialize() {
   }
   gl.glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, im.ebo);  // part of the vertex array's state
   gl.glBindVertexArray(0);
-  // The unit cube image-based objects are drawn on (36 corners, counter-clockwise outside).
-  std::vector<glm::vec3> cube;
-  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  auto corner = [](int i) { return glm::vec3(i & 1 ? 1.f : -1.f, i & 2 ? 1.f : -1.f, i & 4 ? 1.f : -1.f); };
-  for (const auto& f : faces)
-    for (int k : {0, 1, 2, 0, 2, 3}) cube.push_back(corner(f[k]));
-  gl.glGenVertexArrays(1, &im.cubeVao);
-  gl.glGenBuffers(1, &im.cubeVbo);
-  gl.glBindVertexArray(im.cubeVao);
-  gl.glBindBuffer(GL_ARRAY_BUFFER, im.cubeVbo);
-  gl.glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(cube.size() * sizeof(glm::vec3)), cube.data(), GL_STATIC_DRAW);
-  gl.glEnableVertexAttribArray(0);
-  gl.glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
-  gl.glBindVertexArray(0);
+  // Image-based objects' octagons are made in their vertex shader from gl_VertexID: an empty
+  // vertex array (the core profile draws with one bound).
+  gl.glGenVertexArrays(1, &im.objectVao);
   im.objectProgram(DisplayOutput::Exposed);  // errors show now
 }
 
