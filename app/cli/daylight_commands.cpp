@@ -73,6 +73,41 @@ double luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0
 QJsonArray rgbJson(const glm::dvec3& v) { return QJsonArray{v.x, v.y, v.z}; }
 }  // namespace
 
+namespace {
+// relume daylight-basis ROOM -o PROJECT: the daylight session estimated and solved once, kept in
+// the project beside the room (the project is written atomically, the session file with it).
+int keepDaylightSession(const Scene& room, int regions, const std::string& out, Progress& progress) {
+  if (room.skies.empty() || room.photoSky.empty())
+    throw Error(room.sourceFile, "daylight", "the room lists no measured sky of its photos (\"photos_sun\"): nothing to estimate under");
+  const Photo* main = room.findPhoto(room.mainPhoto);
+  if (!main || main->hdr.empty())
+    throw Error(room.sourceFile, "main_photo", "the daylight session needs the main photo's linear (EXR) image");
+  const ImageRGB photo = readImageLinear(main->hdr.front() == '/' ? main->hdr : room.baseDir + "/" + main->hdr);
+  const dl::SkyRegions cells(regions);
+  dl::BasisOptions options;
+  options.regions = regions;
+  Progress work(progress, 0.0, 0.9);
+  const auto t0 = std::chrono::steady_clock::now();
+  dl::DaylightRelighting session(room, photo, main->camera, averaged(dl::readRoomSky(room, room.photoSky), cells), options, work);
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto& eng = session.basis().engine();
+  std::printf("daylight session: reflectances estimated under sky %s and %d basis solutions on %zu elements and %zu links, "
+              "in %.1f s\n",
+              room.photoSky.c_str(), session.basis().basisCount(), eng.nodes().size(), eng.links().size(), secs);
+  const dl::UnseenFit& fit = session.unseenFit();
+  if (fit.ok) std::printf("  polygons no photo shows: reflectance %.3f, measured from %d sunlit and shaded polygons\n", fit.rho.x, fit.polygons);
+  else std::printf("  polygons no photo shows: the shown polygons' mean (%s)\n", fit.why.c_str());
+  Progress saving(progress, 0.9, 1.0);
+  saveProject(room, out, saving, [&](const std::string& staging) {
+    if (!QDir().mkpath(QString::fromStdString(staging + "/daylight")))
+      throw Error(staging + "/daylight", "", "cannot create the folder");
+    session.save(staging + "/daylight/solution.bin");
+  });
+  std::fprintf(stderr, "wrote project %s (its daylight session in daylight/solution.bin)\n", out.c_str());
+  return 0;
+}
+}  // namespace
+
 int daylightBasisCommand(const QStringList& args, Progress& progress) {
   QCommandLineParser p;
   p.setApplicationDescription(
@@ -90,11 +125,22 @@ int daylightBasisCommand(const QStringList& args, Progress& progress) {
   p.addOption({"grid", "Also build the irradiance volume for virtual objects: N x N x N points over the room (N from "
                        "2 to 32, e.g. 8), each basis's indirect light as spherical harmonics, and print each sky's at the room's "
                        "centre.", "N"});
+  p.addOption({{"o", "output"}, "Write the room as a Relume project that keeps its daylight session: the reflectances "
+                                "estimated from the main photo under the photos' sky and every basis solution, in "
+                                "PROJECT/daylight/solution.bin, so that relume relight --sky and the workbench open it "
+                                "without estimating or solving again. Takes --regions only.", "PROJECT"});
   parseOrThrow(p, args, 1,
-               "relume daylight-basis ROOM [--regions 64] [--grid 8] [--sky NAME] [--exact] [--json OUT.json] [--render DIR]");
+               "relume daylight-basis ROOM [--regions 64] [--grid 8] [--sky NAME] [--exact] [--json OUT.json] [--render DIR]\n"
+               "       relume daylight-basis ROOM -o PROJECT [--regions 64]");
   bool ok = true;
   const int regions = p.isSet("regions") ? p.value("regions").toInt(&ok) : 64;
   if (!ok || regions < 1 || regions > 4096) throw Error("", "--regions", "must be a whole number from 1 to 4096");
+  if (p.isSet("output")) {
+    for (const char* o : {"grid", "sky", "exact", "json", "render"})
+      if (p.isSet(o))
+        throw Error("", std::string("--") + o, "is a report of the model's own simulation; with -o PROJECT give --regions only");
+    return keepDaylightSession(openRoom(p.positionalArguments()[0]), regions, p.value("output").toStdString(), progress);
+  }
   const int grid = p.isSet("grid") ? p.value("grid").toInt(&ok) : 0;
   if (!ok || (p.isSet("grid") && (grid < 2 || grid > 32))) throw Error("", "--grid", "must be a whole number from 2 to 32");
   const Scene room = openRoom(p.positionalArguments()[0]);
@@ -552,7 +598,11 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
                                                       : dl::DaylightMethod::NearField;
   const ImageRGB photo = readImageLinear(hdr);
   Progress pre(progress, 0.0, 0.7);
-  dl::DaylightRelighting relit(room, photo, main->camera, averaged(dl::readRoomSky(room, room.photoSky), cells), {}, pre);
+  std::string opened;
+  const auto session = dl::openDaylightRelighting(room, photo, main->camera, averaged(dl::readRoomSky(room, room.photoSky), cells),
+                                                  {}, pre, &opened);
+  if (!opened.empty()) std::fprintf(stderr, "%s\n", opened.c_str());
+  dl::DaylightRelighting& relit = *session;
   for (size_t l = 0; l < lampExitance.size(); ++l) relit.setLampExitance(int(l), lampExitance[l]);
   if (!skyInfo.isDir()) {
     Progress draw(progress, 0.7, 1.0);

@@ -440,7 +440,21 @@ void MainWindow::buildMenus() {
   });
   recentMenu_ = file->addMenu(tr("Open &Recent"));
   file->addSeparator();
-  QAction* save = file->addAction(tr("&Save"), this, [this] {
+  // A daylight room (the Sky panel) is saved as a project that keeps its daylight session; one
+  // opened from a project is saved back to it.
+  auto daylightProject = [this] {
+    const QString p = sky_->path();
+    if (QFileInfo(p).fileName() == "project.json") return QFileInfo(p).absolutePath();
+    return QFileInfo(p + "/project.json").exists() ? p : QString();
+  };
+  auto saveDaylight = [this](const QString& current) {
+    const QString f = !current.isEmpty() ? current
+                      : QFileDialog::getSaveFileName(this, tr("Save the daylight room as a project"),
+                                                     QFileInfo(sky_->path()).completeBaseName() + ".relume");
+    if (!f.isEmpty()) saveTo(f);
+  };
+  QAction* save = file->addAction(tr("&Save"), this, [this, daylightProject, saveDaylight] {
+    if (!doc_->isOpen() && sky_->isOpen()) return saveDaylight(daylightProject());
     if (!doc_->isOpen()) return;
     if (doc_->projectPath().isEmpty()) {
       const QString f = QFileDialog::getSaveFileName(this, tr("Save the project as"), doc_->displayName() + ".relume");
@@ -450,7 +464,8 @@ void MainWindow::buildMenus() {
     }
   });
   save->setShortcut(QKeySequence::Save);
-  QAction* saveAs = file->addAction(tr("Save &As..."), this, [this] {
+  QAction* saveAs = file->addAction(tr("Save &As..."), this, [this, saveDaylight] {
+    if (!doc_->isOpen() && sky_->isOpen()) return saveDaylight({});
     if (!doc_->isOpen()) return;
     const QString f = QFileDialog::getSaveFileName(this, tr("Save the project as"), doc_->displayName() + ".relume");
     if (!f.isEmpty()) saveTo(f);
@@ -661,6 +676,12 @@ bool MainWindow::switchMesh(bool interactive) {
 }
 
 bool MainWindow::saveTo(const QString& folder) {
+  if (!doc_->isOpen() && sky_->isOpen()) {  // a daylight room: the project keeps its session
+    const QString abs = QFileInfo(folder).absoluteFilePath();
+    if (!sky_->saveProject(abs)) return false;
+    addRecent(abs);
+    return true;
+  }
   if (!doc_->isOpen() || jobs_->busy()) return false;
   storeView();
   auto work = doc_->saveWork(folder);

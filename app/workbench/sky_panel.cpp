@@ -214,6 +214,28 @@ SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jo
 SkyPanel::~SkyPanel() = default;
 
 bool SkyPanel::isOpen() const { return s_->relit != nullptr; }
+QString SkyPanel::path() const { return s_->path; }
+
+bool SkyPanel::saveProject(const QString& folder) {
+  if (!isOpen() || jobs_->busy()) return false;
+  const QString abs = QFileInfo(folder).absoluteFilePath();
+  auto scene = std::make_shared<const Scene>(*s_->scene);
+  auto relit = s_->relit;
+  const int generation = generation_;
+  return jobs_->start(tr("Saving %1").arg(QFileInfo(abs).fileName()), [this, scene, relit, abs, generation](Progress& progress) {
+    relume::saveProject(*scene, abs.toStdString(), progress, [&](const std::string& staging) {
+      if (!QDir().mkpath(QString::fromStdString(staging + "/daylight")))
+        throw Error(staging + "/daylight", "", "cannot create the folder");
+      relit->save(staging + "/daylight/solution.bin");
+    });
+    return JobRunner::Continuation([this, abs, generation] {
+      if (generation != generation_) return;  // another room was opened meanwhile
+      s_->path = abs;
+      emit message(tr("Saved %1 (its daylight session kept: it opens without solving again)").arg(abs));
+      emit opened(abs);
+    });
+  });
+}
 int SkyPanel::frameCount() const {
   const int k = sky_->currentIndex();
   return k >= 0 && size_t(k) < s_->skies.size() ? int(s_->skies[size_t(k)].frames.size()) : 0;
@@ -269,7 +291,9 @@ std::shared_ptr<PreparedDaylight> SkyPanel::prepare(const Scene& scene, Progress
     }
   }
   const daylight::SkyRadiance photoSky = daylight::averageSky(daylight::readRoomSky(scene, scene.photoSky), cells);
-  room->relit = std::make_shared<daylight::DaylightRelighting>(scene, photo, main->camera, photoSky, daylight::BasisOptions{}, progress);
+  std::string how;
+  room->relit = daylight::openDaylightRelighting(scene, photo, main->camera, photoSky, daylight::BasisOptions{}, progress, &how);
+  if (!how.empty()) room->notes << QString::fromStdString(how);
   return room;
 }
 

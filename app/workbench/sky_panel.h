@@ -44,6 +44,12 @@ class SkyPanel : public QWidget {
   bool openRoom(const Scene& scene, const QString& path);
   bool isOpen() const;
   void close();
+  // The open room as a Relume project at `folder`, as a job: the project written atomically with
+  // the daylight session kept in it (daylight/solution.bin: the estimates and every basis
+  // solution), so that opening the project estimates and solves nothing. False when no room is
+  // open or a job runs; when the job ends, path() is the project and opened() is emitted.
+  bool saveProject(const QString& folder);
+  QString path() const;
   // A fisheye HDR file, or a folder of them (frames, in name order): added to the sky list (a
   // folder's frames as one entry, played back). False (and a message) when nothing was added.
   bool addSkyFile(const QString& file);

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # End-to-end: daylight on the project's own daylight sample room, as a user runs it — a
-# time-varying sky played back from a folder of fisheyes (one frame per image), and bad skies
-# refused with nothing written.
+# time-varying sky played back from a folder of fisheyes (one frame per image), the room kept as a
+# project with its daylight session (opened without solving again), lamps and virtual lamps beside
+# the daylight, and bad skies refused with nothing written.
 source "$(dirname "$0")/common.sh"
 
 cat > "$tmp/box.json" <<'JSON'
@@ -23,23 +24,36 @@ assert d['render_ms_median'] > 0\""
 check "the two suns give two different images" "! cmp -s '$tmp/frames/t1.exr' '$tmp/frames/t2.exr'"
 check "no half-written folder left" "[ ! -e '$tmp/frames.partial' ]"
 
-"$relume" relight "$room" --sky "$tmp/skies" --daylight volume -o "$tmp/frames/" 2>"$tmp/again.err"
+# The room kept as a project with its daylight session: relit from it, nothing is estimated or
+# solved again, and the frames are those of the bundle (solved on the spot above).
+"$relume" daylight-basis "$room" -o "$tmp/proj" >"$tmp/keep.out" 2>"$tmp/keep.err"
+check "daylight-basis -o writes a project that keeps the daylight session" \
+  "[ $? -eq 0 ] && [ -s '$tmp/proj/project.json' ] && [ -s '$tmp/proj/daylight/solution.bin' ] && grep -q '65 basis solutions' '$tmp/keep.out'"
+cp -r "$tmp/frames" "$tmp/bundleframes"
+"$relume" relight "$tmp/proj" --sky "$tmp/skies" --daylight volume --virtual-object "$tmp/box.json" -o "$tmp/frames/" 2>"$tmp/again.err"
 check "an earlier run's frames are replaced (the output given with a trailing slash)" "[ $? -eq 0 ] && [ -s '$tmp/frames/t2.png' ] && [ ! -e '$tmp/frames.partial' ]"
+check "the project's kept session is opened, not solved again" "grep -q \"opened the project's kept daylight solution\" '$tmp/again.err'"
+for f in t1 t2; do
+  oiiotool "$tmp/frames/$f.exr" "$tmp/bundleframes/$f.exr" --absdiff --printstats >"$tmp/kept_$f.stats" 2>&1
+  check "frame $f from the kept session is the bundle's (no pixel off by more than 0.002)" \
+    "python3 -c \"import re; t=open('$tmp/kept_$f.stats').read(); \
+mx=[float(v) for v in re.search(r'Stats Max: ([-0-9.e]+) ([-0-9.e]+) ([-0-9.e]+)', t).groups()]; assert max(mx) < 0.002, mx\""
+done
 mkdir "$tmp/mine"
 echo "the user's own notes" > "$tmp/mine/notes.txt"
-"$relume" relight "$room" --sky "$tmp/skies" -o "$tmp/mine" 2>"$tmp/mine.err"
+"$relume" relight "$tmp/proj" --sky "$tmp/skies" -o "$tmp/mine" 2>"$tmp/mine.err"
 check "a folder of other files is refused and left alone" \
   "[ $? -eq 1 ] && grep -q 'holds other files' '$tmp/mine.err' && [ \"\$(ls '$tmp/mine')\" = notes.txt ]"
 
 mkdir "$tmp/bad"
 cp "$room/sky/fisheye_sun1.exr" "$tmp/bad/t1.exr"
 printf 'not an image' > "$tmp/bad/t0.exr"
-"$relume" relight "$room" --sky "$tmp/bad" -o "$tmp/badframes" 2>"$tmp/bad.err"
+"$relume" relight "$tmp/proj" --sky "$tmp/bad" -o "$tmp/badframes" 2>"$tmp/bad.err"
 check "a broken sky in the folder is an error naming it" "[ $? -eq 1 ] && grep -q 't0.exr' '$tmp/bad.err'"
 check "and nothing is written" "[ ! -e '$tmp/badframes' ] && [ ! -e '$tmp/badframes.partial' ]"
 
 mkdir "$tmp/empty"
-"$relume" relight "$room" --sky "$tmp/empty" -o "$tmp/emptyframes" 2>"$tmp/empty.err"
+"$relume" relight "$tmp/proj" --sky "$tmp/empty" -o "$tmp/emptyframes" 2>"$tmp/empty.err"
 check "a folder with no sky image is an error saying so" "[ $? -eq 1 ] && grep -q 'no HDR sky image' '$tmp/empty.err'"
 
 # A lamp beside the daylight: a copy of the room with a 20 cm panel 3 cm below the ceiling, facing
@@ -73,7 +87,7 @@ s = json.load(open(sys.argv[1]))
 json.dump({"virtual_lights": [{"name": "V", "polygon": s["polygons"][-1]["vertices"], "radiance_rgb": [60.0, 55.0, 45.0]}]},
           open(sys.argv[2], "w"))
 PY
-"$relume" relight "$room" --sky sun0 --virtual-lamp "$tmp/vlamp.json" -o "$tmp/vlamp_on.exr" 2>"$tmp/vlamp.err"
+"$relume" relight "$tmp/proj" --sky sun0 --virtual-lamp "$tmp/vlamp.json" -o "$tmp/vlamp_on.exr" 2>"$tmp/vlamp.err"
 check "a virtual lamp beside the daylight renders (exit 0)" "[ $? -eq 0 ] && [ -s '$tmp/vlamp_on.exr' ]"
 oiiotool "$tmp/vlamp_on.exr" "$tmp/lamp_on.exr" --absdiff --printstats >"$tmp/vlamp.stats" 2>&1
 check "the virtual lamp lights the room as the same lamp in the model does" \
@@ -81,7 +95,7 @@ check "the virtual lamp lights the room as the same lamp in the model does" \
 dv=[float(v) for v in re.search(r'Stats Avg: ([-0-9.e]+) ([-0-9.e]+) ([-0-9.e]+)', d).groups()]; \
 av=[float(v) for v in re.search(r'Stats Avg: ([-0-9.e]+) ([-0-9.e]+) ([-0-9.e]+)', t).groups()]; \
 assert all(x < 0.03 * y for x, y in zip(dv, av)), (dv, av)\""
-"$relume" relight "$room" --sky sun0 --virtual-lamp "$tmp/vlamp.json" --daylight volume -o "$tmp/x.png" 2>"$tmp/vlampv.err"
+"$relume" relight "$tmp/proj" --sky sun0 --virtual-lamp "$tmp/vlamp.json" --daylight volume -o "$tmp/x.png" 2>"$tmp/vlampv.err"
 check "a virtual lamp on the volume path is refused, saying which method takes it" "[ $? -eq 1 ] && grep -q 'near-field' '$tmp/vlampv.err'"
 # A --virtual-object file's lamps are taken as well (as the lamp path takes them), where daylight
 # can light them: on the volume path the lamp beside the box is left out, saying which method
@@ -91,11 +105,11 @@ import json, sys
 d = json.load(open(sys.argv[1])); d.update(json.load(open(sys.argv[2])))
 json.dump(d, open(sys.argv[3], "w"))
 PY
-"$relume" relight "$room" --sky sun0 --virtual-object "$tmp/boxlamp.json" --daylight volume -o "$tmp/boxlamp.png" 2>"$tmp/boxlampv.err"
+"$relume" relight "$tmp/proj" --sky sun0 --virtual-object "$tmp/boxlamp.json" --daylight volume -o "$tmp/boxlamp.png" 2>"$tmp/boxlampv.err"
 check "a virtual-object file's lamp on the volume path is left out with a warning naming the method, the box drawn" \
   "[ $? -eq 0 ] && [ -s '$tmp/boxlamp.png' ] && grep -q 'warning: left out: .*near-field' '$tmp/boxlampv.err'"
 # One file given with both options must list both: asked for objects, it is refused when it has none.
-"$relume" relight "$room" --sky sun0 --virtual-lamp "$tmp/vlamp.json" --virtual-object "$tmp/vlamp.json" -o "$tmp/x.png" 2>"$tmp/both.err"
+"$relume" relight "$tmp/proj" --sky sun0 --virtual-lamp "$tmp/vlamp.json" --virtual-object "$tmp/vlamp.json" -o "$tmp/x.png" 2>"$tmp/both.err"
 check "a file given with --virtual-lamp and --virtual-object that lists no object is refused" \
   "[ $? -eq 1 ] && grep -q 'lists no virtual object' '$tmp/both.err'"
 # A photometric lamp beside the box is not lit under daylight: the box is drawn, the lamp left
@@ -106,14 +120,14 @@ d = json.load(open(sys.argv[1])); l = json.load(open(sys.argv[2]))
 for v in l["virtual_lights"]: v["photometry"] = os.path.join(os.path.dirname(sys.argv[2]), v["photometry"])
 d.update(l); json.dump(d, open(sys.argv[3], "w"))
 PY
-"$relume" relight "$room" --sky sun0 --virtual-object "$tmp/boxies.json" --daylight volume -o "$tmp/boxies.png" 2>"$tmp/boxies.err"
+"$relume" relight "$tmp/proj" --sky sun0 --virtual-object "$tmp/boxies.json" --daylight volume -o "$tmp/boxies.png" 2>"$tmp/boxies.err"
 check "a virtual-object file's photometric lamp is left out with a warning, its box drawn" \
   "[ $? -eq 0 ] && [ -s '$tmp/boxies.png' ] && grep -q 'warning: left out: .*downlight' '$tmp/boxies.err'"
 "$relume" relight "$tmp/lamproom" --sky sun0 --lamp L=1 --daylight distant -o "$tmp/x.png" 2>"$tmp/lampd.err"
 check "a lamp with the distant method (the sky alone) is refused" "[ $? -eq 1 ] && grep -q 'sky at infinity alone' '$tmp/lampd.err'"
 "$relume" relight "$tmp/lamproom" --sky sun0 --lamp L=1 --daylight volume --virtual-object "$tmp/box.json" -o "$tmp/x.png" 2>"$tmp/lampv.err"
 check "a lamp with virtual objects on the volume path is refused" "[ $? -eq 1 ] && grep -q 'daylight only' '$tmp/lampv.err'"
-"$relume" relight "$room" --sky sun0 --lamp Q=1 -o "$tmp/x.png" 2>"$tmp/lampq.err"
+"$relume" relight "$tmp/proj" --sky sun0 --lamp Q=1 -o "$tmp/x.png" 2>"$tmp/lampq.err"
 check "a lamp the room does not have is an error naming it" "[ $? -eq 1 ] && grep -q \"lamp 'Q'\" '$tmp/lampq.err'"
 check "and no image is written by any of them" "[ ! -e '$tmp/x.png' ]"
 

@@ -10,11 +10,13 @@
 #include <numbers>
 
 #include "relume/daylight/basis.h"
+#include "relume/geometry/binary.h"
 #include "relume/geometry/error.h"
 #include "relume/geometry/progress.h"
 #include "relume/geometry/scene.h"
 #include "relume/radiosity/form_factor.h"
 #include "relume/radiosity/hierarchy.h"
+#include "relume/relight/relighter.h"
 #include "window_room.h"
 
 using namespace relume;
@@ -362,4 +364,58 @@ TEST(DaylightBasis, AVirtualLampShinesAsTheSameLampSolvedAloneAndGoesWithoutATra
   }
   std::printf("cancelled %d times at different points of the add, each time the basis was as before\n", cancels);
   EXPECT_GE(cancels, 2);
+}
+
+TEST(DaylightBasis, AKeptBasisReadBackTakesTheNextLightThroughTheWindowsAsTheSolvedOneDoes) {
+  // What a project keeps of a basis: read back into a basis made from the same room, it holds the
+  // same solutions, and the next light through the windows is taken exactly as by the basis that
+  // was solved — after a sun, whose links' visibility was taken along its beam, that visibility
+  // is taken again towards the whole window (a block on the floor makes the two differ).
+  Scene room = windowRoom(0.5, 0.6, 0.7);
+  for (const auto& f : boxObject("block", {1.6, 1.2, 0.0}, {2.2, 1.8, 0.6}, glm::dvec3(0.5)).polygons)
+    room.polygons.push_back(poly("block", f, 0.5));
+  BasisOptions o = coarse(4);
+  auto e = std::make_shared<radiosity::Options>(*o.engine);
+  e->minArea = 0.05;
+  o.engine = e;
+  o.pieceDeg = 6;  // coarse: what is kept matters here, not its detail
+  const SkyRadiance sky = uniformSky(4, 1.0);
+  DaylightBasis solved(room, sky, o);
+  const glm::dvec3 sun = glm::normalize(glm::dvec3(1.0, 0.2, 0.6));  // in through the +X window, low
+  solved.sunSolution(sun);
+  ByteWriter w;
+  solved.write(w);
+  w.seal();
+  ByteReader r(w.bytes, "kept.bin");
+  DaylightBasis kept(room, sky, o, r);
+  r.expectEnd();
+  ASSERT_EQ(kept.basisCount(), solved.basisCount());
+  for (int k = 0; k < solved.basisCount(); ++k) EXPECT_TRUE(kept.basis(k) == solved.basis(k)) << "basis " << k;
+  EXPECT_TRUE(kept.sunSolution(sun) == solved.sunSolution(sun));  // kept, not solved again
+  auto even = std::make_shared<radiosity::DistantLight>();
+  even->radiance = [](const glm::dvec3& d) { return d.z > 0 ? 1.0 : 0.0; };
+  const auto a = solved.solveFor(even), b = kept.solveFor(even);
+  EXPECT_TRUE(a == b) << "the solutions for the next light differ";
+  size_t differ = 0;
+  for (size_t i = 0; i < solved.engine().links().size(); ++i)
+    differ += solved.engine().links()[i].visibility != kept.engine().links()[i].visibility;
+  EXPECT_EQ(differ, 0u);
+  // Another room, or other options: refused, naming the file.
+  ByteReader again(w.bytes, "kept.bin");
+  Scene moved = room;
+  moved.polygons.back().vertices[0].z += 0.01;
+  try {
+    DaylightBasis other(moved, sky, o, again);
+    ADD_FAILURE() << "a basis kept for another room was read";
+  } catch (const Error& err) {
+    EXPECT_EQ(err.file(), "kept.bin");
+    EXPECT_NE(err.problem().find("other polygons"), std::string::npos) << err.problem();
+  }
+  ByteReader third(w.bytes, "kept.bin");
+  try {
+    DaylightBasis other(room, uniformSky(16, 1.0), coarse(16), third);
+    ADD_FAILURE() << "a basis kept for 4 regions was read as one of 16";
+  } catch (const Error& err) {
+    EXPECT_NE(err.problem().find("regions"), std::string::npos) << err.problem();
+  }
 }

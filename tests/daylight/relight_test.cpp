@@ -6,6 +6,9 @@
 #include <cmath>
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <glm/geometric.hpp>
 #include <memory>
 #include <numbers>
@@ -13,6 +16,7 @@
 #include "relume/daylight/basis.h"
 #include "relume/daylight/relight.h"
 #include "relume/geometry/camera.h"
+#include "relume/geometry/error.h"
 #include "relume/geometry/polygon.h"
 #include "relume/radiosity/hierarchy.h"
 #include "relume/raytrace/ray_scene.h"
@@ -415,4 +419,126 @@ TEST(DaylightRelight, AOneSidedVirtualLampSeenFromBehindIsADarkPanelAndFromTheFr
   std::printf("the floor within 60 cm of the panel: %.2f x the photo more light with the panel facing down than up\n",
               gain / double(floor));
   EXPECT_GT(gain / double(floor), 0.5);
+}
+
+TEST(DaylightRelight, AKeptSessionOpensAsItWasSavedAndAnotherPhotoRoomOrADamagedFileIsRefusedByName) {
+  // What a project keeps (daylight/solution.bin): opened again, the estimates and the images are
+  // the solved session's; kept for another photo or room, or damaged, it is refused naming the
+  // file, and openDaylightRelighting then solves as for a bundle and says why.
+  Scene room = windowRoom(0.5, 0.6, 0.7);
+  {  // a block in the sun's patch, so that what the windows' light reaches depends on visibility
+    const double xc = W - 0.5 * (Z0 + Z1) / std::tan(kElev), yc = 0.5 * (Y0 + Y1);
+    for (const auto& f : boxObject("block", {xc + 0.1, yc - 0.15, 0.0}, {xc + 0.4, yc + 0.15, 0.3}, glm::dvec3(0.5)).polygons)
+      room.polygons.push_back(poly("block", f, 0.5));
+  }
+  SkyRadiance sky = sunOnly(4);
+  for (auto& r : sky.region) r = glm::dvec3(0.05);
+  const Camera cam = Camera::lookAt({0.4, 0.6, 2.3}, {1.6, 2.3, 0.0}, 160, 120, 110);
+  ImageRGB photo(cam.width, cam.height);
+  for (size_t i = 0; i < photo.pixels.size(); ++i) photo.pixels[i] = 0.2f + 0.1f * float(i % 7) / 7.f;
+  BasisOptions coarse = options();  // a coarse hierarchy and four regions: what is kept matters, not its detail
+  coarse.regions = 4;
+  coarse.pieceDeg = 6;
+  auto engine = std::make_shared<radiosity::Options>();
+  engine->minArea = 0.1;
+  engine->epsilon = 0.02;
+  engine->visibilityRays = 4;
+  coarse.engine = engine;
+  DaylightRelighting solved(room, photo, cam, sky, coarse);
+  const std::string dir = ::testing::TempDir() + "/relume_kept_session";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir + "/daylight");
+  const std::string file = dir + "/daylight/solution.bin";
+  solved.save(file);
+  DaylightRelighting kept(room, photo, cam, sky, coarse, file);
+  EXPECT_EQ(kept.reflectances(), solved.reflectances());
+  EXPECT_EQ(kept.estimated(), solved.estimated());
+  EXPECT_EQ(kept.unseenFit().ok, solved.unseenFit().ok);
+  EXPECT_EQ(kept.unseenFit().why, solved.unseenFit().why);
+  EXPECT_EQ(kept.basis().engine().nodes().size(), solved.basis().engine().nodes().size());
+  EXPECT_EQ(kept.basis().engine().links().size(), solved.basis().engine().links().size());
+  auto farthest = [](const ImageRGB& a, const ImageRGB& b) {
+    double worst = 0, mean = 0;
+    for (size_t i = 0; i < a.pixels.size(); ++i) {
+      worst = std::max(worst, double(std::abs(a.pixels[i] - b.pixels[i])));
+      mean += std::abs(double(b.pixels[i])) / double(a.pixels.size());
+    }
+    return worst / std::max(mean, 1e-12);  // relative to the image's mean
+  };
+  // A virtual lamp and a box added first thing, solved on the kept hierarchy as on the solved one.
+  {
+    const double xc = 1.6, yc = 2.3, h = 0.2;
+    const std::vector<glm::dvec3> panel{{xc - h, yc - h, 1.5}, {xc - h, yc + h, 1.5}, {xc + h, yc + h, 1.5}, {xc + h, yc - h, 1.5}};
+    std::vector<Polygon> faces;
+    for (const auto& f : boxObject("box", {xc - h, yc + 0.5, 0.0}, {xc + h, yc + 0.9, 2 * h}, glm::dvec3(0.6)).polygons) {
+      Polygon p = poly("box", f, 0.0);
+      p.albedo = glm::dvec3(0.6);
+      faces.push_back(p);
+    }
+    const std::vector<BasisLamp> lamps{BasisLamp{"v", panel, glm::dvec3(3.0), false}};
+    const double d = farthest(kept.render(sky, faces, DaylightMethod::NearField, silentProgress(), lamps),
+                              solved.render(sky, faces, DaylightMethod::NearField, silentProgress(), lamps));
+    std::printf("kept vs solved with a virtual lamp and a box: largest difference %.2g of the mean\n", d);
+    EXPECT_LT(d, 1e-6);  // the openings' links as they were: their visibility along the sun's beam is kept too
+  }
+  // The same images: the photo's irradiance, and the room under another sun (its patch refined
+  // again on the kept hierarchy, as on the solved one).
+  EXPECT_LT(farthest(kept.photoIrradiance(), solved.photoIrradiance()), 1e-6);
+  SkyRadiance other = sky;
+  other.sun.direction = glm::normalize(glm::dvec3(std::cos(0.8), 0.3, std::sin(0.8)));
+  const ImageRGB a = solved.render(other, {}, DaylightMethod::NearField);
+  const ImageRGB b = kept.render(other, {}, DaylightMethod::NearField);
+  const double diff = farthest(b, a);
+  std::printf("kept vs solved under another sun: largest difference %.2g of the mean\n", diff);
+  EXPECT_LT(diff, 1e-6);
+  const ImageRGB c = solved.render(sky, {}, DaylightMethod::NearField);  // each session does the same from here on
+  EXPECT_LT(farthest(kept.render(sky, {}, DaylightMethod::NearField), c), 1e-6);
+  EXPECT_GT(farthest(a, c), 0.05);  // another sun: another image
+
+  auto refusal = [&](const Scene& r, const ImageRGB& p) {
+    try {
+      DaylightRelighting again(r, p, cam, sky, coarse, file);
+    } catch (const Error& e) {
+      EXPECT_EQ(e.file(), file);
+      return e.problem();
+    }
+    return std::string("opened");
+  };
+  ImageRGB otherPhoto = photo;
+  otherPhoto.pixels[100] += 0.01f;
+  EXPECT_NE(refusal(room, otherPhoto).find("another photo"), std::string::npos);
+  Scene moved = room;
+  for (auto& poly : moved.polygons)
+    for (auto& v : poly.vertices) v.x += 0.01;
+  EXPECT_NE(refusal(moved, photo).find("other polygons"), std::string::npos);
+  // One byte changed in the middle, and the file cut short: damaged.
+  std::vector<char> bytes;
+  {
+    std::ifstream in(file, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  ASSERT_GT(bytes.size(), 1000u);
+  auto write = [&](const std::vector<char>& b) {
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out.write(b.data(), std::streamsize(b.size()));
+  };
+  std::vector<char> flipped = bytes;
+  flipped[flipped.size() / 2] ^= 0x10;
+  write(flipped);
+  EXPECT_NE(refusal(room, photo).find("damaged"), std::string::npos);
+  write(std::vector<char>(bytes.begin(), bytes.begin() + std::ptrdiff_t(bytes.size() / 3)));
+  EXPECT_NE(refusal(room, photo).find("damaged"), std::string::npos);
+  // A project whose kept session is damaged opens all the same, solved again, and says why.
+  room.sourceFile = dir + "/project.json";
+  EXPECT_EQ(keptSolutionFile(room), file);
+  std::string how;
+  const auto opened = openDaylightRelighting(room, photo, cam, sky, coarse, silentProgress(), &how);
+  EXPECT_NE(how.find("not used"), std::string::npos) << how;
+  EXPECT_NE(how.find(file), std::string::npos) << how;
+  EXPECT_EQ(opened->reflectances(), solved.reflectances());
+  write(bytes);  // whole again: opened from the file
+  how.clear();
+  const auto reopened = openDaylightRelighting(room, photo, cam, sky, coarse, silentProgress(), &how);
+  EXPECT_NE(how.find("opened the project's kept"), std::string::npos) << how;
+  std::filesystem::remove_all(dir);
 }

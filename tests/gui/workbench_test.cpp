@@ -2250,6 +2250,7 @@ class WorkbenchTest : public QObject {
     const double same = psnr8(sky->shown(), photo);
     qInfo("under the photos' sky: %.1f dB against the photo", same);
     QVERIFY(same > 35);
+    const QImage underPhotoSky = sky->shown();
     // Another sun: closer to Cycles' render of it than the unchanged photo is, by far.
     const int before = sky->framesShown();
     sky->skyBox()->setCurrentIndex(1);  // sun1
@@ -2307,6 +2308,24 @@ class WorkbenchTest : public QObject {
     QVERIFY(!sky->addSkyFolder(bad));
     QCOMPARE(sky->skyBox()->count(), 4);
     QVERIFY(!said.isEmpty() && said.last().first().toString().contains("b.exr"));
+    // Saved as a project (File > Save), the room opens again without estimating or solving: the
+    // project keeps the daylight session, and the Sky panel shows the same relit photo.
+    const QString project = tmp_.path() + "/daylight.relume";
+    QVERIFY(w.saveTo(project));
+    QVERIFY(settle(120000));
+    QVERIFY(QFileInfo(project + "/daylight/solution.bin").size() > 1000);
+    QCOMPARE(sky->path(), project);
+    QSignalSpy notes(sky, &SkyPanel::message);
+    QVERIFY(w.openPath(project));
+    QVERIFY(settle(300000));
+    QVERIFY(sky->isOpen());
+    QVERIFY(settle(120000));
+    QStringList heard;
+    for (const auto& m : notes) heard << m.first().toString();
+    QVERIFY2(heard.join("\n").contains("opened the project's kept daylight solution"), qPrintable(heard.join("\n")));
+    QCOMPARE(sky->framesShown(), 1);
+    qInfo("reopened from the project: %.1f dB against the first open's image", psnr8(sky->shown(), underPhotoSky));
+    QVERIFY(psnr8(sky->shown(), underPhotoSky) > 50);
   }
 
   void daylightWithALampInTheSkyPanel() {

@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 
+#include "relume/geometry/binary.h"
 #include "relume/geometry/error.h"
 #include "relume/geometry/polygon.h"
 #include "relume/geometry/scene.h"
@@ -98,6 +100,21 @@ bool coneMeetsCell(const glm::dvec3& axis, double halfAngle, const SkyRegions::C
 DaylightBasis::DaylightBasis(const Scene& scene, const SkyRadiance& refineFor, const BasisOptions& options,
                              Progress& progress)
     : regions_(options.regions), options_(options) {
+  setUp(scene, refineFor);
+  auto t0 = std::chrono::steady_clock::now();
+  {
+    Progress stage(progress, 0.0, 0.3);
+    stage.report(0, "refining the links for the sky");
+    engine_->solve(stage);
+  }
+  refineSeconds_ = seconds(t0);
+  Progress stage(progress, 0.3, 1.0);
+  solveBases(stage);
+  progress.report(1.0, "daylight basis solved");
+}
+
+void DaylightBasis::setUp(const Scene& scene, const SkyRadiance& refineFor) {
+  const BasisOptions& options = options_;
   if (refineFor.region.size() != size_t(regions_.size()))
     throw Error(scene.sourceFile, "daylight", "the sky was averaged over " + std::to_string(refineFor.region.size()) +
                                                   " regions, the basis has " + std::to_string(regions_.size()));
@@ -195,16 +212,70 @@ DaylightBasis::DaylightBasis(const Scene& scene, const SkyRadiance& refineFor, c
   const radiosity::Options engineOptions = options.engine ? *options.engine : radiosity::Options{};
   engine_ = std::make_unique<radiosity::HierarchicalRadiosity>(std::move(surfaces), engineOptions);
   engine_->removeSurfaces(outside_);
-  auto t0 = std::chrono::steady_clock::now();
-  {
-    Progress stage(progress, 0.0, 0.3);
-    stage.report(0, "refining the links for the sky");
-    engine_->solve(stage);
-  }
-  refineSeconds_ = seconds(t0);
-  Progress stage(progress, 0.3, 1.0);
-  solveBases(stage);
-  progress.report(1.0, "daylight basis solved");
+  sceneSurfaces_ = engine_->surfaces().size();
+}
+
+namespace {
+constexpr char kBasisMagic[8] = {'R', 'L', 'D', 'Y', 'B', 'A', 'S', '1'};
+constexpr size_t kMaxSolutions = 4096;
+}  // namespace
+
+void DaylightBasis::write(ByteWriter& out) const {
+  if (undo_ || lampSurface_.size() != size_t(sceneLamps_) || engine_->surfaces().size() != sceneSurfaces_)
+    throw Error("", "daylight basis", "cannot be kept while virtual objects or lamps are in it");
+  out.raw(kBasisMagic, 8);
+  out.u32(uint32_t(regions_.size()));
+  out.f64(options_.pieceDeg);
+  out.f64(groundReflectance_);
+  out.f64(refineSeconds_);
+  out.f64(secondsPerBasis_);
+  engine_->writeState(out);
+  const size_t nodes = engine_->nodes().size();
+  out.u64(bases_.size());
+  for (const auto& b : bases_) out.array(b);
+  out.u32(haveSun_ ? 1u : 0u);
+  for (int k = 0; k < 3; ++k) out.f64(sunDirection_[k]);
+  out.array(haveSun_ ? sun_ : std::vector<glm::vec3>{});
+  out.array(haveSun_ ? sunDirect_ : std::vector<glm::vec3>{});
+  out.u64(lampSolution_.size());
+  for (const auto& l : lampSolution_) out.array(l.size() == nodes ? l : std::vector<glm::vec3>{});
+}
+
+DaylightBasis::DaylightBasis(const Scene& scene, const SkyRadiance& refineFor, const BasisOptions& options, ByteReader& in)
+    : regions_(options.regions), options_(options) {
+  const char* part = "daylight basis";
+  in.need(8, part);
+  if (std::memcmp(in.bytes().data() + in.pos, kBasisMagic, 8) != 0) in.fail(part, "is not a kept daylight basis");
+  in.pos += 8;
+  if (in.u32(part) != uint32_t(regions_.size()))
+    in.fail(part, "was solved for another number of sky regions (solve it again)");
+  if (in.f64(part) != options_.pieceDeg) in.fail(part, "was solved with other window pieces (solve it again)");
+  setUp(scene, refineFor);
+  if (in.f64(part) != groundReflectance_) in.fail(part, "was solved for another ground albedo (solve it again)");
+  refineSeconds_ = in.f64(part);
+  secondsPerBasis_ = in.f64(part);
+  engine_->readState(in);  // checks the room's polygons, reflectances and engine options
+  const size_t nodes = engine_->nodes().size();
+  auto solution = [&](bool mayBeEmpty) {
+    auto v = in.array<glm::vec3>(part, nodes);
+    if (v.size() != nodes && !(mayBeEmpty && v.empty())) in.fail(part, "a solution does not cover the hierarchy (damaged)");
+    return v;
+  };
+  const uint64_t nb = in.u64(part);
+  if (nb != uint64_t(regions_.size() + 1)) in.fail(part, "holds another number of basis solutions than the regions need (damaged)");
+  for (uint64_t k = 0; k < nb; ++k) bases_.push_back(solution(false));
+  const uint32_t sun = in.u32(part);
+  if (sun > 1) in.fail(part, "is damaged (the sun's flag)");
+  for (int k = 0; k < 3; ++k) sunDirection_[k] = in.f64(part);
+  sun_ = solution(sun == 0);
+  sunDirect_ = solution(sun == 0);
+  haveSun_ = sun == 1;
+  if (haveSun_ && std::abs(glm::length(sunDirection_) - 1) > 1e-6) in.fail(part, "is damaged (the sun's direction)");
+  const uint64_t nl = in.u64(part);
+  if (nl != lampSolution_.size()) in.fail(part, "was solved for another number of lamps (solve it again)");
+  if (nl > kMaxSolutions) in.fail(part, "is damaged");
+  for (auto& l : lampSolution_) l = solution(true);
+  ++revision_;
 }
 
 void DaylightBasis::solveBases(Progress& progress) {

@@ -8,12 +8,15 @@
 #include <glm/geometric.hpp>
 #include <atomic>
 #include <cstdint>
+#include <cstring>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <memory>
 #include <numbers>
 #include <string>
 
+#include "relume/geometry/binary.h"
 #include "relume/geometry/error.h"
 #include "relume/geometry/polygon.h"
 #include "relume/radiosity/form_factor.h"
@@ -537,10 +540,8 @@ ImageRGB differentialRender(const ImageRGB& photo, const ImageRGB& ePhoto, const
 
 DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo, const Camera& camera,
                                        const SkyRadiance& photoSky, const BasisOptions& options, Progress& progress)
-    : photo_(photo), camera_(camera) {
-  if (photo.width != camera.width || photo.height != camera.height)
-    throw Error(scene.sourceFile, "main photo", "its image is " + std::to_string(photo.width) + "x" + std::to_string(photo.height) +
-                                                    ", its camera " + std::to_string(camera.width) + "x" + std::to_string(camera.height));
+    : photo_(photo), camera_(camera), photoSky_(photoSky) {
+  checkPhoto(scene);
   Scene room = scene;
   const size_t n = room.polygons.size();
   for (auto& poly : room.polygons) poly.albedo = glm::dvec3(0.5);
@@ -661,6 +662,123 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
   assign(rho, unseenFit_.ok ? &unseenFit_.rho : nullptr);
   e = solve(rounds - 1);  // the last round (the third when the fit took no round of its own: progress skips one)
   ePhoto_ = sum(std::move(e.rest), e.sun);
+}
+
+void DaylightRelighting::checkPhoto(const Scene& scene) const {
+  if (photo_.width != camera_.width || photo_.height != camera_.height)
+    throw Error(scene.sourceFile, "main photo", "its image is " + std::to_string(photo_.width) + "x" + std::to_string(photo_.height) +
+                                                    ", its camera " + std::to_string(camera_.width) + "x" + std::to_string(camera_.height));
+}
+
+namespace {
+constexpr char kSessionMagic[8] = {'R', 'L', 'D', 'Y', 'S', 'E', 'S', '1'};
+
+// FNV-1a over what the estimates were made from: the photo's pixels, the camera, the photos' sky.
+uint64_t sessionFingerprint(const ImageRGB& photo, const Camera& camera, const SkyRadiance& sky) {
+  uint64_t h = 1469598103934665603ull;
+  auto bytes = [&](const void* p, size_t n) {
+    for (size_t i = 0; i < n; ++i) h = (h ^ static_cast<const uint8_t*>(p)[i]) * 1099511628211ull;
+  };
+  auto f64 = [&](double v) { bytes(&v, 8); };
+  auto vec = [&](const glm::dvec3& v) { f64(v.x), f64(v.y), f64(v.z); };
+  f64(photo.width), f64(photo.height);
+  bytes(photo.pixels.data(), photo.pixels.size() * sizeof(photo.pixels[0]));
+  for (int c = 0; c < 3; ++c) vec(camera.K[c]), vec(camera.R[c]);
+  vec(camera.t);
+  f64(double(sky.region.size()));
+  for (const auto& r : sky.region) vec(r);
+  f64(sky.sun.found), f64(sky.sun.clipped), vec(sky.sun.direction), vec(sky.sun.irradiance), vec(sky.sunBackground);
+  return h;
+}
+}  // namespace
+
+void DaylightRelighting::save(const std::string& file) const {
+  ByteWriter w;
+  w.raw(kSessionMagic, 8);
+  w.u64(sessionFingerprint(photo_, camera_, photoSky_));
+  w.u64(reflectances_.size());
+  for (const auto& r : reflectances_)
+    for (int c = 0; c < 3; ++c) w.f64(r[c]);
+  for (bool e : estimated_) w.u32(e ? 1u : 0u);
+  w.u32(unseenFit_.ok ? 1u : 0u);
+  for (int c = 0; c < 3; ++c) w.f64(unseenFit_.rho[c]);
+  w.u64(uint64_t(unseenFit_.polygons));
+  w.u64(uint64_t(unseenFit_.shadedPixels));
+  w.u64(uint64_t(unseenFit_.sunlitPixels));
+  w.f64(unseenFit_.sensitivity);
+  w.text(unseenFit_.why);
+  try {
+    basis_->write(w);
+  } catch (const Error& e) {
+    throw Error(file, e.element(), e.problem());
+  }
+  w.seal();
+  writeFileAtomically(file, w.bytes);
+}
+
+DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo, const Camera& camera, const SkyRadiance& photoSky,
+                                       const BasisOptions& options, const std::string& keptFile, Progress& progress)
+    : photo_(photo), camera_(camera), photoSky_(photoSky) {
+  checkPhoto(scene);
+  progress.report(0, "opening the kept daylight solution");
+  const std::vector<uint8_t> bytes = readFileBytes(keptFile);
+  ByteReader in(bytes, keptFile);
+  const char* part = "daylight solution";
+  in.need(8, part);
+  if (std::memcmp(bytes.data(), kSessionMagic, 8) != 0) in.fail("", "is not a kept daylight solution (relume daylight-basis -o writes them)");
+  if (!in.sealed()) in.fail("", "the file is damaged (its checksum does not match)");
+  in.pos = 8;
+  if (in.u64(part) != sessionFingerprint(photo, camera, photoSky))
+    in.fail(part, "was made for another photo, camera or sky of the photos (solve it again)");
+  const size_t n = scene.polygons.size();
+  if (in.u64(part) != n) in.fail(part, "was made for a room of another number of polygons (solve it again)");
+  reflectances_.resize(n);
+  for (auto& r : reflectances_)
+    for (int c = 0; c < 3; ++c) r[c] = in.f64(part);
+  estimated_.resize(n);
+  for (size_t s = 0; s < n; ++s) estimated_[s] = in.u32(part) != 0;
+  unseenFit_.ok = in.u32(part) != 0;
+  for (int c = 0; c < 3; ++c) unseenFit_.rho[c] = in.f64(part);
+  unseenFit_.polygons = int(std::min<uint64_t>(in.u64(part), uint64_t(std::numeric_limits<int>::max())));
+  unseenFit_.shadedPixels = long(std::min<uint64_t>(in.u64(part), uint64_t(std::numeric_limits<long>::max())));
+  unseenFit_.sunlitPixels = long(std::min<uint64_t>(in.u64(part), uint64_t(std::numeric_limits<long>::max())));
+  unseenFit_.sensitivity = in.f64(part);
+  unseenFit_.why = in.text(part);
+  // The room as the last round of estimation solved it.
+  Scene room = scene;
+  for (size_t s = 0; s < n; ++s) room.polygons[s].albedo = reflectances_[s];
+  basis_ = std::make_unique<DaylightBasis>(room, photoSky, options, in);
+  in.expectEnd();
+  progress.report(0.2, "looking up the photo's pixels");
+  seen_ = seePixels(*basis_, camera);
+  Progress stage(progress, 0.2, 1.0);
+  IrradianceParts e = irradianceParts(*basis_, seen_, photoSky, stage);
+  ePhoto_ = sum(std::move(e.rest), e.sun);
+}
+
+std::string keptSolutionFile(const Scene& scene) {
+  const std::filesystem::path src(scene.sourceFile);
+  if (src.filename() != "project.json") return {};
+  return (src.parent_path() / "daylight" / "solution.bin").string();
+}
+
+std::unique_ptr<DaylightRelighting> openDaylightRelighting(const Scene& scene, const ImageRGB& photo, const Camera& camera,
+                                                           const SkyRadiance& photoSky, const BasisOptions& options,
+                                                           Progress& progress, std::string* how) {
+  const std::string kept = keptSolutionFile(scene);
+  std::string said;
+  if (!kept.empty() && std::filesystem::exists(kept)) {
+    try {
+      auto out = std::make_unique<DaylightRelighting>(scene, photo, camera, photoSky, options, kept, progress);
+      if (how) *how = "opened the project's kept daylight solution " + kept;
+      return out;
+    } catch (const Error& e) {
+      said = std::string("the kept daylight solution is not used (") + e.what() + "): estimating and solving again";
+    }
+  }
+  auto out = std::make_unique<DaylightRelighting>(scene, photo, camera, photoSky, options, progress);
+  if (how) *how = said;
+  return out;
 }
 
 namespace {

@@ -1,20 +1,16 @@
 #include "relume/ibr/fan.h"
 
-#include <fcntl.h>
-#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <glm/geometric.hpp>
 #include <limits>
 #include <numbers>
 
 #include "fan_pack.h"
+#include "relume/geometry/binary.h"
 #include "relume/geometry/error.h"
 #include "relume/ibr/normal_code.h"
 
@@ -29,53 +25,6 @@ namespace {
 constexpr char kMagic[8] = {'R', 'E', 'L', 'U', 'M', 'E', 'F', 'N'};
 
 size_t pixelBytes(int size) { return size_t(size) * size_t(size) * 7; }  // alpha, code, depth x 2, RGB
-
-// Little-endian writing and bounds-checked reading.
-struct Writer {
-  std::vector<uint8_t> b;
-  void raw(const void* p, size_t n) { b.insert(b.end(), static_cast<const uint8_t*>(p), static_cast<const uint8_t*>(p) + n); }
-  void u32(uint32_t v) {
-    for (int k = 0; k < 4; ++k) b.push_back(uint8_t(v >> (8 * k)));
-  }
-  void u64(uint64_t v) {
-    for (int k = 0; k < 8; ++k) b.push_back(uint8_t(v >> (8 * k)));
-  }
-  void f64(double v) {
-    uint64_t u;
-    std::memcpy(&u, &v, 8);
-    u64(u);
-  }
-};
-
-struct Reader {
-  const std::vector<uint8_t>& b;
-  size_t pos = 0;
-  const std::string& name;
-  void need(size_t n, const char* what) const {
-    if (n > b.size() - pos) throw Error(name, what, "the file is truncated (it ends inside its " + std::string(what) + ")");
-  }
-  uint32_t u32(const char* what) {
-    need(4, what);
-    uint32_t v = 0;
-    for (int k = 0; k < 4; ++k) v |= uint32_t(b[pos + k]) << (8 * k);
-    pos += 4;
-    return v;
-  }
-  uint64_t u64(const char* what) {
-    need(8, what);
-    uint64_t v = 0;
-    for (int k = 0; k < 8; ++k) v |= uint64_t(b[pos + k]) << (8 * k);
-    pos += 8;
-    return v;
-  }
-  double f64(const char* what) {
-    const uint64_t u = u64(what);
-    double v;
-    std::memcpy(&v, &u, 8);
-    if (!std::isfinite(v)) throw Error(name, what, "holds a value that is not a finite number");
-    return v;
-  }
-};
 
 }  // namespace
 
@@ -187,7 +136,7 @@ const FanView& ImageFan::view(int k) const {
 }
 
 std::vector<uint8_t> fanBytes(const ImageFan& fan) {
-  Writer w;
+  ByteWriter w;
   w.raw(kMagic, 8);
   w.u32(kFanVersion);
   w.u32(uint32_t(fan.size));
@@ -206,56 +155,18 @@ std::vector<uint8_t> fanBytes(const ImageFan& fan) {
     w.u32(uint32_t(c.size()));
     w.raw(c.data(), c.size());
   }
-  w.u32(uint32_t(crc32_z(0L, w.b.data(), w.b.size())));
-  return w.b;
+  w.seal();
+  return std::move(w.bytes);
 }
 
-void writeFan(const ImageFan& fan, const std::string& path) {
-  const std::vector<uint8_t> bytes = fanBytes(fan);
-  // A temporary name of this process's own (two writers never share one), renamed into place.
-  static std::atomic<unsigned> serial{0};
-  const std::string tmp = path + ".part" + std::to_string(::getpid()) + "." + std::to_string(serial++);
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) throw Error(path, "", std::string("cannot be written: ") + std::strerror(errno));
-  auto abandon = [&](int e, const char* what) {
-    std::remove(tmp.c_str());
-    throw Error(path, "", std::string("cannot be written: ") + what + std::strerror(e));
-  };
-  size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t k = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (k < 0) {
-      if (errno == EINTR) continue;
-      const int e = errno;
-      ::close(fd);
-      abandon(e, "");
-    }
-    done += size_t(k);
-  }
-  if (::fsync(fd) != 0) {
-    const int e = errno;
-    ::close(fd);
-    abandon(e, "the disk refused to keep it: ");
-  }
-  if (::close(fd) != 0) abandon(errno, "the disk refused to keep it: ");
-  if (::rename(tmp.c_str(), path.c_str()) != 0) abandon(errno, "");
-  // The rename itself kept: the folder's entry synced.
-  const std::string dir = std::filesystem::path(path).parent_path().string();
-  const int dfd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dfd >= 0) {
-    ::fsync(dfd);
-    ::close(dfd);
-  }
-}
+void writeFan(const ImageFan& fan, const std::string& path) { writeFileAtomically(path, fanBytes(fan)); }
 
 std::unique_ptr<ImageFan> parseFan(const std::vector<uint8_t>& b, const std::string& name) {
   if (b.size() < 8 || std::memcmp(b.data(), kMagic, 8) != 0) throw Error(name, "", "not an image fan file (relume ibr-fan writes them)");
-  Reader r{b, 8, name};
+  ByteReader r(b, name, 8);
   const uint32_t version = r.u32("header");
   if (b.size() < 12 + 4) throw Error(name, "header", "the file is truncated");
-  const uint32_t crcStored = uint32_t(b[b.size() - 4]) | uint32_t(b[b.size() - 3]) << 8 | uint32_t(b[b.size() - 2]) << 16 |
-                             uint32_t(b[b.size() - 1]) << 24;
-  const bool intact = uint32_t(crc32_z(0L, b.data(), b.size() - 4)) == crcStored;
+  const bool intact = r.sealed();
   if (version != kFanVersion) {
     if (!intact) throw Error(name, "", "the file is damaged (its checksum does not match)");
     throw Error(name, "header", "an image fan of version " + std::to_string(version) + "; this Relume reads version " +
@@ -296,18 +207,11 @@ std::unique_ptr<ImageFan> parseFan(const std::vector<uint8_t>& b, const std::str
     c.assign(b.begin() + long(r.pos), b.begin() + long(r.pos + len));
     r.pos += len;
   }
-  r.need(4, "checksum");
-  if (r.pos + 4 != b.size()) throw Error(name, "", "the file has bytes after its end (damaged)");
+  r.expectEnd();
   if (!intact) throw Error(name, "", "the file is damaged (its checksum does not match)");
   return fan;
 }
 
-std::unique_ptr<ImageFan> readFan(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path, "", "cannot be read");
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw Error(path, "", "cannot be read");
-  return parseFan(bytes, path);
-}
+std::unique_ptr<ImageFan> readFan(const std::string& path) { return parseFan(readFileBytes(path), path); }
 
 }  // namespace relume::ibr

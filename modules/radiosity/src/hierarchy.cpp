@@ -14,6 +14,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "relume/geometry/binary.h"
 #include "relume/geometry/polygon.h"
 #include "relume/geometry/scene.h"
 #include "relume/radiosity/form_factor.h"
@@ -132,6 +133,10 @@ struct HierarchicalRadiosity::Impl {
   std::vector<size_t> gChunk;  // chunk starts at receiver boundaries, for a parallel gather
   bool gatherDirty = true;
   double eRef = 1.0;  // mean first-bounce irradiance
+  // Per surface (once setDistantLight was called): whether the V of its links was taken along a
+  // single beam (the next light then takes V again). Kept with the state: an engine read back
+  // from bytes has its openings' lights set afresh, and must still know how their V was taken.
+  std::vector<uint8_t> beamVisibility;
   std::vector<float> pullAccumulator;  // scratch of pushPull()
   uint64_t raysAtStart = 0;
   double lastSeconds = 0;
@@ -365,6 +370,139 @@ void HierarchicalRadiosity::restoreState(const State& state) {
   B_ = state.B;
   E_ = state.E;
   Edown_ = state.Edown;
+}
+
+namespace {
+// FNV-1a over the surfaces and options an engine was made from: a kept state is read back only
+// into an engine made the same way.
+struct Fingerprint {
+  uint64_t h = 1469598103934665603ull;
+  void bytes(const void* p, size_t n) {
+    for (size_t i = 0; i < n; ++i) h = (h ^ static_cast<const uint8_t*>(p)[i]) * 1099511628211ull;
+  }
+  void f64(double v) { bytes(&v, 8); }
+  void i64(int64_t v) { bytes(&v, 8); }
+  void vec(const glm::dvec3& v) { f64(v.x), f64(v.y), f64(v.z); }
+};
+uint64_t engineFingerprint(const std::vector<Surface>& surfaces, const Options& o) {
+  Fingerprint f;
+  f.i64(int64_t(surfaces.size()));
+  for (const Surface& s : surfaces) {
+    f.i64(int64_t(s.vertices.size()));
+    for (const auto& v : s.vertices) f.vec(v);
+    f.vec(s.reflectance);
+    f.vec(s.exitance);
+    f.i64(int64_t(s.twoSided) | int64_t(s.opening) << 1 | int64_t(s.photometry != nullptr) << 2 |
+          int64_t(s.distant != nullptr) << 3);
+  }
+  f.i64(int64_t(o.oracle));
+  f.f64(o.epsilon);
+  f.f64(o.minArea);
+  f.i64(o.visibilityRays);
+  f.i64(o.quadratureOrder);
+  f.f64(o.tolerance);
+  f.i64(o.maxIterations);
+  f.i64(o.maxRefineRounds);
+  f.i64(o.seed);
+  return f.h;
+}
+constexpr uint32_t kStateVersion = 1;
+// A hierarchy of more elements than this is not one Relume made (about 40 GB of links).
+constexpr size_t kMaxStateNodes = size_t(1) << 28, kMaxStateLinks = size_t(1) << 31;
+}  // namespace
+
+void HierarchicalRadiosity::writeState(ByteWriter& out) const {
+  out.u32(kStateVersion);
+  out.u32(uint32_t(sizeof(Node)));
+  out.u32(uint32_t(sizeof(Link)));
+  out.u64(engineFingerprint(surfaces_, options_));
+  out.f64(impl_->eRef);
+  out.array(nodes_);
+  out.array(children_);
+  out.array(surfaceRoot_);
+  out.array(links_);
+  out.array(B_);
+  out.array(E_);
+  out.array(Edown_);
+  const Impl& im = *impl_;
+  out.array(im.perm);
+  out.array(im.posInPerm);
+  out.array(im.rangeBegin);
+  out.array(im.rangeCount);
+  out.array(im.rho);
+  out.array(im.emit);
+  out.array(im.rhoMax);
+  out.array(im.emitterOnly);
+  std::vector<uint8_t> beam(surfaces_.size());
+  for (size_t s = 0; s < beam.size(); ++s)
+    beam[s] = s < im.beamVisibility.size() ? im.beamVisibility[s]
+                                           : uint8_t(surfaces_[s].distant && !surfaces_[s].distant->radiance &&
+                                                     surfaces_[s].distant->beams.size() == 1);
+  out.array(beam);
+}
+
+void HierarchicalRadiosity::readState(ByteReader& in) {
+  const char* part = "radiosity hierarchy";
+  if (in.u32(part) != kStateVersion) in.fail(part, "was written by another version of Relume (solve it again)");
+  if (in.u32(part) != sizeof(Node) || in.u32(part) != sizeof(Link))
+    in.fail(part, "was written by a build of Relume with another memory layout (solve it again)");
+  if (in.u64(part) != engineFingerprint(surfaces_, options_))
+    in.fail(part, "was solved for other polygons, reflectances or engine options than the room's now (solve it again)");
+  const double eRef = in.f64(part);
+  auto nodes = in.array<Node>(part, kMaxStateNodes);
+  auto children = in.array<int32_t>(part, kMaxStateNodes);
+  auto surfaceRoot = in.array<int32_t>(part, surfaces_.size());
+  auto links = in.array<Link>(part, kMaxStateLinks);
+  auto B = in.array<glm::vec3>(part, kMaxStateNodes), E = in.array<glm::vec3>(part, kMaxStateNodes),
+       Edown = in.array<glm::vec3>(part, kMaxStateNodes);
+  auto perm = in.array<int32_t>(part, surfaces_.size()), posInPerm = in.array<int32_t>(part, surfaces_.size());
+  auto rangeBegin = in.array<int32_t>(part, kMaxStateNodes), rangeCount = in.array<int32_t>(part, kMaxStateNodes);
+  auto rho = in.array<glm::vec3>(part, kMaxStateNodes), emit = in.array<glm::vec3>(part, kMaxStateNodes);
+  auto rhoMax = in.array<float>(part, kMaxStateNodes);
+  auto emitterOnly = in.array<uint8_t>(part, kMaxStateNodes);
+  auto beamVisibility = in.array<uint8_t>(part, surfaces_.size());
+  // Every index in range, so that a damaged file can never make the engine read out of bounds.
+  const size_t n = nodes.size(), ns = surfaces_.size();
+  const bool sizes = n > 0 && B.size() == n && E.size() == n && Edown.size() == n && rangeBegin.size() == n &&
+                     rangeCount.size() == n && rho.size() == n && emit.size() == n && rhoMax.size() == n &&
+                     emitterOnly.size() == n && surfaceRoot.size() == ns && perm.size() == ns && posInPerm.size() == ns &&
+                     beamVisibility.size() == ns;
+  if (!sizes) in.fail(part, "its arrays do not agree in size (damaged)");
+  auto within = [](int64_t v, int64_t lo, int64_t hi) { return v >= lo && v < hi; };
+  for (size_t i = 0; i < n; ++i) {
+    const Node& nd = nodes[i];
+    const bool ok = within(nd.parent, -1, int64_t(i)) && nd.childCount >= 0 && nd.childBegin >= 0 &&
+                    int64_t(nd.childBegin) + nd.childCount <= int64_t(children.size()) && within(nd.surface, -1, int64_t(ns)) &&
+                    rangeBegin[i] >= 0 && rangeCount[i] >= 0 && int64_t(rangeBegin[i]) + rangeCount[i] <= int64_t(ns);
+    if (!ok) in.fail(part, "element " + std::to_string(i) + " is damaged (an index out of range)");
+  }
+  for (int32_t c : children)
+    if (!within(c, 1, int64_t(n))) in.fail(part, "the element tree is damaged (a child out of range)");
+  for (size_t s = 0; s < ns; ++s)
+    if (!within(surfaceRoot[s], -1, int64_t(n)) || !within(perm[s], 0, int64_t(ns)) || !within(posInPerm[s], 0, int64_t(ns)))
+      in.fail(part, "the surfaces' elements are damaged (an index out of range)");
+  for (const Link& l : links)
+    if (!within(l.receiver, 0, int64_t(n)) || !within(l.source, 0, int64_t(n)))
+      in.fail(part, "a link is damaged (an element out of range)");
+  Impl& im = *impl_;
+  im.eRef = eRef;
+  im.perm = std::move(perm);
+  im.posInPerm = std::move(posInPerm);
+  im.rangeBegin = std::move(rangeBegin);
+  im.rangeCount = std::move(rangeCount);
+  im.rho = std::move(rho);
+  im.emit = std::move(emit);
+  im.rhoMax = std::move(rhoMax);
+  im.emitterOnly = std::move(emitterOnly);
+  im.beamVisibility = std::move(beamVisibility);
+  im.gatherDirty = true;
+  nodes_ = std::move(nodes);
+  children_ = std::move(children);
+  surfaceRoot_ = std::move(surfaceRoot);
+  links_ = std::move(links);
+  B_ = std::move(B);
+  E_ = std::move(E);
+  Edown_ = std::move(Edown);
 }
 
 const RayScene& HierarchicalRadiosity::rayScene() const { return *impl_->rays; }
@@ -1023,7 +1161,10 @@ size_t HierarchicalRadiosity::setDistantLight(int surface, std::shared_ptr<const
     return d && !d->radiance && d->beams.size() == 1;
   };
   // V is taken along the beam for a single beam, towards the whole element otherwise.
-  const bool newVisibility = beamOnly(light) || beamOnly(surfaces_[surface].distant);
+  for (size_t s = im.beamVisibility.size(); s < surfaces_.size(); ++s)
+    im.beamVisibility.push_back(beamOnly(surfaces_[s].distant) ? 1 : 0);
+  const bool newVisibility = beamOnly(light) || im.beamVisibility[size_t(surface)];
+  im.beamVisibility[size_t(surface)] = beamOnly(light) ? 1 : 0;
   surfaces_[surface].distant = std::move(light);
   im.shapes[surface] = EmitterShape(surfaces_[surface].vertices, surfaces_[surface].twoSided,
                                     surfaces_[surface].photometry, surfaces_[surface].distant);

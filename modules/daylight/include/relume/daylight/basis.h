@@ -28,6 +28,8 @@
 #include "relume/geometry/progress.h"
 
 namespace relume {
+class ByteReader;
+class ByteWriter;
 struct Scene;
 namespace radiosity {
 class HierarchicalRadiosity;
@@ -67,6 +69,13 @@ class DaylightBasis {
   // not face into the room. Progress throughout; Cancel leaves nothing behind.
   DaylightBasis(const Scene& scene, const SkyRadiance& refineFor, const BasisOptions& options = {},
                 Progress& progress = silentProgress());
+  // The same basis from what write() kept (a project's daylight solution): made from the same
+  // scene, sky and options, nothing refined or solved. Throws relume::Error naming the reader's
+  // file when the bytes are damaged or were made for another room, sky or options.
+  DaylightBasis(const Scene& scene, const SkyRadiance& refineFor, const BasisOptions& options, ByteReader& kept);
+  // The hierarchy and every solution solved so far (the bases, the sun's, the lamps'), for the
+  // constructor above. Refused (relume::Error) while virtual objects or lamps are added.
+  void write(ByteWriter& out) const;
   ~DaylightBasis();
   DaylightBasis(const DaylightBasis&) = delete;
   DaylightBasis& operator=(const DaylightBasis&) = delete;
@@ -157,9 +166,11 @@ class DaylightBasis {
   double secondsPerBasis_ = 0, refineSeconds_ = 0;
   unsigned revision_ = 0;
   void solveBases(Progress& progress);
+  void setUp(const Scene& scene, const SkyRadiance& refineFor);  // everything before refining
   void extendToNodes();
   std::vector<bool> lamp_;  // per surface: a lamp (dark here, each lamp its own term)
   int sceneLamps_ = 0;
+  size_t sceneSurfaces_ = 0;  // the engine's surfaces before any object is added
   std::vector<int> lampSurface_;                      // per scene lamp: its polygon (engine surface)
   std::vector<glm::dvec3> lampExitance_;              // per scene lamp: as it shines now
   std::vector<std::vector<glm::vec3>> lampSolution_;  // per scene lamp: empty until solved

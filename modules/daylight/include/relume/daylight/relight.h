@@ -129,6 +129,15 @@ class DaylightRelighting {
  public:
   DaylightRelighting(const Scene& scene, const ImageRGB& photo, const Camera& camera, const SkyRadiance& photoSky,
                      const BasisOptions& options = {}, Progress& progress = silentProgress());
+  // The same session from a file save() wrote (nothing estimated, refined or solved: only the
+  // photo's pixels are looked up again). Throws relume::Error naming the file when it is damaged or
+  // was made for another photo, sky, room or options.
+  DaylightRelighting(const Scene& scene, const ImageRGB& photo, const Camera& camera, const SkyRadiance& photoSky,
+                     const BasisOptions& options, const std::string& keptFile, Progress& progress = silentProgress());
+  // Keeps the estimates (reflectances, the unseen fit) and the basis with every solution solved so
+  // far in one file, written atomically, with a fingerprint of the photo and its sky. Refused
+  // (relume::Error) while a NearField render's objects are in the basis (never, between renders).
+  void save(const std::string& file) const;
   ~DaylightRelighting();
   // The photo under `sky` with `objects` (polygons with their albedos) inserted.
   // Virtual lamps (near-field only: the volume and distant methods light objects by daylight
@@ -161,6 +170,7 @@ class DaylightRelighting {
   size_t lastTouchedPixels() const { return touched_; }
 
  private:
+  void checkPhoto(const Scene& scene) const;
   ImageRGB renderVolume(const SkyRadiance& sky, const std::vector<Polygon>& objects, Progress& progress);
   ImageRGB photo_, ePhoto_, eLast_;
   InteractiveOptions interactive_;
@@ -176,11 +186,23 @@ class DaylightRelighting {
   struct InteractiveCache;
   std::unique_ptr<InteractiveCache> cache_;
   Camera camera_;
+  SkyRadiance photoSky_;  // the photos' sky the estimates were made under
   std::unique_ptr<DaylightBasis> basis_;
   SeenPixels seen_;
   std::vector<glm::dvec3> reflectances_;
   std::vector<bool> estimated_;
   UnseenFit unseenFit_;
 };
+
+// Where a Relume project keeps its daylight session: PROJECT/daylight/solution.bin (empty for a
+// scene not read from a project).
+std::string keptSolutionFile(const Scene& scene);
+// The room's daylight session: from the project's kept solution when it has one made for this
+// photo, sky and options, else estimated and solved. `how` (if given) says which: empty when
+// there was nothing kept, else that the kept one was opened or, naming the file and the problem,
+// why it was not (the session is then solved as for a bundle).
+std::unique_ptr<DaylightRelighting> openDaylightRelighting(const Scene& scene, const ImageRGB& photo, const Camera& camera,
+                                                           const SkyRadiance& photoSky, const BasisOptions& options,
+                                                           Progress& progress, std::string* how = nullptr);
 
 }  // namespace relume::daylight

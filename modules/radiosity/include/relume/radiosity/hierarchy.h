@@ -18,6 +18,8 @@
 #include "relume/radiosity/form_factor.h"
 
 namespace relume {
+class ByteReader;
+class ByteWriter;
 class RayScene;
 struct Scene;
 }  // namespace relume
@@ -204,6 +206,13 @@ class HierarchicalRadiosity {
   struct State;
   std::shared_ptr<const State> saveState() const;
   void restoreState(const State& state);
+  // The same as bytes, for a project to keep (so that opening it refines and solves nothing):
+  // writeState appends elements, links, radiosity and the refinement scale, with a fingerprint of
+  // the surfaces and options; readState puts them into an engine made from the same surfaces and
+  // options, with the same surfaces removed. Throws relume::Error naming the reader's file when the
+  // bytes are damaged or were written for other surfaces or options; the engine is then unchanged.
+  void writeState(ByteWriter& out) const;
+  void readState(ByteReader& in);
 
  struct Impl;  // engine internals (opaque to users)
 
