@@ -9,6 +9,7 @@
 
 #include "relume/geometry/camera.h"
 #include "relume/geometry/progress.h"
+#include "relume/geometry/scene.h"
 #include "relume/image/image.h"
 
 class QCommandLineParser;
@@ -42,6 +43,10 @@ int hdrMergeCommand(const QStringList& args, Progress& progress);
 int calibrateCommand(const QStringList& args, Progress& progress);
 int skyCommand(const QStringList& args, Progress& progress);
 int daylightBasisCommand(const QStringList& args, Progress& progress);
+// A daylight room (its scene lists measured skies) written as a project that keeps its daylight
+// session: reflectances estimated under the photos' sky, every basis solution (daylight-basis -o,
+// and preprocess on a daylight room).
+int keepDaylightSession(const Scene& room, int regions, const std::string& out, Progress& progress);
 // Images side by side (4 px apart), for looking at.
 ImageRGB sideBySide(const std::vector<const ImageRGB*>& imgs);
 int photometryCommand(const QStringList& args, Progress& progress);

@@ -73,7 +73,6 @@ double luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0
 QJsonArray rgbJson(const glm::dvec3& v) { return QJsonArray{v.x, v.y, v.z}; }
 }  // namespace
 
-namespace {
 // relume daylight-basis ROOM -o PROJECT: the daylight session estimated and solved once, kept in
 // the project beside the room (the project is written atomically, the session file with it).
 int keepDaylightSession(const Scene& room, int regions, const std::string& out, Progress& progress) {
@@ -106,7 +105,6 @@ int keepDaylightSession(const Scene& room, int regions, const std::string& out, 
   std::fprintf(stderr, "wrote project %s (its daylight session in daylight/solution.bin)\n", out.c_str());
   return 0;
 }
-}  // namespace
 
 int daylightBasisCommand(const QStringList& args, Progress& progress) {
   QCommandLineParser p;
@@ -128,18 +126,20 @@ int daylightBasisCommand(const QStringList& args, Progress& progress) {
   p.addOption({{"o", "output"}, "Write the room as a Relume project that keeps its daylight session: the reflectances "
                                 "estimated from the main photo under the photos' sky and every basis solution, in "
                                 "PROJECT/daylight/solution.bin, so that relume relight --sky and the workbench open it "
-                                "without estimating or solving again. Takes --regions only.", "PROJECT"});
+                                "without estimating or solving again. Takes no other option.", "PROJECT"});
   parseOrThrow(p, args, 1,
                "relume daylight-basis ROOM [--regions 64] [--grid 8] [--sky NAME] [--exact] [--json OUT.json] [--render DIR]\n"
-               "       relume daylight-basis ROOM -o PROJECT [--regions 64]");
+               "       relume daylight-basis ROOM -o PROJECT");
   bool ok = true;
   const int regions = p.isSet("regions") ? p.value("regions").toInt(&ok) : 64;
   if (!ok || regions < 1 || regions > 4096) throw Error("", "--regions", "must be a whole number from 1 to 4096");
   if (p.isSet("output")) {
-    for (const char* o : {"grid", "sky", "exact", "json", "render"})
+    for (const char* o : {"regions", "grid", "sky", "exact", "json", "render"})
       if (p.isSet(o))
-        throw Error("", std::string("--") + o, "is a report of the model's own simulation; with -o PROJECT give --regions only");
-    return keepDaylightSession(openRoom(p.positionalArguments()[0]), regions, p.value("output").toStdString(), progress);
+        throw Error("", std::string("--") + o,
+                    "is for the report of the model's own simulation; -o PROJECT keeps the session relume relight --sky and "
+                    "the workbench use (64 regions, refined for the photos' sky) and takes no other option");
+    return keepDaylightSession(openRoom(p.positionalArguments()[0]), 64, p.value("output").toStdString(), progress);
   }
   const int grid = p.isSet("grid") ? p.value("grid").toInt(&ok) : 0;
   if (!ok || (p.isSet("grid") && (grid < 2 || grid > 32))) throw Error("", "--grid", "must be a whole number from 2 to 32");

@@ -33,6 +33,7 @@ void usage() {
                "  calibrate CHECKERBOARD_DIR --pattern 9x6 --square 0.025 [-o intrinsics.json]\n"
                "  sky FISHEYE.exr [--projection equidistant|equisolid] [--fov 180] [--regions 64]  (sun, sky regions)\n"
                "  daylight-basis ROOM [--regions 64] [--exact] [--json OUT.json]  (basis solutions per sky region)\n"
+               "  daylight-basis ROOM -o PROJECT  (a daylight room kept with its session: opens without solving)\n"
                "  photometry FILE.ies|FILE.ldt [--json OUT.json]  (a luminaire's flux and shape)\n"
                "  ibr-fan MESH -o FAN [--views 96] [--size 256] [--rings 15,45,75] [--no-dither] [--up y]\n"
                "          (an image-based object's fan, for relight --virtual-object)\n"

@@ -248,6 +248,16 @@ int preprocessCommand(const QStringList& args, Progress& progress) {
   const RelightOptions opt = relightOptions(p);
   progress.report(0, "reading " + str(p.positionalArguments()[0]));
   const Scene scene = openRoom(p.positionalArguments()[0]);
+  if (!scene.skies.empty()) {
+    // A daylight room: its light comes through the windows, and its preprocess is the daylight
+    // session (reflectances under the photos' sky, the basis solutions), kept in the project.
+    for (const QString& o : p.optionNames())
+      if (o != "o" && o != "output")
+        throw Error(scene.sourceFile, "--" + o.toStdString(),
+                    "is an option of the lamp path; a daylight room's preprocess (as relume daylight-basis -o) takes none");
+    std::fprintf(stderr, "a daylight room: estimating under the photos' sky and solving its basis (as relume daylight-basis -o)\n");
+    return keepDaylightSession(scene, 64, str(p.value("output")), progress);
+  }
   ProgressScope work(progress, 0.0, 0.9);
   const RelightData data = preprocessRoom(scene, opt, work);
   printEstimates(data);

@@ -29,6 +29,12 @@ check "no half-written folder left" "[ ! -e '$tmp/frames.partial' ]"
 "$relume" daylight-basis "$room" -o "$tmp/proj" >"$tmp/keep.out" 2>"$tmp/keep.err"
 check "daylight-basis -o writes a project that keeps the daylight session" \
   "[ $? -eq 0 ] && [ -s '$tmp/proj/project.json' ] && [ -s '$tmp/proj/daylight/solution.bin' ] && grep -q '65 basis solutions' '$tmp/keep.out'"
+"$relume" daylight-basis "$room" -o "$tmp/proj2" --grid 8 2>"$tmp/keepgrid.err"
+check "daylight-basis -o with a report option is refused before anything is solved" \
+  "[ $? -eq 1 ] && grep -q 'takes no other option' '$tmp/keepgrid.err' && [ ! -e '$tmp/proj2' ]"
+"$relume" preprocess "$room" -o "$tmp/proj2" --mean-reflectance 0.5 2>"$tmp/prepday.err"
+check "preprocess on a daylight room is the daylight session (a lamp-path option is refused, naming it)" \
+  "[ $? -eq 1 ] && grep -q 'mean-reflectance' '$tmp/prepday.err' && grep -q 'daylight' '$tmp/prepday.err' && [ ! -e '$tmp/proj2' ]"
 cp -r "$tmp/frames" "$tmp/bundleframes"
 "$relume" relight "$tmp/proj" --sky "$tmp/skies" --daylight volume --virtual-object "$tmp/box.json" -o "$tmp/frames/" 2>"$tmp/again.err"
 check "an earlier run's frames are replaced (the output given with a trailing slash)" "[ $? -eq 0 ] && [ -s '$tmp/frames/t2.png' ] && [ ! -e '$tmp/frames.partial' ]"
