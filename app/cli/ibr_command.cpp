@@ -7,12 +7,14 @@
 #include <cstdio>
 #include <glm/geometric.hpp>
 #include <numbers>
+#include <vector>
 
 #include "commands.h"
 #include "relume/geometry/error.h"
 #include "relume/geometry/polygon.h"
 #include "relume/ibr/fan.h"
 #include "relume/ibr/ibr_object.h"
+#include "relume/ibr/normal_code.h"
 #include "relume/ibr/relit_objects.h"
 #include "relume/raytrace/ray_scene.h"
 #include "relume/relight/relighter.h"
@@ -95,6 +97,35 @@ QJsonObject ibrBench(const Scene& sceneIn, int runs, Progress& progress) {
     const size_t bytes = ibr::fanBytes(*fan).size();
     out["fan"] = QJsonObject{{"triangles", qint64(big.triangles.size())}, {"views", fan->viewCount()},
                              {"size", fan->size}, {"seconds", seconds(t0)}, {"file_bytes", qint64(bytes)}};
+  }
+  // Banding on a smooth sphere (the normal image of a sphere filling the view, coded plain and
+  // dithered), at growing sizes: a band of plain coding is a cell of the 17 x 17 grid wide, a
+  // dithered run (around a normal that is a code's own) grows only as its square root.
+  {
+    QJsonArray banding;
+    for (int w : {256, 512, 1024, 2048}) {
+      std::vector<glm::vec2> xy(size_t(w) * size_t(w), glm::vec2(0.f));
+      std::vector<uint8_t> mask(xy.size(), 0), plain(xy.size()), dithered(xy.size());
+      for (int y = 0; y < w; ++y)
+        for (int x = 0; x < w; ++x) {
+          const float a = (x + 0.5f) / float(w) * 2 - 1, b = 1 - (y + 0.5f) / float(w) * 2;
+          if (a * a + b * b >= 0.98f) continue;
+          xy[size_t(y) * size_t(w) + size_t(x)] = glm::vec2(a, b);
+          mask[size_t(y) * size_t(w) + size_t(x)] = 1;
+        }
+      ibr::encodeNormalImage(xy, mask, w, w, false, plain);
+      ibr::encodeNormalImage(xy, mask, w, w, true, dithered);
+      const int p = ibr::longestCodeRun(plain, w, w), d = ibr::longestCodeRun(dithered, w, w);
+      const int pm = ibr::longestCodeRun(plain, w, w, w / 2), dm = ibr::longestCodeRun(dithered, w, w, w / 2);
+      banding.append(QJsonObject{{"sphere_pixels", w},
+                                 {"longest_run_plain", p},
+                                 {"longest_run_dithered", d},
+                                 {"ratio", double(p) / double(std::max(d, 1))},
+                                 {"middle_row_plain", pm},
+                                 {"middle_row_dithered", dm}});
+      std::fprintf(stderr, "banding, sphere %d px across: longest run plain %d, dithered %d (middle row %d, %d)\n", w, p, d, pm, dm);
+    }
+    out["banding"] = banding;
   }
   // One object in the relit room, seen through the main photo's camera at 640 x 480.
   Scene scene = sceneIn;

@@ -66,21 +66,6 @@ void sphereNormals(int w, std::vector<glm::vec2>& xy, std::vector<uint8_t>& mask
     }
 }
 
-// The longest run of equal codes along a row of the image, inside the silhouette (all rows, or one).
-int longestRun(const std::vector<uint8_t>& codes, int w, int onlyRow = -1) {
-  int best = 0;
-  for (int y = 0; y < w; ++y) {
-    if (onlyRow >= 0 && y != onlyRow) continue;
-    int run = 0, last = -1;
-    for (int x = 0; x < w; ++x) {
-      const int c = codes[size_t(y) * w + x];
-      run = (c != kNoNormal && c == last) ? run + 1 : 1;
-      last = c;
-      if (c != kNoNormal) best = std::max(best, run);
-    }
-  }
-  return best;
-}
 
 // PSNR of Lambertian shading max(0, n . l) from the codes against the exact normals', over the
 // pixels whose 3 x 3 neighbourhood lies inside the mask, optionally after a 3 x 3 box filter of both.
@@ -128,9 +113,9 @@ TEST(NormalCode, DitheringKeepsTheLocalMeanNormalAndShadingCloserThanPlainCoding
   encodeNormalImage(xy, mask, w, w, false, plain);
   encodeNormalImage(xy, mask, w, w, true, dithered);
   // Bands: runs of one code along a row (one code, one shade under any light).
-  const int runPlain = longestRun(plain, w), runDithered = longestRun(dithered, w);
+  const int runPlain = longestCodeRun(plain, w, w), runDithered = longestCodeRun(dithered, w, w);
   std::printf("longest run of one code along a row: plain %d, dithered %d pixels (middle row: %d, %d)\n", runPlain,
-              runDithered, longestRun(plain, w, w / 2), longestRun(dithered, w, w / 2));
+              runDithered, longestCodeRun(plain, w, w, w / 2), longestCodeRun(dithered, w, w, w / 2));
   EXPECT_LT(runDithered, runPlain);
   // Averaged over 4 x 4 blocks (what the eye and a display filter see), the dithered normals are
   // much nearer the true ones than plain coding's.

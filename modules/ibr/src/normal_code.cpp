@@ -155,4 +155,19 @@ void encodeNormalImage(std::span<const glm::vec2> normals, std::span<const uint8
   }
 }
 
+int longestCodeRun(std::span<const uint8_t> codes, int width, int height, int onlyRow) {
+  int best = 0;
+  for (int y = 0; y < height; ++y) {
+    if (onlyRow >= 0 && y != onlyRow) continue;
+    int run = 0, last = -1;
+    for (int x = 0; x < width; ++x) {
+      const int c = codes[size_t(y) * size_t(width) + size_t(x)];
+      run = (c != kNoNormal && c == last) ? run + 1 : 1;
+      last = c;
+      if (c != kNoNormal) best = std::max(best, run);
+    }
+  }
+  return best;
+}
+
 }  // namespace relume::ibr

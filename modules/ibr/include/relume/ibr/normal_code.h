@@ -36,4 +36,8 @@ uint8_t encodeNormal(glm::vec2 xy);
 void encodeNormalImage(std::span<const glm::vec2> normals, std::span<const uint8_t> mask, int width, int height,
                        bool dither, std::span<uint8_t> codes);
 
+// Banding, as the longest run of one code along a row of a coded image (pixels of kNoNormal break
+// runs and are not counted): every row, or only row `onlyRow`.
+int longestCodeRun(std::span<const uint8_t> codes, int width, int height, int onlyRow = -1);
+
 }  // namespace relume::ibr
