@@ -100,7 +100,11 @@ int keepDaylightSession(const Scene& room, int regions, const std::string& out, 
   saveProject(room, out, saving, [&](const std::string& staging) {
     if (!QDir().mkpath(QString::fromStdString(staging + "/daylight")))
       throw Error(staging + "/daylight", "", "cannot create the folder");
-    session.save(staging + "/daylight/solution.bin");
+    try {
+      session.save(staging + "/daylight/solution.bin");
+    } catch (const Error& e) {  // named as the user knows it, not by the staging folder
+      throw Error(out + "/daylight/solution.bin", e.element(), e.problem());
+    }
   });
   std::fprintf(stderr, "wrote project %s (its daylight session in daylight/solution.bin)\n", out.c_str());
   return 0;

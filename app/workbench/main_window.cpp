@@ -140,6 +140,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   addDockWidget(Qt::LeftDockWidgetArea, skyDock_);
   skyDock_->hide();
   connect(sky_, &SkyPanel::message, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
+  connect(sky_, &SkyPanel::opened, this, [this](const QString& path) { addRecent(path); });
   // Edit > Undo acts on the clicks while they have the focus, else on the document.
   undoGroup_ = new QUndoGroup(this);
   undoGroup_->addStack(doc_->undoStack());
@@ -677,10 +678,10 @@ bool MainWindow::switchMesh(bool interactive) {
 
 bool MainWindow::saveTo(const QString& folder) {
   if (!doc_->isOpen() && sky_->isOpen()) {  // a daylight room: the project keeps its session
-    const QString abs = QFileInfo(folder).absoluteFilePath();
-    if (!sky_->saveProject(abs)) return false;
-    addRecent(abs);
-    return true;
+    // (listed under Open Recent once written: SkyPanel::opened)
+    if (sky_->saveProject(QFileInfo(folder).absoluteFilePath())) return true;
+    statusBar()->showMessage(tr("A job is running: wait for it or cancel it, then save."), 5000);
+    return false;
   }
   if (!doc_->isOpen() || jobs_->busy()) return false;
   storeView();

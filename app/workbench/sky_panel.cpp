@@ -226,7 +226,11 @@ bool SkyPanel::saveProject(const QString& folder) {
     relume::saveProject(*scene, abs.toStdString(), progress, [&](const std::string& staging) {
       if (!QDir().mkpath(QString::fromStdString(staging + "/daylight")))
         throw Error(staging + "/daylight", "", "cannot create the folder");
-      relit->save(staging + "/daylight/solution.bin");
+      try {
+        relit->save(staging + "/daylight/solution.bin");
+      } catch (const Error& e) {  // named as the user knows it, not by the staging folder
+        throw Error(abs.toStdString() + "/daylight/solution.bin", e.element(), e.problem());
+      }
     });
     return JobRunner::Continuation([this, abs, generation] {
       if (generation != generation_) return;  // another room was opened meanwhile

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <glm/geometric.hpp>
 #include <memory>
 #include <numbers>
@@ -389,9 +390,13 @@ TEST(DaylightBasis, AKeptBasisReadBackTakesTheNextLightThroughTheWindowsAsTheSol
   ByteReader r(w.bytes, "kept.bin");
   DaylightBasis kept(room, sky, o, r);
   r.expectEnd();
+  const unsigned revision = kept.revision();
   ASSERT_EQ(kept.basisCount(), solved.basisCount());
+  ASSERT_EQ(kept.engine().nodes().size(), solved.engine().nodes().size());
+  ASSERT_EQ(kept.engine().links().size(), solved.engine().links().size());
   for (int k = 0; k < solved.basisCount(); ++k) EXPECT_TRUE(kept.basis(k) == solved.basis(k)) << "basis " << k;
-  EXPECT_TRUE(kept.sunSolution(sun) == solved.sunSolution(sun));  // kept, not solved again
+  EXPECT_TRUE(kept.sunSolution(sun) == solved.sunSolution(sun));
+  EXPECT_EQ(kept.revision(), revision);  // the sun's solution was kept, not solved again
   auto even = std::make_shared<radiosity::DistantLight>();
   even->radiance = [](const glm::dvec3& d) { return d.z > 0 ? 1.0 : 0.0; };
   const auto a = solved.solveFor(even), b = kept.solveFor(even);
@@ -400,6 +405,27 @@ TEST(DaylightBasis, AKeptBasisReadBackTakesTheNextLightThroughTheWindowsAsTheSol
   for (size_t i = 0; i < solved.engine().links().size(); ++i)
     differ += solved.engine().links()[i].visibility != kept.engine().links()[i].visibility;
   EXPECT_EQ(differ, 0u);
+  // A file whose checksum holds but whose element tree does not (a crafted file): refused before
+  // anything is used. The engine's state starts 44 bytes in (the basis's header), its elements
+  // 28 bytes later (version, sizes, fingerprint, scale) after their count; element 1's parent is
+  // made -1 (a second root), then a child made to point back at the root.
+  for (int damage = 0; damage < 2; ++damage) {
+    std::vector<uint8_t> bytes(w.bytes.begin(), w.bytes.end() - 4);
+    const size_t nodes = 44 + 28 + 8, node1 = nodes + 81;
+    const int32_t bad = damage == 0 ? -1 : 0;
+    std::memcpy(bytes.data() + (damage == 0 ? node1 : node1 + 81 * 4), &bad, 4);  // parent of element 1, or of 5
+    ByteWriter crafted;
+    crafted.bytes = bytes;
+    crafted.seal();
+    ByteReader cr(crafted.bytes, "crafted.bin");
+    try {
+      DaylightBasis broken(room, sky, o, cr);
+      ADD_FAILURE() << "a crafted basis was read (damage " << damage << ")";
+    } catch (const Error& err) {
+      EXPECT_EQ(err.file(), "crafted.bin");
+      EXPECT_NE(err.problem().find("damaged"), std::string::npos) << err.problem();
+    }
+  }
   // Another room, or other options: refused, naming the file.
   ByteReader again(w.bytes, "kept.bin");
   Scene moved = room;

@@ -445,12 +445,19 @@ TEST(DaylightRelight, AKeptSessionOpensAsItWasSavedAndAnotherPhotoRoomOrADamaged
   engine->visibilityRays = 4;
   coarse.engine = engine;
   DaylightRelighting solved(room, photo, cam, sky, coarse);
+  // Kept after the session showed another sun (as the workbench saves): the basis then holds that
+  // sun's solution, and opening must still solve nothing.
+  SkyRadiance other = sky;
+  other.sun.direction = glm::normalize(glm::dvec3(std::cos(0.8), 0.3, std::sin(0.8)));
+  solved.render(other, {}, DaylightMethod::NearField);
   const std::string dir = ::testing::TempDir() + "/relume_kept_session";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir + "/daylight");
   const std::string file = dir + "/daylight/solution.bin";
   solved.save(file);
   DaylightRelighting kept(room, photo, cam, sky, coarse, file);
+  EXPECT_EQ(kept.basis().revision(), 1u);  // read, nothing solved since (every solve counts)
+  EXPECT_TRUE(kept.photoIrradiance().pixels == solved.photoIrradiance().pixels);
   EXPECT_EQ(kept.reflectances(), solved.reflectances());
   EXPECT_EQ(kept.estimated(), solved.estimated());
   EXPECT_EQ(kept.unseenFit().ok, solved.unseenFit().ok);
@@ -484,8 +491,6 @@ TEST(DaylightRelight, AKeptSessionOpensAsItWasSavedAndAnotherPhotoRoomOrADamaged
   // The same images: the photo's irradiance, and the room under another sun (its patch refined
   // again on the kept hierarchy, as on the solved one).
   EXPECT_LT(farthest(kept.photoIrradiance(), solved.photoIrradiance()), 1e-6);
-  SkyRadiance other = sky;
-  other.sun.direction = glm::normalize(glm::dvec3(std::cos(0.8), 0.3, std::sin(0.8)));
   const ImageRGB a = solved.render(other, {}, DaylightMethod::NearField);
   const ImageRGB b = kept.render(other, {}, DaylightMethod::NearField);
   const double diff = farthest(b, a);

@@ -707,6 +707,9 @@ void DaylightRelighting::save(const std::string& file) const {
   w.u64(uint64_t(unseenFit_.sunlitPixels));
   w.f64(unseenFit_.sensitivity);
   w.text(unseenFit_.why);
+  // The photo's irradiance as the session made it (its sun solved then: the basis may since hold
+  // another sun's, and opening must solve nothing).
+  w.array(ePhoto_.pixels);
   try {
     basis_->write(w);
   } catch (const Error& e) {
@@ -744,16 +747,17 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
   unseenFit_.sunlitPixels = long(std::min<uint64_t>(in.u64(part), uint64_t(std::numeric_limits<long>::max())));
   unseenFit_.sensitivity = in.f64(part);
   unseenFit_.why = in.text(part);
+  ePhoto_ = ImageRGB(photo.width, photo.height);
+  ePhoto_.pixels = in.array<float>(part, ePhoto_.pixels.size());
+  if (ePhoto_.pixels.size() != size_t(photo.width) * size_t(photo.height) * 3)
+    in.fail(part, "the photo's irradiance is not the photo's size (damaged)");
   // The room as the last round of estimation solved it.
   Scene room = scene;
   for (size_t s = 0; s < n; ++s) room.polygons[s].albedo = reflectances_[s];
   basis_ = std::make_unique<DaylightBasis>(room, photoSky, options, in);
   in.expectEnd();
-  progress.report(0.2, "looking up the photo's pixels");
+  progress.report(0.5, "looking up the photo's pixels");
   seen_ = seePixels(*basis_, camera);
-  Progress stage(progress, 0.2, 1.0);
-  IrradianceParts e = irradianceParts(*basis_, seen_, photoSky, stage);
-  ePhoto_ = sum(std::move(e.rest), e.sun);
 }
 
 std::string keptSolutionFile(const Scene& scene) {
@@ -767,12 +771,15 @@ std::unique_ptr<DaylightRelighting> openDaylightRelighting(const Scene& scene, c
                                                            Progress& progress, std::string* how) {
   const std::string kept = keptSolutionFile(scene);
   std::string said;
-  if (!kept.empty() && std::filesystem::exists(kept)) {
+  std::error_code ec;
+  if (!kept.empty() && std::filesystem::exists(kept, ec)) {
     try {
       auto out = std::make_unique<DaylightRelighting>(scene, photo, camera, photoSky, options, kept, progress);
       if (how) *how = "opened the project's kept daylight solution " + kept;
       return out;
-    } catch (const Error& e) {
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const std::exception& e) {
       said = std::string("the kept daylight solution is not used (") + e.what() + "): estimating and solving again";
     }
   }

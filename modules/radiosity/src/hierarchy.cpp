@@ -7,6 +7,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <glm/geometric.hpp>
 #include <numbers>
@@ -407,20 +408,55 @@ uint64_t engineFingerprint(const std::vector<Surface>& surfaces, const Options& 
   return f.h;
 }
 constexpr uint32_t kStateVersion = 1;
+// Elements and links field by field (no padding bytes on disk): 81 and 21 bytes.
+constexpr size_t kNodeBytes = 5 * 4 + 6 * 4 + 9 * 4 + 1, kLinkBytes = 2 * 4 + 3 * 4 + 1;
+template <class T>
+void put(uint8_t*& p, const T& v) {
+  std::memcpy(p, &v, sizeof(T));
+  p += sizeof(T);
+}
+template <class T>
+T take(const uint8_t*& p) {
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  p += sizeof(T);
+  return v;
+}
 // A hierarchy of more elements than this is not one Relume made (about 40 GB of links).
 constexpr size_t kMaxStateNodes = size_t(1) << 28, kMaxStateLinks = size_t(1) << 31;
 }  // namespace
 
 void HierarchicalRadiosity::writeState(ByteWriter& out) const {
   out.u32(kStateVersion);
-  out.u32(uint32_t(sizeof(Node)));
-  out.u32(uint32_t(sizeof(Link)));
+  out.u32(uint32_t(kNodeBytes));
+  out.u32(uint32_t(kLinkBytes));
   out.u64(engineFingerprint(surfaces_, options_));
   out.f64(impl_->eRef);
-  out.array(nodes_);
+  {
+    std::vector<uint8_t> b(nodes_.size() * kNodeBytes);
+    uint8_t* p = b.data();
+    for (const Node& n : nodes_) {
+      for (int32_t v : {n.parent, n.childBegin, n.childCount, n.surface, n.level}) put(p, v);
+      for (float v : {n.u0, n.v0, n.u1, n.v1, n.area, n.radius}) put(p, v);
+      for (const glm::vec3* v : {&n.center, &n.bmin, &n.bmax}) put(p, v->x), put(p, v->y), put(p, v->z);
+      put(p, uint8_t(n.subdivided ? 1 : 0));
+    }
+    out.u64(nodes_.size());
+    out.raw(b.data(), b.size());
+  }
   out.array(children_);
   out.array(surfaceRoot_);
-  out.array(links_);
+  {
+    std::vector<uint8_t> b(links_.size() * kLinkBytes);
+    uint8_t* p = b.data();
+    for (const Link& l : links_) {
+      put(p, l.receiver), put(p, l.source);
+      put(p, l.formFactor), put(p, l.visibility), put(p, l.variation);
+      put(p, uint8_t(l.type));
+    }
+    out.u64(links_.size());
+    out.raw(b.data(), b.size());
+  }
   out.array(B_);
   out.array(E_);
   out.array(Edown_);
@@ -444,15 +480,50 @@ void HierarchicalRadiosity::writeState(ByteWriter& out) const {
 void HierarchicalRadiosity::readState(ByteReader& in) {
   const char* part = "radiosity hierarchy";
   if (in.u32(part) != kStateVersion) in.fail(part, "was written by another version of Relume (solve it again)");
-  if (in.u32(part) != sizeof(Node) || in.u32(part) != sizeof(Link))
+  if (in.u32(part) != kNodeBytes || in.u32(part) != kLinkBytes)
     in.fail(part, "was written by a build of Relume with another memory layout (solve it again)");
   if (in.u64(part) != engineFingerprint(surfaces_, options_))
     in.fail(part, "was solved for other polygons, reflectances or engine options than the room's now (solve it again)");
   const double eRef = in.f64(part);
-  auto nodes = in.array<Node>(part, kMaxStateNodes);
+  if (!(eRef > 0)) in.fail(part, "is damaged (the refinement scale)");
+  std::vector<Node> nodes;
+  {
+    const uint64_t count = in.u64(part);
+    if (count > kMaxStateNodes) in.fail(part, "holds more elements than it can (damaged)");
+    in.need(size_t(count) * kNodeBytes, part);
+    const uint8_t* p = in.bytes().data() + in.pos;
+    nodes.resize(size_t(count));
+    for (Node& n : nodes) {
+      n.parent = take<int32_t>(p), n.childBegin = take<int32_t>(p), n.childCount = take<int32_t>(p);
+      n.surface = take<int32_t>(p), n.level = take<int32_t>(p);
+      n.u0 = take<float>(p), n.v0 = take<float>(p), n.u1 = take<float>(p), n.v1 = take<float>(p);
+      n.area = take<float>(p), n.radius = take<float>(p);
+      for (glm::vec3* v : {&n.center, &n.bmin, &n.bmax}) v->x = take<float>(p), v->y = take<float>(p), v->z = take<float>(p);
+      const uint8_t sub = take<uint8_t>(p);
+      if (sub > 1) in.fail(part, "is damaged (an element's flag)");
+      n.subdivided = sub != 0;
+    }
+    in.pos += size_t(count) * kNodeBytes;
+  }
   auto children = in.array<int32_t>(part, kMaxStateNodes);
   auto surfaceRoot = in.array<int32_t>(part, surfaces_.size());
-  auto links = in.array<Link>(part, kMaxStateLinks);
+  std::vector<Link> links;
+  {
+    const uint64_t count = in.u64(part);
+    if (count > kMaxStateLinks) in.fail(part, "holds more links than it can (damaged)");
+    in.need(size_t(count) * kLinkBytes, part);
+    const uint8_t* p = in.bytes().data() + in.pos;
+    links.resize(size_t(count));
+    for (Link& l : links) {
+      l.receiver = take<int32_t>(p), l.source = take<int32_t>(p);
+      l.formFactor = take<float>(p), l.visibility = take<float>(p), l.variation = take<float>(p);
+      const uint8_t type = take<uint8_t>(p);
+      if (type > uint8_t(VisibilityType::Partial) || !std::isfinite(l.formFactor) || !std::isfinite(l.visibility))
+        in.fail(part, "a link is damaged");
+      l.type = VisibilityType(type);
+    }
+    in.pos += size_t(count) * kLinkBytes;
+  }
   auto B = in.array<glm::vec3>(part, kMaxStateNodes), E = in.array<glm::vec3>(part, kMaxStateNodes),
        Edown = in.array<glm::vec3>(part, kMaxStateNodes);
   auto perm = in.array<int32_t>(part, surfaces_.size()), posInPerm = in.array<int32_t>(part, surfaces_.size());
@@ -471,15 +542,22 @@ void HierarchicalRadiosity::readState(ByteReader& in) {
   auto within = [](int64_t v, int64_t lo, int64_t hi) { return v >= lo && v < hi; };
   for (size_t i = 0; i < n; ++i) {
     const Node& nd = nodes[i];
-    const bool ok = within(nd.parent, -1, int64_t(i)) && nd.childCount >= 0 && nd.childBegin >= 0 &&
+    // The root cluster alone has no parent, and parents come before their children.
+    const bool ok = (i == 0 ? nd.parent == -1 : within(nd.parent, 0, int64_t(i))) && nd.childCount >= 0 && nd.childBegin >= 0 &&
                     int64_t(nd.childBegin) + nd.childCount <= int64_t(children.size()) && within(nd.surface, -1, int64_t(ns)) &&
                     rangeBegin[i] >= 0 && rangeCount[i] >= 0 && int64_t(rangeBegin[i]) + rangeCount[i] <= int64_t(ns);
     if (!ok) in.fail(part, "element " + std::to_string(i) + " is damaged (an index out of range)");
   }
-  for (int32_t c : children)
-    if (!within(c, 1, int64_t(n))) in.fail(part, "the element tree is damaged (a child out of range)");
+  for (size_t i = 0; i < n; ++i)  // each child names this node its parent; an element's are on its surface
+    for (int32_t k = 0; k < nodes[i].childCount; ++k) {
+      const int32_t c = children[size_t(nodes[i].childBegin + k)];
+      if (!within(c, 1, int64_t(n)) || nodes[size_t(c)].parent != int32_t(i) ||
+          (nodes[i].surface >= 0 && nodes[size_t(c)].surface != nodes[i].surface))
+        in.fail(part, "the element tree is damaged (a child out of place)");
+    }
   for (size_t s = 0; s < ns; ++s)
-    if (!within(surfaceRoot[s], -1, int64_t(n)) || !within(perm[s], 0, int64_t(ns)) || !within(posInPerm[s], 0, int64_t(ns)))
+    if (!within(surfaceRoot[s], 1, int64_t(n)) || nodes[size_t(surfaceRoot[s])].surface != int32_t(s) ||
+        !within(perm[s], 0, int64_t(ns)) || !within(posInPerm[s], 0, int64_t(ns)))
       in.fail(part, "the surfaces' elements are damaged (an index out of range)");
   for (const Link& l : links)
     if (!within(l.receiver, 0, int64_t(n)) || !within(l.source, 0, int64_t(n)))
