@@ -2311,6 +2311,9 @@ class WorkbenchTest : public QObject {
     // Saved as a project (File > Save), the room opens again without estimating or solving: the
     // project keeps the daylight session, and the Sky panel shows the same relit photo.
     const QString project = tmp_.path() + "/daylight.relume";
+    sky->skyBox()->setCurrentIndex(0);  // the photos' sky, as the project opens
+    QVERIFY(settle(120000));
+    const QImage beforeSave = sky->shown();
     QVERIFY(w.saveTo(project));
     QVERIFY(settle(120000));
     QVERIFY(QFileInfo(project + "/daylight/solution.bin").size() > 1000);
@@ -2324,8 +2327,12 @@ class WorkbenchTest : public QObject {
     for (const auto& m : notes) heard << m.first().toString();
     QVERIFY2(heard.join("\n").contains("opened the project's kept daylight solution"), qPrintable(heard.join("\n")));
     QCOMPARE(sky->framesShown(), 1);
-    qInfo("reopened from the project: %.1f dB against the first open's image", psnr8(sky->shown(), underPhotoSky));
-    QVERIFY(psnr8(sky->shown(), underPhotoSky) > 50);
+    // The session as it was saved (its hierarchy refined for the suns shown since the first open,
+    // so a little finer than the first open's): the image it showed, and the first open's nearly.
+    qInfo("reopened from the project: %.1f dB against the image before saving, %.1f dB against the first open's",
+          psnr8(sky->shown(), beforeSave), psnr8(sky->shown(), underPhotoSky));
+    QVERIFY(psnr8(sky->shown(), beforeSave) > 80);
+    QVERIFY(psnr8(sky->shown(), underPhotoSky) > 45);
   }
 
   void daylightWithALampInTheSkyPanel() {
