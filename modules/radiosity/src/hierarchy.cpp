@@ -422,6 +422,26 @@ T take(const uint8_t*& p) {
   p += sizeof(T);
   return v;
 }
+// A count, then `bytes` per record as `encode` lays it out (and `decode` reads it back).
+template <class T, class Encode>
+void writeRecords(ByteWriter& out, const std::vector<T>& records, size_t bytes, Encode encode) {
+  std::vector<uint8_t> b(records.size() * bytes);
+  uint8_t* p = b.data();
+  for (const T& r : records) encode(p, r);
+  out.u64(records.size());
+  out.raw(b.data(), b.size());
+}
+template <class T, class Decode>
+std::vector<T> readRecords(ByteReader& in, const char* part, const char* what, size_t max, size_t bytes, Decode decode) {
+  const uint64_t count = in.u64(part);
+  if (count > max) in.fail(part, std::string("holds more ") + what + " than it can (damaged)");
+  in.need(size_t(count) * bytes, part);
+  const uint8_t* p = in.bytes().data() + in.pos;
+  std::vector<T> records(static_cast<size_t>(count));
+  for (T& r : records) decode(p, r);
+  in.pos += size_t(count) * bytes;
+  return records;
+}
 // A hierarchy of more elements than this is not one Relume made (about 40 GB of links).
 constexpr size_t kMaxStateNodes = size_t(1) << 28, kMaxStateLinks = size_t(1) << 31;
 }  // namespace
@@ -432,31 +452,19 @@ void HierarchicalRadiosity::writeState(ByteWriter& out) const {
   out.u32(uint32_t(kLinkBytes));
   out.u64(engineFingerprint(surfaces_, options_));
   out.f64(impl_->eRef);
-  {
-    std::vector<uint8_t> b(nodes_.size() * kNodeBytes);
-    uint8_t* p = b.data();
-    for (const Node& n : nodes_) {
-      for (int32_t v : {n.parent, n.childBegin, n.childCount, n.surface, n.level}) put(p, v);
-      for (float v : {n.u0, n.v0, n.u1, n.v1, n.area, n.radius}) put(p, v);
-      for (const glm::vec3* v : {&n.center, &n.bmin, &n.bmax}) put(p, v->x), put(p, v->y), put(p, v->z);
-      put(p, uint8_t(n.subdivided ? 1 : 0));
-    }
-    out.u64(nodes_.size());
-    out.raw(b.data(), b.size());
-  }
+  writeRecords(out, nodes_, kNodeBytes, [](uint8_t*& p, const Node& n) {
+    for (int32_t v : {n.parent, n.childBegin, n.childCount, n.surface, n.level}) put(p, v);
+    for (float v : {n.u0, n.v0, n.u1, n.v1, n.area, n.radius}) put(p, v);
+    for (const glm::vec3* v : {&n.center, &n.bmin, &n.bmax}) put(p, v->x), put(p, v->y), put(p, v->z);
+    put(p, uint8_t(n.subdivided ? 1 : 0));
+  });
   out.array(children_);
   out.array(surfaceRoot_);
-  {
-    std::vector<uint8_t> b(links_.size() * kLinkBytes);
-    uint8_t* p = b.data();
-    for (const Link& l : links_) {
-      put(p, l.receiver), put(p, l.source);
-      put(p, l.formFactor), put(p, l.visibility), put(p, l.variation);
-      put(p, uint8_t(l.type));
-    }
-    out.u64(links_.size());
-    out.raw(b.data(), b.size());
-  }
+  writeRecords(out, links_, kLinkBytes, [](uint8_t*& p, const Link& l) {
+    put(p, l.receiver), put(p, l.source);
+    put(p, l.formFactor), put(p, l.visibility), put(p, l.variation);
+    put(p, uint8_t(l.type));
+  });
   out.array(B_);
   out.array(E_);
   out.array(Edown_);
@@ -486,44 +494,26 @@ void HierarchicalRadiosity::readState(ByteReader& in) {
     in.fail(part, "was solved for other polygons, reflectances or engine options than the room's now (solve it again)");
   const double eRef = in.f64(part);
   if (!(eRef > 0)) in.fail(part, "is damaged (the refinement scale)");
-  std::vector<Node> nodes;
-  {
-    const uint64_t count = in.u64(part);
-    if (count > kMaxStateNodes) in.fail(part, "holds more elements than it can (damaged)");
-    in.need(size_t(count) * kNodeBytes, part);
-    const uint8_t* p = in.bytes().data() + in.pos;
-    nodes.resize(size_t(count));
-    for (Node& n : nodes) {
-      n.parent = take<int32_t>(p), n.childBegin = take<int32_t>(p), n.childCount = take<int32_t>(p);
-      n.surface = take<int32_t>(p), n.level = take<int32_t>(p);
-      n.u0 = take<float>(p), n.v0 = take<float>(p), n.u1 = take<float>(p), n.v1 = take<float>(p);
-      n.area = take<float>(p), n.radius = take<float>(p);
-      for (glm::vec3* v : {&n.center, &n.bmin, &n.bmax}) v->x = take<float>(p), v->y = take<float>(p), v->z = take<float>(p);
-      const uint8_t sub = take<uint8_t>(p);
-      if (sub > 1) in.fail(part, "is damaged (an element's flag)");
-      n.subdivided = sub != 0;
-    }
-    in.pos += size_t(count) * kNodeBytes;
-  }
+  auto nodes = readRecords<Node>(in, part, "elements", kMaxStateNodes, kNodeBytes, [&](const uint8_t*& p, Node& n) {
+    n.parent = take<int32_t>(p), n.childBegin = take<int32_t>(p), n.childCount = take<int32_t>(p);
+    n.surface = take<int32_t>(p), n.level = take<int32_t>(p);
+    n.u0 = take<float>(p), n.v0 = take<float>(p), n.u1 = take<float>(p), n.v1 = take<float>(p);
+    n.area = take<float>(p), n.radius = take<float>(p);
+    for (glm::vec3* v : {&n.center, &n.bmin, &n.bmax}) v->x = take<float>(p), v->y = take<float>(p), v->z = take<float>(p);
+    const uint8_t sub = take<uint8_t>(p);
+    if (sub > 1) in.fail(part, "is damaged (an element's flag)");
+    n.subdivided = sub != 0;
+  });
   auto children = in.array<int32_t>(part, kMaxStateNodes);
   auto surfaceRoot = in.array<int32_t>(part, surfaces_.size());
-  std::vector<Link> links;
-  {
-    const uint64_t count = in.u64(part);
-    if (count > kMaxStateLinks) in.fail(part, "holds more links than it can (damaged)");
-    in.need(size_t(count) * kLinkBytes, part);
-    const uint8_t* p = in.bytes().data() + in.pos;
-    links.resize(size_t(count));
-    for (Link& l : links) {
-      l.receiver = take<int32_t>(p), l.source = take<int32_t>(p);
-      l.formFactor = take<float>(p), l.visibility = take<float>(p), l.variation = take<float>(p);
-      const uint8_t type = take<uint8_t>(p);
-      if (type > uint8_t(VisibilityType::Partial) || !std::isfinite(l.formFactor) || !std::isfinite(l.visibility))
-        in.fail(part, "a link is damaged");
-      l.type = VisibilityType(type);
-    }
-    in.pos += size_t(count) * kLinkBytes;
-  }
+  auto links = readRecords<Link>(in, part, "links", kMaxStateLinks, kLinkBytes, [&](const uint8_t*& p, Link& l) {
+    l.receiver = take<int32_t>(p), l.source = take<int32_t>(p);
+    l.formFactor = take<float>(p), l.visibility = take<float>(p), l.variation = take<float>(p);
+    const uint8_t type = take<uint8_t>(p);
+    if (type > uint8_t(VisibilityType::Partial) || !std::isfinite(l.formFactor) || !std::isfinite(l.visibility))
+      in.fail(part, "a link is damaged");
+    l.type = VisibilityType(type);
+  });
   auto B = in.array<glm::vec3>(part, kMaxStateNodes), E = in.array<glm::vec3>(part, kMaxStateNodes),
        Edown = in.array<glm::vec3>(part, kMaxStateNodes);
   auto perm = in.array<int32_t>(part, surfaces_.size()), posInPerm = in.array<int32_t>(part, surfaces_.size());
