@@ -4,9 +4,8 @@
 #
 # Every unit test binary runs whole, except relight_tests, which runs its quick tests: its others
 # each preprocess the sample room, 15-60 s apiece under the sanitizers, and run in the normal
-# build only (scripts/test.sh); so do daylight_tests' interactive-path test and its tests on the
-# daylight sample room (all but the fisheye one). The GUI and end-to-end tests run in the normal
-# build only. Then
+# build only (scripts/test.sh); so do daylight_tests' slowest tests (listed below). The GUI and
+# end-to-end tests run in the normal build only. Then
 # the fuzzing corpora and regression inputs replay through the harnesses (tests/fuzz).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -31,21 +30,24 @@ run() {  # name, gtest filter
     return 1
   fi
 }
-# Two at a time (the machine has two cores; each binary's TBB work is mostly serial here).
+# Two at a time from one queue, longest first (the machine has two cores; each binary's TBB work is
+# mostly serial here). daylight_tests runs without the tests that solve a room's bases three times
+# over, on the exact sky, or on the daylight sample room (13 min for the interactive path alone
+# under the sanitizers): the same code runs here on the smaller rooms of the other daylight tests;
+# those run in the normal build only.
+slow_daylight="DaylightRelight.TheInteractivePath*:DaylightSampleRoom.T*:DaylightSampleRoom.A*:"
+slow_daylight+="DaylightSampleRoom.R*:DaylightBasis.AVirtualLampShinesAsTheSameLampSolvedAlone*:"
+slow_daylight+="DaylightBasis.RegionsCombinedMatchTheExactSky*:DaylightRelight.AOneSidedVirtualLamp*"
+queue=("daylight_tests -$slow_daylight" "ibr_tests *" "relight_tests $quick_relight"
+       "radiosity_tests *" "reconstruct_tests *" "project_tests *" "geometry_tests *"
+       "raytrace_tests *")
 status=0
-pids=()
-run radiosity_tests '*' & pids+=($!)
-run reconstruct_tests '*' & pids+=($!)
-for p in "${pids[@]}"; do wait "$p" || status=1; done
-for t in geometry_tests raytrace_tests project_tests; do run "$t" '*' || status=1; done
-# daylight_tests without the tests that solve a room's bases three times over or on the daylight
-# sample room (13 min for the interactive path alone under the sanitizers): the same code runs
-# here on the smaller rooms of the other daylight tests; those run in the normal build only.
-run daylight_tests '-DaylightRelight.TheInteractivePath*:DaylightSampleRoom.T*:DaylightSampleRoom.A*:DaylightSampleRoom.R*' || status=1
-pids=()
-run ibr_tests '*' & pids+=($!)
-run relight_tests "$quick_relight" & pids+=($!)
-for p in "${pids[@]}"; do wait "$p" || status=1; done
+running=0
+for job in "${queue[@]}"; do
+  if [ "$running" -ge 2 ]; then wait -n || status=1; running=$((running - 1)); fi
+  run ${job%% *} "${job#* }" & running=$((running + 1))
+done
+while [ "$running" -gt 0 ]; do wait -n || status=1; running=$((running - 1)); done
 # The fuzzing corpora and every crash input found (tests/fuzz/regressions), replayed through the
 # parsers' harnesses under the same sanitizers (g++; libFuzzer's engine is not needed to replay).
 cmake -S tests/fuzz -B build-asan/fuzz-replay -G Ninja -DRELUME_FUZZ_REPLAY=ON > /dev/null
