@@ -1156,6 +1156,14 @@
         <source>Opened %1 (daylight: see the Sky panel)</source>
         <translation>%1 geöffnet (Tageslicht: siehe Himmel-Bereich)</translation>
     </message>
+    <message>
+        <source>Save the daylight room as a project</source>
+        <translation>Den Tageslichtraum als Projekt speichern</translation>
+    </message>
+    <message>
+        <source>A job is running: wait for it or cancel it, then save.</source>
+        <translation>Eine Aufgabe läuft: warten Sie sie ab oder brechen Sie sie ab, dann speichern.</translation>
+    </message>
 </context>
 <context>
     <name>relume::ObjectsPanel</name>
@@ -1936,6 +1944,30 @@ Kein Schachbrett gefunden in: %1</translation>
     <message>
         <source>The virtual lamps of %1 are left out: %2</source>
         <translation>Die virtuellen Leuchten von %1 werden weggelassen: %2</translation>
+    </message>
+    <message>
+        <source>Saving %1</source>
+        <translation>%1 wird gespeichert</translation>
+    </message>
+    <message>
+        <source>Saved %1 (its daylight session kept: it opens without solving again)</source>
+        <translation>%1 gespeichert (seine Tageslichtsitzung bleibt erhalten: es öffnet sich ohne neue Berechnung)</translation>
+    </message>
+    <message>
+        <source>Drag a virtual object&apos;s cross to move it over the floor</source>
+        <translation>Ziehen Sie das Kreuz eines virtuellen Objekts, um es über den Boden zu bewegen</translation>
+    </message>
+    <message>
+        <source>the cursor points above the plane %1 stands on</source>
+        <translation>der Zeiger zeigt über die Ebene, auf der %1 steht</translation>
+    </message>
+    <message>
+        <source>the cursor points at %1, in front of the plane %2 stands on</source>
+        <translation>der Zeiger zeigt auf %1, vor der Ebene, auf der %2 steht</translation>
+    </message>
+    <message>
+        <source>Not moved: %1</source>
+        <translation>Nicht verschoben: %1</translation>
     </message>
 </context>
 <context>

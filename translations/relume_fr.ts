@@ -1156,6 +1156,14 @@
         <source>Opened %1 (daylight: see the Sky panel)</source>
         <translation>%1 ouvert (lumière du jour : voir le panneau Ciel)</translation>
     </message>
+    <message>
+        <source>Save the daylight room as a project</source>
+        <translation>Enregistrer la pièce en lumière du jour comme projet</translation>
+    </message>
+    <message>
+        <source>A job is running: wait for it or cancel it, then save.</source>
+        <translation>Une tâche est en cours : attendez-la ou annulez-la, puis enregistrez.</translation>
+    </message>
 </context>
 <context>
     <name>relume::ObjectsPanel</name>
@@ -1936,6 +1944,30 @@ Aucun damier trouvé dans : %1</translation>
     <message>
         <source>The virtual lamps of %1 are left out: %2</source>
         <translation>Les lampes virtuelles de %1 sont laissées de côté : %2</translation>
+    </message>
+    <message>
+        <source>Saving %1</source>
+        <translation>Enregistrement de %1</translation>
+    </message>
+    <message>
+        <source>Saved %1 (its daylight session kept: it opens without solving again)</source>
+        <translation>%1 enregistré (sa session de lumière du jour est conservée : il s’ouvre sans nouveau calcul)</translation>
+    </message>
+    <message>
+        <source>Drag a virtual object&apos;s cross to move it over the floor</source>
+        <translation>Faites glisser la croix d’un objet virtuel pour le déplacer sur le sol</translation>
+    </message>
+    <message>
+        <source>the cursor points above the plane %1 stands on</source>
+        <translation>le curseur pointe au-dessus du plan sur lequel repose %1</translation>
+    </message>
+    <message>
+        <source>the cursor points at %1, in front of the plane %2 stands on</source>
+        <translation>le curseur pointe sur %1, devant le plan sur lequel repose %2</translation>
+    </message>
+    <message>
+        <source>Not moved: %1</source>
+        <translation>Non déplacé : %1</translation>
     </message>
 </context>
 <context>

@@ -225,6 +225,7 @@ void ClickPhotoView::mouseMoveEvent(QMouseEvent* e) {
   if (dragging_ >= 0 && size_t(dragging_) < markers_.size()) {
     markers_[size_t(dragging_)].pixel = imagePixel(e->position());
     update();
+    emit markerMoved(markers_[size_t(dragging_)].name, markers_[size_t(dragging_)].pixel);
   }
 }
 

@@ -51,6 +51,7 @@ class ClickPhotoView : public QWidget {
   void clicked(QPointF pixel, Qt::KeyboardModifiers modifiers);
   void markerClicked(const QString& name, Qt::KeyboardModifiers modifiers);
   void markerDragged(const QString& name, QPointF pixel);  // at the end of a drag
+  void markerMoved(const QString& name, QPointF pixel);    // while it is dragged, at every move
   void proposalActivated(int index);                        // a proposal's ring clicked
   void viewChanged();
 

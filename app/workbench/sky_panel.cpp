@@ -15,6 +15,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <numbers>
 
 #include "click_photo_view.h"
@@ -26,6 +28,7 @@
 #include "relume/geometry/scene.h"
 #include "relume/image/image.h"
 #include "relume/project/room_io.h"
+#include "relume/raytrace/ray_scene.h"
 #include "relume/relight/relighter.h"
 
 namespace relume {
@@ -96,6 +99,10 @@ struct SkyPanel::State {
   int lastIndex = 0, lastCount = 1;  // its frame and its sky's frame count
   double lastSeconds = 0;
   bool stale = false;  // the last render did not finish: `shown` is an earlier setting's
+  Camera camera;       // the main photo's (the view shows its image)
+  std::unique_ptr<RayScene> roomRays;  // the room's polygons, for what the cursor points at
+  bool refused = false;    // a move of the drag under way was refused (said once per drag)
+  bool dragMoved = false;  // the drag under way has moved its object
 };
 
 namespace {
@@ -179,6 +186,10 @@ SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jo
   connect(method_, qOverload<int>(&QComboBox::currentIndexChanged), this, &SkyPanel::updateLamps);
   connect(objects_, qOverload<int>(&QComboBox::currentIndexChanged), this, &SkyPanel::updateLamps);
   connect(showPhoto_, &QCheckBox::toggled, this, &SkyPanel::show);
+  connect(objects_, qOverload<int>(&QComboBox::currentIndexChanged), this, &SkyPanel::updateHandles);
+  connect(view_, &ClickPhotoView::markerClicked, this, [this] { s_->refused = s_->dragMoved = false; });
+  connect(view_, &ClickPhotoView::markerMoved, this, [this](const QString& n, QPointF px) { moveObject(n, px, false); });
+  connect(view_, &ClickPhotoView::markerDragged, this, [this](const QString& n, QPointF px) { moveObject(n, px, true); });
   connect(play_, &QPushButton::toggled, this, &SkyPanel::setPlaying);
   connect(skyFile_, &QPushButton::clicked, this, [this] {
     const QString f = QFileDialog::getOpenFileName(this, tr("Sky image"), QString(), tr("HDR images (*.exr *.hdr)"));
@@ -264,6 +275,7 @@ void SkyPanel::close() {
   view_->setImage(QImage(), QString());
   frame_->clear();
   rebuild();
+  updateHandles();  // none
 }
 
 std::shared_ptr<PreparedDaylight> SkyPanel::prepare(const Scene& scene, Progress& progress) {
@@ -310,6 +322,12 @@ void SkyPanel::adopt(std::shared_ptr<PreparedDaylight> room, const QString& path
   s_->photoShown = room->photoShown;
   s_->skies = std::move(room->skies);
   s_->objects = std::move(room->objects);
+  if (const Photo* main = s_->scene->findPhoto(s_->scene->mainPhoto)) s_->camera = main->camera;
+  {
+    std::vector<std::vector<glm::dvec3>> polygons;
+    for (const auto& p : s_->scene->polygons) polygons.push_back(p.vertices);
+    s_->roomRays = std::make_unique<RayScene>(polygons);
+  }
   rebuild();
   {
     const QSignalBlocker block(sky_);
@@ -534,10 +552,108 @@ void SkyPanel::renderDone() {
   }
 }
 
+std::vector<QString> SkyPanel::objectHandles() const {
+  std::vector<QString> names;
+  const int o = objects_->currentIndex();
+  if (!isOpen() || o < 0 || size_t(o) >= s_->objects.size()) return names;
+  for (const auto& p : s_->objects[size_t(o)].polygons) {
+    const QString g = QString::fromStdString(p.group);
+    if (std::find(names.begin(), names.end(), g) == names.end()) names.push_back(g);
+  }
+  return names;
+}
+
+namespace {
+// The bounds of the faces of object `group` among `faces`; false when it has none.
+bool objectBounds(const std::vector<Polygon>& faces, const std::string& group, glm::dvec3& lo, glm::dvec3& hi) {
+  lo = glm::dvec3(1e300);
+  hi = glm::dvec3(-1e300);
+  bool any = false;
+  for (const auto& p : faces)
+    if (p.group == group)
+      for (const auto& v : p.vertices) {
+        lo = glm::min(lo, v);
+        hi = glm::max(hi, v);
+        any = true;
+      }
+  return any;
+}
+}  // namespace
+
+void SkyPanel::updateHandles() {
+  std::vector<ClickPhotoView::Marker> markers;
+  const int o = objects_->currentIndex();
+  if (isOpen() && !showPhoto_->isChecked() && o >= 0 && size_t(o) < s_->objects.size())
+    for (const QString& name : objectHandles()) {
+      glm::dvec3 lo, hi;
+      glm::dvec2 px;
+      if (!objectBounds(s_->objects[size_t(o)].polygons, name.toStdString(), lo, hi)) continue;
+      if (s_->camera.project({0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z}, px)) markers.push_back({name, QPointF(px.x, px.y)});
+    }
+  view_->setToolTip(markers.empty() ? QString() : tr("Drag a virtual object's cross to move it over the floor"));
+  view_->setMarkers(std::move(markers));
+}
+
+void SkyPanel::moveObject(const QString& name, QPointF pixel, bool released) {
+  const int o = objects_->currentIndex();
+  if (!isOpen() || o < 0 || size_t(o) >= s_->objects.size()) return;
+  std::vector<Polygon>& faces = s_->objects[size_t(o)].polygons;
+  const std::string group = name.toStdString();
+  glm::dvec3 lo, hi;
+  if (!objectBounds(faces, group, lo, hi)) return;
+  // Where the ray through the cursor meets the plane the object stands on.
+  const glm::dvec3 eye = s_->camera.center(), dir = s_->camera.rayDirection(pixel.x(), pixel.y());
+  const double t = std::abs(dir.z) > 1e-9 ? (lo.z - eye.z) / dir.z : -1;
+  QString why;
+  VirtualObject moved;
+  glm::dvec3 step(0.0);
+  // Only where the photo shows that plane: not past a wall, a window or the furniture in front.
+  const RayHit seen = s_->roomRays->intersect(Ray{glm::vec3(eye), glm::vec3(dir), 1e-4f, 1e30f});
+  if (!(t > 0)) {
+    why = tr("the cursor points above the plane %1 stands on").arg(name);
+  } else if (seen.polygon >= 0 && double(seen.t) < t - 1e-3) {
+    why = tr("the cursor points at %1, in front of the plane %2 stands on")
+              .arg(QString::fromStdString(s_->scene->polygons[size_t(seen.polygon)].name), name);
+  } else {
+    step = eye + t * dir - glm::dvec3(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z);
+    step.z = 0;
+    moved.name = group;
+    for (const auto& p : faces)
+      if (p.group == group) {
+        moved.albedo = p.albedo;
+        std::vector<glm::dvec3> v = p.vertices;
+        for (auto& q : v) q += step;
+        moved.polygons.push_back(std::move(v));
+      }
+    try {
+      checkVirtualObject(*s_->scene, moved);
+    } catch (const std::exception& e) {
+      why = QString::fromUtf8(e.what());
+    }
+  }
+  const bool interactive = method_->currentIndex() == 1;  // nothing solved again: every move renders
+  if (!why.isEmpty()) {
+    if (!s_->refused) emit message(tr("Not moved: %1").arg(why));
+    s_->refused = true;  // said once per drag; the object stays at its last good place
+  } else if (glm::length(step) > 1e-6) {
+    for (auto& p : faces)
+      if (p.group == group)
+        for (auto& q : p.vertices) q += step;
+    s_->dragMoved = true;
+    if (interactive) requestRender();
+  }
+  if (released) {
+    if (s_->dragMoved && !interactive) requestRender();
+    s_->dragMoved = s_->refused = false;
+    updateHandles();  // the cross where the object is
+  }
+}
+
 void SkyPanel::show() {
   if (!isOpen()) return;
   const bool photo = showPhoto_->isChecked() || s_->shown.isNull();
   view_->setImage(photo ? s_->photoShown : s_->shown, photo ? tr("photo") : s_->lastFrame);
+  updateHandles();
   if (photo && !s_->shown.isNull())
     frame_->setText(tr("The photograph as taken"));
   else if (!s_->shown.isNull() && !s_->stale)

@@ -60,6 +60,13 @@ class SkyPanel : public QWidget {
   // `relume relight --virtual-object` / `--virtual-lamp`); the lamps shine with the near-field method.
   bool addObjectsFile(const QString& file);
 
+  // The chosen entry's virtual objects are moved by dragging their crosses in the view (each at
+  // the middle of its base): the object slides over the plane it stands on to where the cursor
+  // points, and is refused (a message; it stays) where it would leave the room or cut a polygon
+  // (relume::checkVirtualObject). On the interactive path every move renders; otherwise the
+  // release does. The moves last while the room stays open (the entry's objects as moved).
+  std::vector<QString> objectHandles() const;
+
   QComboBox* skyBox() const { return sky_; }
   QComboBox* methodBox() const { return method_; }
   QComboBox* objectsBox() const { return objects_; }
@@ -91,6 +98,8 @@ class SkyPanel : public QWidget {
   void startRender();
   void renderDone();
   void show();
+  void updateHandles();
+  void moveObject(const QString& name, QPointF pixel, bool released);
   JobRunner* jobs_;
   std::unique_ptr<State> s_;
   QLabel* summary_;

@@ -26,6 +26,7 @@
 #include <QMenuBar>
 #include <QDockWidget>
 #include <QtTest>
+#include <QMouseEvent>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -2469,6 +2470,89 @@ class WorkbenchTest : public QObject {
     for (const auto& m : said) lampLeftOut = lampLeftOut || m.first().toString().contains("downlight");
     QVERIFY(lampLeftOut);
     QVERIFY(settle(180000));
+
+    // The box dragged as a user would, on the interactive path: its cross (the middle of its base)
+    // taken 0.7 m along the floor, the box rendered under the cursor at every move (nothing solved
+    // again), and where it stood the floor as without it; dragged towards the top of the image
+    // (the floor plane meets that ray outside the room), refused and said, the box staying.
+    QCOMPARE(sky->methodBox()->currentIndex(), 1);
+    ClickPhotoView* view = sky->view();
+    QCOMPARE(sky->objectHandles(), std::vector<QString>{QString("box")});
+    QCOMPARE(view->markers().size(), size_t(1));
+    const Camera cam = loadRoom(room.toStdString()).findPhoto("main")->camera;
+    auto pixelOf = [&](const glm::dvec3& x) {
+      glm::dvec2 px(-1.0);
+      cam.project(x, px);
+      return px;
+    };
+    auto rgbAt = [](const QImage& img, const glm::dvec2& px) {
+      return QColor(img.convertToFormat(QImage::Format_RGB888).pixel(int(px.x), int(px.y)));
+    };
+    auto orange = [](const QColor& c) { return c.red() > 2 * c.blue() + 20; };  // albedo (0.8, 0.38, 0.06)
+    const glm::dvec2 base = pixelOf({2.275, 2.125, 0.0}), oldTop = pixelOf({2.275, 2.125, 0.35});
+    const glm::dvec3 to(1.575, 2.125, 0.0);
+    const glm::dvec2 target = pixelOf(to), newTop = pixelOf(to + glm::dvec3(0, 0, 0.35));
+    QVERIFY(std::hypot(view->markers()[0].pixel.x() - base.x, view->markers()[0].pixel.y() - base.y) < 0.01);
+    QVERIFY(target.x > 0 && target.x < cam.width && target.y > 0 && target.y < cam.height);
+    QVERIFY(orange(rgbAt(sky->shown(), oldTop)));
+    auto send = [&](QEvent::Type type, const glm::dvec2& px, Qt::MouseButton button, Qt::MouseButtons buttons) {
+      const QPointF pos = view->widgetPosition(QPointF(px.x, px.y));
+      QMouseEvent e(type, pos, view->mapToGlobal(pos), button, buttons, Qt::NoModifier);
+      QApplication::sendEvent(view, &e);
+    };
+    const int framesBefore = sky->framesShown();
+    send(QEvent::MouseButtonPress, base, Qt::LeftButton, Qt::LeftButton);
+    constexpr int kSteps = 4;
+    for (int k = 1; k <= kSteps; ++k) {
+      send(QEvent::MouseMove, base + (target - base) * (double(k) / kSteps), Qt::NoButton, Qt::LeftButton);
+      QVERIFY(settle(60000));
+    }
+    send(QEvent::MouseButtonRelease, target, Qt::LeftButton, Qt::NoButton);
+    QVERIFY(settle(60000));
+    qInfo("box dragged 0.7 m: %d renders during the drag", sky->framesShown() - framesBefore);
+    QVERIFY(sky->framesShown() - framesBefore >= kSteps);  // rendered as it moved, not only at the release
+    QCOMPARE(view->markers().size(), size_t(1));
+    QVERIFY(std::hypot(view->markers()[0].pixel.x() - target.x, view->markers()[0].pixel.y() - target.y) < 0.05);
+    QVERIFY(orange(rgbAt(sky->shown(), newTop)));
+    saveShot(&w, "sky_panel_drag");
+    const QImage afterDrag = sky->shown();
+    said.clear();
+    const int framesAfter = sky->framesShown();
+    send(QEvent::MouseButtonPress, target, Qt::LeftButton, Qt::LeftButton);
+    send(QEvent::MouseMove, glm::dvec2(target.x, 1.0), Qt::NoButton, Qt::LeftButton);
+    send(QEvent::MouseButtonRelease, glm::dvec2(target.x, 1.0), Qt::LeftButton, Qt::NoButton);
+    QVERIFY(settle(60000));
+    QVERIFY(!said.isEmpty() && said.first().first().toString().startsWith("Not moved"));
+    qInfo("dragged out of the room: %s", qPrintable(said.first().first().toString()));
+    QCOMPARE(sky->framesShown(), framesAfter);
+    QVERIFY(std::hypot(view->markers()[0].pixel.x() - target.x, view->markers()[0].pixel.y() - target.y) < 0.05);
+    QCOMPARE(sky->shown(), afterDrag);
+    // Towards a floor point behind the far wall (y = 4.4 m): the wall is what the cursor points at.
+    const glm::dvec2 behind = pixelOf({0.3, 5.0, 0.0});  // seen past the table and the crate
+    QVERIFY(behind.x > 0 && behind.x < cam.width && behind.y > 0 && behind.y < cam.height);
+    said.clear();
+    send(QEvent::MouseButtonPress, target, Qt::LeftButton, Qt::LeftButton);
+    send(QEvent::MouseMove, behind, Qt::NoButton, Qt::LeftButton);
+    send(QEvent::MouseButtonRelease, behind, Qt::LeftButton, Qt::NoButton);
+    QVERIFY(settle(60000));
+    QCOMPARE(said.size(), 1);
+    qInfo("dragged behind the wall: %s", qPrintable(said.first().first().toString()));
+    QVERIFY(said.first().first().toString().startsWith("Not moved") && said.first().first().toString().contains("wall_back"));
+    QCOMPARE(sky->framesShown(), framesAfter);
+    QVERIFY(std::hypot(view->markers()[0].pixel.x() - target.x, view->markers()[0].pixel.y() - target.y) < 0.05);
+    // Where the box stood, the room as it is under this sky without objects; where it stands now,
+    // not.
+    sky->objectsBox()->setCurrentIndex(0);
+    QVERIFY(settle(60000));
+    QVERIFY(view->markers().empty());
+    const QImage noBox = sky->shown();
+    const QColor atNew = rgbAt(afterDrag, newTop), atOld = rgbAt(afterDrag, oldTop), floorOld = rgbAt(noBox, oldTop);
+    qInfo("after the drag: the new place (%d, %d, %d), the old place (%d, %d, %d), there without objects (%d, %d, %d)",
+          atNew.red(), atNew.green(), atNew.blue(), atOld.red(), atOld.green(), atOld.blue(), floorOld.red(), floorOld.green(),
+          floorOld.blue());
+    QVERIFY(!orange(rgbAt(noBox, newTop)));
+    QVERIFY(std::abs(atOld.red() - floorOld.red()) <= 12 && std::abs(atOld.green() - floorOld.green()) <= 12 &&
+            std::abs(atOld.blue() - floorOld.blue()) <= 12);
   }
 
   void frenchInterface() {

@@ -8,6 +8,8 @@
 #include <memory>
 #include <numbers>
 
+#include "relume/geometry/binary.h"
+#include "relume/geometry/error.h"
 #include "relume/geometry/photometry.h"
 #include "relume/geometry/polygon.h"
 #include "relume/radiosity/form_factor.h"
@@ -120,4 +122,36 @@ TEST(PhotometricLamp, TheWeightFollowsTheDistributionsFrame) {
   // Straight down, relative to a Lambertian face of the same flux: pi I(0) / Phi, Phi = pi.
   EXPECT_NEAR(shape.weight(c + glm::dvec3(0, 0, -1)), 1.0, 0.02);
   EXPECT_EQ(shape.weight(c + glm::dvec3(0, 0, 1)), 0.0);  // nothing upwards
+}
+
+TEST(PhotometricLamp, AKeptSolutionIsNotReadIntoAnEngineWhoseLampHasAnotherDistribution) {
+  // A kept state (a project's solution) was refined and linked for the lamp's distribution: read
+  // into an engine whose lamp has another file's shape (same polygons, same exitance), it is
+  // refused; into one made the same way, it is taken.
+  auto engineWith = [](std::shared_ptr<const PhotometricDistribution> d) {
+    std::vector<Surface> s = test::furnishedRoom(3.0, 3.5, 2.5, glm::dvec3(0.0));
+    Surface lamp{"lamp2", quad({0.5, 2.5, 2.1}, {0, 0.3, 0}, {0.3, 0, 0}), glm::dvec3(0.0), glm::dvec3(50.0)};
+    lamp.photometry = std::move(d);
+    s.push_back(lamp);
+    return std::make_unique<HierarchicalRadiosity>(s, Options{});
+  };
+  const auto wide = rotational([](double g) { return 250.0 * std::max(0.0, std::cos(g)); });
+  const auto narrow = rotational([](double g) { return g < kPi / 2 ? 250.0 * std::pow(std::cos(g), 8) : 0.0; });
+  auto solved = engineWith(wide);
+  solved->solve();
+  ByteWriter out;
+  solved->writeState(out);
+  {
+    ByteReader in(out.bytes, "kept.bin");
+    auto same = engineWith(rotational([](double g) { return 250.0 * std::max(0.0, std::cos(g)); }));
+    EXPECT_NO_THROW(same->readState(in));
+  }
+  ByteReader in(out.bytes, "kept.bin");
+  auto other = engineWith(narrow);
+  try {
+    other->readState(in);
+    FAIL() << "a state kept for another distribution was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("kept.bin"), std::string::npos) << e.what();
+  }
 }

@@ -395,6 +395,14 @@ uint64_t engineFingerprint(const std::vector<Surface>& surfaces, const Options& 
     f.vec(s.exitance);
     f.i64(int64_t(s.twoSided) | int64_t(s.opening) << 1 | int64_t(s.photometry != nullptr) << 2 |
           int64_t(s.distant != nullptr) << 3);
+    if (s.photometry) {  // its shape, not only that it has one: another file gives other links
+      const PhotometricDistribution& d = *s.photometry;
+      f.i64(int64_t(d.symmetry));
+      for (const auto* a : {&d.c, &d.gamma, &d.candela}) {
+        f.i64(int64_t(a->size()));
+        for (double v : *a) f.f64(v);
+      }
+    }
   }
   f.i64(int64_t(o.oracle));
   f.f64(o.epsilon);
