@@ -30,6 +30,15 @@ void ClickPhotoView::setImage(const QImage& image, const QString& name) {
 }
 
 void ClickPhotoView::setMarkers(std::vector<Marker> markers) {
+  if (dragging_ >= 0) {
+    // A drag goes on only while its marker stays (same place in the list, same name), where the
+    // cursor has it.
+    const size_t d = size_t(dragging_);
+    if (d < markers_.size() && d < markers.size() && markers[d].name == markers_[d].name)
+      markers[d].pixel = markers_[d].pixel;
+    else
+      dragging_ = -1;
+  }
   markers_ = std::move(markers);
   update();
 }
@@ -203,9 +212,11 @@ void ClickPhotoView::mousePressEvent(QMouseEvent* e) {
     }
   }
   const int m = markerAt(e->position());
+  dragging_ = m;
+  dragMoved_ = false;
   if (m >= 0) {
-    dragging_ = m;
     dragPixel_ = markers_[size_t(m)].pixel;
+    pressPos_ = e->position();
     emit markerClicked(markers_[size_t(m)].name, e->modifiers());
     return;
   }
@@ -223,6 +234,9 @@ void ClickPhotoView::mouseMoveEvent(QMouseEvent* e) {
     return;
   }
   if (dragging_ >= 0 && size_t(dragging_) < markers_.size()) {
+    // A hand's jitter on a click is not a move: the drag starts 2 pixels from the press.
+    if (!dragMoved_ && std::hypot(e->position().x() - pressPos_.x(), e->position().y() - pressPos_.y()) < 2) return;
+    dragMoved_ = true;
     markers_[size_t(dragging_)].pixel = imagePixel(e->position());
     update();
     emit markerMoved(markers_[size_t(dragging_)].name, markers_[size_t(dragging_)].pixel);
@@ -234,18 +248,21 @@ void ClickPhotoView::mouseReleaseEvent(QMouseEvent* e) {
     panning_ = false;
     return;
   }
-  if (dragging_ >= 0 && size_t(dragging_) < markers_.size()) {
-    const Marker m = markers_[size_t(dragging_)];
+  const int d = dragging_;
+  dragging_ = -1;
+  if (d >= 0 && size_t(d) < markers_.size()) {
+    const Marker m = markers_[size_t(d)];
     const QPointF px = imagePixel(e->position());
-    // A press and release on the same spot is a click on the marker, not a move.
-    if (std::hypot(px.x() - dragPixel_.x(), px.y() - dragPixel_.y()) * zoom_ >= 2) {
+    // A press and release on the same spot is a click on the marker, not a move (unless the
+    // marker was moved away and brought back: its listeners have seen it move).
+    if (dragMoved_ || std::hypot(px.x() - dragPixel_.x(), px.y() - dragPixel_.y()) * zoom_ >= 2) {
       emit markerDragged(m.name, px);
     } else {
-      markers_[size_t(dragging_)].pixel = dragPixel_;
+      markers_[size_t(d)].pixel = dragPixel_;
       update();
     }
-    dragging_ = -1;
   }
+  dragMoved_ = false;
 }
 
 }  // namespace relume

@@ -82,7 +82,8 @@ class ClickPhotoView : public QWidget {
   QPointF panFrom_;
   bool panning_ = false;
   int dragging_ = -1;
-  QPointF dragPixel_;
+  bool dragMoved_ = false;  // the drag has passed 2 pixels from its press
+  QPointF dragPixel_, pressPos_;
 };
 
 }  // namespace relume

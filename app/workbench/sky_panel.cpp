@@ -583,7 +583,7 @@ bool objectBounds(const std::vector<Polygon>& faces, const std::string& group, g
 void SkyPanel::updateHandles() {
   std::vector<ClickPhotoView::Marker> markers;
   const int o = objects_->currentIndex();
-  if (isOpen() && !showPhoto_->isChecked() && o >= 0 && size_t(o) < s_->objects.size())
+  if (isOpen() && !showPhoto_->isChecked() && !s_->shown.isNull() && o >= 0 && size_t(o) < s_->objects.size())
     for (const QString& name : objectHandles()) {
       glm::dvec3 lo, hi;
       glm::dvec2 px;

@@ -2516,6 +2516,21 @@ class WorkbenchTest : public QObject {
     QVERIFY(orange(rgbAt(sky->shown(), newTop)));
     saveShot(&w, "sky_panel_drag");
     const QImage afterDrag = sky->shown();
+    // A click on the cross with a hand's jitter (a pixel) moves nothing.
+    {
+      const int frames = sky->framesShown();
+      const QPointF at = view->widgetPosition(QPointF(target.x, target.y));
+      auto jitter = [&](QEvent::Type type, const QPointF& pos, Qt::MouseButton button, Qt::MouseButtons buttons) {
+        QMouseEvent e(type, pos, view->mapToGlobal(pos), button, buttons, Qt::NoModifier);
+        QApplication::sendEvent(view, &e);
+      };
+      jitter(QEvent::MouseButtonPress, at, Qt::LeftButton, Qt::LeftButton);
+      jitter(QEvent::MouseMove, at + QPointF(1, 0), Qt::NoButton, Qt::LeftButton);
+      jitter(QEvent::MouseButtonRelease, at + QPointF(1, 0), Qt::LeftButton, Qt::NoButton);
+      QVERIFY(settle(60000));
+      QCOMPARE(sky->framesShown(), frames);
+      QVERIFY(std::hypot(view->markers()[0].pixel.x() - target.x, view->markers()[0].pixel.y() - target.y) < 0.05);
+    }
     said.clear();
     const int framesAfter = sky->framesShown();
     send(QEvent::MouseButtonPress, target, Qt::LeftButton, Qt::LeftButton);

@@ -153,5 +153,6 @@ TEST(PhotometricLamp, AKeptSolutionIsNotReadIntoAnEngineWhoseLampHasAnotherDistr
     FAIL() << "a state kept for another distribution was read";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("kept.bin"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("lamp distributions"), std::string::npos) << e.what();
   }
 }

@@ -14,6 +14,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <set>
 #include <string>
 
 #include "relume/geometry/binary.h"
@@ -30,12 +31,18 @@ namespace relume::daylight {
 
 std::vector<Polygon> variantObjects(const Variant& variant, const std::string& file) {
   std::vector<Polygon> faces;
-  for (const auto& b : variant.virtualObjects) {
+  std::set<std::string> names;
+  for (size_t k = 0; k < variant.virtualObjects.size(); ++k) {
+    const auto& b = variant.virtualObjects[k];
     if (!b.fan.empty()) throw Error(file, "virtual object " + b.name, "image-based objects are not lit by daylight yet");
     const VirtualObject o = b.mesh.empty() ? boxObject(b.name, b.boxMin, b.boxMax, b.albedo) : meshObject(b.name, b.mesh, b.albedo);
+    // Each object's faces one group, named for the user: an unnamed object or a repeated name
+    // gets the object's place in the list.
+    std::string name = o.name.empty() ? "object " + std::to_string(k + 1) : o.name;
+    if (!names.insert(name).second) names.insert(name += " (" + std::to_string(k + 1) + ")");
     for (const auto& f : o.polygons) {
       Polygon poly;
-      poly.name = poly.group = o.name;
+      poly.name = poly.group = name;
       poly.vertices = f;
       poly.albedo = o.albedo;
       faces.push_back(poly);

@@ -499,7 +499,8 @@ void HierarchicalRadiosity::readState(ByteReader& in) {
   if (in.u32(part) != kNodeBytes || in.u32(part) != kLinkBytes)
     in.fail(part, "was written by a build of Relume with another memory layout (solve it again)");
   if (in.u64(part) != engineFingerprint(surfaces_, options_))
-    in.fail(part, "was solved for other polygons, reflectances or engine options than the room's now (solve it again)");
+    in.fail(part, "was solved for other polygons, reflectances, lamp distributions or engine options than the room's now (solve it "
+            "again)");
   const double eRef = in.f64(part);
   if (!(eRef > 0)) in.fail(part, "is damaged (the refinement scale)");
   auto nodes = readRecords<Node>(in, part, "elements", kMaxStateNodes, kNodeBytes, [&](const uint8_t*& p, Node& n) {
