@@ -1969,6 +1969,10 @@ Kein Schachbrett gefunden in: %1</translation>
         <source>Not moved: %1</source>
         <translation>Nicht verschoben: %1</translation>
     </message>
+    <message>
+        <source>%1, rendered in %2 ms</source>
+        <translation>%1, in %2 ms gerendert</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

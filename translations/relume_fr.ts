@@ -1969,6 +1969,10 @@ Aucun damier trouvé dans : %1</translation>
         <source>Not moved: %1</source>
         <translation>Non déplacé : %1</translation>
     </message>
+    <message>
+        <source>%1, rendered in %2 ms</source>
+        <translation>%1, rendu en %2 ms</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

@@ -658,7 +658,8 @@ void SkyPanel::show() {
     frame_->setText(tr("The photograph as taken"));
   else if (!s_->shown.isNull() && !s_->stale)
     frame_->setText(s_->lastCount > 1 ? tr("Frame %1 of %2: %3, %4 s").arg(s_->lastIndex + 1).arg(s_->lastCount).arg(s_->lastFrame).arg(s_->lastSeconds, 0, 'f', 1)
-                                      : tr("%1, rendered in %2 s").arg(s_->lastFrame).arg(s_->lastSeconds, 0, 'f', 1));
+                     : s_->lastSeconds < 1 ? tr("%1, rendered in %2 ms").arg(s_->lastFrame).arg(std::lround(1000 * s_->lastSeconds))
+                                           : tr("%1, rendered in %2 s").arg(s_->lastFrame).arg(s_->lastSeconds, 0, 'f', 1));
 }
 
 }  // namespace relume
