@@ -608,7 +608,7 @@ void SkyPanel::moveObject(const QString& name, QPointF pixel, bool released) {
   VirtualObject moved;
   glm::dvec3 step(0.0);
   // Only where the photo shows that plane: not past a wall, a window or the furniture in front.
-  const RayHit seen = s_->roomRays->intersect(Ray{glm::vec3(eye), glm::vec3(dir), 1e-4f, 1e30f});
+  const RayHit seen = t > 0 ? s_->roomRays->intersect(Ray{glm::vec3(eye), glm::vec3(dir), 1e-4f, 1e30f}) : RayHit{};
   if (!(t > 0)) {
     why = tr("the cursor points above the plane %1 stands on").arg(name);
   } else if (seen.polygon >= 0 && double(seen.t) < t - 1e-3) {
@@ -636,9 +636,9 @@ void SkyPanel::moveObject(const QString& name, QPointF pixel, bool released) {
     if (!s_->refused) emit message(tr("Not moved: %1").arg(why));
     s_->refused = true;  // said once per drag; the object stays at its last good place
   } else if (glm::length(step) > 1e-6) {
+    size_t k = 0;  // the checked faces, in the order they were taken
     for (auto& p : faces)
-      if (p.group == group)
-        for (auto& q : p.vertices) q += step;
+      if (p.group == group) p.vertices = std::move(moved.polygons[k++]);
     s_->dragMoved = true;
     if (interactive) requestRender();
   }
