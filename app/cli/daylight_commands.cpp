@@ -425,7 +425,7 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
                                                      std::to_string(truth.height) + ", the main photo " + std::to_string(photo.width) +
                                                      "x" + std::to_string(photo.height));
     const dl::SkyRadiance sky = averaged(dl::readRoomSky(bundle, v.sky.empty() ? bundle.photoSky : v.sky), cells);
-    const std::vector<Polygon> objects = dl::variantObjects(v, bundle.sourceFile);
+    const std::vector<Polygon> objects = dl::variantObjects(bundle, v, bundle.sourceFile);
     Progress a(stage, 0.0, 0.5), b(stage, 0.5, 0.9);
     const ImageRGB near = relit.render(sky, objects, dl::DaylightMethod::NearField, a);
     writeImage(dir(v.name + ".irradiance.exr"), relit.lastIrradiance());
@@ -536,13 +536,13 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
       }
     }
     if (file.objects) {
-      for (auto& o : dl::variantObjects(v, f)) objects.push_back(std::move(o));
+      for (auto& o : dl::variantObjects(room, v, f)) objects.push_back(std::move(o));
     } else {
       for (const auto& b : v.virtualObjects) {
         Variant one;
         one.virtualObjects = {b};
         try {
-          for (auto& o : dl::variantObjects(one, f)) objects.push_back(std::move(o));
+          for (auto& o : dl::variantObjects(room, one, f)) objects.push_back(std::move(o));
         } catch (const std::exception& e) {
           leftOut(e);
         }
@@ -723,7 +723,7 @@ QJsonObject daylightBench(const Scene& scene, int runs, Progress& progress) {
     box.boxMax = {c.x + 0.2, c.y + 0.2, lo.z + 0.4};
     box.albedo = glm::dvec3(0.5);
     v.virtualObjects.push_back(box);
-    faces = dl::variantObjects(v, scene.sourceFile);
+    faces = dl::variantObjects(scene, v, scene.sourceFile);
     t0 = std::chrono::steady_clock::now();
     const auto ids = basis.addObjects(faces);
     const double add = ms(t0) / 1000;

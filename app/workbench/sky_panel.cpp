@@ -17,6 +17,7 @@
 #include <cmath>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <map>
 #include <numbers>
 
 #include "click_photo_view.h"
@@ -57,13 +58,20 @@ struct ObjectsEntry {
   QString label;
   std::vector<Polygon> polygons;
   std::vector<daylight::BasisLamp> lamps;  // virtual lamps (near-field only)
+  // An entry made from one of the room's variants: which (-1: a file added), each virtual
+  // object's group, and how far each group has been dragged since (saved into the variant).
+  int variant = -1;
+  std::vector<std::string> groups;
+  std::map<std::string, glm::dvec3> moved;
 };
 
 // A variant's (or file's) objects and virtual lamps as one entry. Lamps daylight cannot light (a
 // photometric one) are left out beside objects, and `lampsLeftOut` says why; without objects the
 // error is the entry's.
-static ObjectsEntry objectsEntry(const QString& label, const Variant& v, const std::string& file, QString& lampsLeftOut) {
-  ObjectsEntry entry{label, daylight::variantObjects(v, file), {}};
+static ObjectsEntry objectsEntry(const Scene& room, const QString& label, const Variant& v, const std::string& file,
+                                 QString& lampsLeftOut, int variant = -1) {
+  ObjectsEntry entry{label, {}, {}, variant, {}, {}};
+  entry.polygons = daylight::variantObjects(room, v, file, &entry.groups);
   try {
     entry.lamps = daylight::variantLamps(v, file);
   } catch (const std::exception& e) {
@@ -230,7 +238,23 @@ QString SkyPanel::path() const { return s_->path; }
 bool SkyPanel::saveProject(const QString& folder) {
   if (!isOpen() || jobs_->busy()) return false;
   const QString abs = QFileInfo(folder).absoluteFilePath();
-  auto scene = std::make_shared<const Scene>(*s_->scene);
+  // The room as it is shown: a variant's objects where they were dragged to.
+  Scene shown = *s_->scene;
+  for (const ObjectsEntry& e : s_->objects) {
+    if (e.variant < 0 || size_t(e.variant) >= shown.variants.size()) continue;
+    auto& objects = shown.variants[size_t(e.variant)].virtualObjects;
+    for (size_t k = 0; k < objects.size() && k < e.groups.size(); ++k) {
+      const auto it = e.moved.find(e.groups[k]);
+      if (it == e.moved.end()) continue;
+      VirtualBox& b = objects[k];
+      b.boxMin += it->second;
+      b.boxMax += it->second;
+      b.position += it->second;
+      for (auto& face : b.mesh)
+        for (auto& q : face) q += it->second;
+    }
+  }
+  auto scene = std::make_shared<const Scene>(std::move(shown));
   auto relit = s_->relit;
   const int generation = generation_;
   return jobs_->start(tr("Saving %1").arg(QFileInfo(abs).fileName()), [this, scene, relit, abs, generation](Progress& progress) {
@@ -294,12 +318,13 @@ std::shared_ptr<PreparedDaylight> SkyPanel::prepare(const Scene& scene, Progress
     if (c.name == scene.photoSky) sky.label = tr("%1 (the photos' sky)").arg(sky.label);
     room->skies.push_back(std::move(sky));
   }
-  room->objects.push_back({tr("None"), {}, {}});
+  room->objects.push_back({tr("None"), {}, {}, -1, {}, {}});
   for (const auto& v : scene.variants) {
     if (v.virtualObjects.empty() && v.virtualLamps.empty()) continue;
     try {
       QString lampsLeftOut;
-      room->objects.push_back(objectsEntry(tr("As in variant %1").arg(QString::fromStdString(v.name)), v, scene.sourceFile, lampsLeftOut));
+      room->objects.push_back(objectsEntry(scene, tr("As in variant %1").arg(QString::fromStdString(v.name)), v, scene.sourceFile,
+                                           lampsLeftOut, int(&v - scene.variants.data())));
       if (!lampsLeftOut.isEmpty())
         room->notes << tr("Variant %1: its virtual lamps are left out: %2").arg(QString::fromStdString(v.name), lampsLeftOut);
     } catch (const std::exception& e) {
@@ -402,7 +427,7 @@ bool SkyPanel::addObjectsFile(const QString& file) {
     if (v.virtualObjects.empty() && v.virtualLamps.empty())
       throw Error(file.toStdString(), "virtual_objects", "lists no virtual object and no virtual lamp (virtual_lights)");
     QString lampsLeftOut;
-    s_->objects.push_back(objectsEntry(QFileInfo(file).fileName(), v, file.toStdString(), lampsLeftOut));
+    s_->objects.push_back(objectsEntry(*s_->scene, QFileInfo(file).fileName(), v, file.toStdString(), lampsLeftOut));
     if (!lampsLeftOut.isEmpty())
       emit message(tr("The virtual lamps of %1 are left out: %2").arg(s_->objects.back().label, lampsLeftOut));
   } catch (const std::exception& e) {
@@ -639,6 +664,7 @@ void SkyPanel::moveObject(const QString& name, QPointF pixel, bool released) {
     size_t k = 0;  // the checked faces, in the order they were taken
     for (auto& p : faces)
       if (p.group == group) p.vertices = std::move(moved.polygons[k++]);
+    s_->objects[size_t(o)].moved[group] += step;
     s_->dragMoved = true;
     if (interactive) requestRender();
   }

@@ -21,6 +21,7 @@
 #include "relume/daylight/basis.h"
 #include "relume/daylight/relight.h"
 #include "relume/daylight/sky.h"
+#include "relume/geometry/error.h"
 #include "relume/geometry/polygon.h"
 #include "relume/geometry/scene.h"
 #include "relume/image/image.h"
@@ -156,7 +157,7 @@ TEST(DaylightSampleRoom, TheBoxsSunShadowCoversTheFloorRayCastingSaysItHides) {
   for (const auto& x : room().variants)
     if (x.name == "virtual_box_sun0") v = &x;
   ASSERT_NE(v, nullptr);
-  const std::vector<Polygon> box = variantObjects(*v, room().sourceFile);
+  const std::vector<Polygon> box = variantObjects(room(), *v, room().sourceFile);
   basis.addObjects(box);
   const SeenPixels after = seePixels(basis, main->camera);
   const ImageRGB e1 = irradianceImage(basis, after, sky);
@@ -289,7 +290,7 @@ TEST(DaylightSampleRoom, RelitPhotosMatchCyclesWhereTheLightChanges) {
     ASSERT_NE(v, nullptr);
     const ImageRGB truth = readImageLinear(kRoom + "/" + v->hdr);
     const SkyRadiance sky = roomSky(v->sky);
-    const std::vector<Polygon> objects = variantObjects(*v, room().sourceFile);
+    const std::vector<Polygon> objects = variantObjects(room(), *v, room().sourceFile);
     const ImageRGB near = relit.render(sky, objects, DaylightMethod::NearField);
     const ImageRGB distant = relit.render(sky, objects, DaylightMethod::Distant);
     const std::vector<uint8_t> change = benchmarkMasks(photo, truth).shadow;
@@ -303,4 +304,37 @@ TEST(DaylightSampleRoom, RelitPhotosMatchCyclesWhereTheLightChanges) {
     if (!objects.empty()) EXPECT_GE(nearAll, 35) << name;
     if (objects.empty()) EXPECT_GE(nearAll, photoAll + 8) << name;
   }
+}
+
+// Virtual objects given for a daylight room are checked as lamp-lit ones are, and the room's
+// outside ground (reaching 36 m past the window and 35 m past the back wall) does not make the
+// garden or the neighbour's house count as inside the room: each refused with the objects' file
+// and the object named.
+TEST(DaylightSampleRoom, AVirtualObjectOutsideTheRoomOrThroughAWallIsRefusedNamingItsFile) {
+  const Scene& scene = room();
+  auto objectsAt = [&](const glm::dvec3& lo, const glm::dvec3& hi) {
+    Variant v;
+    VirtualBox box;
+    box.name = "crate2";
+    box.boxMin = lo;
+    box.boxMax = hi;
+    box.albedo = glm::dvec3(0.5);
+    v.virtualObjects.push_back(box);
+    return variantObjects(scene, v, "/tmp/objects.json");
+  };
+  auto refusal = [&](const glm::dvec3& lo, const glm::dvec3& hi) {
+    try {
+      objectsAt(lo, hi);
+    } catch (const Error& e) {
+      EXPECT_EQ(e.file(), "/tmp/objects.json");
+      EXPECT_NE(e.element().find("crate2"), std::string::npos) << e.what();
+      return e.problem();
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(objectsAt({1.0, 1.0, 0.0}, {1.4, 1.4, 0.4}).size(), 6u);               // on the floor
+  EXPECT_NE(refusal({1.0, 5.0, 0.0}, {1.4, 5.4, 0.4}).find("outside the room"), std::string::npos);  // behind the back wall
+  EXPECT_NE(refusal({6.0, 2.0, 0.0}, {6.4, 2.4, 0.4}).find("outside the room"), std::string::npos);  // out on the ground
+  EXPECT_NE(refusal({1.0, 4.2, 0.0}, {1.4, 4.6, 0.4}).find("intersects polygon 'wall_back'"), std::string::npos);
+  EXPECT_NE(refusal({3.6, 2.0, 1.0}, {4.0, 2.4, 1.4}).find("intersects polygon 'window'"), std::string::npos);
 }

@@ -28,6 +28,7 @@
 #include <QtTest>
 #include <QMouseEvent>
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -2270,6 +2271,27 @@ class WorkbenchTest : public QObject {
     qInfo("virtual box: relit %.1f dB, the photo %.1f dB against Cycles", psnr8(sky->shown(), box), psnr8(photo, box));
     QVERIFY(psnr8(sky->shown(), box) > psnr8(photo, box) + 6);
     saveShot(&w, "sky_panel");
+    // The variant's box dragged 0.4 m towards the window along the floor and let go: the project
+    // saved below keeps it there (the variant's own box, not the other variant's).
+    {
+      ClickPhotoView* view = sky->view();
+      QCOMPARE(sky->objectHandles(), std::vector<QString>{QString("orange_box")});
+      const Camera cam = loadRoom(room.toStdString()).findPhoto("main")->camera;
+      glm::dvec2 from(-1.0), to(-1.0);
+      QVERIFY(cam.project({2.275, 2.125, 0.0}, from) && cam.project({2.675, 2.125, 0.0}, to));
+      auto send = [&](QEvent::Type type, const glm::dvec2& px, Qt::MouseButton button, Qt::MouseButtons buttons) {
+        const QPointF pos = view->widgetPosition(QPointF(px.x, px.y));
+        QMouseEvent e(type, pos, view->mapToGlobal(pos), button, buttons, Qt::NoModifier);
+        QApplication::sendEvent(view, &e);
+      };
+      send(QEvent::MouseButtonPress, from, Qt::LeftButton, Qt::LeftButton);
+      send(QEvent::MouseMove, 0.5 * (from + to), Qt::NoButton, Qt::LeftButton);
+      send(QEvent::MouseMove, to, Qt::NoButton, Qt::LeftButton);
+      send(QEvent::MouseButtonRelease, to, Qt::LeftButton, Qt::NoButton);
+      QVERIFY(settle(180000));
+      QCOMPARE(view->markers().size(), size_t(1));
+      QVERIFY(std::hypot(view->markers()[0].pixel.x() - to.x, view->markers()[0].pixel.y() - to.y) < 0.05);
+    }
     sky->photoToggle()->setChecked(true);
     QVERIFY(psnr8(sky->view()->image().convertToFormat(QImage::Format_RGB888), photo) > 40);  // the photo as taken
     sky->photoToggle()->setChecked(false);
@@ -2334,6 +2356,17 @@ class WorkbenchTest : public QObject {
           psnr8(sky->shown(), beforeSave), psnr8(sky->shown(), underPhotoSky));
     QVERIFY(psnr8(sky->shown(), beforeSave) > 80);
     QVERIFY(psnr8(sky->shown(), underPhotoSky) > 45);
+    // The project holds the variants' boxes, the dragged one where it was left.
+    QCOMPARE(sky->objectsBox()->count(), 3);
+    const Scene saved = loadRoom(project.toStdString());
+    std::map<std::string, glm::dvec3> boxMin;
+    for (const auto& v : saved.variants)
+      if (v.virtualObjects.size() == 1) boxMin[v.name] = v.virtualObjects[0].boxMin;
+    QCOMPARE(boxMin.size(), size_t(2));
+    qInfo("the dragged box's corner in the saved project: %.4f, %.4f, %.4f", boxMin["virtual_box_sun0"].x,
+          boxMin["virtual_box_sun0"].y, boxMin["virtual_box_sun0"].z);
+    QVERIFY(glm::length(boxMin["virtual_box_sun0"] - glm::dvec3(2.5, 1.95, 0.0)) < 0.01);
+    QVERIFY(glm::length(boxMin["virtual_box_sun1"] - glm::dvec3(2.1, 1.95, 0.0)) < 1e-9);
   }
 
   void daylightWithALampInTheSkyPanel() {

@@ -7,7 +7,9 @@
 #include <QByteArray>
 #include <zlib.h>
 
+#include <algorithm>
 #include <bit>
+#include <random>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -619,4 +621,41 @@ TEST(ImageBasedObject, ShadowMapsOverTheSurfacesShowWhatThePerPixelShadowsShow) 
       worst = std::max(worst, double(glm::length(both[k].keep[t] - maps[k].keep[t])));
   }
   EXPECT_LT(worst, 1e-5);
+}
+
+// The views searched for the nearest and the next nearest (a handful per ring instead of every
+// view): the same answers as searching every view, for any direction, with rings above and below
+// the horizon, few or many views per ring, and directions straight up or down.
+TEST(ImageFan, TheViewsNearADirectionAreFoundAsAnExhaustiveSearchFindsThem) {
+  struct Layout {
+    int perRing;
+    std::vector<double> rings;
+  };
+  const std::vector<Layout> layouts = {{96, {15, 45, 75}}, {5, {0}}, {7, {-30, 10, 60, 89}}, {3, {20, 50}}, {64, {-80, 0, 80}}};
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g;
+  for (const auto& layout : layouts) {
+    ImageFan fan;
+    fan.size = 8;
+    fan.viewsPerRing = layout.perRing;
+    fan.ringElevations = layout.rings;
+    // (Straight up with a negative zero across, nearly straight up, and no direction at all too.)
+    std::vector<glm::dvec3> dirs = {{0, 0, 1},   {0, 0, -1},           {1, 0, 0},
+                                    {-1, 0, 0},  {0, -1, 0},           {-0.0, 0.0, 1},
+                                    {-0.0, -0.0, -1}, {1e-13, -1e-13, 1}, {std::nan(""), 0, 1}};
+    for (int i = 0; i < 20000; ++i) dirs.push_back(glm::normalize(glm::dvec3(g(rng), g(rng), g(rng))));
+    for (const auto& d : dirs) {
+      // Exhaustively: the first of the largest dot products, then the first of the rest.
+      int best = 0, second = -1;
+      for (int k = 1; k < fan.viewCount(); ++k)
+        if (glm::dot(fan.toCamera(k), d) > glm::dot(fan.toCamera(best), d)) best = k;
+      for (int k = 0; k < fan.viewCount(); ++k)
+        if (k != best && (second < 0 || glm::dot(fan.toCamera(k), d) > glm::dot(fan.toCamera(second), d))) second = k;
+      ASSERT_EQ(fan.nearestView(d), best) << layout.perRing << " per ring, d = " << d.x << ", " << d.y << ", " << d.z;
+      const std::vector<int> around = fan.viewsAround(d);
+      ASSERT_TRUE(std::is_sorted(around.begin(), around.end()));
+      EXPECT_NE(std::find(around.begin(), around.end(), second), around.end())
+          << layout.perRing << " per ring: the next nearest view " << second << " is not searched";
+    }
+  }
 }

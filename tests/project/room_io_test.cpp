@@ -507,3 +507,64 @@ TEST_F(BadInput, ALampsPhotometricFileIsReadCheckedAndKeptInAProject) {
   EXPECT_NE(negative.find("lamps/downlight.ies"), std::string::npos) << negative;
   EXPECT_NE(negative.find("cannot be negative"), std::string::npos) << negative;
 }
+
+// Everything a variant holds goes into a project: its virtual lamps, its virtual objects (a box,
+// an OBJ mesh, an image fan) and its images of the room under that lighting — and a kept daylight
+// session survives saving the project again without writing a new one (the workbench's Save of a
+// lamp-lit room, `relume import`).
+TEST_F(BadInput, AVariantsVirtualLampsObjectsAndImagesAndAKeptDaylightSessionAreKeptInAProject) {
+  std::string j = room();
+  j.insert(j.rfind('}'), R"(, "variants": [{"name": "evening dim", "lights": {"L": 0.5}, "file": "variants/evening.png",
+      "virtual_lights": [{"name": "spot", "radiance_rgb": [3, 2, 1], "two_sided": true,
+                          "polygon": [[0.2,0.2,0.9],[0.2,0.3,0.9],[0.3,0.3,0.9],[0.3,0.2,0.9]]}],
+      "virtual_objects": [{"name": "crate", "box_min": [0.1,0.1,0], "box_max": [0.3,0.3,0.2], "albedo": [0.6,0.5,0.4]},
+                          {"name": "wedge", "obj": "objects/wedge.obj", "albedo": [0.3,0.3,0.3]},
+                          {"name": "chair", "fan": "objects/chair.fan", "position": [0.5,0.6,0], "scale": 0.8,
+                           "rotation_degrees": 30}]}])");
+  const std::string dir = bundle(j);
+  writeImage(dir + "/photos/main.png", ImageRGB(64, 48));
+  fs::create_directories(fs::path(dir) / "variants");
+  writeImage(dir + "/variants/evening.png", ImageRGB(64, 48));
+  write(fs::path(dir) / "objects/wedge.obj", "v 0.5 0.5 0\nv 0.7 0.5 0\nv 0.5 0.7 0\nv 0.5 0.5 0.3\nf 1 2 3\nf 1 2 4\nf 1 4 3\n");
+  write(fs::path(dir) / "objects/chair.fan", "fan bytes");
+  const Scene s = loadRoom(dir);
+  ASSERT_EQ(s.variants.size(), 1u);
+  const std::string proj = (tmp.path / "kept.relume").string();
+  saveProject(s, proj);
+  fs::remove_all(dir);  // the project must stand on its own
+  const Scene p = loadRoom(proj);
+  ASSERT_EQ(p.variants.size(), 1u);
+  const Variant &a = s.variants[0], &b = p.variants[0];
+  EXPECT_EQ(b.name, "evening dim");
+  EXPECT_EQ(b.lampScale.at("L"), glm::dvec3(0.5));
+  ASSERT_EQ(b.virtualLamps.size(), 1u);
+  EXPECT_EQ(b.virtualLamps[0].name, "spot");
+  EXPECT_EQ(b.virtualLamps[0].radiance, glm::dvec3(3, 2, 1));
+  EXPECT_TRUE(b.virtualLamps[0].twoSided);
+  EXPECT_EQ(b.virtualLampPolygons, a.virtualLampPolygons);
+  ASSERT_EQ(b.virtualObjects.size(), 3u);
+  EXPECT_EQ(b.virtualObjects[0].name, "crate");
+  EXPECT_EQ(b.virtualObjects[0].boxMin, glm::dvec3(0.1, 0.1, 0));
+  EXPECT_EQ(b.virtualObjects[0].boxMax, glm::dvec3(0.3, 0.3, 0.2));
+  EXPECT_EQ(b.virtualObjects[0].albedo, glm::dvec3(0.6, 0.5, 0.4));
+  EXPECT_EQ(b.virtualObjects[1].name, "wedge");
+  EXPECT_EQ(b.virtualObjects[1].mesh, a.virtualObjects[1].mesh);
+  ASSERT_EQ(b.virtualObjects[1].mesh.size(), 3u);
+  EXPECT_EQ(b.virtualObjects[1].albedo, glm::dvec3(0.3));
+  EXPECT_EQ(b.virtualObjects[2].name, "chair");
+  EXPECT_EQ(text(fs::path(proj) / b.virtualObjects[2].fan), "fan bytes");
+  EXPECT_EQ(b.virtualObjects[2].position, glm::dvec3(0.5, 0.6, 0));
+  EXPECT_EQ(b.virtualObjects[2].scale, 0.8);
+  EXPECT_EQ(b.virtualObjects[2].rotationDegrees, 30.0);
+  ASSERT_FALSE(b.file.empty());
+  EXPECT_EQ(readImageLinear((fs::path(proj) / b.file).string()).width, 64);
+  // A kept daylight session stays when the project is saved again without a new one, and one the
+  // caller writes replaces it.
+  saveProject(p, proj, silentProgress(), [](const std::string& staging) { write(fs::path(staging) / "daylight/solution.bin", "old"); });
+  saveProject(loadRoom(proj), proj);
+  EXPECT_EQ(text(fs::path(proj) / "daylight/solution.bin"), "old");
+  saveProject(loadRoom(proj), proj, silentProgress(), [](const std::string& staging) { write(fs::path(staging) / "daylight/solution.bin", "new"); });
+  EXPECT_EQ(text(fs::path(proj) / "daylight/solution.bin"), "new");
+  // And the variants survive a second save too.
+  EXPECT_EQ(loadRoom(proj).variants.at(0).virtualObjects.size(), 3u);
+}

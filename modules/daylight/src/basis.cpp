@@ -29,19 +29,6 @@ double seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// A polygon beyond the window's plane, outside the room: no vertex more than 1 cm inside it and
-// some vertex more than 1 cm out.
-bool beyond(const Polygon& p, const Polygon& window) {
-  const glm::dvec3 n = polygonNormal(window.vertices);  // into the room
-  double in = -1e300, out = -1e300;
-  for (const auto& v : p.vertices) {
-    const double d = glm::dot(v - window.vertices[0], n);
-    in = std::max(in, d);
-    out = std::max(out, -d);
-  }
-  return in <= 0.01 && out > 0.01;
-}
-
 // Region k of the sky at unit radiance.
 std::shared_ptr<radiosity::DistantLight> regionLight(const SkyRegions& regions, int k, double pieceDeg) {
   auto light = std::make_shared<radiosity::DistantLight>();
@@ -60,19 +47,6 @@ std::shared_ptr<radiosity::DistantLight> groundLight(double pieceDeg) {
   return light;
 }
 }  // namespace
-
-std::vector<int> outsidePolygons(const Scene& scene) {
-  std::vector<int> out;
-  for (size_t i = 0; i < scene.polygons.size(); ++i) {
-    const Polygon& p = scene.polygons[i];
-    if (p.kind == PolygonKind::Window) continue;
-    bool beyondSome = false;
-    for (const auto& w : scene.polygons)
-      if (w.kind == PolygonKind::Window && w.vertices.size() >= 3) beyondSome = beyondSome || beyond(p, w);
-    if (beyondSome) out.push_back(int(i));
-  }
-  return out;
-}
 
 bool coneMeetsCell(const glm::dvec3& axis, double halfAngle, const SkyRegions::Cell& cell) {
   if (halfAngle >= kPi) return true;
@@ -130,7 +104,7 @@ void DaylightBasis::setUp(const Scene& scene, const SkyRadiance& refineFor) {
   // Outside polygons: beyond some window's plane.
   double groundArea = 0;
   glm::dvec3 groundAlbedo(0.0);
-  outside_ = outsidePolygons(scene);
+  outside_ = scene.outsidePolygons();
   for (int i : outside_) {
     const Polygon& p = scene.polygons[size_t(i)];
     if (p.kind == PolygonKind::Real && polygonNormal(p.vertices).z > 0.9) {

@@ -29,17 +29,25 @@
 
 namespace relume::daylight {
 
-std::vector<Polygon> variantObjects(const Variant& variant, const std::string& file) {
+std::vector<Polygon> variantObjects(const Scene& room, const Variant& variant, const std::string& file,
+                                    std::vector<std::string>* groups) {
   std::vector<Polygon> faces;
+  if (groups) groups->clear();
   std::set<std::string> names;
   for (size_t k = 0; k < variant.virtualObjects.size(); ++k) {
     const auto& b = variant.virtualObjects[k];
     if (!b.fan.empty()) throw Error(file, "virtual object " + b.name, "image-based objects are not lit by daylight yet");
     const VirtualObject o = b.mesh.empty() ? boxObject(b.name, b.boxMin, b.boxMax, b.albedo) : meshObject(b.name, b.mesh, b.albedo);
+    try {
+      checkVirtualObject(room, o);
+    } catch (const Error& e) {
+      throw Error(file, e.element(), e.problem());  // the file the object was given in
+    }
     // Each object's faces one group, named for the user: an unnamed object or a repeated name
     // gets the object's place in the list.
     std::string name = o.name.empty() ? "object " + std::to_string(k + 1) : o.name;
     if (!names.insert(name).second) names.insert(name += " (" + std::to_string(k + 1) + ")");
+    if (groups) groups->push_back(name);
     for (const auto& f : o.polygons) {
       Polygon poly;
       poly.name = poly.group = name;
@@ -557,7 +565,7 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
   std::vector<bool> outside(n, false);
   reflectances_.assign(n, glm::dvec3(0.5));
   estimated_.assign(n, false);
-  for (int s : outsidePolygons(room)) {
+  for (int s : room.outsidePolygons()) {
     outside[size_t(s)] = true;
     room.polygons[size_t(s)].albedo = reflectances_[size_t(s)] = glm::dvec3(options.groundReflectance);
   }

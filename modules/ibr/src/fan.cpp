@@ -63,10 +63,38 @@ glm::dvec3 ImageFan::right(int k) const {
 
 glm::dvec3 ImageFan::up(int k) const { return glm::cross(toCamera(k), right(k)); }
 
+std::vector<int> ImageFan::viewsAround(const glm::dvec3& d) const {
+  std::vector<int> out;
+  const int n = viewsPerRing;
+  // Every view when a ring's views cannot be told apart by azimuth alone: few of them, a ring
+  // beyond the poles, or a direction (nearly) along the axis or not a direction at all, where
+  // views tie and the exhaustive search's first one must be kept.
+  const double across = std::hypot(d.x, d.y);
+  bool all = n <= 4 || !(across > 1e-9 * std::abs(d.z)) || !std::isfinite(across + d.z);
+  for (double e : ringElevations) all = all || !(std::abs(e) <= 90.0);
+  if (all) {
+    for (int k = 0; k < viewCount(); ++k) out.push_back(k);
+    return out;
+  }
+  // On one ring, d . toCamera = cos(e) |d_xy| cos(phi_j - phi) + sin(e) d_z: largest for the
+  // azimuths nearest phi, then the next nearest (the two on either side of phi and one beyond).
+  const double phi = std::atan2(d.y, d.x);
+  const double step = 2.0 * std::numbers::pi / n;
+  const int j0 = int(std::floor(phi / step));
+  out.reserve(4 * ringElevations.size());
+  for (size_t r = 0; r < ringElevations.size(); ++r) {
+    int js[4];
+    for (int i = 0; i < 4; ++i) js[i] = ((j0 - 1 + i) % n + n) % n;
+    std::sort(js, js + 4);
+    for (int i = 0; i < 4; ++i) out.push_back(int(r) * n + js[i]);
+  }
+  return out;  // ascending: rings in order, each ring's four sorted (n > 4: all distinct)
+}
+
 int ImageFan::nearestView(const glm::dvec3& d) const {
   int best = 0;
   double bestDot = -2;
-  for (int k = 0; k < viewCount(); ++k) {
+  for (int k : viewsAround(d)) {
     const double c = glm::dot(toCamera(k), d);
     if (c > bestDot) {
       bestDot = c;

@@ -158,7 +158,8 @@ std::array<int, kDrawnViews> viewsToward(const ImageFan& fan, const Placement& p
   views[0] = fan.nearestView(vObj);
   const int ring0 = views[0] / std::max(1, fan.viewsPerRing);
   double best1 = -2, best2 = -2;
-  for (int k = 0; k < fan.viewCount(); ++k) {
+  const std::vector<int> around = fan.viewsAround(vObj);  // every view that can be first or second
+  for (int k : around) {
     if (k == views[0]) continue;
     const double c = glm::dot(fan.toCamera(k), vObj);
     if (c > best1) {
@@ -166,7 +167,7 @@ std::array<int, kDrawnViews> viewsToward(const ImageFan& fan, const Placement& p
       views[1] = k;
     }
   }
-  for (int k = 0; k < fan.viewCount(); ++k) {
+  for (int k : around) {
     if (k == views[0] || k == views[1] || k / std::max(1, fan.viewsPerRing) == ring0) continue;
     const double c = glm::dot(fan.toCamera(k), vObj);
     if (c > best2) {
@@ -225,6 +226,30 @@ std::vector<ShadowCaster> shadowCasters(const ImageFan& fan, const Placement& pl
   return out;
 }
 
+namespace {
+// RoomView::tiles from the view's points.
+void roomTiles(RoomView& v) {
+  constexpr int T = RoomView::kRoomTile;
+  const int tilesX = v.tilesX(), tilesY = v.tilesY();
+  v.tiles.assign(size_t(tilesX) * size_t(tilesY), glm::dvec4(0.0, 0.0, 0.0, -1.0));
+  tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 16), [&](const tbb::blocked_range<int>& r) {
+    for (int tile = r.begin(); tile < r.end(); ++tile) {
+      const int tx0 = (tile % tilesX) * T, ty0 = (tile / tilesX) * T;
+      const int tx1 = std::min(v.width, tx0 + T), ty1 = std::min(v.height, ty0 + T);
+      glm::dvec3 lo(1e300), hi(-1e300);
+      for (int y = ty0; y < ty1; ++y)
+        for (int x = tx0; x < tx1; ++x) {
+          const size_t pi = size_t(y) * size_t(v.width) + size_t(x);
+          if (v.surface[pi] < 0) continue;
+          lo = glm::min(lo, glm::dvec3(v.point[pi]));
+          hi = glm::max(hi, glm::dvec3(v.point[pi]));
+        }
+      if (lo.x <= hi.x) v.tiles[size_t(tile)] = glm::dvec4(0.5 * (lo + hi), 0.5 * glm::length(hi - lo) + 1e-6);
+    }
+  });
+}
+}  // namespace
+
 RoomView roomView(const radiosity::HierarchicalRadiosity& h, const Camera& cam) {
   RoomView v;
   v.width = cam.width;
@@ -255,6 +280,7 @@ RoomView roomView(const radiosity::HierarchicalRadiosity& h, const Camera& cam) 
       }
     }
   });
+  roomTiles(v);
   return v;
 }
 
@@ -633,9 +659,12 @@ ObjectShadows::Casters ObjectShadows::castersNear(const glm::dvec3& centre, doub
       const double len = glm::length(v), d = glm::dot(v, c.axis);
       if (len > radius) {
         if (d + radius < c.nearSide) continue;
-        const double half = std::acos(std::sqrt(std::clamp(c.cos2, 0.0, 1.0)));
-        const double angle = std::acos(std::clamp(d / len, -1.0, 1.0));
-        if (angle > half + std::asin(std::min(1.0, radius / len)) + 1e-6) continue;
+        // Outside the cone widened by the sphere's angle: the angle to the axis beyond the cone's
+        // half angle plus the sphere's, compared by cosines (cos(h + b), both in [0, pi / 2]; this
+        // runs for every tile of the image). The margin keeps it on the safe side of rounding.
+        const double cosH = std::sqrt(std::clamp(c.cos2, 0.0, 1.0)), sinH = std::sqrt(1.0 - cosH * cosH);
+        const double sinB = std::min(1.0, radius / len), cosB = std::sqrt(1.0 - sinB * sinB);
+        if (d / len < cosH * cosB - sinH * sinB - 1e-6) continue;
       }
     }
     const Reach& re = reach_[ci];
@@ -738,25 +767,28 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
   const std::vector<char> emitters = emittingSurfaces(h);
   std::atomic<size_t> shaded{0};
   // In tiles of 8 x 8 pixels: a tile whose points all lie out of every lamp's reach (the sphere
-  // around them, ObjectShadows::castersNear) is passed over whole, and the others ask only the
-  // lamps that may shadow some of it.
-  constexpr int kTile = 8;
-  const int tilesX = (cam.width + kTile - 1) / kTile, tilesY = (cam.height + kTile - 1) / kTile;
-  tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 4), [&](const tbb::blocked_range<int>& tiles) {
+  // around them, kept with the room view; ObjectShadows::castersNear) is passed over whole, and
+  // the others ask only the lamps that may shadow some of it.
+  RoomView tiled;
+  const RoomView* tiles = &room;
+  if (room.width != cam.width || room.height != cam.height ||
+      room.tiles.size() != size_t(room.tilesX()) * size_t(room.tilesY())) {  // made by hand, not by roomView
+    tiled = room;
+    tiled.width = cam.width;
+    tiled.height = cam.height;
+    roomTiles(tiled);
+    tiles = &tiled;
+  }
+  constexpr int kTile = RoomView::kRoomTile;
+  const int tilesX = tiles->tilesX(), tilesY = tiles->tilesY();
+  tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 4), [&](const tbb::blocked_range<int>& range) {
     size_t count = 0;
-    for (int tile = tiles.begin(); tile < tiles.end(); ++tile) {
+    for (int tile = range.begin(); tile < range.end(); ++tile) {
       const int tx0 = (tile % tilesX) * kTile, ty0 = (tile / tilesX) * kTile;
       const int tx1 = std::min(cam.width, tx0 + kTile), ty1 = std::min(cam.height, ty0 + kTile);
-      glm::dvec3 lo(1e300), hi(-1e300);
-      for (int y = ty0; y < ty1; ++y)
-        for (int x = tx0; x < tx1; ++x) {
-          const size_t pi = size_t(y) * cam.width + x;
-          if (room.surface[pi] < 0) continue;
-          lo = glm::min(lo, glm::dvec3(room.point[pi]));
-          hi = glm::max(hi, glm::dvec3(room.point[pi]));
-        }
-      if (lo.x > hi.x) continue;
-      const ObjectShadows::Casters near = shadows.castersNear(0.5 * (lo + hi), 0.5 * glm::length(hi - lo) + 1e-6);
+      const glm::dvec4& sphere = tiles->tiles[size_t(tile)];
+      if (sphere.w < 0) continue;
+      const ObjectShadows::Casters near = shadows.castersNear(glm::dvec3(sphere), sphere.w);
       if (!near) continue;
       for (int y = ty0; y < ty1; ++y)
         for (int x = tx0; x < tx1; ++x) {

@@ -816,7 +816,9 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
     root["format"] = "relume-project";
     // Version 2 only where it matters: a project whose lamps name photometric files (a Relume
     // that reads version 1 would take them for Lambertian faces without a word).
-    const bool photometric = std::any_of(scene.lamps.begin(), scene.lamps.end(), [](const Lamp& l) { return !l.photometryFile.empty(); });
+    bool photometric = std::any_of(scene.lamps.begin(), scene.lamps.end(), [](const Lamp& l) { return !l.photometryFile.empty(); });
+    for (const auto& v : scene.variants)
+      for (const auto& l : v.virtualLamps) photometric = photometric || !l.photometryFile.empty();
     root["version"] = photometric ? kProjectVersion : 1;
     root["units"] = "metres";
     root["up"] = "+Z";
@@ -835,28 +837,36 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
     }
     root["polygons"] = polys;
     QJsonArray lamps;
-    std::map<QString, QString> photometryCopies;  // source file -> its name in the project
+    // A file the room names goes along, copied into `sub`/ once however often it is named; files
+    // of the same name from different folders are kept apart (NAME_2.ies, ...). Its name in the
+    // project is returned.
+    std::map<QString, QString> copies;  // source file -> its name in the project
+    auto copyInto = [&](const std::string& rel, const QString& sub, const std::string& what) {
+      const QString src = QFileInfo(resolve(QString::fromStdString(scene.baseDir), rel)).absoluteFilePath();
+      QString& name = copies[src];
+      if (name.isEmpty()) {
+        const QFileInfo fi(src);
+        name = sub + "/" + fi.fileName();
+        for (int k = 2; QFileInfo::exists(staging + "/" + name); ++k)
+          name = sub + "/" + fi.completeBaseName() + "_" + QString::number(k) + (fi.suffix().isEmpty() ? "" : "." + fi.suffix());
+        if (!QDir().mkpath(staging + "/" + sub)) abandon("cannot create the " + str(sub) + " folder");
+        if (!QFile::copy(src, staging + "/" + name)) abandon("cannot copy the " + what + " " + str(src));
+        detail::saveStep("file copied");
+      }
+      return name;
+    };
+    // A variant's file that is not there (an image of the room under that lighting never taken, a
+    // fan not made yet) is left out, as reading left it unchecked; nothing of the user's is lost.
+    auto present = [&](const std::string& rel) {
+      return QFileInfo(resolve(QString::fromStdString(scene.baseDir), rel)).isFile();
+    };
     for (const auto& l : scene.lamps) {
       QJsonObject o{{"name", QString::fromStdString(l.name)},
                     {"polygon", QString::fromStdString(scene.polygons[l.polygon].name)},
                     {"radiance_rgb", toJson(l.radiance)},
                     {"two_sided", l.twoSided}};
-      if (!l.photometryFile.empty()) {
-        // The luminaire's file goes along, copied into photometry/.
-        const QString src = QFileInfo(resolve(QString::fromStdString(scene.baseDir), l.photometryFile)).absoluteFilePath();
-        QString& name = photometryCopies[src];
-        if (name.isEmpty()) {
-          // Files of the same name from different folders are kept apart (NAME_2.ies, ...).
-          const QFileInfo fi(src);
-          name = "photometry/" + fi.fileName();
-          for (int k = 2; QFileInfo::exists(staging + "/" + name); ++k)
-            name = "photometry/" + fi.completeBaseName() + "_" + QString::number(k) + "." + fi.suffix();
-          if (!QDir().mkpath(staging + "/photometry")) abandon("cannot create the photometry folder");
-          if (!QFile::copy(src, staging + "/" + name)) abandon("cannot copy the photometric file " + str(src));
-          detail::saveStep("photometric file copied");
-        }
-        o["photometry"] = name;
-      }
+      // The luminaire's file goes along, copied into photometry/.
+      if (!l.photometryFile.empty()) o["photometry"] = copyInto(l.photometryFile, "photometry", "photometric file");
       lamps.append(o);
     }
     root["lamps"] = lamps;
@@ -889,6 +899,68 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
       for (const auto& [k, s] : v.lampScale) lights[QString::fromStdString(k)] = toJson(s);
       o["lights"] = lights;
       if (!v.sky.empty()) o["sun"] = QString::fromStdString(v.sky);
+      // Everything else a variant holds goes along: its virtual lamps (their photometric files
+      // copied), its virtual objects (a mesh written as an OBJ file, an image fan copied, into
+      // objects/) and its images of the room under that lighting (copied into variants/).
+      QJsonArray vlamps;
+      for (size_t i = 0; i < v.virtualLamps.size(); ++i) {
+        const Lamp& l = v.virtualLamps[i];
+        QJsonArray poly;
+        if (i < v.virtualLampPolygons.size())
+          for (const auto& p : v.virtualLampPolygons[i]) poly.append(toJson(p));
+        QJsonObject lo{{"name", QString::fromStdString(l.name)},
+                       {"radiance_rgb", toJson(l.radiance)},
+                       {"two_sided", l.twoSided},
+                       {"polygon", poly}};
+        if (!l.photometryFile.empty()) lo["photometry"] = copyInto(l.photometryFile, "photometry", "photometric file");
+        vlamps.append(lo);
+      }
+      if (!vlamps.isEmpty()) o["virtual_lights"] = vlamps;
+      QJsonArray objects;
+      for (size_t k = 0; k < v.virtualObjects.size(); ++k) {
+        const VirtualBox& b = v.virtualObjects[k];
+        QJsonObject oo{{"name", QString::fromStdString(b.name)}};
+        if (!b.fan.empty()) {
+          if (present(b.fan)) oo["fan"] = copyInto(b.fan, "objects", "image fan");
+          else oo["fan"] = QString::fromStdString(b.fan);  // named as it was: refused when drawn, as before
+          oo["position"] = toJson(b.position);
+          oo["scale"] = b.scale;
+          oo["rotation_degrees"] = b.rotationDegrees;
+          objects.append(oo);
+          continue;
+        }
+        if (!b.mesh.empty()) {
+          // One "f" line per polygon, its own vertices (what readVariants reads back), named by
+          // places only: no name a user typed ends up in a path or in the file.
+          const QString name = QString("objects/variant%1_object%2.obj").arg(&v - scene.variants.data() + 1).arg(k + 1);
+          if (!QDir().mkpath(staging + "/objects")) abandon("cannot create the objects folder");
+          QSaveFile f(staging + "/" + name);
+          if (!f.open(QIODevice::WriteOnly)) abandon("cannot write " + str(name));
+          QByteArray obj = "# a virtual object's mesh (metres, +Z up)\n";
+          size_t next = 1;
+          for (const auto& face : b.mesh) {
+            QByteArray fl = "f";
+            for (const auto& p : face) {
+              obj += "v " + QByteArray::number(p.x, 'g', 17) + " " + QByteArray::number(p.y, 'g', 17) + " " +
+                     QByteArray::number(p.z, 'g', 17) + "\n";
+              fl += " " + QByteArray::number(qulonglong(next++));
+            }
+            obj += fl + "\n";
+          }
+          f.write(obj);
+          if (!f.commit()) abandon("cannot write " + str(name) + ": " + str(f.errorString()));
+          detail::saveStep("mesh written");
+          oo["obj"] = name;
+        } else {
+          oo["box_min"] = toJson(b.boxMin);
+          oo["box_max"] = toJson(b.boxMax);
+        }
+        oo["albedo"] = toJson(b.albedo);
+        objects.append(oo);
+      }
+      if (!objects.isEmpty()) o["virtual_objects"] = objects;
+      if (!v.file.empty() && present(v.file)) o["file"] = copyInto(v.file, "variants", "variant image");
+      if (!v.hdr.empty() && present(v.hdr)) o["hdr"] = copyInto(v.hdr, "variants", "variant image");
       variants.append(o);
     }
     root["variants"] = variants;
@@ -933,6 +1005,19 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
         if (!QFile::copy(src, dst)) abandon("cannot copy " + str(src) + " into the project");
         detail::saveStep("kept file copied");
       }
+    // So does a kept daylight session (daylight/, which checks itself against the room, photo,
+    // sky and options when it is opened), unless the caller wrote one.
+    if (!scene.baseDir.empty() && QFileInfo::exists(QString::fromStdString(scene.baseDir) + "/project.json")) {
+      const QString src = QString::fromStdString(fileInFolder(scene.baseDir, "daylight", scene.baseDir, ""));
+      if (QFileInfo(src).isDir() && !QFileInfo::exists(staging + "/daylight")) {
+        if (!QDir().mkpath(staging + "/daylight")) abandon("cannot create the daylight folder");
+        for (const QFileInfo& fi : QDir(src).entryInfoList(QDir::Files)) {
+          if (!QFile::copy(fi.absoluteFilePath(), staging + "/daylight/" + fi.fileName()))
+            abandon("cannot copy " + str(fi.absoluteFilePath()) + " into the project");
+          detail::saveStep("kept file copied");
+        }
+      }
+    }
     progress.poll();
   } catch (...) {
     QDir(staging).removeRecursively();

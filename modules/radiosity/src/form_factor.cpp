@@ -16,23 +16,30 @@ double pointToPolygonFormFactor(const glm::dvec3& p, const glm::dvec3& n,
   // A polygon whose front does not face p sends nothing towards it.
   const glm::dvec3 an = areaVector(poly);
   if (glm::dot(an, p - poly[0]) <= 0.0) return 0.0;
-  // Keep the part above p's tangent plane (a tiny lift avoids the singular contour).
-  const std::vector<glm::dvec3> clipped = clipToHalfSpace(poly, p + n * 1e-12, n);
-  if (clipped.size() < 3) return 0.0;
-  // Lambert's contour integral: F = 1/(2 pi) sum_i gamma_i * n . (R_i x R_{i+1}) / |R_i x R_{i+1}|.
+  // Keep the part above p's tangent plane (a tiny lift avoids the singular contour). Usually the
+  // whole polygon lies above it: then it is used as it is (no copy; this runs per pixel and per
+  // link).
+  const glm::dvec3 lifted = p + n * 1e-12;
+  bool whole = true;
+  for (const auto& v : poly) whole = whole && glm::dot(n, v - lifted) >= 0;
+  std::vector<glm::dvec3> clippedStore;
+  if (!whole) {
+    clippedStore = clipToHalfSpace(poly, lifted, n);
+    if (clippedStore.size() < 3) return 0.0;
+  }
+  const std::vector<glm::dvec3>& clipped = whole ? poly : clippedStore;
+  // Lambert's contour integral: F = 1/(2 pi) sum_i gamma_i * n . (R_i x R_{i+1}) / |R_i x R_{i+1}|,
+  // gamma_i the angle between R_i and R_{i+1}: atan2(|R_i x R_{i+1}|, R_i . R_{i+1}).
   double sum = 0.0;
   const size_t k = clipped.size();
   for (size_t i = 0; i < k; ++i) {
     const glm::dvec3 r0 = clipped[i] - p;
     const glm::dvec3 r1 = clipped[(i + 1) % k] - p;
-    const double l0 = glm::length(r0), l1 = glm::length(r1);
-    if (l0 < 1e-15 || l1 < 1e-15) continue;
+    if (glm::dot(r0, r0) < 1e-30 || glm::dot(r1, r1) < 1e-30) continue;
     const glm::dvec3 c = glm::cross(r0, r1);
     const double cl = glm::length(c);
     if (cl < 1e-300) continue;
-    const double cosg = std::clamp(glm::dot(r0, r1) / (l0 * l1), -1.0, 1.0);
-    const double gamma = std::atan2(cl / (l0 * l1), cosg);
-    sum += gamma * glm::dot(n, c) / cl;
+    sum += std::atan2(cl, glm::dot(r0, r1)) * glm::dot(n, c) / cl;
   }
   // The polygon faces p, so every term has the orientation's sign: the magnitude is the factor.
   return std::abs(sum) / (2.0 * std::numbers::pi);

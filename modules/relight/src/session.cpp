@@ -62,9 +62,14 @@ void checkVirtualObject(const Scene& scene, const VirtualObject& object) {
   for (size_t k = 0; k < object.polygons.size(); ++k)
     if (object.polygons[k].size() < 3 || !(polygonArea(object.polygons[k]) > 1e-8))
       throw Error(scene.sourceFile, what, "polygon " + std::to_string(k) + " has fewer than 3 vertices or no area");
+  // The room's bounds: its own polygons', not those outside its windows (a daylight room's ground
+  // reaches tens of metres past the walls; an object out there is not in the room).
   glm::dvec3 lo(1e300), hi(-1e300), olo(1e300), ohi(-1e300);
-  for (const auto& p : scene.polygons)
-    for (const auto& v : p.vertices) {
+  std::vector<char> outside(scene.polygons.size(), 0);
+  for (int i : scene.outsidePolygons()) outside[size_t(i)] = 1;
+  for (size_t i = 0; i < scene.polygons.size(); ++i)
+    for (const auto& v : scene.polygons[i].vertices) {
+      if (outside[i]) continue;
       lo = glm::min(lo, v);
       hi = glm::max(hi, v);
     }

@@ -184,9 +184,6 @@ class DaylightBasis {
   mutable std::vector<double> horizontal_;  // per region: projected solid angle on a horizontal plane
 };
 
-// The polygons beyond some window's plane (outside the room: a ground plane, the street).
-std::vector<int> outsidePolygons(const Scene& scene);
-
 // Whether a cone of directions (unit `axis`, `halfAngle` radians) can reach sky region `cell`:
 // false only when every direction in the cone lies outside it (a conservative test).
 bool coneMeetsCell(const glm::dvec3& axis, double halfAngle, const SkyRegions::Cell& cell);

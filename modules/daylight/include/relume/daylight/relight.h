@@ -113,9 +113,15 @@ ImageRGB differentialRender(const ImageRGB& photo, const ImageRGB& ePhoto, const
 // bases as solved when it is first used; it is not rebuilt if a NearField render refines them.
 enum class DaylightMethod { NearField, Distant, Volume };
 
-// A variant's virtual objects (boxes and meshes) as polygons with their albedos, for render().
-// Image-based objects are refused (relume::Error naming `file`): not lit by daylight yet.
-std::vector<Polygon> variantObjects(const Variant& variant, const std::string& file);
+// A variant's virtual objects (boxes and meshes) as polygons with their albedos, for render(),
+// each checked against the room as relume::checkVirtualObject checks lamp-lit objects (inside the
+// room, not through a wall; a room's outside ground does not make "inside" reach past its walls).
+// Refused with a relume::Error naming `file` and the object: an object that fails that check,
+// and image-based objects (not lit by daylight yet).
+// `groups` (if given) gets each virtual object's group name, in the variant's order: the group of
+// its faces (an unnamed object is "object k", a repeated name gets " (k)").
+std::vector<Polygon> variantObjects(const Scene& room, const Variant& variant, const std::string& file,
+                                    std::vector<std::string>* groups = nullptr);
 // A variant's virtual lamps (virtual_lights) for render(): exitance pi x radiance per face.
 // Photometric lamps are refused (relume::Error naming `file` and the lamp): not lit by daylight yet.
 std::vector<BasisLamp> variantLamps(const Variant& variant, const std::string& file);

@@ -9,6 +9,7 @@
 #include <array>
 #include <functional>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 #include <memory>
 #include <vector>
 
@@ -119,6 +120,13 @@ struct RoomView {
   std::vector<float> depth;
   std::vector<glm::vec3> point, normal;
   std::vector<int> surface;
+  // Per tile of kRoomTile x kRoomTile pixels (row-major, tilesX() across): the sphere around the
+  // points its pixels see (xyz the centre, w the radius; w < 0: it sees no surface). Shadows ask
+  // per tile first whether an object's shadow can reach it.
+  static constexpr int kRoomTile = 8;
+  int tilesX() const { return (width + kRoomTile - 1) / kRoomTile; }
+  int tilesY() const { return (height + kRoomTile - 1) / kRoomTile; }
+  std::vector<glm::dvec4> tiles;
 };
 RoomView roomView(const radiosity::HierarchicalRadiosity& h, const Camera& camera);
 
