@@ -19,6 +19,7 @@
 #include "relume/geometry/scene.h"
 #include "relume/radiosity/form_factor.h"
 #include "relume/radiosity/hierarchy.h"
+#include "relume/raytrace/outside.h"
 
 namespace relume::daylight {
 
@@ -104,7 +105,7 @@ void DaylightBasis::setUp(const Scene& scene, const SkyRadiance& refineFor) {
   // Outside polygons: beyond some window's plane.
   double groundArea = 0;
   glm::dvec3 groundAlbedo(0.0);
-  outside_ = scene.outsidePolygons();
+  outside_ = outsidePolygons(scene);
   for (int i : outside_) {
     const Polygon& p = scene.polygons[size_t(i)];
     if (p.kind == PolygonKind::Real && polygonNormal(p.vertices).z > 0.9) {

@@ -23,6 +23,7 @@
 #include "relume/radiosity/form_factor.h"
 #include "relume/radiosity/hierarchy.h"
 #include "relume/radiosity/sh.h"
+#include "relume/raytrace/outside.h"
 #include "relume/raytrace/ray_scene.h"
 #include "relume/relight/relighter.h"
 #include "relume/relight/solution_render.h"
@@ -565,7 +566,7 @@ DaylightRelighting::DaylightRelighting(const Scene& scene, const ImageRGB& photo
   std::vector<bool> outside(n, false);
   reflectances_.assign(n, glm::dvec3(0.5));
   estimated_.assign(n, false);
-  for (int s : room.outsidePolygons()) {
+  for (int s : outsidePolygons(room)) {
     outside[size_t(s)] = true;
     room.polygons[size_t(s)].albedo = reflectances_[size_t(s)] = glm::dvec3(options.groundReflectance);
   }

@@ -1,9 +1,5 @@
 #include "relume/geometry/scene.h"
 
-#include <algorithm>
-#include <glm/geometric.hpp>
-
-#include "relume/geometry/polygon.h"
 
 namespace relume {
 
@@ -37,27 +33,5 @@ int Scene::lampOfPolygon(int polygon) const {
   return -1;
 }
 
-std::vector<int> Scene::outsidePolygons() const {
-  std::vector<int> out;
-  for (size_t i = 0; i < polygons.size(); ++i) {
-    const Polygon& p = polygons[i];
-    if (p.kind == PolygonKind::Window) continue;
-    for (const auto& w : polygons) {
-      if (w.kind != PolygonKind::Window || w.vertices.size() < 3) continue;
-      const glm::dvec3 n = polygonNormal(w.vertices);  // into the room
-      double in = -1e300, beyond = -1e300;
-      for (const auto& v : p.vertices) {
-        const double d = glm::dot(v - w.vertices[0], n);
-        in = std::max(in, d);
-        beyond = std::max(beyond, -d);
-      }
-      if (in <= 0.01 && beyond > 0.01) {
-        out.push_back(int(i));
-        break;
-      }
-    }
-  }
-  return out;
-}
 
 }  // namespace relume

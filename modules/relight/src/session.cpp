@@ -13,6 +13,7 @@
 #include "view_cast.h"
 #include "relume/geometry/error.h"
 #include "relume/image/image.h"
+#include "relume/raytrace/outside.h"
 #include "relume/raytrace/ray_scene.h"
 #include "relume/relight/relighter.h"
 #include "relume/relight/solution_render.h"
@@ -66,7 +67,7 @@ void checkVirtualObject(const Scene& scene, const VirtualObject& object) {
   // reaches tens of metres past the walls; an object out there is not in the room).
   glm::dvec3 lo(1e300), hi(-1e300), olo(1e300), ohi(-1e300);
   std::vector<char> outside(scene.polygons.size(), 0);
-  for (int i : scene.outsidePolygons()) outside[size_t(i)] = 1;
+  for (int i : outsidePolygons(scene)) outside[size_t(i)] = 1;
   for (size_t i = 0; i < scene.polygons.size(); ++i)
     for (const auto& v : scene.polygons[i].vertices) {
       if (outside[i]) continue;

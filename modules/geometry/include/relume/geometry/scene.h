@@ -91,10 +91,6 @@ struct Scene {
   const SkyCapture* findSky(const std::string& name) const;
   // Index of the lamp whose polygon is `polygon`, or -1.
   int lampOfPolygon(int polygon) const;
-  // The polygons beyond some window's plane, outside the room (a ground plane, the street): no
-  // vertex more than 1 cm on the room's side of the window's plane and some vertex more than 1 cm
-  // beyond it. Windows themselves are not outside.
-  std::vector<int> outsidePolygons() const;
 };
 
 }  // namespace relume
