@@ -652,6 +652,17 @@ void SkyPanel::moveObject(const QString& name, QPointF pixel, bool released) {
       }
     try {
       checkVirtualObject(*s_->scene, moved);
+      // Nor into another object of the entry.
+      std::map<std::string, VirtualObject> others;
+      for (const auto& p : faces)
+        if (p.group != group) {
+          VirtualObject& other = others[p.group];
+          other.name = p.group;
+          other.polygons.push_back(p.vertices);
+        }
+      std::vector<const VirtualObject*> list;
+      for (const auto& [n, other] : others) list.push_back(&other);
+      checkVirtualObjectsApart(*s_->scene, moved, list);
     } catch (const std::exception& e) {
       why = QString::fromUtf8(e.what());
     }

@@ -241,6 +241,23 @@ TEST(Relight, BadInputIsRefusedWithAClearError) {
   EXPECT_NE(message([&] { checkVirtualObject(scene, boxObject("crate", {1.0, 1.0, 0.0}, {1.3, 1.4, 0.4}, glm::dvec3(1.5))); })
                 .find("albedo"),
             std::string::npos);
+  // Two virtual objects through each other: refused naming both. One standing on the other, or
+  // beside it touching, is where a user puts things.
+  {
+    const VirtualObject table = boxObject("table", {1.0, 1.0, 0.0}, {1.6, 1.6, 0.7}, glm::dvec3(0.5));
+    const VirtualObject through = boxObject("vase", {1.2, 1.2, 0.5}, {1.4, 1.4, 0.9}, glm::dvec3(0.5));
+    const VirtualObject on = boxObject("vase", {1.2, 1.2, 0.7}, {1.4, 1.4, 0.9}, glm::dvec3(0.5));
+    const VirtualObject beside = boxObject("crate", {1.6, 1.0, 0.0}, {1.9, 1.3, 0.3}, glm::dvec3(0.5));
+    const std::string refused = message([&] { checkVirtualObjectsApart(scene, through, {&table}); });
+    EXPECT_NE(refused.find("virtual object 'vase'"), std::string::npos) << refused;
+    EXPECT_NE(refused.find("intersects virtual object 'table'"), std::string::npos) << refused;
+    EXPECT_EQ(message([&] { checkVirtualObjectsApart(scene, on, {&table, &beside}); }), "no error");
+    EXPECT_EQ(message([&] { checkVirtualObjectsApart(scene, beside, {&table, &on}); }), "no error");
+    // A live session refuses adding the vase through the table, and keeps what it had.
+    RelightSession s(scene, room().data, {}, {table});
+    EXPECT_NE(message([&] { s.addObject(through); }).find("intersects virtual object 'table'"), std::string::npos);
+    EXPECT_EQ(s.objectCount(), 1u);
+  }
   // A camera that sees none of the polygons (turned to look away, out of the room).
   Scene away = scene;
   for (auto& ph : away.photos) ph.camera.t = glm::dvec3(0, 0, -50);

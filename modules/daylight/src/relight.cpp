@@ -35,15 +35,20 @@ std::vector<Polygon> variantObjects(const Scene& room, const Variant& variant, c
   std::vector<Polygon> faces;
   if (groups) groups->clear();
   std::set<std::string> names;
+  std::vector<VirtualObject> made;  // checked against each other as they come
   for (size_t k = 0; k < variant.virtualObjects.size(); ++k) {
     const auto& b = variant.virtualObjects[k];
     if (!b.fan.empty()) throw Error(file, "virtual object " + b.name, "image-based objects are not lit by daylight yet");
     const VirtualObject o = b.mesh.empty() ? boxObject(b.name, b.boxMin, b.boxMax, b.albedo) : meshObject(b.name, b.mesh, b.albedo);
     try {
       checkVirtualObject(room, o);
+      std::vector<const VirtualObject*> before;
+      for (const auto& m : made) before.push_back(&m);
+      checkVirtualObjectsApart(room, o, before);
     } catch (const Error& e) {
       throw Error(file, e.element(), e.problem());  // the file the object was given in
     }
+    made.push_back(o);
     // Each object's faces one group, named for the user: an unnamed object or a repeated name
     // gets the object's place in the list.
     std::string name = o.name.empty() ? "object " + std::to_string(k + 1) : o.name;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <map>
+#include <memory>
 #include <numbers>
 
 #include "relight_common.h"
@@ -51,6 +52,65 @@ VirtualObject meshObject(const std::string& name, const std::vector<std::vector<
   return o;
 }
 
+namespace {
+// An object's faces moved 1 mm towards the middle of its bounding box (so that what only touches
+// it does not cross it).
+std::vector<std::vector<glm::dvec3>> shrunkFaces(const VirtualObject& object) {
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const auto& p : object.polygons)
+    for (const auto& v : p) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+  const glm::dvec3 c = 0.5 * (lo + hi);
+  std::vector<std::vector<glm::dvec3>> out;
+  for (const auto& p : object.polygons) {
+    std::vector<glm::dvec3> q;
+    for (const auto& v : p) {
+      const glm::dvec3 d = c - v;
+      const double len = glm::length(d);
+      q.push_back(len > 1e-3 ? v + 1e-3 * d / len : c);
+    }
+    out.push_back(std::move(q));
+  }
+  return out;
+}
+// The first polygon one of whose edges crosses something in `rays`, or -1.
+int crosses(const RayScene& rays, const std::vector<std::vector<glm::dvec3>>& polys) {
+  for (size_t i = 0; i < polys.size(); ++i)
+    for (size_t k = 0; k < polys[i].size(); ++k)
+      if (rays.occluded(glm::vec3(polys[i][k]), glm::vec3(polys[i][(k + 1) % polys[i].size()]), 0.f)) return int(i);
+  return -1;
+}
+}  // namespace
+
+void checkVirtualObjectsApart(const Scene& scene, const VirtualObject& object, const std::vector<const VirtualObject*>& others) {
+  auto bounds = [](const std::vector<std::vector<glm::dvec3>>& faces, glm::dvec3& lo, glm::dvec3& hi) {
+    lo = glm::dvec3(1e300);
+    hi = glm::dvec3(-1e300);
+    for (const auto& p : faces)
+      for (const auto& v : p) {
+        lo = glm::min(lo, v);
+        hi = glm::max(hi, v);
+      }
+  };
+  const std::vector<std::vector<glm::dvec3>> mine = shrunkFaces(object);
+  glm::dvec3 lo, hi;
+  bounds(mine, lo, hi);
+  std::unique_ptr<RayScene> mineRays;
+  for (const VirtualObject* other : others) {
+    if (!other || other == &object || other->polygons.empty()) continue;
+    const std::vector<std::vector<glm::dvec3>> theirs = shrunkFaces(*other);
+    glm::dvec3 olo, ohi;
+    bounds(theirs, olo, ohi);
+    if (glm::any(glm::lessThan(ohi, lo)) || glm::any(glm::lessThan(hi, olo))) continue;  // boxes apart: nothing crosses
+    if (!mineRays) mineRays = std::make_unique<RayScene>(mine);
+    const RayScene theirRays(theirs);
+    if (crosses(theirRays, mine) >= 0 || crosses(*mineRays, theirs) >= 0)
+      throw Error(scene.sourceFile, "virtual object '" + object.name + "'", "intersects virtual object '" + other->name + "'");
+  }
+}
+
 void checkVirtualObject(const Scene& scene, const VirtualObject& object) {
   const std::string what = "virtual object '" + object.name + "'";
   for (double c : {object.albedo.x, object.albedo.y, object.albedo.z})
@@ -83,22 +143,9 @@ void checkVirtualObject(const Scene& scene, const VirtualObject& object) {
     }
   // Shrunk by 1 mm towards its centre, no edge of the object may cross a real polygon and no
   // edge of a real polygon may cross the object.
-  const glm::dvec3 c = 0.5 * (olo + ohi);
-  auto shrink = [&](const glm::dvec3& v) { return v + 1e-3 * glm::normalize(c - v); };
-  std::vector<std::vector<glm::dvec3>> room, obj;
+  std::vector<std::vector<glm::dvec3>> room, obj = shrunkFaces(object);
   for (const auto& p : scene.polygons) room.push_back(p.vertices);
-  for (const auto& p : object.polygons) {
-    std::vector<glm::dvec3> q;
-    for (const auto& v : p) q.push_back(shrink(v));
-    obj.push_back(q);
-  }
   const RayScene roomRays(room), objRays(obj);
-  auto crosses = [](const RayScene& rays, const std::vector<std::vector<glm::dvec3>>& polys) -> int {
-    for (size_t i = 0; i < polys.size(); ++i)
-      for (size_t k = 0; k < polys[i].size(); ++k)
-        if (rays.occluded(glm::vec3(polys[i][k]), glm::vec3(polys[i][(k + 1) % polys[i].size()]), 0.f)) return int(i);
-    return -1;
-  };
   if (crosses(roomRays, obj) >= 0 || crosses(objRays, room) >= 0) {
     // Name the real polygon it cuts.
     for (const auto& p : scene.polygons) {
@@ -370,6 +417,14 @@ RelightSession::RelightSession(const Scene& scene, const RelightData& data, std:
   im.objects = objects;
   for (const auto& o : objects) {
     checkVirtualObject(scene, o);
+    {
+      std::vector<const VirtualObject*> before;
+      for (const auto& e : objects) {
+        if (&e == &o) break;
+        before.push_back(&e);
+      }
+      checkVirtualObjectsApart(scene, o, before);
+    }
     im.objectSurfaceIds.emplace_back();
     for (size_t k = 0; k < o.polygons.size(); ++k) {
       im.objectSurfaceIds.back().push_back(int(surfaces.size()));
@@ -543,6 +598,11 @@ int RelightSession::virtualLampSurface(int lamp) const { return impl_->vlampSurf
 int RelightSession::addObject(const VirtualObject& object, Progress& progress) {
   auto& im = *impl_;
   checkVirtualObject(im.scene, object);
+  {
+    std::vector<const VirtualObject*> others;
+    for (const auto& e : im.objects) others.push_back(&e);
+    checkVirtualObjectsApart(im.scene, object, others);
+  }
   im.syncEngine(progress);
   const size_t oldNodes = im.h->nodes().size();
   std::vector<radiosity::Surface> faces;
@@ -577,6 +637,12 @@ size_t RelightSession::moveObjectAbout(int object, const glm::dvec3& offset, dou
   for (auto& p : moved.polygons)
     for (auto& v : p) v = rot * (v - pivot) + pivot + offset;
   checkVirtualObject(im.scene, moved);
+  {
+    std::vector<const VirtualObject*> others;
+    for (size_t k = 0; k < im.objects.size(); ++k)
+      if (int(k) != object) others.push_back(&im.objects[k]);
+    checkVirtualObjectsApart(im.scene, moved, others);
+  }
   if (im.dragPreview) {  // every place the object passes through is settled at the end
     for (const VirtualObject* o : {&im.objects[size_t(object)], &moved})
       for (const auto& p : o->polygons)

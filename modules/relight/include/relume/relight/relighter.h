@@ -306,6 +306,10 @@ class RelightSession {
 // Checks a virtual object against the room: inside the room's bounds and not cutting through
 // any real polygon. Throws relume::Error naming the object.
 void checkVirtualObject(const Scene& scene, const VirtualObject& object);
+// Checks a virtual object against the others in the room with it: no edge of one crosses a face
+// of another (both shrunk by 1 mm towards their centres, so that objects may touch: a vase
+// standing on a box, two boxes side by side). Throws relume::Error naming both.
+void checkVirtualObjectsApart(const Scene& scene, const VirtualObject& object, const std::vector<const VirtualObject*>& others);
 
 // The display gain g of a photo with both encodings (8-bit photo ~ sRGB(g x radiance), fitted
 // over the pixels neither dark nor clipped); 1 without its linear (EXR) image.
