@@ -567,4 +567,13 @@ TEST_F(BadInput, AVariantsVirtualLampsObjectsAndImagesAndAKeptDaylightSessionAre
   EXPECT_EQ(text(fs::path(proj) / "daylight/solution.bin"), "new");
   // And the variants survive a second save too.
   EXPECT_EQ(loadRoom(proj).variants.at(0).virtualObjects.size(), 3u);
+  // The workbench's edits and the fans of the objects it placed (objects/) go along together when
+  // a save writes neither.
+  saveProject(loadRoom(proj), proj, silentProgress(), [](const std::string& staging) {
+    write(fs::path(staging) / "workbench.json", "{}");
+    write(fs::path(staging) / "objects/image_1.fan", "placed");
+  });
+  saveProject(loadRoom(proj), proj);
+  EXPECT_EQ(text(fs::path(proj) / "objects/image_1.fan"), "placed");
+  EXPECT_EQ(text(fs::path(proj) / "workbench.json"), "{}");
 }

@@ -901,7 +901,8 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
       if (!v.sky.empty()) o["sun"] = QString::fromStdString(v.sky);
       // Everything else a variant holds goes along: its virtual lamps (their photometric files
       // copied), its virtual objects (a mesh written as an OBJ file, an image fan copied, into
-      // objects/) and its images of the room under that lighting (copied into variants/).
+      // variants/objects/, apart from the workbench's own objects/) and its images of the room
+      // under that lighting (copied into variants/).
       QJsonArray vlamps;
       for (size_t i = 0; i < v.virtualLamps.size(); ++i) {
         const Lamp& l = v.virtualLamps[i];
@@ -921,7 +922,7 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
         const VirtualBox& b = v.virtualObjects[k];
         QJsonObject oo{{"name", QString::fromStdString(b.name)}};
         if (!b.fan.empty()) {
-          if (present(b.fan)) oo["fan"] = copyInto(b.fan, "objects", "image fan");
+          if (present(b.fan)) oo["fan"] = copyInto(b.fan, "variants/objects", "image fan");
           else oo["fan"] = QString::fromStdString(b.fan);  // named as it was: refused when drawn, as before
           oo["position"] = toJson(b.position);
           oo["scale"] = b.scale;
@@ -932,8 +933,8 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
         if (!b.mesh.empty()) {
           // One "f" line per polygon, its own vertices (what readVariants reads back), named by
           // places only: no name a user typed ends up in a path or in the file.
-          const QString name = QString("objects/variant%1_object%2.obj").arg(&v - scene.variants.data() + 1).arg(k + 1);
-          if (!QDir().mkpath(staging + "/objects")) abandon("cannot create the objects folder");
+          const QString name = QString("variants/objects/variant%1_object%2.obj").arg(&v - scene.variants.data() + 1).arg(k + 1);
+          if (!QDir().mkpath(staging + "/variants/objects")) abandon("cannot create the variants/objects folder");
           QSaveFile f(staging + "/" + name);
           if (!f.open(QIODevice::WriteOnly)) abandon("cannot write " + str(name));
           QByteArray obj = "# a virtual object's mesh (metres, +Z up)\n";
@@ -997,27 +998,32 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
     if (extra) extra(str(staging));
     // What the project was made from (the clicks and their triangulation) and the workbench's edits
     // stay with it when a project is saved again, unless the caller wrote new ones.
-    if (!scene.baseDir.empty() && QFileInfo::exists(QString::fromStdString(scene.baseDir) + "/project.json"))
+    const bool fromProject = !scene.baseDir.empty() && QFileInfo::exists(QString::fromStdString(scene.baseDir) + "/project.json");
+    // A folder of the old project copied in (its files), unless the caller wrote one.
+    auto keepFolder = [&](const char* name) {
+      const QString src = QString::fromStdString(fileInFolder(scene.baseDir, name, scene.baseDir, ""));
+      if (!QFileInfo(src).isDir() || QFileInfo::exists(staging + "/" + name)) return;
+      if (!QDir().mkpath(staging + "/" + name)) abandon("cannot create the " + std::string(name) + " folder");
+      for (const QFileInfo& fi : QDir(src).entryInfoList(QDir::Files)) {
+        if (!QFile::copy(fi.absoluteFilePath(), staging + "/" + name + "/" + fi.fileName()))
+          abandon("cannot copy " + str(fi.absoluteFilePath()) + " into the project");
+        detail::saveStep("kept file copied");
+      }
+    };
+    if (fromProject)
       for (const char* name : {"clicks.json", "triangulation.json", "workbench.json"}) {
         const QString src = QString::fromStdString(fileInFolder(scene.baseDir, name, scene.baseDir, "")),
                       dst = staging + "/" + name;
         if (!QFileInfo::exists(src) || QFileInfo::exists(dst)) continue;
         if (!QFile::copy(src, dst)) abandon("cannot copy " + str(src) + " into the project");
         detail::saveStep("kept file copied");
+        // The workbench's edits name the image fans of the objects it placed (objects/): they go
+        // with it.
+        if (std::string(name) == "workbench.json") keepFolder("objects");
       }
     // So does a kept daylight session (daylight/, which checks itself against the room, photo,
     // sky and options when it is opened), unless the caller wrote one.
-    if (!scene.baseDir.empty() && QFileInfo::exists(QString::fromStdString(scene.baseDir) + "/project.json")) {
-      const QString src = QString::fromStdString(fileInFolder(scene.baseDir, "daylight", scene.baseDir, ""));
-      if (QFileInfo(src).isDir() && !QFileInfo::exists(staging + "/daylight")) {
-        if (!QDir().mkpath(staging + "/daylight")) abandon("cannot create the daylight folder");
-        for (const QFileInfo& fi : QDir(src).entryInfoList(QDir::Files)) {
-          if (!QFile::copy(fi.absoluteFilePath(), staging + "/daylight/" + fi.fileName()))
-            abandon("cannot copy " + str(fi.absoluteFilePath()) + " into the project");
-          detail::saveStep("kept file copied");
-        }
-      }
-    }
+    if (fromProject) keepFolder("daylight");
     progress.poll();
   } catch (...) {
     QDir(staging).removeRecursively();
