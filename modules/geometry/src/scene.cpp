@@ -1,6 +1,5 @@
 #include "relume/geometry/scene.h"
 
-
 namespace relume {
 
 int Scene::findPolygon(const std::string& name) const {
@@ -32,6 +31,5 @@ int Scene::lampOfPolygon(int polygon) const {
     if (lamps[i].polygon == polygon) return int(i);
   return -1;
 }
-
 
 }  // namespace relume

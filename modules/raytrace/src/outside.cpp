@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <glm/geometric.hpp>
+#include <memory>
 
 #include "relume/geometry/polygon.h"
 #include "relume/raytrace/ray_scene.h"
@@ -25,12 +26,19 @@ std::vector<int> outsidePolygons(const Scene& scene) {
   for (size_t i = 0; i < scene.polygons.size(); ++i)
     if (scene.polygons[i].kind == PolygonKind::Window && scene.polygons[i].vertices.size() >= 3) windows.push_back(int(i));
   if (windows.empty()) return out;
-  // Everything but the windows blocks a line (a window is an opening).
-  std::vector<std::vector<glm::dvec3>> solid;
-  for (size_t i = 0; i < scene.polygons.size(); ++i)
-    if (scene.polygons[i].kind != PolygonKind::Window && scene.polygons[i].vertices.size() >= 3)
-      solid.push_back(scene.polygons[i].vertices);
-  const RayScene rays(solid);
+  // Everything but the windows blocks a line (a window is an opening). Built once some polygon
+  // lies beyond a window's plane: a room without one (most) casts no ray (the virtual-object
+  // check calls this at every move of a drag).
+  std::unique_ptr<RayScene> rays;
+  auto blockers = [&]() -> const RayScene& {
+    if (!rays) {
+      std::vector<std::vector<glm::dvec3>> solid;
+      for (const auto& q : scene.polygons)
+        if (q.kind != PolygonKind::Window && q.vertices.size() >= 3) solid.push_back(q.vertices);
+      rays = std::make_unique<RayScene>(solid);
+    }
+    return *rays;
+  };
   for (size_t i = 0; i < scene.polygons.size(); ++i) {
     const Polygon& p = scene.polygons[i];
     if (p.kind == PolygonKind::Window || p.vertices.size() < 3) continue;
@@ -53,7 +61,7 @@ std::vector<int> outsidePolygons(const Scene& scene) {
           const double len = glm::length(d);
           if (!(len > 1e-6) || glm::dot(np, d) <= 0) continue;
           // (From just off the polygon, to the window's point: the line's own ends are no block.)
-          if (!rays.occluded(glm::vec3(x + 1e-4 * d / len), glm::vec3(y), 1e-4f)) {
+          if (!blockers().occluded(glm::vec3(x + 1e-4 * d / len), glm::vec3(y), 1e-4f)) {
             outside = true;
             break;
           }

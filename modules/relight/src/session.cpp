@@ -53,15 +53,21 @@ VirtualObject meshObject(const std::string& name, const std::vector<std::vector<
 }
 
 namespace {
-// An object's faces moved 1 mm towards the middle of its bounding box (so that what only touches
-// it does not cross it).
-std::vector<std::vector<glm::dvec3>> shrunkFaces(const VirtualObject& object) {
-  glm::dvec3 lo(1e300), hi(-1e300);
-  for (const auto& p : object.polygons)
+// The bounding box of faces.
+void facesBounds(const std::vector<std::vector<glm::dvec3>>& faces, glm::dvec3& lo, glm::dvec3& hi) {
+  lo = glm::dvec3(1e300);
+  hi = glm::dvec3(-1e300);
+  for (const auto& p : faces)
     for (const auto& v : p) {
       lo = glm::min(lo, v);
       hi = glm::max(hi, v);
     }
+}
+// An object's faces moved 1 mm towards the middle of its bounding box (so that what only touches
+// it does not cross it).
+std::vector<std::vector<glm::dvec3>> shrunkFaces(const VirtualObject& object) {
+  glm::dvec3 lo, hi;
+  facesBounds(object.polygons, lo, hi);
   const glm::dvec3 c = 0.5 * (lo + hi);
   std::vector<std::vector<glm::dvec3>> out;
   for (const auto& p : object.polygons) {
@@ -85,24 +91,15 @@ int crosses(const RayScene& rays, const std::vector<std::vector<glm::dvec3>>& po
 }  // namespace
 
 void checkVirtualObjectsApart(const Scene& scene, const VirtualObject& object, const std::vector<const VirtualObject*>& others) {
-  auto bounds = [](const std::vector<std::vector<glm::dvec3>>& faces, glm::dvec3& lo, glm::dvec3& hi) {
-    lo = glm::dvec3(1e300);
-    hi = glm::dvec3(-1e300);
-    for (const auto& p : faces)
-      for (const auto& v : p) {
-        lo = glm::min(lo, v);
-        hi = glm::max(hi, v);
-      }
-  };
   const std::vector<std::vector<glm::dvec3>> mine = shrunkFaces(object);
   glm::dvec3 lo, hi;
-  bounds(mine, lo, hi);
+  facesBounds(mine, lo, hi);
   std::unique_ptr<RayScene> mineRays;
   for (const VirtualObject* other : others) {
     if (!other || other == &object || other->polygons.empty()) continue;
     const std::vector<std::vector<glm::dvec3>> theirs = shrunkFaces(*other);
     glm::dvec3 olo, ohi;
-    bounds(theirs, olo, ohi);
+    facesBounds(theirs, olo, ohi);
     if (glm::any(glm::lessThan(ohi, lo)) || glm::any(glm::lessThan(hi, olo))) continue;  // boxes apart: nothing crosses
     if (!mineRays) mineRays = std::make_unique<RayScene>(mine);
     const RayScene theirRays(theirs);
