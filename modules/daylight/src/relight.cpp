@@ -918,6 +918,264 @@ glm::vec3 DaylightRelighting::relitPixel(size_t i, const glm::vec3& e) const {
   return v;
 }
 
+std::vector<DirectSample> windowSamples(const radiosity::HierarchicalRadiosity& h, const std::vector<int>& windows, int count) {
+  std::vector<DirectSample> ws;
+  double total = 0;
+  for (int w : windows) total += polygonArea(h.surfaces()[size_t(w)].vertices);
+  for (int w : windows) {
+    const auto& v = h.surfaces()[size_t(w)].vertices;
+    const double a = polygonArea(v);
+    const int m = std::max(1, int(std::lround(count * a / std::max(total, 1e-12))));
+    const glm::dvec3 n = polygonNormal(v);
+    // Per fan triangle its share of the window's samples (at least one), spread evenly over it
+    // (a Fibonacci lattice on the unit square, folded onto the triangle), each standing for the
+    // triangle's area over its count: unbiased whatever the counts and the window's shape.
+    for (size_t t = 1; t + 1 < v.size(); ++t) {
+      const double at = 0.5 * glm::length(glm::cross(v[t] - v[0], v[t + 1] - v[0]));
+      if (at <= 0) continue;
+      const int mt = std::max(1, int(std::lround(m * at / std::max(a, 1e-12))));
+      for (int i = 0; i < mt; ++i) {
+        double u = (i + 0.5) / mt, s2 = std::fmod(0.5 + i * 0.6180339887498949, 1.0);
+        if (u + s2 > 1) {
+          u = 1 - u;
+          s2 = 1 - s2;
+        }
+        ws.push_back({v[0] + u * (v[t] - v[0]) + s2 * (v[t + 1] - v[0]), n, at / mt});
+      }
+    }
+  }
+  return ws;
+}
+
+namespace {
+// Per window: the centre and radius of its bounding sphere.
+std::vector<std::pair<glm::dvec3, double>> windowSpheres(const radiosity::HierarchicalRadiosity& h,
+                                                         const std::vector<int>& windows) {
+  std::vector<std::pair<glm::dvec3, double>> out;
+  for (int w : windows) {
+    const auto& v = h.surfaces()[size_t(w)].vertices;
+    glm::dvec3 c(0.0);
+    for (const auto& q : v) c += q / double(v.size());
+    double r = 0;
+    for (const auto& q : v) r = std::max(r, glm::length(q - c));
+    out.push_back({c, r});
+  }
+  return out;
+}
+
+// Could a sphere (centre, radius) block any of the windows' light that reaches x: does it meet
+// the cone from x to some window's sphere? `grow` widens both spheres: then it answers for every
+// point within `grow` of x (a segment from such a point to a window point lies within `grow` of
+// the same segment moved to x). (Angles compared by cosines: this runs for every pixel.)
+bool sphereMayShadow(const std::vector<std::pair<glm::dvec3, double>>& windowCones, const glm::dvec3& centre, double radius,
+                     const glm::dvec3& x, double grow) {
+  const glm::dvec3 toObj = centre - x;
+  const double dObj = glm::length(toObj), rObj = radius + grow;
+  if (dObj <= rObj) return true;
+  const double sb = rObj / dObj, cb = std::sqrt(1 - sb * sb);
+  for (const auto& [c, rw] : windowCones) {
+    const glm::dvec3 toWin = c - x;
+    const double dWin = glm::length(toWin), r = rw + grow;
+    if (dWin <= r) return true;
+    if (dObj - rObj >= dWin + r) continue;  // the sphere lies beyond the window
+    const double sa = r / dWin, ca = std::sqrt(1 - sa * sa);
+    // angle <= alpha + beta, i.e. cos(angle) >= cos(alpha + beta) (alpha + beta < pi here)
+    if (glm::dot(toObj, toWin) / (dObj * dWin) >= ca * cb - sa * sb) return true;
+  }
+  return false;
+}
+}  // namespace
+
+void DaylightRelighting::updateRoom(const SkyRadiance& sky, Progress& progress) {
+  // The room under this sky (cached: the sky changes far less often than an object moves).
+  // It is made again when the sky changes, or when a NearField render (objects solved into the
+  // bases and taken out again) or another sun re-solved what it was made from.
+  if (!eRoom_.pixels.empty() && sameSky(sky, roomSky_) && roomRevision_ == basis_->revision()) return;
+  eRoom_ = irradianceImage(*basis_, seen_, sky, progress);
+  roomSky_ = sky;
+  roomRevision_ = basis_->revision();  // after: the sky's sun may have been solved just now
+  roomOut_ = photo_;
+  for (size_t i = 0; i < seen_.surface.size(); ++i)
+    if (seen_.surface[i] >= 0) put(roomOut_, i, relitPixel(i, get(eRoom_, i)));
+  paintLamps(roomOut_, seen_, *basis_);
+}
+
+InteractiveSky DaylightRelighting::interactiveSky(const SkyRadiance& sky, Progress& progress) {
+  {
+    Progress stage(progress, 0.0, 0.7);
+    volume(stage);
+  }
+  {
+    Progress stage(progress, 0.7, 1.0);
+    updateRoom(sky, stage);
+  }
+  InteractiveSky out;
+  out.window = windowSamples(basis_->engine(), basis_->windows(), interactive_.directSamples);
+  out.sun = sky.sun.found && sky.sun.direction.z > 0;
+  if (out.sun) {
+    out.sunIrradiance = sky.sun.irradiance;
+    const std::vector<glm::dvec3> disc = sunDiscDirections(sky.sun.direction);
+    for (size_t j = 0; j < 4; ++j) out.sunDirections.push_back(disc[4 * j]);
+  }
+  // The regions' radiance per direction, fine enough that a region (64 over the hemisphere:
+  // about 15 degrees across) spans many texels.
+  const glm::dvec3 groundL = basis_->groundRadiance(sky);
+  out.radiance = ImageRGB(256, 128);
+  for (int v = 0; v < out.radiance.height; ++v)
+    for (int u = 0; u < out.radiance.width; ++u) {
+      const double phi = 2 * kPi * (u + 0.5) / out.radiance.width - kPi, theta = kPi * (v + 0.5) / out.radiance.height;
+      const glm::dvec3 d(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+      const int k = basis_->regions().regionOf(d);
+      out.radiance.set(u, v, glm::vec3(k >= 0 ? sky.region[size_t(k)] : groundL));
+    }
+  out.room = roomOut_;
+  out.gain = ImageRGB(photo_.width, photo_.height);
+  for (size_t i = 0; i < seen_.surface.size(); ++i) {
+    if (seen_.surface[i] < 0) continue;
+    const glm::vec3 a = get(ePhoto_, i), ph = get(photo_, i);
+    glm::vec3 g(0.f);
+    for (int c = 0; c < 3; ++c)
+      if (a[c] > 1e-6f) g[c] = ph[c] / a[c];  // as relitPixel: where the photo had no light, nothing changes
+    put(out.gain, i, g);
+  }
+  return out;
+}
+
+ShadowReach DaylightRelighting::shadowReach(const InteractiveSky& light, const glm::dvec3& centre, double radius) {
+  return shadowReach(light.window, light.sun, light.sun ? light.sunDirections.front() : glm::dvec3(0, 0, 1), centre, radius);
+}
+
+ShadowReach DaylightRelighting::shadowReach(const std::vector<DirectSample>& ws, bool sun, const glm::dvec3& sunDirection,
+                                            const glm::dvec3& centre, double radius) {
+  constexpr int kTile = ShadowReach::kTile;
+  const int width = seen_.width, height = seen_.height;
+  ShadowReach out;
+  out.tilesX = (width + kTile - 1) / kTile;
+  out.tilesY = (height + kTile - 1) / kTile;
+  out.words = int((ws.size() + 1 + 31) / 32);
+  const size_t tiles = size_t(out.tilesX) * size_t(out.tilesY);
+  out.bits.assign(tiles * size_t(out.words), 0);
+  // The tiles' points with a pixel's border (the sun's footprint test looks one pixel out), once.
+  if (tileSpheres_.size() != tiles) {
+    tileSpheres_.assign(tiles, glm::dvec4(0, 0, 0, -1));
+    tileGap_.assign(tiles, 0);
+    for (size_t tile = 0; tile < tiles; ++tile) {
+      const int x0 = int(tile % size_t(out.tilesX)) * kTile, y0 = int(tile / size_t(out.tilesX)) * kTile;
+      const int x1 = std::min(width, x0 + kTile), y1 = std::min(height, y0 + kTile);
+      glm::dvec3 lo(1e300), hi(-1e300);
+      for (int y = std::max(0, y0 - 1); y < std::min(height, y1 + 1); ++y)
+        for (int x = std::max(0, x0 - 1); x < std::min(width, x1 + 1); ++x) {
+          const size_t i = size_t(y) * size_t(width) + size_t(x);
+          if (seen_.surface[i] < 0) {
+            tileGap_[tile] = 1;
+            continue;
+          }
+          lo = glm::min(lo, seen_.point[i]);
+          hi = glm::max(hi, seen_.point[i]);
+        }
+      if (lo.x <= hi.x) tileSpheres_[tile] = glm::dvec4(0.5 * (lo + hi), 0.5 * glm::length(hi - lo) + 1e-6);
+    }
+  }
+  // Per window sample the cone from it around the sphere (none: it lies inside, every point may
+  // be shadowed), widened by a shadow map's texel: a texel that holds some of the objects covers
+  // directions up to a texel's width beside them.
+  struct SampleCone {
+    glm::dvec3 apex{0.0}, axis{0.0};
+    double sinB = 1, cosB = 0;
+    bool all = true;
+  };
+  std::vector<SampleCone> cones(ws.size());
+  for (size_t m = 0; m < ws.size(); ++m) {
+    const glm::dvec3 toObj = centre - ws[m].point;
+    const double d = glm::length(toObj);
+    if (d <= radius) continue;
+    const double sb = std::min(1.0, 1.05 * radius / d);
+    cones[m] = {ws[m].point, toObj / d, sb, std::sqrt(1 - sb * sb), false};
+  }
+  const auto windowCones = windowSpheres(basis_->engine(), basis_->windows());
+  const glm::dvec3 sunDir = glm::normalize(sunDirection);
+  tbb::parallel_for(size_t(0), tiles, [&](size_t tile) {
+    const glm::dvec4 sphere = tileSpheres_[tile];
+    if (sphere.w < 0) return;
+    uint32_t* bits = out.bits.data() + tile * size_t(out.words);
+    const glm::dvec3 tc(sphere);
+    const double tr = sphere.w;
+    if (sphereMayShadow(windowCones, centre, radius, tc, tr))
+      for (size_t m = 0; m < ws.size(); ++m) {
+        const SampleCone& k = cones[m];
+        bool in = k.all;
+        if (!in) {
+          const glm::dvec3 v = tc - k.apex;
+          const double dv = glm::length(v);
+          if (dv <= tr) {
+            in = true;
+          } else {
+            const double sa = tr / dv, ca = std::sqrt(1 - sa * sa);
+            in = glm::dot(v, k.axis) / dv >= ca * k.cosB - sa * k.sinB;
+          }
+        }
+        if (in) bits[m / 32] |= uint32_t(1) << (m % 32);
+      }
+    // The sun: every pixel's test widened by the tile's sphere (its point within tr of tc, its
+    // footprint's spread within 2 tr); a pixel beside a gap asks its own.
+    if (sun) {
+      bool may = tileGap_[tile] != 0;
+      if (!may) {
+        const glm::dvec3 toC = centre - tc;
+        const double along = glm::dot(toC, sunDir), perp2 = glm::dot(toC, toC) - along * along;
+        const double reach0 = radius + 0.01 * (glm::length(toC) + tr) + 3 * tr + 0.05;
+        may = along >= -reach0 && perp2 <= reach0 * reach0;
+      }
+      if (may) bits[ws.size() / 32] |= uint32_t(1) << (ws.size() % 32);
+    }
+  });
+  return out;
+}
+
+ObjectIndirect DaylightRelighting::objectIndirect(const SkyRadiance& sky, const std::vector<Polygon>& objects,
+                                                  Progress& progress) {
+  ObjectIndirect out;
+  if (objects.empty()) return out;
+  volume(progress);
+  std::vector<std::vector<glm::dvec3>> polys;
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const auto& o : objects) {
+    polys.push_back(o.vertices);
+    for (const auto& v : o.vertices) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+  }
+  const RayScene objectScene(polys);
+  volume_->combine(*basis_, sky, lo, hi);
+  // Both sides of every face: a face seen from behind (a single panel, not a closed solid) is lit
+  // by what its back sees.
+  out.front.resize(objects.size());
+  out.back.resize(objects.size());
+  for (size_t o = 0; o < objects.size(); ++o) {
+    const auto& v = objects[o].vertices;
+    const glm::dvec3 nrm = polygonNormal(v);
+    glm::dvec3 mid(0.0);
+    for (const auto& q : v) mid += q / double(v.size());
+    for (const auto& q : v) {
+      const glm::dvec3 x = q + 0.02 * (mid - q);  // just inside the corner: an edge's own faces are not its shadow
+      const radiosity::SH9 l = volume_->at(x);
+      out.front[o].push_back(radiosity::shApply(l, radiosity::shTransfer(x, nrm, &objectScene, 64)));
+      out.back[o].push_back(radiosity::shApply(l, radiosity::shTransfer(x, -nrm, &objectScene, 64)));
+    }
+  }
+  return out;
+}
+
+std::vector<std::vector<glm::dvec3>> DaylightRelighting::roomPolygons() const {
+  const auto& h = basis_->engine();
+  const auto& windows = basis_->windows();
+  std::vector<std::vector<glm::dvec3>> out;
+  for (size_t s = 0; s < h.surfaces().size(); ++s)
+    if (std::find(windows.begin(), windows.end(), int(s)) == windows.end()) out.push_back(h.surfaces()[s].vertices);
+  return out;
+}
+
 ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vector<Polygon>& objects, Progress& progress) {
   if (!objects.empty() && basis_->anyLampOn())
     throw Error("", "virtual object", "the interactive path lights virtual objects by daylight only: with a lamp on, use the "
@@ -931,54 +1189,15 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     Progress stage(progress, 0.0, 0.7);
     volume(stage);
   }
-  // The room under this sky (cached: the sky changes far less often than an object moves).
-  // It is made again when the sky changes, or when a NearField render (objects solved into the
-  // bases and taken out again) or another sun re-solved what it was made from.
-  if (eRoom_.pixels.empty() || !sameSky(sky, roomSky_) || roomRevision_ != basis_->revision()) {
+  {
     Progress stage(progress, 0.7, 0.95);
-    eRoom_ = irradianceImage(*basis_, seen_, sky, stage);
-    roomSky_ = sky;
-    roomRevision_ = basis_->revision();  // after: the sky's sun may have been solved just now
-    roomOut_ = photo_;
-    for (size_t i = 0; i < seen_.surface.size(); ++i)
-      if (seen_.surface[i] >= 0) put(roomOut_, i, relitPixel(i, get(eRoom_, i)));
-    paintLamps(roomOut_, seen_, *basis_);
+    updateRoom(sky, stage);
   }
   const bool sun = sky.sun.found && sky.sun.direction.z > 0;
   const glm::dvec3 groundL = basis_->groundRadiance(sky);
   // The direct daylight's samples: points spread evenly over the windows by area (the same for
   // every pixel: the paper's set of shadow maps), and the sun's disc.
-  struct WindowSample {
-    glm::dvec3 q, n;  // the point and the window's normal (into the room)
-    double area;      // the window area it stands for
-  };
-  std::vector<WindowSample> ws;
-  {
-    double total = 0;
-    for (int w : windows) total += polygonArea(h.surfaces()[size_t(w)].vertices);
-    for (int w : windows) {
-      const auto& v = h.surfaces()[size_t(w)].vertices;
-      const double a = polygonArea(v);
-      const int m = std::max(1, int(std::lround(interactive_.directSamples * a / std::max(total, 1e-12))));
-      const glm::dvec3 n = polygonNormal(v);
-      // Per fan triangle its share of the window's samples (at least one), spread evenly over it
-      // (a Fibonacci lattice on the unit square, folded onto the triangle), each standing for the
-      // triangle's area over its count: unbiased whatever the counts and the window's shape.
-      for (size_t t = 1; t + 1 < v.size(); ++t) {
-        const double at = 0.5 * glm::length(glm::cross(v[t] - v[0], v[t + 1] - v[0]));
-        if (at <= 0) continue;
-        const int mt = std::max(1, int(std::lround(m * at / std::max(a, 1e-12))));
-        for (int i = 0; i < mt; ++i) {
-          double u = (i + 0.5) / mt, s2 = std::fmod(0.5 + i * 0.6180339887498949, 1.0);
-          if (u + s2 > 1) {
-            u = 1 - u;
-            s2 = 1 - s2;
-          }
-          ws.push_back({v[0] + u * (v[t] - v[0]) + s2 * (v[t + 1] - v[0]), n, at / mt});
-        }
-      }
-    }
-  }
+  const std::vector<DirectSample> ws = windowSamples(h, windows, interactive_.directSamples);
   const std::vector<glm::dvec3> sunDisc = sunDiscDirections(sun ? sky.sun.direction : glm::dvec3(0, 0, 1));
 
   touched_ = 0;
@@ -1006,22 +1225,9 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
   for (size_t o = 0, t = 0; o < polys.size(); t += polys[o].size() >= 3 ? polys[o].size() - 2 : 0, ++o) firstTriangle.push_back(t);
   const glm::dvec3 centre = 0.5 * (lo + hi);
   const double radius = 0.5 * glm::length(hi - lo);
-  volume_->combine(*basis_, sky, lo, hi);
-  // Both sides of every face: a face seen from behind (a single panel, not a closed solid) is lit
-  // by what its back sees.
-  std::vector<std::vector<glm::dvec3>> vertexE(objects.size()), vertexBackE(objects.size());
-  for (size_t o = 0; o < objects.size(); ++o) {
-    const auto& v = objects[o].vertices;
-    const glm::dvec3 nrm = polygonNormal(v);
-    glm::dvec3 mid(0.0);
-    for (const auto& q : v) mid += q / double(v.size());
-    for (const auto& q : v) {
-      const glm::dvec3 x = q + 0.02 * (mid - q);  // just inside the corner: an edge's own faces are not its shadow
-      const radiosity::SH9 l = volume_->at(x);
-      vertexE[o].push_back(radiosity::shApply(l, radiosity::shTransfer(x, nrm, &objectScene, 64)));
-      vertexBackE[o].push_back(radiosity::shApply(l, radiosity::shTransfer(x, -nrm, &objectScene, 64)));
-    }
-  }
+  const ObjectIndirect indirect = objectIndirect(sky, objects);
+  const auto& vertexE = indirect.front;
+  const auto& vertexBackE = indirect.back;
   // Could the objects block the sun anywhere in pixel i's footprint? Its rays hit the room within
   // the hull of the 3 x 3 pixel centres around it (the footprint spans 1.5 pixels), so a sun line
   // through the centre's point that passes farther from the sphere than the radius plus that
@@ -1053,33 +1259,8 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
   // Could the objects block any of the window's light that reaches x: does their bounding sphere
   // meet the cone from x to some window? (Angles compared by cosines: this runs for every pixel
   // of the room.)
-  std::vector<std::pair<glm::dvec3, double>> windowCones;  // per window: centre, radius
-  for (int w : windows) {
-    const auto& v = h.surfaces()[size_t(w)].vertices;
-    glm::dvec3 c(0.0);
-    for (const auto& q : v) c += q / double(v.size());
-    double r = 0;
-    for (const auto& q : v) r = std::max(r, glm::length(q - c));
-    windowCones.push_back({c, r});
-  }
-  // `grow` widens both spheres: then it answers for every point within `grow` of x (a segment
-  // from such a point to a window point lies within `grow` of the same segment moved to x).
-  auto mayBeShadowed = [&](const glm::dvec3& x, double grow = 0) {
-    const glm::dvec3 toObj = centre - x;
-    const double dObj = glm::length(toObj), rObj = radius + grow;
-    if (dObj <= rObj) return true;
-    const double sb = rObj / dObj, cb = std::sqrt(1 - sb * sb);
-    for (const auto& [c, rw] : windowCones) {
-      const glm::dvec3 toWin = c - x;
-      const double dWin = glm::length(toWin), r = rw + grow;
-      if (dWin <= r) return true;
-      if (dObj - rObj >= dWin + r) continue;  // the objects lie beyond the window
-      const double sa = r / dWin, ca = std::sqrt(1 - sa * sa);
-      // angle <= alpha + beta, i.e. cos(angle) >= cos(alpha + beta) (alpha + beta < pi here)
-      if (glm::dot(toObj, toWin) / (dObj * dWin) >= ca * cb - sa * sb) return true;
-    }
-    return false;
-  };
+  const auto windowCones = windowSpheres(h, windows);
+  auto mayBeShadowed = [&](const glm::dvec3& x) { return sphereMayShadow(windowCones, centre, radius, x, 0); };
 
   // The objects' shadow maps: one per window sample (perspective from it), one per direction of
   // the sun's disc (orthographic). A sample inside the bounding sphere gets none: its rays ask the
@@ -1087,8 +1268,8 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
   std::vector<std::unique_ptr<ObjectShadowMap>> windowMaps(ws.size()), sunMaps(sunDisc.size());
   tbb::parallel_for(size_t(0), ws.size() + (sun ? sunDisc.size() : 0), [&](size_t m) {
     if (m < ws.size()) {
-      if (glm::length(ws[m].q - centre) > 1.05 * radius)
-        windowMaps[m] = std::make_unique<ObjectShadowMap>(&ws[m].q, glm::dvec3(0.0), centre, radius, polys);
+      if (glm::length(ws[m].point - centre) > 1.05 * radius)
+        windowMaps[m] = std::make_unique<ObjectShadowMap>(&ws[m].point, glm::dvec3(0.0), centre, radius, polys);
     } else {
       const size_t d = m - ws.size();
       sunMaps[d] = std::make_unique<ObjectShadowMap>(nullptr, -sunDisc[d], centre, radius, polys);
@@ -1118,12 +1299,12 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     out.clear();
     const glm::dvec3 from = seen_.point[i] + 1e-4 * seen_.normal[i];
     for (size_t m = 0; m < ws.size(); ++m) {
-      const glm::dvec3 d = ws[m].q - from;
+      const glm::dvec3 d = ws[m].point - from;
       const double r2 = glm::dot(d, d);
       const glm::dvec3 dir = d / std::sqrt(r2);
-      const double cx = glm::dot(seen_.normal[i], dir), cw = -glm::dot(ws[m].n, dir);
+      const double cx = glm::dot(seen_.normal[i], dir), cw = -glm::dot(ws[m].normal, dir);
       if (cx <= 0 || cw <= 0) continue;
-      if (h.rayScene().occluded(glm::vec3(from), glm::vec3(ws[m].q), 1e-5f)) continue;
+      if (h.rayScene().occluded(glm::vec3(from), glm::vec3(ws[m].point), 1e-5f)) continue;
       out.push_back({uint16_t(m), int16_t(basis_->regions().regionOf(dir)), float(cx * cw * ws[m].area / r2)});
     }
     out.shrink_to_fit();
@@ -1179,8 +1360,8 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
                                                              (double(k / l.nt) / (l.nu - 1)) * l.lu * l.u);
       uint64_t* bits = l.bits.data() + size_t(k) * words;
       for (size_t m = 0; m < ws.size(); ++m) {
-        l.regions[size_t(k) * ws.size() + m] = int16_t(basis_->regions().regionOf(ws[m].q - x));
-        if (!h.rayScene().occluded(glm::vec3(x), glm::vec3(ws[m].q), 1e-5f)) bits[m / 64] |= uint64_t(1) << (m % 64);
+        l.regions[size_t(k) * ws.size() + m] = int16_t(basis_->regions().regionOf(ws[m].point - x));
+        if (!h.rayScene().occluded(glm::vec3(x), glm::vec3(ws[m].point), 1e-5f)) bits[m / 64] |= uint64_t(1) << (m % 64);
       }
     });
   }
@@ -1214,15 +1395,15 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     glm::dvec3 e(0.0);
     const glm::dvec3 from = x + 1e-4 * nrm;
     for (size_t m = 0; m < ws.size(); ++m) {
-      const glm::dvec3 d = ws[m].q - from;
+      const glm::dvec3 d = ws[m].point - from;
       const double r2 = glm::dot(d, d);
       const glm::dvec3 dir = d / std::sqrt(r2);
-      const double cx = glm::dot(nrm, dir), cw = -glm::dot(ws[m].n, dir);
+      const double cx = glm::dot(nrm, dir), cw = -glm::dot(ws[m].normal, dir);
       if (cx <= 0 || cw <= 0) continue;
       const double vis = roomLets(m);
       if (vis <= 0) continue;
       const ObjectShadowMap* map = windowMaps[m].get();
-      if (map ? map->blocks(x, kBias, cx) : objectScene.occluded(glm::vec3(from), glm::vec3(ws[m].q), 1e-5f)) continue;
+      if (map ? map->blocks(x, kBias, cx) : objectScene.occluded(glm::vec3(from), glm::vec3(ws[m].point), 1e-5f)) continue;
       e += regionRadiance(region[m]) * cx * cw * ws[m].area / r2 * vis;
     }
     for (size_t j = 0; sun && j < 4; ++j) {
@@ -1237,14 +1418,14 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
     return e;
   };
   // The part of a room pixel's direct daylight that the objects take away.
-  auto blocked = [&](size_t i, bool windowShadow, bool sunShadow, const uint64_t* reach) {
+  auto blocked = [&](size_t i, bool windowShadow, bool sunShadow, const uint32_t* reach) {
     glm::dvec3 e(0.0);
     const glm::dvec3& x = seen_.point[i];
     if (windowShadow)
       for (const WindowLight& l : windowLight(i)) {
-        if (!(reach[l.sample / 64] >> (l.sample % 64) & 1)) continue;  // its shadow cannot reach here
+        if (!(reach[l.sample / 32] >> (l.sample % 32) & 1)) continue;  // its shadow cannot reach here
         const ObjectShadowMap* map = windowMaps[l.sample].get();
-        if (map ? map->blocks(x, kBias) : objectScene.occluded(glm::vec3(x + 1e-4 * seen_.normal[i]), glm::vec3(ws[l.sample].q), 1e-5f))
+        if (map ? map->blocks(x, kBias) : objectScene.occluded(glm::vec3(x + 1e-4 * seen_.normal[i]), glm::vec3(ws[l.sample].point), 1e-5f))
           e += regionRadiance(l.region) * double(l.weight);
       }
     if (sunShadow) {
@@ -1271,31 +1452,13 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
   const glm::dvec3 eye = seen_.camera.center();
   const glm::dvec3 toCentre = centre - eye;
   const double eyeDist = glm::length(toCentre);
-  constexpr int kTile = 8;
+  constexpr int kTile = ShadowReach::kTile;
   const int width = seen_.width, height = seen_.height;
   const int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
-  const size_t sampleWords = (ws.size() + 63) / 64;
-  // Per window sample: its point, and the cone from it around the objects' sphere (none: it lies
-  // inside, every point may be shadowed).
-  struct SampleCone {
-    glm::dvec3 apex, axis;
-    double sinB = 1, cosB = 0;
-    bool all = true;
-  };
-  std::vector<SampleCone> cones(ws.size());
-  for (size_t m = 0; m < ws.size(); ++m) {
-    const glm::dvec3 toObj = centre - ws[m].q;
-    const double d = glm::length(toObj);
-    if (d <= radius) continue;
-    // (Widened by the maps' texel: a texel that holds some of the objects covers directions up
-    // to a texel's width beside them.)
-    const double sb = std::min(1.0, 1.05 * radius / d);
-    cones[m] = {ws[m].q, toObj / d, sb, std::sqrt(1 - sb * sb), false};
-  }
+  const ShadowReach reachOf = shadowReach(ws, sun, sunDir, centre, radius);
   eLast_ = eRoom_;
   std::atomic<size_t> touched{0};
   tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 8), [&](const tbb::blocked_range<int>& r) {
-    std::vector<uint64_t> reach(sampleWords);
     for (int tile = r.begin(); tile < r.end(); ++tile) {
       const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
       const int x1 = std::min(width, x0 + kTile), y1 = std::min(height, y0 + kTile);
@@ -1308,54 +1471,8 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
       const double tileAngle = 1.1 * std::acos(std::clamp(cosTile, -1.0, 1.0)) + 1e-4;
       const bool objectHere = eyeDist <= radius || std::acos(std::clamp(glm::dot(mid, toCentre) / eyeDist, -1.0, 1.0)) <=
                                                        tileAngle + std::asin(std::min(1.0, radius / eyeDist));
-      // The tile's points with a pixel's border (the sun's footprint test looks one pixel out).
-      glm::dvec3 lo(1e300), hi(-1e300);
-      bool gap = false;
-      for (int y = std::max(0, y0 - 1); y < std::min(height, y1 + 1); ++y)
-        for (int x = std::max(0, x0 - 1); x < std::min(width, x1 + 1); ++x) {
-          const size_t i = size_t(y) * size_t(width) + size_t(x);
-          if (seen_.surface[i] < 0) {
-            gap = true;
-            continue;
-          }
-          lo = glm::min(lo, seen_.point[i]);
-          hi = glm::max(hi, seen_.point[i]);
-        }
-      bool shadowHere = false;
-      std::fill(reach.begin(), reach.end(), 0);
-      if (lo.x <= hi.x) {
-        const glm::dvec3 tc = 0.5 * (lo + hi);
-        const double tr = 0.5 * glm::length(hi - lo) + 1e-6;
-        const bool window = mayBeShadowed(tc, tr);
-        if (window)
-          for (size_t m = 0; m < ws.size(); ++m) {
-            const SampleCone& k = cones[m];
-            bool in = k.all;
-            if (!in) {
-              const glm::dvec3 v = tc - k.apex;
-              const double dv = glm::length(v);
-              if (dv <= tr) {
-                in = true;
-              } else {
-                const double sa = tr / dv, ca = std::sqrt(1 - sa * sa);
-                in = glm::dot(v, k.axis) / dv >= ca * k.cosB - sa * k.sinB;
-              }
-            }
-            if (in) reach[m / 64] |= uint64_t(1) << (m % 64), shadowHere = true;
-          }
-        // The sun: every pixel's test (sunMayBeBlocked) widened by the tile's sphere (its point
-        // within tr of tc, its footprint's spread within 2 tr); a pixel beside a gap asks its own.
-        if (sun && !shadowHere) {
-          if (gap) {
-            shadowHere = true;
-          } else {
-            const glm::dvec3 toC = centre - tc;
-            const double along = glm::dot(toC, sunDir), perp2 = glm::dot(toC, toC) - along * along;
-            const double reach0 = radius + 0.01 * (glm::length(toC) + tr) + 3 * tr + 0.05;
-            shadowHere = along >= -reach0 && perp2 <= reach0 * reach0;
-          }
-        }
-      }
+      const uint32_t* reach = reachOf.bits.data() + size_t(tile) * size_t(reachOf.words);
+      const bool shadowHere = reachOf.any(size_t(tile));
       if (!objectHere && !shadowHere) continue;
       size_t count = 0;
       for (int y = y0; y < y1; ++y)
@@ -1390,7 +1507,7 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
           if (seen_.surface[i] < 0 || !shadowHere) continue;
           const bool windowShadow = mayBeShadowed(seen_.point[i]), sunShadow = sun && sunMayBeBlocked(i);
           if (!windowShadow && !sunShadow) continue;
-          const glm::vec3 e = get(eRoom_, i) - glm::vec3(blocked(i, windowShadow, sunShadow, reach.data()));
+          const glm::vec3 e = get(eRoom_, i) - glm::vec3(blocked(i, windowShadow, sunShadow, reach));
           put(eLast_, i, e);
           ratio(i, e);
           ++count;

@@ -4,6 +4,8 @@
 // costs about as much as the shading itself, so there is no second one.
 #include "relume/viewport/gl_renderer.h"
 
+#include "gl_common.h"
+
 #include <QFile>
 #include <QOpenGLContext>
 #include <QOpenGLFunctions_3_3_Core>
@@ -68,39 +70,6 @@ struct SurfaceTextures {
   float texel = 1.f;
 };
 
-// A colour + depth framebuffer object of floats, resized on demand.
-struct FloatTarget {
-  GLuint fbo = 0, colour = 0, depth = 0;
-  int width = 0, height = 0;
-  void ensure(QOpenGLFunctions_3_3_Core& gl, int w, int h) {
-    if (fbo && w == width && h == height) return;
-    release(gl);
-    width = w;
-    height = h;
-    gl.glGenTextures(1, &colour);
-    gl.glBindTexture(GL_TEXTURE_2D, colour);
-    gl.glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, w, h, 0, GL_RGBA, GL_FLOAT, nullptr);
-    gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    gl.glGenRenderbuffers(1, &depth);
-    gl.glBindRenderbuffer(GL_RENDERBUFFER, depth);
-    gl.glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
-    gl.glGenFramebuffers(1, &fbo);
-    gl.glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    gl.glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour, 0);
-    gl.glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
-    if (gl.glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-      throw Error("", "OpenGL", "cannot create a floating-point framebuffer of " + std::to_string(w) + "x" + std::to_string(h));
-  }
-  void release(QOpenGLFunctions_3_3_Core& gl) {
-    if (fbo) gl.glDeleteFramebuffers(1, &fbo);
-    if (colour) gl.glDeleteTextures(1, &colour);
-    if (depth) gl.glDeleteRenderbuffers(1, &depth);
-    fbo = colour = depth = 0;
-    width = height = 0;
-  }
-};
-
 // An RGBA float texture: `rgb` per texel and `alpha(texel)` (for the photo textures whether a
 // photo saw the texel, for the glow its lamp).
 template <class Alpha>
@@ -129,25 +98,6 @@ GLuint uploadTexture(QOpenGLFunctions_3_3_Core& gl, int w, int h, const float* r
   return id;
 }
 
-// OpenCV camera -> OpenGL clip space: pixel (0,0)'s corner at the top-left of the viewport.
-glm::mat4 worldToClip(const Camera& c, double nearZ, double farZ) {
-  glm::dmat4 V(1.0);
-  for (int col = 0; col < 3; ++col)
-    for (int row = 0; row < 3; ++row) V[col][row] = c.R[col][row];
-  V[3] = glm::dvec4(c.t, 1.0);
-  const double W = c.width, H = c.height;
-  glm::dmat4 P(0.0);
-  P[0][0] = 2 * c.fx() / W;
-  P[1][0] = 2 * c.K[1][0] / W;  // skew
-  P[2][0] = 2 * c.cx() / W - 1;
-  P[1][1] = -2 * c.fy() / H;
-  P[2][1] = 1 - 2 * c.cy() / H;
-  P[2][2] = (farZ + nearZ) / (farZ - nearZ);
-  P[3][2] = -2 * farZ * nearZ / (farZ - nearZ);
-  P[2][3] = 1;
-  return glm::mat4(P * V);
-}
-
 bool sameCamera(const Camera& a, const Camera& b) {
   return a.width == b.width && a.height == b.height && a.K == b.K && a.R == b.R && a.t == b.t;
 }
@@ -169,7 +119,7 @@ struct GlRelightRenderer::Impl {
   bool meshReady = false, lightingReady = false;
   glm::vec3 boundsLo{0.f}, boundsHi{0.f};
   std::vector<glm::vec3> lampScale;
-  FloatTarget readback;
+  gl::FloatTarget readback;
   double lastMs = 0;
 
   // --- image-based objects ---
@@ -429,7 +379,7 @@ struct GlRelightRenderer::Impl {
     const bool checker = !sameCamera(camera, photoCamera);
     QOpenGLShaderProgram* plain = &program(mode, s.output, glowOn, checker, false);
     QOpenGLShaderProgram* shadowing = shadows ? &program(mode, s.output, glowOn, checker, true) : nullptr;
-    const glm::mat4 clip = worldToClip(camera, nearZ, farZ);
+    const glm::mat4 clip = gl::worldToClip(camera, nearZ, farZ);
     for (QOpenGLShaderProgram* relight : {plain, shadowing}) {
       if (!relight) continue;
       relight->bind();

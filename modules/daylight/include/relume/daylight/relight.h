@@ -13,6 +13,8 @@
 // known exposures); reflectances are estimated from the photo under its own sky.
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -126,6 +128,57 @@ std::vector<Polygon> variantObjects(const Scene& room, const Variant& variant, c
 // Photometric lamps are refused (relume::Error naming `file` and the lamp): not lit by daylight yet.
 std::vector<BasisLamp> variantLamps(const Variant& variant, const std::string& file);
 
+// ---- The interactive method's parts, for a GPU renderer (the workbench's daylight viewport) ----
+// The same window samples, sun directions, room under the sky, per-vertex indirect light and
+// tile culling that render(..., Volume) uses, so that a renderer only has to find what the
+// objects block (its shadow maps) and add up the samples as the CPU path does.
+
+// A point of a window standing for `area` of it (normal into the room).
+struct DirectSample {
+  glm::dvec3 point{0.0}, normal{0.0};
+  double area = 0;
+};
+// About `count` points spread evenly over the windows by area (per fan triangle of a window its
+// share, at least one, on a Fibonacci lattice folded onto the triangle): the paper's set of shadow
+// maps.
+std::vector<DirectSample> windowSamples(const radiosity::HierarchicalRadiosity& engine, const std::vector<int>& windows,
+                                        int count);
+
+// The sky's direct light for the interactive method, and the room under it without objects.
+struct InteractiveSky {
+  std::vector<DirectSample> window;
+  // The radiance a window sample shows in each direction (the sky region's; the ground's below
+  // the horizon), equirectangular: column u at azimuth 2 pi (u + 0.5) / width - pi from +X towards
+  // +Y, row v at polar angle pi (v + 0.5) / height from +Z.
+  ImageRGB radiance;
+  bool sun = false;
+  glm::dvec3 sunIrradiance{0.0};          // on a surface facing the sun
+  std::vector<glm::dvec3> sunDirections;  // four directions over the sun's disc, each a quarter of it
+  ImageRGB room;  // the photo under the sky, no objects (the camera's pixels)
+  ImageRGB gain;  // per pixel photo / the photo's irradiance: radiance per unit irradiance (0: none)
+};
+
+// Per 8 x 8 tile of the camera's pixels (with a pixel's border), the window samples and the sun
+// whose shadow of a sphere may fall on it: bit m of the tile's words for window sample m, bit
+// window.size() for the sun. A tile with no bit set keeps the room's pixels.
+struct ShadowReach {
+  static constexpr int kTile = 8;
+  int tilesX = 0, tilesY = 0, words = 0;
+  std::vector<uint32_t> bits;  // tile (ty * tilesX + tx) at words * tile
+  bool any(size_t tile) const {
+    for (int w = 0; w < words; ++w)
+      if (bits[tile * size_t(words) + size_t(w)]) return true;
+    return false;
+  }
+};
+
+// Per object face, per vertex: the indirect irradiance on its front (the side its normal faces)
+// and on its back, from the irradiance volume (Eq. 4 over the grid points the objects need, Eq. 5
+// with their own shadowing), as render(..., Volume) takes it.
+struct ObjectIndirect {
+  std::vector<std::vector<glm::dvec3>> front, back;
+};
+
 struct InteractiveOptions {
   VolumeOptions volume;
   int directSamples = 64;  // 1 to 1024
@@ -171,6 +224,17 @@ class DaylightRelighting {
   // the sky at infinity, refuses any lamp on.
   void setLampExitance(int lamp, const glm::dvec3& exitance) { basis_->setLampExitance(lamp, exitance); }
   const InteractiveOptions& interactive() const { return interactive_; }
+  // The interactive method's light under `sky` for a GPU renderer (the room relit is kept, as
+  // render() keeps it, until the sky or the bases change).
+  InteractiveSky interactiveSky(const SkyRadiance& sky, Progress& progress = silentProgress());
+  // The tiles the shadows of a sphere (the objects' bounds) may reach under `light`.
+  ShadowReach shadowReach(const InteractiveSky& light, const glm::dvec3& centre, double radius);
+  // The objects' indirect light per vertex under `sky` (builds the volume on first use).
+  ObjectIndirect objectIndirect(const SkyRadiance& sky, const std::vector<Polygon>& objects,
+                                Progress& progress = silentProgress());
+  // The room's polygons that block light (every surface of the bases' engine but the windows).
+  std::vector<std::vector<glm::dvec3>> roomPolygons() const;
+  const Camera& camera() const { return camera_; }
   // Pixels the last Volume render worked on for the objects (drawn, or asked for their shadow: in
   // a tile that may be shadowed, where the pixel's own window or sun test says it may), for the bench.
   size_t lastTouchedPixels() const { return touched_; }
@@ -188,6 +252,13 @@ class DaylightRelighting {
   // Pixel i of the photo relit to irradiance e (the photo times e over the photo's irradiance).
   glm::vec3 relitPixel(size_t i, const glm::vec3& e) const;
   size_t touched_ = 0;
+  // Per 8 x 8 tile of seen_ (with a pixel's border): its points' bounding sphere (w < 0: none)
+  // and whether it has a pixel that shows no surface; made on first use.
+  std::vector<glm::dvec4> tileSpheres_;
+  std::vector<uint8_t> tileGap_;
+  void updateRoom(const SkyRadiance& sky, Progress& progress);
+  ShadowReach shadowReach(const std::vector<DirectSample>& window, bool sun, const glm::dvec3& sunDirection,
+                          const glm::dvec3& centre, double radius);
   // The interactive path's per-pixel light past the room alone (relight.cpp), kept while objects move.
   struct InteractiveCache;
   std::unique_ptr<InteractiveCache> cache_;

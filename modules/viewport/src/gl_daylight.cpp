@@ -1,0 +1,524 @@
+// The daylight viewport's renderer: see gl_daylight.h. One pass per shadow map (the room, then the
+// objects, into two channels of one layer), then the room and the objects through the photo's
+// camera (shaders/daylight.vert, daylight.frag) with the display transform in the same pass.
+#include "relume/viewport/gl_daylight.h"
+
+#include <QFile>
+#include <QMatrix4x4>
+#include <QOpenGLContext>
+#include <QOpenGLFunctions_3_3_Core>
+#include <QOpenGLShaderProgram>
+#include <QOpenGLVersionFunctionsFactory>
+#include <algorithm>
+#include <chrono>
+#include <functional>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <map>
+
+#include "gl_common.h"
+#include "relume/daylight/relight.h"
+#include "relume/geometry/error.h"
+#include "relume/geometry/polygon.h"
+
+static void initDaylightShaderResources() { Q_INIT_RESOURCE(shaders); }
+
+namespace relume {
+
+namespace {
+
+// Vertex layout of the view pass: position, face normal, front and back indirect light, albedo.
+constexpr int kFloats = 15;
+
+void fanTriangles(const std::vector<glm::dvec3>& v, const std::function<void(size_t)>& corner) {
+  for (size_t t = 1; t + 1 < v.size(); ++t) {
+    corner(0);
+    corner(t);
+    corner(t + 1);
+  }
+}
+
+GLuint floatTexture(QOpenGLFunctions_3_3_Core& gl, int w, int h, GLenum internal, GLenum format, const float* data,
+                    GLenum filter) {
+  GLuint id = 0;
+  gl.glGenTextures(1, &id);
+  gl.glBindTexture(GL_TEXTURE_2D, id);
+  gl.glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  gl.glTexImage2D(GL_TEXTURE_2D, 0, GLint(internal), w, h, 0, format, GL_FLOAT, data);
+  gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GLint(filter));
+  gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GLint(filter));
+  gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return id;
+}
+
+// A shadow map's camera: its matrix, origin, the direction of the light (orthographic) or the
+// window's normal (perspective), and a texel's width per metre of distance (perspective) or in
+// metres (orthographic).
+struct MapCamera {
+  glm::mat4 clip{1.f};
+  glm::vec3 origin{0.f}, direction{0.f};
+  float footprint = 0, area = 0;
+  bool ortho = false;
+};
+
+// A perspective map from `from` around the sphere (centre, radius); from inside the sphere, a wide
+// one along `normal` (the window's, into the room).
+MapCamera windowMap(const glm::dvec3& from, const glm::dvec3& normal, double area, const glm::dvec3& centre, double radius,
+                    int size) {
+  MapCamera m;
+  m.origin = glm::vec3(from);
+  m.direction = glm::vec3(normal);
+  m.area = float(area);
+  glm::dvec3 axis = centre - from;
+  const double d = glm::length(axis);
+  double half;
+  if (d > 1.05 * radius) {
+    axis /= d;
+    half = std::asin(std::min(1.0, 1.05 * radius / d)) * 1.02;
+  } else {
+    axis = normal;
+    half = 80.0 * 3.14159265358979 / 180.0;
+  }
+  const glm::dvec3 up = std::abs(axis.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
+  const glm::dmat4 view = glm::lookAt(from, from + axis, up);
+  const glm::dmat4 proj = glm::perspective(2 * half, 1.0, 0.002, 500.0);
+  m.clip = glm::mat4(proj * view);
+  m.footprint = float(2 * std::tan(half) / size);
+  return m;
+}
+
+// An orthographic map along the sun's direction `toSun` around the sphere, from well beyond the room.
+MapCamera sunMap(const glm::dvec3& toSun, const glm::dvec3& centre, double radius, int size) {
+  MapCamera m;
+  const glm::dvec3 s = glm::normalize(toSun);
+  const glm::dvec3 from = centre + 200.0 * s;
+  m.origin = glm::vec3(from);
+  m.direction = glm::vec3(-s);
+  m.ortho = true;
+  const double r = 1.05 * radius;
+  const glm::dvec3 up = std::abs(s.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
+  const glm::dmat4 view = glm::lookAt(from, centre, up);
+  const glm::dmat4 proj = glm::ortho(-r, r, -r, r, 0.0, 500.0);
+  m.clip = glm::mat4(proj * view);
+  m.footprint = float(2 * r / size);
+  return m;
+}
+
+}  // namespace
+
+struct GlDaylightRenderer::Impl {
+  QOpenGLFunctions_3_3_Core* gl = nullptr;
+  QByteArray displaySource, viewVertex, viewFragment, mapVertex, mapFragment;
+  std::map<int, std::unique_ptr<QOpenGLShaderProgram>> viewPrograms;  // by OBJECT * 4 + OUTPUT
+  std::unique_ptr<QOpenGLShaderProgram> mapProgram;
+  GLuint roomVao = 0, roomVbo = 0, objectVao = 0, objectVbo = 0, backgroundVao = 0, backgroundVbo = 0;
+  GLsizei roomVertices = 0, objectVertices = 0;
+  GLuint roomTexture = 0, gainTexture = 0, skyTexture = 0, reachTexture = 0, infoTexture = 0;
+  GLuint maps = 0, mapFbo = 0;
+  int mapLayers = 0, mapTextureSize = 0;
+  int mapSize = 256;
+  bool haveRoom = false, haveSky = false, mapsStale = true;
+  Camera camera;
+  std::vector<daylight::DirectSample> window;
+  bool sun = false;
+  glm::dvec3 sunIrradiance{0.0};
+  std::vector<glm::dvec3> sunDirections;
+  glm::dvec3 centre{0.0};
+  double radius = 0;
+  bool haveObjects = false;
+  int reachWords = 0;
+  gl::FloatTarget readback;
+  double lastMs = 0, lastMapMs = 0;
+
+  std::unique_ptr<QOpenGLShaderProgram> compile(const QByteArray& vertex, const QByteArray& fragment, const char* name) const {
+    auto q = std::make_unique<QOpenGLShaderProgram>();
+    if (!q->addShaderFromSourceCode(QOpenGLShader::Vertex, vertex) ||
+        !q->addShaderFromSourceCode(QOpenGLShader::Fragment, fragment) || !q->link())
+      throw Error(name, "shader", q->log().toStdString());
+    return q;
+  }
+  QOpenGLShaderProgram& viewProgram(bool object, DisplayOutput output) {
+    auto& p = viewPrograms[(object ? 4 : 0) + int(output)];
+    if (!p) {
+      const QByteArray defines = "#version 330 core\n#define OBJECT " + QByteArray::number(object ? 1 : 0) +
+                                 "\n#define OUTPUT " + QByteArray::number(int(output)) + "\n";
+      p = compile(defines + viewVertex, defines + displaySource + viewFragment, ":/shaders/daylight.frag");
+    }
+    return *p;
+  }
+
+  static void setLayout(QOpenGLFunctions_3_3_Core& gl) {
+    for (int a = 0; a < 5; ++a) {
+      gl.glEnableVertexAttribArray(GLuint(a));
+      gl.glVertexAttribPointer(GLuint(a), 3, GL_FLOAT, GL_FALSE, kFloats * sizeof(float),
+                               reinterpret_cast<const void*>(size_t(a) * 3 * sizeof(float)));
+    }
+  }
+  void upload(GLuint vao, GLuint vbo, const std::vector<float>& data) {
+    gl->glBindVertexArray(vao);
+    gl->glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    gl->glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(float)), data.data(), GL_STATIC_DRAW);
+    setLayout(*gl);
+    gl->glBindVertexArray(0);
+  }
+  void replaceTexture(GLuint& t, GLuint fresh) {
+    if (t) gl->glDeleteTextures(1, &t);
+    t = fresh;
+  }
+  int layersNeeded() const { return int(window.size()) + (sun ? int(sunDirections.size()) : 0); }
+
+  // The maps' cameras, in layer order: the window samples, then the sun's directions.
+  std::vector<MapCamera> mapCameras() const {
+    std::vector<MapCamera> out;
+    for (const auto& w : window) out.push_back(windowMap(w.point, w.normal, w.area, centre, radius, mapSize));
+    if (sun)
+      for (const auto& d : sunDirections) out.push_back(sunMap(d, centre, radius, mapSize));
+    return out;
+  }
+
+  void makeMaps() {
+    const auto t0 = std::chrono::steady_clock::now();
+    const int layers = layersNeeded();
+    GLint maxLayers = 0;
+    gl->glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+    if (layers > maxLayers)
+      throw Error("", "OpenGL", std::to_string(layers) + " shadow maps asked for, the display holds " +
+                                    std::to_string(maxLayers) + ": use fewer direct-light samples");
+    if (!maps || mapLayers != layers || mapTextureSize != mapSize) {
+      if (maps) gl->glDeleteTextures(1, &maps);
+      gl->glGenTextures(1, &maps);
+      gl->glBindTexture(GL_TEXTURE_2D_ARRAY, maps);
+      gl->glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RG32F, mapSize, mapSize, std::max(layers, 1), 0, GL_RG, GL_FLOAT, nullptr);
+      gl->glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      gl->glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      gl->glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      gl->glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+      mapLayers = layers;
+      mapTextureSize = mapSize;
+    }
+    const std::vector<MapCamera> cams = mapCameras();
+    // The cameras for the view pass: a row of six texels per map.
+    std::vector<float> info(size_t(std::max(layers, 1)) * 6 * 4, 0.f);
+    for (size_t m = 0; m < cams.size(); ++m) {
+      float* row = &info[m * 24];
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) row[4 * c + r] = cams[m].clip[c][r];
+      row[16] = cams[m].origin.x, row[17] = cams[m].origin.y, row[18] = cams[m].origin.z, row[19] = cams[m].footprint;
+      row[20] = cams[m].direction.x, row[21] = cams[m].direction.y, row[22] = cams[m].direction.z, row[23] = cams[m].area;
+    }
+    replaceTexture(infoTexture, floatTexture(*gl, 6, std::max(layers, 1), GL_RGBA32F, GL_RGBA, info.data(), GL_NEAREST));
+
+    if (!mapFbo) gl->glGenFramebuffers(1, &mapFbo);
+    gl->glBindFramebuffer(GL_FRAMEBUFFER, mapFbo);
+    gl->glViewport(0, 0, mapSize, mapSize);
+    gl->glDisable(GL_DEPTH_TEST);
+    gl->glDisable(GL_CULL_FACE);
+    gl->glDisable(GL_SCISSOR_TEST);
+    gl->glEnable(GL_BLEND);
+    gl->glBlendEquation(GL_MIN);
+    gl->glBlendFunc(GL_ONE, GL_ONE);
+    gl->glClearColor(1e30f, 1e30f, 0.f, 1.f);
+    mapProgram->bind();
+    for (size_t m = 0; m < cams.size(); ++m) {
+      gl->glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, maps, 0, GLint(m));
+      if (m == 0 && gl->glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw Error("", "OpenGL", "cannot draw into a two-channel float shadow map of " + std::to_string(mapSize) + "x" +
+                                      std::to_string(mapSize));
+      gl->glClear(GL_COLOR_BUFFER_BIT);
+      mapProgram->setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(cams[m].clip)[0][0]));
+      mapProgram->setUniformValue("origin", cams[m].origin.x, cams[m].origin.y, cams[m].origin.z);
+      mapProgram->setUniformValue("along", cams[m].direction.x, cams[m].direction.y, cams[m].direction.z);
+      mapProgram->setUniformValue("ortho", cams[m].ortho ? 1 : 0);
+      mapProgram->setUniformValue("channel", 0);
+      gl->glBindVertexArray(roomVao);
+      gl->glDrawArrays(GL_TRIANGLES, 0, roomVertices);
+      if (haveObjects) {
+        mapProgram->setUniformValue("channel", 1);
+        gl->glBindVertexArray(objectVao);
+        gl->glDrawArrays(GL_TRIANGLES, 0, objectVertices);
+      }
+    }
+    gl->glBindVertexArray(0);
+    gl->glBlendEquation(GL_FUNC_ADD);
+    gl->glDisable(GL_BLEND);
+    mapsStale = false;
+    gl->glFinish();
+    lastMapMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  }
+
+  void drawView(const DisplaySettings& s, GLuint target, const ViewRect& rect) {
+    if (haveObjects && mapsStale) makeMaps();
+    else lastMapMs = 0;
+    gl->glBindFramebuffer(GL_FRAMEBUFFER, target);
+    gl->glDisable(GL_SCISSOR_TEST);
+    gl->glDisable(GL_BLEND);
+    gl->glDisable(GL_CULL_FACE);
+    if (s.output == DisplayOutput::Linear) gl->glClearColor(0.f, 0.f, 0.f, 1.f);
+    else gl->glClearColor(0.16f, 0.16f, 0.17f, 1.f);
+    gl->glClearDepth(1.0);
+    gl->glViewport(0, 0, rect.x + rect.width, rect.y + rect.height);
+    gl->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    gl->glViewport(rect.x, rect.y, rect.width, rect.height);
+    gl->glEnable(GL_DEPTH_TEST);
+    gl->glDepthFunc(GL_LESS);
+    const glm::mat4 clip = gl::worldToClip(camera, 0.02, 1000.0);
+    const glm::dvec3 eye = camera.center();
+    const int windowSamples = haveObjects ? int(window.size()) : 0;
+    for (bool object : {false, true}) {
+      if (object && !haveObjects) break;
+      QOpenGLShaderProgram& p = viewProgram(object, s.output);
+      p.bind();
+      p.setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(clip)[0][0]));
+      p.setUniformValue("exposure", float(s.exposure));
+      p.setUniformValue("falseMin", float(s.falseMin));
+      p.setUniformValue("falseMax", float(s.falseMax));
+      p.setUniformValue("eye", float(eye.x), float(eye.y), float(eye.z));
+      p.setUniformValue("windowSamples", windowSamples);
+      p.setUniformValue("sunMaps", haveObjects && sun ? int(sunDirections.size()) : 0);
+      const glm::vec3 q(sunIrradiance / double(std::max<size_t>(sunDirections.size(), 1)));
+      p.setUniformValue("sunQuarter", q.x, q.y, q.z);
+      gl->glActiveTexture(GL_TEXTURE0);
+      gl->glBindTexture(GL_TEXTURE_2D_ARRAY, maps);
+      p.setUniformValue("maps", 0);
+      gl->glActiveTexture(GL_TEXTURE1);
+      gl->glBindTexture(GL_TEXTURE_2D, infoTexture);
+      p.setUniformValue("mapInfo", 1);
+      gl->glActiveTexture(GL_TEXTURE2);
+      gl->glBindTexture(GL_TEXTURE_2D, skyTexture);
+      p.setUniformValue("skyRadiance", 2);
+      if (!object) {
+        gl->glActiveTexture(GL_TEXTURE3);
+        gl->glBindTexture(GL_TEXTURE_2D, roomTexture);
+        p.setUniformValue("room", 3);
+        gl->glActiveTexture(GL_TEXTURE4);
+        gl->glBindTexture(GL_TEXTURE_2D, gainTexture);
+        p.setUniformValue("gain", 4);
+        gl->glActiveTexture(GL_TEXTURE5);
+        gl->glBindTexture(GL_TEXTURE_2D, reachTexture);
+        p.setUniformValue("reach", 5);
+        p.setUniformValue("reachWords", haveObjects ? reachWords : 0);
+        p.setUniformValue("viewOrigin", float(rect.x), float(rect.y));
+        p.setUniformValue("viewSize", float(rect.width), float(rect.height));
+        p.setUniformValue("photoSize", float(camera.width), float(camera.height));
+      }
+      if (!object) {
+        // First what the camera sees beyond every polygon (through a window): the photo's pixels,
+        // a triangle over the whole view at the far end of the depth range.
+        p.setUniformValue("background", 1);
+        p.setUniformValue("worldToClip", QMatrix4x4());
+        gl->glBindVertexArray(backgroundVao);
+        gl->glDrawArrays(GL_TRIANGLES, 0, 3);
+        p.setUniformValue("background", 0);
+        p.setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(clip)[0][0]));
+      }
+      gl->glBindVertexArray(object ? objectVao : roomVao);
+      gl->glDrawArrays(GL_TRIANGLES, 0, object ? objectVertices : roomVertices);
+    }
+    gl->glBindVertexArray(0);
+    gl->glActiveTexture(GL_TEXTURE0);
+    gl->glDisable(GL_DEPTH_TEST);
+  }
+};
+
+GlDaylightRenderer::GlDaylightRenderer() : impl_(std::make_unique<Impl>()) {}
+
+GlDaylightRenderer::~GlDaylightRenderer() {
+  auto& im = *impl_;
+  if (!im.gl) return;
+  for (GLuint* t : {&im.roomTexture, &im.gainTexture, &im.skyTexture, &im.reachTexture, &im.infoTexture, &im.maps})
+    if (*t) im.gl->glDeleteTextures(1, t);
+  for (GLuint* b : {&im.roomVbo, &im.objectVbo, &im.backgroundVbo})
+    if (*b) im.gl->glDeleteBuffers(1, b);
+  for (GLuint* a : {&im.roomVao, &im.objectVao, &im.backgroundVao})
+    if (*a) im.gl->glDeleteVertexArrays(1, a);
+  if (im.mapFbo) im.gl->glDeleteFramebuffers(1, &im.mapFbo);
+  im.readback.release(*im.gl);
+}
+
+void GlDaylightRenderer::initialize() {
+  initDaylightShaderResources();
+  auto& im = *impl_;
+  QOpenGLContext* ctx = QOpenGLContext::currentContext();
+  if (!ctx) throw Error("", "OpenGL", "no current context");
+  im.gl = QOpenGLVersionFunctionsFactory::get<QOpenGLFunctions_3_3_Core>(ctx);
+  if (!im.gl || !im.gl->initializeOpenGLFunctions()) throw Error("", "OpenGL", "the display does not offer OpenGL 3.3 core");
+  auto read = [](const char* name) {
+    QFile f(name);
+    if (!f.open(QIODevice::ReadOnly)) throw Error(name, "shader", "missing from the binary's resources");
+    return f.readAll();
+  };
+  im.displaySource = read(":/shaders/display.glsl");
+  im.viewVertex = read(":/shaders/daylight.vert");
+  im.viewFragment = read(":/shaders/daylight.frag");
+  im.mapVertex = read(":/shaders/daylight_map.vert");
+  im.mapFragment = read(":/shaders/daylight_map.frag");
+  const QByteArray version = "#version 330 core\n";
+  im.mapProgram = im.compile(version + im.mapVertex, version + im.mapFragment, ":/shaders/daylight_map.frag");
+  im.viewPrograms.clear();
+  im.viewProgram(false, DisplayOutput::Exposed);  // errors show now
+  im.viewProgram(true, DisplayOutput::Exposed);
+  auto& gl = *im.gl;
+  gl.glGenVertexArrays(1, &im.roomVao);
+  gl.glGenVertexArrays(1, &im.objectVao);
+  gl.glGenBuffers(1, &im.roomVbo);
+  gl.glGenBuffers(1, &im.objectVbo);
+  gl.glGenVertexArrays(1, &im.backgroundVao);
+  gl.glGenBuffers(1, &im.backgroundVbo);
+  {
+    std::vector<float> tri(3 * kFloats, 0.f);
+    const float corners[3][2] = {{-1, -1}, {3, -1}, {-1, 3}};
+    for (int k = 0; k < 3; ++k) {
+      tri[size_t(k) * kFloats] = corners[k][0];
+      tri[size_t(k) * kFloats + 1] = corners[k][1];
+      tri[size_t(k) * kFloats + 2] = 0.9999f;
+    }
+    im.upload(im.backgroundVao, im.backgroundVbo, tri);
+  }
+  // Until a sky comes: an empty reach and one cleared map, so that every sampler has a texture.
+  const float zero[4] = {0, 0, 0, 0};
+  im.skyTexture = floatTexture(gl, 1, 1, GL_RGBA32F, GL_RGBA, zero, GL_NEAREST);
+  im.roomTexture = floatTexture(gl, 1, 1, GL_RGBA32F, GL_RGBA, zero, GL_NEAREST);
+  im.gainTexture = floatTexture(gl, 1, 1, GL_RGBA32F, GL_RGBA, zero, GL_NEAREST);
+  im.infoTexture = floatTexture(gl, 6, 1, GL_RGBA32F, GL_RGBA, nullptr, GL_NEAREST);
+  gl.glGenTextures(1, &im.reachTexture);
+  gl.glBindTexture(GL_TEXTURE_2D, im.reachTexture);
+  const uint32_t none = 0;
+  gl.glTexImage2D(GL_TEXTURE_2D, 0, GL_R32UI, 1, 1, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+  gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+}
+
+void GlDaylightRenderer::setRoom(const std::vector<std::vector<glm::dvec3>>& polygons, const Camera& photoCamera) {
+  auto& im = *impl_;
+  std::vector<float> data;
+  for (const auto& v : polygons) {
+    if (v.size() < 3) continue;
+    const glm::vec3 n(polygonNormal(v));
+    fanTriangles(v, [&](size_t k) {
+      const glm::vec3 p(v[k]);
+      const float vertex[kFloats] = {p.x, p.y, p.z, n.x, n.y, n.z, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+      data.insert(data.end(), vertex, vertex + kFloats);
+    });
+  }
+  im.upload(im.roomVao, im.roomVbo, data);
+  im.roomVertices = GLsizei(data.size() / kFloats);
+  im.camera = photoCamera;
+  im.haveRoom = true;
+  im.mapsStale = true;
+}
+
+void GlDaylightRenderer::setSky(const daylight::InteractiveSky& sky) {
+  auto& im = *impl_;
+  auto& gl = *im.gl;
+  auto rgba = [](const ImageRGB& img) {
+    std::vector<float> out(size_t(img.width) * size_t(img.height) * 4, 1.f);
+    for (size_t i = 0; i < size_t(img.width) * size_t(img.height); ++i)
+      for (int c = 0; c < 3; ++c) out[4 * i + size_t(c)] = img.pixels[3 * i + size_t(c)];
+    return out;
+  };
+  if (sky.room.width != im.camera.width || sky.room.height != im.camera.height || sky.gain.width != sky.room.width ||
+      sky.gain.height != sky.room.height)
+    throw Error("", "daylight view", "the sky's room image is not of the photo camera's size");
+  im.replaceTexture(im.roomTexture, floatTexture(gl, sky.room.width, sky.room.height, GL_RGBA32F, GL_RGBA,
+                                                 rgba(sky.room).data(), GL_NEAREST));
+  im.replaceTexture(im.gainTexture, floatTexture(gl, sky.gain.width, sky.gain.height, GL_RGBA32F, GL_RGBA,
+                                                 rgba(sky.gain).data(), GL_NEAREST));
+  im.replaceTexture(im.skyTexture, floatTexture(gl, sky.radiance.width, sky.radiance.height, GL_RGBA32F, GL_RGBA,
+                                                rgba(sky.radiance).data(), GL_NEAREST));
+  gl.glBindTexture(GL_TEXTURE_2D, im.skyTexture);
+  gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);  // around the azimuth
+  im.window = sky.window;
+  im.sun = sky.sun;
+  im.sunIrradiance = sky.sunIrradiance;
+  im.sunDirections = sky.sun ? sky.sunDirections : std::vector<glm::dvec3>{};
+  im.haveSky = true;
+  im.mapsStale = true;
+}
+
+void GlDaylightRenderer::setObjects(const std::vector<Polygon>& objects, const daylight::ObjectIndirect& indirect,
+                                    const daylight::ShadowReach& reach) {
+  auto& im = *impl_;
+  auto& gl = *im.gl;
+  std::vector<float> data;
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (size_t o = 0; o < objects.size(); ++o) {
+    const auto& v = objects[o].vertices;
+    if (v.size() < 3) continue;
+    for (const auto& q : v) {
+      lo = glm::min(lo, q);
+      hi = glm::max(hi, q);
+    }
+    const glm::vec3 n(polygonNormal(v)), a(objects[o].albedo);
+    const bool lit = o < indirect.front.size() && indirect.front[o].size() == v.size() && o < indirect.back.size() &&
+                     indirect.back[o].size() == v.size();
+    fanTriangles(v, [&](size_t k) {
+      const glm::vec3 p(v[k]);
+      const glm::vec3 f = lit ? glm::vec3(indirect.front[o][k]) : glm::vec3(0.f);
+      const glm::vec3 b = lit ? glm::vec3(indirect.back[o][k]) : glm::vec3(0.f);
+      const float vertex[kFloats] = {p.x, p.y, p.z, n.x, n.y, n.z, f.x, f.y, f.z, b.x, b.y, b.z, a.x, a.y, a.z};
+      data.insert(data.end(), vertex, vertex + kFloats);
+    });
+  }
+  im.upload(im.objectVao, im.objectVbo, data);
+  im.objectVertices = GLsizei(data.size() / kFloats);
+  im.haveObjects = im.objectVertices > 0;
+  if (im.haveObjects) {
+    im.centre = 0.5 * (lo + hi);
+    im.radius = 0.5 * glm::length(hi - lo);
+  }
+  // The tiles' samples, as the shader reads them: (tile x * words + word, tile y).
+  im.reachWords = std::max(reach.words, 1);
+  const int w = std::max(reach.tilesX, 1) * im.reachWords, h = std::max(reach.tilesY, 1);
+  std::vector<uint32_t> bits(size_t(w) * size_t(h), 0);
+  if (reach.bits.size() == size_t(reach.tilesX) * size_t(reach.tilesY) * size_t(reach.words)) bits.assign(reach.bits.begin(), reach.bits.end());
+  if (bits.empty()) bits.assign(size_t(w) * size_t(h), 0);
+  gl.glBindTexture(GL_TEXTURE_2D, im.reachTexture);
+  gl.glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  gl.glTexImage2D(GL_TEXTURE_2D, 0, GL_R32UI, w, h, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, bits.data());
+  im.mapsStale = true;
+}
+
+void GlDaylightRenderer::setMapSize(int size) {
+  impl_->mapSize = std::clamp(size, 16, 4096);
+  impl_->mapsStale = true;
+}
+int GlDaylightRenderer::mapSize() const { return impl_->mapSize; }
+int GlDaylightRenderer::mapCount() const { return impl_->layersNeeded(); }
+bool GlDaylightRenderer::ready() const { return impl_->haveRoom && impl_->haveSky; }
+
+void GlDaylightRenderer::draw(const DisplaySettings& display, unsigned target, const ViewRect& rect) {
+  auto& im = *impl_;
+  if (!ready() || rect.width <= 0 || rect.height <= 0) return;
+  im.gl->glFinish();
+  const auto t0 = std::chrono::steady_clock::now();
+  im.drawView(display, target, rect);
+  im.gl->glFinish();
+  im.lastMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+ImageRGB GlDaylightRenderer::renderLinear() {
+  auto& im = *impl_;
+  const int w = im.camera.width, h = im.camera.height;
+  im.readback.ensure(*im.gl, w, h);
+  DisplaySettings linear;
+  linear.output = DisplayOutput::Linear;
+  draw(linear, im.readback.fbo, {0, 0, w, h});
+  std::vector<float> rgba(size_t(w) * size_t(h) * 4);
+  im.gl->glBindFramebuffer(GL_FRAMEBUFFER, im.readback.fbo);
+  im.gl->glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  im.gl->glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, rgba.data());
+  ImageRGB img(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float* p = &rgba[(size_t(h - 1 - y) * size_t(w) + size_t(x)) * 4];
+      img.set(x, y, {p[0], p[1], p[2]});
+    }
+  return img;
+}
+
+double GlDaylightRenderer::lastDrawMilliseconds() const { return impl_->lastMs; }
+double GlDaylightRenderer::lastMapMilliseconds() const { return impl_->lastMapMs; }
+
+}  // namespace relume

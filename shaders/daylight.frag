@@ -1,0 +1,139 @@
+// The daylight view (gl_daylight.cpp; Grosch, Eble, Mueller 2007 §7): a room pixel is the room
+// as the library relit it under the sky, minus its radiance per unit irradiance (the library's
+// gain: photo / the photo's irradiance) times the light the objects newly block; an object pixel
+// is albedo / pi x (its indirect light, per vertex from the library's irradiance volume, plus its
+// direct light). Direct light and blocking both come from the same samples: the window samples
+// (each radiance x cos x cos x area / r^2, the radiance of the sky region its direction looks
+// into) and the sun's four directions (each a quarter of the sun's irradiance x cos), each with
+// its shadow map: red the nearest room surface, green the nearest object surface along the line.
+// A sample lights a point when the room lets it through (the point is the nearest room surface,
+// within a bias) and no object lies before it. (The renderer prepends "#version 330 core",
+// OBJECT, OUTPUT and display.glsl.)
+in vec3 vWorld;
+flat in vec3 vNormal;
+in vec3 vFrontE;
+in vec3 vBackE;
+flat in vec3 vAlbedo;
+uniform sampler2DArray maps;   // per map: room distance, object distance
+uniform sampler2D mapInfo;     // per map (row): its matrix (texels 0-3), origin + texel footprint, normal + area
+uniform sampler2D skyRadiance; // equirectangular, +Z up (the library's InteractiveSky::radiance)
+uniform int windowSamples;     // maps 0 .. windowSamples - 1; then the sun's four
+uniform int sunMaps;           // 4 with a sun, else 0
+uniform vec3 sunQuarter;       // a quarter of the sun's irradiance
+uniform vec3 eye;
+#if OBJECT == 0
+uniform sampler2D room;        // the photo's pixels relit under the sky (top row first)
+uniform sampler2D gain;        // photo / the photo's irradiance
+uniform usampler2D reach;      // per 8 x 8 tile of the photo: the samples whose shadow may fall there
+uniform int reachWords;
+uniform vec2 viewOrigin;       // the drawn rectangle in framebuffer pixels
+uniform vec2 viewSize;
+uniform vec2 photoSize;
+uniform int background;        // 1: the photo's pixels where the camera sees no polygon (the sky through a window)
+#endif
+out vec4 colour;
+
+const float PI = 3.14159265358979;
+
+vec3 skyAlong(vec3 d) {
+  float u = atan(d.y, d.x) / (2.0 * PI) + 0.5;
+  float v = acos(clamp(d.z, -1.0, 1.0)) / PI;
+  return texture(skyRadiance, vec2(u, v)).rgb;
+}
+
+// 0: the sample does not light p; 1: it lights p; 2: the room lets it through but an object blocks it.
+int sampleState(int m, vec3 p, vec3 n, float cosine, float dist) {
+  mat4 clip = mat4(texelFetch(mapInfo, ivec2(0, m), 0), texelFetch(mapInfo, ivec2(1, m), 0),
+                   texelFetch(mapInfo, ivec2(2, m), 0), texelFetch(mapInfo, ivec2(3, m), 0));
+  vec4 c = clip * vec4(p, 1.0);
+  float footprint = texelFetch(mapInfo, ivec2(4, m), 0).w;
+  if (m < windowSamples) footprint *= dist;  // perspective: a texel's width grows with distance
+  float bias = 1.5 * footprint / max(cosine, 0.15) + 0.003;
+  if (c.w <= 0.0) return 1;
+  vec2 ndc = c.xy / c.w;
+  if (abs(ndc.x) >= 1.0 || abs(ndc.y) >= 1.0) return 1;  // outside the map: no object there, and the room?
+  vec2 t = texture(maps, vec3(0.5 * ndc + 0.5, float(m))).rg;
+  if (dist > t.r + bias) return 0;
+  return t.g < dist - bias ? 2 : 1;
+}
+
+#if OBJECT == 1
+// The direct light on an object's point: every sample the room lets through and no object blocks.
+// (Outside its map, a sample is taken as let through: the maps cover the objects' sphere.)
+vec3 direct(vec3 p, vec3 n) {
+  vec3 e = vec3(0.0);
+  for (int m = 0; m < windowSamples; ++m) {
+    vec4 o = texelFetch(mapInfo, ivec2(4, m), 0), w = texelFetch(mapInfo, ivec2(5, m), 0);
+    vec3 d = o.xyz - p;
+    float r2 = dot(d, d), r = sqrt(r2);
+    vec3 dir = d / r;
+    float cx = dot(n, dir), cw = -dot(w.xyz, dir);
+    if (cx <= 0.0 || cw <= 0.0) continue;
+    if (sampleState(m, p, n, cx, r) != 1) continue;
+    e += skyAlong(dir) * (cx * cw * w.w / r2);
+  }
+  for (int j = 0; j < sunMaps; ++j) {
+    int m = windowSamples + j;
+    vec4 o = texelFetch(mapInfo, ivec2(4, m), 0), w = texelFetch(mapInfo, ivec2(5, m), 0);
+    float c = -dot(n, w.xyz);
+    if (c <= 0.0) continue;
+    if (sampleState(m, p, n, c, dot(p - o.xyz, w.xyz)) != 1) continue;
+    e += sunQuarter * c;
+  }
+  return e;
+}
+#else
+// The light the objects take away from a room point: the samples whose shadow may reach its tile.
+vec3 blocked(vec3 p, vec3 n, ivec2 tile) {
+  vec3 e = vec3(0.0);
+  for (int k = 0; k < reachWords; ++k) {
+    uint bits = texelFetch(reach, ivec2(tile.x * reachWords + k, tile.y), 0).r;
+    while (bits != 0u) {
+      uint low = bits & (~bits + 1u);
+      bits ^= low;
+      int m = k * 32 + int(round(log2(float(low))));
+      if (m < windowSamples) {
+        vec4 o = texelFetch(mapInfo, ivec2(4, m), 0), w = texelFetch(mapInfo, ivec2(5, m), 0);
+        vec3 d = o.xyz - p;
+        float r2 = dot(d, d), r = sqrt(r2);
+        vec3 dir = d / r;
+        float cx = dot(n, dir), cw = -dot(w.xyz, dir);
+        if (cx <= 0.0 || cw <= 0.0) continue;
+        if (sampleState(m, p, n, cx, r) == 2) e += skyAlong(dir) * (cx * cw * w.w / r2);
+      } else {
+        for (int j = 0; j < sunMaps; ++j) {
+          int s = windowSamples + j;
+          vec4 o = texelFetch(mapInfo, ivec2(4, s), 0), w = texelFetch(mapInfo, ivec2(5, s), 0);
+          float c = -dot(n, w.xyz);
+          if (c <= 0.0) continue;
+          if (sampleState(s, p, n, c, dot(p - o.xyz, w.xyz)) == 2) e += sunQuarter * c;
+        }
+      }
+    }
+  }
+  return e;
+}
+#endif
+
+void main() {
+#if OBJECT == 1
+  vec3 n = vNormal;
+  bool back = dot(n, vWorld - eye) > 0.0;
+  if (back) n = -n;
+  vec3 e = (back ? vBackE : vFrontE) + direct(vWorld + 1e-4 * n, n);
+  colour = displayColour(vAlbedo / PI * e);
+#else
+  vec2 f = (gl_FragCoord.xy - viewOrigin) / viewSize;
+  vec2 uv = vec2(f.x, 1.0 - f.y);  // the photo's rows are top first
+  vec3 base = texture(room, uv).rgb;
+  if (background == 1) {
+    colour = displayColour(base);
+    return;
+  }
+  ivec2 px = ivec2(min(uv * photoSize, photoSize - 1.0));
+  vec3 n = vNormal;
+  if (dot(n, vWorld - eye) > 0.0) n = -n;
+  vec3 b = blocked(vWorld + 1e-4 * n, n, px / 8);
+  colour = displayColour(max(base - texture(gain, uv).rgb * b, vec3(0.0)));
+#endif
+}

@@ -1,0 +1,180 @@
+// The daylight viewport's renderer (GlDaylightRenderer, Mesa under Xvfb) against the library's CPU
+// path for the same method (DaylightRelighting::render with DaylightMethod::Volume): the same
+// room, sky, box and camera must give the same picture — the box where it is, lit alike, and its
+// shadows where the CPU path puts them, and nothing where it puts none.
+#include <QGuiApplication>
+#include <QOffscreenSurface>
+#include <QOpenGLContext>
+#include <QSurfaceFormat>
+#include <QtTest>
+#include <cmath>
+#include <numbers>
+
+#include "../daylight/window_room.h"
+#include "relume/daylight/relight.h"
+#include "relume/geometry/error.h"
+#include "relume/radiosity/hierarchy.h"
+#include "relume/raytrace/ray_scene.h"
+#include "relume/relight/relighter.h"
+#include "relume/viewport/gl_daylight.h"
+
+using namespace relume;
+using namespace relume::daylight;
+using namespace relume::testing;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kElev = 30 * kPi / 180;
+
+double luminance(const ImageRGB& im, size_t i) {
+  return 0.2126 * im.pixels[3 * i] + 0.7152 * im.pixels[3 * i + 1] + 0.0722 * im.pixels[3 * i + 2];
+}
+
+}  // namespace
+
+class DaylightViewTest : public QObject {
+  Q_OBJECT
+  QOffscreenSurface surface_;
+  QOpenGLContext context_;
+
+ private slots:
+  void initTestCase() {
+    QSurfaceFormat f;
+    f.setVersion(3, 3);
+    f.setProfile(QSurfaceFormat::CoreProfile);
+    context_.setFormat(f);
+    QVERIFY(context_.create());
+    surface_.setFormat(context_.format());
+    surface_.create();
+    QVERIFY(context_.makeCurrent(&surface_));
+  }
+
+  void theViewDrawsTheBoxAndItsShadowsAsTheLibrarysInteractivePathDoes() {
+    // The sun through the window and a sky of 16 regions; a box where the sun's patch falls.
+    const Scene room = windowRoom(0.5, 0.6, 0.7);
+    SkyRadiance sky;
+    sky.region.resize(16);
+    for (size_t k = 0; k < sky.region.size(); ++k) sky.region[k] = glm::dvec3(0.3 + 0.05 * double(k % 4), 0.35, 0.45);
+    sky.sun.found = true;
+    sky.sun.direction = glm::dvec3(std::cos(kElev), 0.0, std::sin(kElev));
+    sky.sun.irradiance = glm::dvec3(2.0, 1.9, 1.7);
+    const double xc = W - 0.5 * (Z0 + Z1) / std::tan(kElev), yc = 0.5 * (Y0 + Y1), h = 0.2;
+    const glm::dvec3 lo(xc - h, yc - h, 0.0), hi(xc + h, yc + h, 2 * h);
+    const glm::dvec3 albedo(0.8, 0.4, 0.1);
+    const Camera cam = Camera::lookAt({0.4, 0.6, 2.3}, {xc, yc, 0.0}, 320, 240, 220);
+    ImageRGB photo(cam.width, cam.height);
+    for (auto& v : photo.pixels) v = 0.25f;
+    BasisOptions options;
+    options.regions = 16;
+    options.groundReflectance = 0;
+    // A coarse hierarchy: both renderers read the same session, and it is solved four times over.
+    auto engine = std::make_shared<radiosity::Options>();
+    engine->epsilon = 0.03;
+    engine->minArea = 0.02;
+    options.engine = engine;
+    DaylightRelighting relit(room, photo, cam, sky, options);
+
+    relit.setInteractive({{6, 512}, 64});
+    std::vector<Polygon> faces;
+    for (const auto& f : boxObject("box", lo, hi, albedo).polygons) {
+      Polygon p = poly("box", f, 0.0);
+      p.albedo = albedo;
+      faces.push_back(p);
+    }
+    const ImageRGB cpuRoom = relit.render(sky, {}, DaylightMethod::Volume);
+    const ImageRGB cpu = relit.render(sky, faces, DaylightMethod::Volume);
+
+    GlDaylightRenderer gl;
+    gl.initialize();
+    gl.setRoom(relit.roomPolygons(), relit.camera());
+    const InteractiveSky light = relit.interactiveSky(sky);
+    QCOMPARE(int(light.window.size()) >= 60, true);
+    gl.setSky(light);
+    const ImageRGB glRoom = gl.renderLinear();
+    // Without objects the view is the library's room under the sky, pixel for pixel.
+    if (qEnvironmentVariableIsSet("RELUME_DEBUG_DIR")) {
+      const std::string dir = qEnvironmentVariable("RELUME_DEBUG_DIR").toStdString();
+      writeImage(dir + "/gl_room.exr", glRoom);
+      writeImage(dir + "/cpu_room.exr", cpuRoom);
+      writeImage(dir + "/cpu_box.exr", cpu);
+    }
+    double worstRoom = 0;
+    size_t bad = 0;
+    for (size_t i = 0; i < glRoom.pixels.size(); ++i)
+      bad += std::abs(glRoom.pixels[i] - cpuRoom.pixels[i]) > 1e-4 * std::max(1e-3, double(cpuRoom.pixels[i]));
+    qInfo("%zu of %zu values differ", bad, glRoom.pixels.size());
+    for (size_t i = 0; i < glRoom.pixels.size(); ++i)
+      worstRoom = std::max(worstRoom, double(std::abs(glRoom.pixels[i] - cpuRoom.pixels[i])) /
+                                          std::max(1e-3, double(cpuRoom.pixels[i])));
+    qInfo("room without objects: largest relative difference %.2e", worstRoom);
+    QVERIFY(worstRoom < 1e-4);
+
+    glm::dvec3 blo(1e300), bhi(-1e300);
+    for (const auto& f : faces)
+      for (const auto& v : f.vertices) blo = glm::min(blo, v), bhi = glm::max(bhi, v);
+    gl.setObjects(faces, relit.objectIndirect(sky, faces),
+                  relit.shadowReach(light, 0.5 * (blo + bhi), 0.5 * glm::length(bhi - blo)));
+    QCOMPARE(gl.mapCount(), int(light.window.size()) + 4);
+    const ImageRGB view = gl.renderLinear();
+    if (qEnvironmentVariableIsSet("RELUME_DEBUG_DIR"))
+      writeImage(qEnvironmentVariable("RELUME_DEBUG_DIR").toStdString() + "/gl_box.exr", view);
+
+    // Per pixel: the box (a ray meets it), a shadow (darker than the room by 5 % or more), or neither.
+    size_t boxPixels = 0, cpuShadow = 0, glShadow = 0, both = 0, either = 0;
+    double boxCpu = 0, boxGl = 0, shadowCpu = 0, shadowGl = 0;
+    const RayScene box([&] {
+      std::vector<std::vector<glm::dvec3>> p;
+      for (const auto& f : faces) p.push_back(f.vertices);
+      return p;
+    }());
+    for (size_t i = 0; i < size_t(cam.width) * size_t(cam.height); ++i) {
+      const int x = int(i % size_t(cam.width)), y = int(i / size_t(cam.width));
+      const glm::dvec3 eye = cam.center(), d = cam.rayDirection(x + 0.5, y + 0.5);
+      if (box.intersect(Ray{glm::vec3(eye), glm::vec3(d), 0.f, 1e30f}).polygon >= 0) {
+        ++boxPixels;
+        boxCpu += luminance(cpu, i);
+        boxGl += luminance(view, i);
+        continue;
+      }
+      const double room0 = luminance(cpuRoom, i);
+      const bool c = luminance(cpu, i) < 0.95 * room0, g = luminance(view, i) < 0.95 * room0;
+      cpuShadow += c;
+      glShadow += g;
+      both += c && g;
+      either += c || g;
+      shadowCpu += room0 - luminance(cpu, i);  // the light the box takes away
+      shadowGl += room0 - luminance(view, i);
+    }
+    const double iou = either ? double(both) / double(either) : 0;
+    qInfo("box: %zu pixels, mean luminance GL %.4f, CPU %.4f; shadows: GL %zu pixels, CPU %zu, intersection over union "
+          "%.3f; light taken away (luminance summed over the pixels) %.2f (GL), %.2f (CPU)",
+          boxPixels, boxGl / double(std::max<size_t>(boxPixels, 1)), boxCpu / double(std::max<size_t>(boxPixels, 1)),
+          glShadow, cpuShadow, iou, shadowGl, shadowCpu);
+    QVERIFY(boxPixels > 1000);
+    QVERIFY(cpuShadow > 500);
+    QVERIFY(iou > 0.9);
+    QVERIFY(std::abs(boxGl / boxCpu - 1) < 0.05);
+    QVERIFY(std::abs(shadowGl / shadowCpu - 1) < 0.05);
+
+    // The box moved out of the sun: its sun shadow goes with it (the maps are made again).
+    for (auto& f : faces)
+      for (auto& v : f.vertices) v.y -= 1.2;
+    blo.y -= 1.2, bhi.y -= 1.2;
+    gl.setObjects(faces, relit.objectIndirect(sky, faces),
+                  relit.shadowReach(light, 0.5 * (blo + bhi), 0.5 * glm::length(bhi - blo)));
+    const ImageRGB moved = gl.renderLinear(), cpuMoved = relit.render(sky, faces, DaylightMethod::Volume);
+    double worst = 0;
+    size_t differ = 0;
+    for (size_t i = 0; i < size_t(cam.width) * size_t(cam.height); ++i) {
+      const double a = luminance(moved, i), b = luminance(cpuMoved, i);
+      worst = std::max(worst, std::abs(a - b));
+      differ += std::abs(a - b) > 0.05 * std::max(b, 1e-3);
+    }
+    qInfo("moved: %zu pixels differ from the CPU path by more than 5 %%", differ);
+    QVERIFY(differ < size_t(cam.width) * size_t(cam.height) / 100);
+  }
+};
+
+QTEST_MAIN(DaylightViewTest)
+#include "daylight_view_test.moc"
