@@ -24,6 +24,7 @@ uniform vec3 eye;
 #if OBJECT == 0
 uniform sampler2D room;        // the photo's pixels relit under the sky (top row first)
 uniform sampler2D gain;        // photo / the photo's irradiance
+uniform sampler2D sunLight;    // the sun's direct irradiance in `room`: the most a shadow takes of it
 uniform usampler2D reach;      // per 8 x 8 tile of the photo: the samples whose shadow may fall there
 uniform int reachWords;
 uniform vec2 viewOrigin;       // the drawn rectangle in framebuffer pixels
@@ -84,8 +85,9 @@ vec3 direct(vec3 p, vec3 n) {
 }
 #else
 // The light the objects take away from a room point: the samples whose shadow may reach its tile.
-vec3 blocked(vec3 p, vec3 n, ivec2 tile) {
-  vec3 e = vec3(0.0);
+// ex, ey: a photo pixel's step across the surface at p.
+vec3 blocked(vec3 p, vec3 n, ivec2 tile, vec3 ex, vec3 ey, vec3 sunHere) {
+  vec3 e = vec3(0.0), es = vec3(0.0);
   for (int k = 0; k < reachWords; ++k) {
     uint bits = texelFetch(reach, ivec2(tile.x * reachWords + k, tile.y), 0).r;
     while (bits != 0u) {
@@ -100,18 +102,23 @@ vec3 blocked(vec3 p, vec3 n, ivec2 tile) {
         float cx = dot(n, dir), cw = -dot(w.xyz, dir);
         if (cx <= 0.0 || cw <= 0.0) continue;
         if (sampleState(m, p, n, cx, r) == 2) e += skyAlong(dir) * (cx * cw * w.w / r2);
-      } else {
-        for (int j = 0; j < sunMaps; ++j) {
-          int s = windowSamples + j;
+      } else if (sunMaps > 0) {
+        // The sun over the pixel's footprint, as the library's room light takes it (4 x 4 points
+        // over 1.5 photo pixels, each towards one of the disc's directions): where the room's
+        // own shadow edge crosses the pixel, only the share the room lets through is taken away.
+        for (int k = 0; k < 16; ++k) {
+          int s = windowSamples + k % sunMaps;
+          vec2 at = ((vec2(k % 4, k / 4) + 0.5) / 4.0 - 0.5) * 1.5;
+          vec3 q = p + at.x * ex + at.y * ey;
           vec4 o = texelFetch(mapInfo, ivec2(4, s), 0), w = texelFetch(mapInfo, ivec2(5, s), 0);
           float c = -dot(n, w.xyz);
           if (c <= 0.0) continue;
-          if (sampleState(s, p, n, c, dot(p - o.xyz, w.xyz)) == 2) e += sunQuarter * c;
+          if (sampleState(s, q, n, c, dot(q - o.xyz, w.xyz)) == 2) es += sunQuarter * (c * float(sunMaps) / 16.0);
         }
       }
     }
   }
-  return e;
+  return e + min(es, sunHere);
 }
 #endif
 
@@ -133,7 +140,9 @@ void main() {
   ivec2 px = ivec2(min(uv * photoSize, photoSize - 1.0));
   vec3 n = vNormal;
   if (dot(n, vWorld - eye) > 0.0) n = -n;
-  vec3 b = blocked(vWorld + 1e-4 * n, n, px / 8);
+  // (Derivatives here, in uniform control flow: a photo pixel spans viewSize / photoSize of the view's.)
+  vec3 ex = dFdx(vWorld) * (viewSize.x / photoSize.x), ey = dFdy(vWorld) * (viewSize.y / photoSize.y);
+  vec3 b = blocked(vWorld + 1e-4 * n, n, px / 8, ex, ey, texture(sunLight, uv).rgb);
   colour = displayColour(max(base - texture(gain, uv).rgb * b, vec3(0.0)));
 #endif
 }

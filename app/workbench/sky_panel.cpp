@@ -9,6 +9,9 @@
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QListWidget>
+#include <QOffscreenSurface>
+#include <QOpenGLContext>
+#include <QSurfaceFormat>
 #include <QPushButton>
 #include <QTimer>
 #include <QVBoxLayout>
@@ -31,6 +34,7 @@
 #include "relume/project/room_io.h"
 #include "relume/raytrace/ray_scene.h"
 #include "relume/relight/relighter.h"
+#include "relume/viewport/gl_daylight.h"
 
 namespace relume {
 
@@ -113,6 +117,31 @@ struct SkyPanel::State {
   bool dragMoved = false;  // the drag under way has moved its object
 };
 
+// What the GPU path draws, made by the library off the UI thread.
+struct SkyPanel::GpuFrame {
+  daylight::InteractiveSky light;
+  std::vector<Polygon> objects;
+  daylight::ObjectIndirect indirect;
+  daylight::ShadowReach reach;
+  std::vector<std::vector<glm::dvec3>> room;
+  Camera camera;
+};
+
+struct SkyPanel::Gpu {
+  QOffscreenSurface surface;
+  QOpenGLContext context;
+  std::unique_ptr<GlDaylightRenderer> renderer;
+  int generation = -1;  // the room the renderer holds
+  bool failed = false;
+  double mapMs = 0, drawMs = 0;
+  ~Gpu() {  // the renderer's GL objects go with its own context current
+    if (renderer && context.makeCurrent(&surface)) {
+      renderer.reset();
+      context.doneCurrent();
+    }
+  }
+};
+
 namespace {
 // A sky's warning for the user, or nothing.
 QString clippedNote(const daylight::SkyRadiance& sky, const QString& name) {
@@ -171,11 +200,17 @@ SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jo
   play_ = new QPushButton(tr("Play"), this);
   play_->setCheckable(true);
   play_->setToolTip(tr("Play a folder's skies back, one frame after another"));
+  gpu_ = new QCheckBox(tr("OpenGL"), this);
+  gpu_->setChecked(true);
+  gpu_->setEnabled(false);
+  gpu_->setToolTip(tr("Draw the interactive method with OpenGL: a shadow map per sample through the windows and per "
+                      "direction of the sun's disc, as in the paper (the same light as the CPU path, drawn faster)"));
   showPhoto_ = new QCheckBox(tr("Original photo"), this);
   showPhoto_->setToolTip(tr("Show the photograph as taken, to compare"));
   frame_ = new QLabel(this);
   playRow->addWidget(play_);
   playRow->addWidget(showPhoto_);
+  playRow->addWidget(gpu_);
   playRow->addWidget(frame_, 1);
   layout->addLayout(playRow);
   view_ = new ClickPhotoView(this);
@@ -194,6 +229,9 @@ SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jo
   connect(method_, qOverload<int>(&QComboBox::currentIndexChanged), this, &SkyPanel::updateLamps);
   connect(objects_, qOverload<int>(&QComboBox::currentIndexChanged), this, &SkyPanel::updateLamps);
   connect(showPhoto_, &QCheckBox::toggled, this, &SkyPanel::show);
+  connect(gpu_, &QCheckBox::toggled, this, [this] { requestRender(); });
+  connect(method_, qOverload<int>(&QComboBox::currentIndexChanged), this,
+          [this](int m) { gpu_->setEnabled(m == 1 && !(gpuState_ && gpuState_->failed)); });
   connect(objects_, qOverload<int>(&QComboBox::currentIndexChanged), this, &SkyPanel::updateHandles);
   connect(view_, &ClickPhotoView::markerClicked, this, [this] { s_->refused = s_->dragMoved = false; });
   connect(view_, &ClickPhotoView::markerMoved, this, [this](const QString& n, QPointF px) { moveObject(n, px, false); });
@@ -231,6 +269,49 @@ SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jo
 }
 
 SkyPanel::~SkyPanel() = default;
+
+double SkyPanel::lastGpuMapMilliseconds() const { return gpuState_ ? gpuState_->mapMs : 0; }
+double SkyPanel::lastGpuDrawMilliseconds() const { return gpuState_ ? gpuState_->drawMs : 0; }
+
+bool SkyPanel::drawOnGpu(const GpuFrame& frame, ImageRGB& out) {
+  if (!gpuState_) gpuState_ = std::make_unique<Gpu>();
+  Gpu& g = *gpuState_;
+  if (g.failed) return false;
+  try {
+    if (!g.renderer) {
+      QSurfaceFormat f;
+      f.setVersion(3, 3);
+      f.setProfile(QSurfaceFormat::CoreProfile);
+      g.context.setFormat(f);
+      if (!g.context.create()) throw Error("", "OpenGL", "no OpenGL 3.3 core context can be made");
+      g.surface.setFormat(g.context.format());
+      g.surface.create();
+      if (!g.context.makeCurrent(&g.surface)) throw Error("", "OpenGL", "the context cannot be made current");
+      g.renderer = std::make_unique<GlDaylightRenderer>();
+      g.renderer->initialize();
+    } else if (!g.context.makeCurrent(&g.surface)) {
+      throw Error("", "OpenGL", "the context cannot be made current");
+    }
+    if (g.generation != generation_) {
+      g.renderer->setRoom(frame.room, frame.camera);
+      g.generation = generation_;
+    }
+    g.renderer->setSky(frame.light);
+    g.renderer->setObjects(frame.objects, frame.indirect, frame.reach);
+    out = g.renderer->renderLinear();
+    g.mapMs = g.renderer->lastMapMilliseconds();
+    g.drawMs = g.renderer->lastDrawMilliseconds();
+    g.context.doneCurrent();
+    return true;
+  } catch (const std::exception& e) {
+    g.failed = true;
+    g.renderer.reset();  // (its GL objects, if any, go with the context)
+    gpu_->setChecked(false);
+    gpu_->setEnabled(false);
+    emit message(tr("OpenGL cannot draw the daylight view (%1): the CPU path draws it").arg(QString::fromUtf8(e.what())));
+    return false;
+  }
+}
 
 bool SkyPanel::isOpen() const { return s_->relit != nullptr; }
 QString SkyPanel::path() const { return s_->path; }
@@ -544,9 +625,43 @@ void SkyPanel::startRender() {
   const double exposure = s_->exposure;
   auto relit = s_->relit;
   s_->pending = false;
+  gpu_->setEnabled(method == daylight::DaylightMethod::Volume && !(gpuState_ && gpuState_->failed));
+  const bool gpu = gpu_->isEnabled() && gpu_->isChecked();
   s_->rendering = jobs_->start(tr("Relighting under %1").arg(name), [=, this](Progress& p) {
     const auto t0 = std::chrono::steady_clock::now();
     for (size_t l = 0; l < lampExitance.size(); ++l) relit->setLampExitance(int(l), lampExitance[l]);
+    if (gpu) {
+      // The library's light for the frame here; OpenGL draws it on the UI thread (its context's).
+      auto frame = std::make_shared<GpuFrame>();
+      frame->light = relit->interactiveSky(sky, p);
+      frame->objects = objects;
+      frame->room = relit->roomPolygons();
+      frame->camera = relit->camera();
+      if (!objects.empty()) {
+        glm::dvec3 lo(1e300), hi(-1e300);
+        for (const auto& o : objects)
+          for (const auto& v : o.vertices) lo = glm::min(lo, v), hi = glm::max(hi, v);
+        frame->indirect = relit->objectIndirect(sky, objects);
+        frame->reach = relit->shadowReach(frame->light, 0.5 * (lo + hi), 0.5 * glm::length(hi - lo));
+      }
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      return JobRunner::Continuation([=, this] {
+        if (generation != generation_) return;
+        ImageRGB img;
+        if (!drawOnGpu(*frame, img)) {
+          s_->pending = true;  // drawn again by the CPU path once this job has ended
+          return;
+        }
+        s_->shown = displayed(img, exposure);
+        s_->lastFrame = name;
+        s_->lastIndex = index;
+        s_->lastCount = count;
+        s_->lastSeconds = seconds + gpuState_->drawMs / 1000.0;
+        s_->stale = false;
+        ++framesShown_;
+        show();
+      });
+    }
     const ImageRGB img = relit->render(sky, objects, method, p, virtualLamps);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     auto shown = std::make_shared<QImage>(displayed(img, exposure));  // the display encoding off the UI thread too

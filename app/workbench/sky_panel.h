@@ -26,6 +26,7 @@ class ClickPhotoView;
 class JobRunner;
 class Progress;
 struct Scene;
+struct ImageRGB;
 // A daylight room made ready off the UI thread (reflectances, basis solutions): see prepare().
 struct PreparedDaylight;
 
@@ -76,6 +77,13 @@ class SkyPanel : public QWidget {
   // then disabled, says why, and the lamps are left out.
   QListWidget* lampList() const { return lamps_; }
   QCheckBox* photoToggle() const { return showPhoto_; }
+  // The interactive method drawn by OpenGL (GlDaylightRenderer: the paper's shadow maps, one per
+  // window sample and per sun direction) rather than by the CPU path; checked by default, and
+  // disabled (the CPU path then) when no OpenGL 3.3 context can be made. The light is the same.
+  QCheckBox* gpuToggle() const { return gpu_; }
+  // What the last GPU frame cost: its shadow maps and the whole draw (milliseconds; 0 before one).
+  double lastGpuMapMilliseconds() const;
+  double lastGpuDrawMilliseconds() const;
   ClickPhotoView* view() const { return view_; }
   // The last relit image (linear) and what the view shows (display-encoded).
   const QImage& shown() const;
@@ -98,6 +106,10 @@ class SkyPanel : public QWidget {
   void startRender();
   void renderDone();
   void show();
+  // The GPU frame of the interactive method from the library's light (UI thread); false, with
+  // a message, when OpenGL cannot draw it (the CPU path is used from then on).
+  struct GpuFrame;
+  bool drawOnGpu(const GpuFrame& frame, ImageRGB& out);
   void updateHandles();
   void moveObject(const QString& name, QPointF pixel, bool released);
   JobRunner* jobs_;
@@ -108,11 +120,14 @@ class SkyPanel : public QWidget {
   QLabel* lampsLabel_;
   QPushButton *skyFile_, *skyFolder_, *objectsFile_, *play_;
   QCheckBox* showPhoto_;
+  QCheckBox* gpu_;
   QLabel* frame_;
   ClickPhotoView* view_;
   int framesShown_ = 0;
   QString lampsNote_;    // the last word on virtual lamps left out (said once per choice, not per render)
   int generation_ = 0;  // counts rooms opened and closed: a render for an earlier one is dropped
+  struct Gpu;  // the OpenGL context and renderer of the GPU path (made on first use)
+  std::unique_ptr<Gpu> gpuState_;
 };
 
 }  // namespace relume

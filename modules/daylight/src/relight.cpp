@@ -991,7 +991,9 @@ void DaylightRelighting::updateRoom(const SkyRadiance& sky, Progress& progress) 
   // It is made again when the sky changes, or when a NearField render (objects solved into the
   // bases and taken out again) or another sun re-solved what it was made from.
   if (!eRoom_.pixels.empty() && sameSky(sky, roomSky_) && roomRevision_ == basis_->revision()) return;
-  eRoom_ = irradianceImage(*basis_, seen_, sky, progress);
+  IrradianceParts parts = irradianceParts(*basis_, seen_, sky, progress);
+  eRoomSun_ = parts.sun;
+  eRoom_ = sum(std::move(parts.rest), parts.sun);
   roomSky_ = sky;
   roomRevision_ = basis_->revision();  // after: the sky's sun may have been solved just now
   roomOut_ = photo_;
@@ -1029,6 +1031,7 @@ InteractiveSky DaylightRelighting::interactiveSky(const SkyRadiance& sky, Progre
       out.radiance.set(u, v, glm::vec3(k >= 0 ? sky.region[size_t(k)] : groundL));
     }
   out.room = roomOut_;
+  out.sunLight = eRoomSun_;
   out.gain = ImageRGB(photo_.width, photo_.height);
   for (size_t i = 0; i < seen_.surface.size(); ++i) {
     if (seen_.surface[i] < 0) continue;
@@ -1134,6 +1137,7 @@ ShadowReach DaylightRelighting::shadowReach(const std::vector<DirectSample>& ws,
 
 ObjectIndirect DaylightRelighting::objectIndirect(const SkyRadiance& sky, const std::vector<Polygon>& objects,
                                                   Progress& progress) {
+  checkInteractiveObjects(objects);
   ObjectIndirect out;
   if (objects.empty()) return out;
   volume(progress);
@@ -1176,13 +1180,17 @@ std::vector<std::vector<glm::dvec3>> DaylightRelighting::roomPolygons() const {
   return out;
 }
 
-ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vector<Polygon>& objects, Progress& progress) {
+void DaylightRelighting::checkInteractiveObjects(const std::vector<Polygon>& objects) const {
   if (!objects.empty() && basis_->anyLampOn())
     throw Error("", "virtual object", "the interactive path lights virtual objects by daylight only: with a lamp on, use the "
                                       "near-field method");
   for (size_t o = 0; o < objects.size(); ++o)
     if (objects[o].vertices.size() < 3 || !(polygonArea(objects[o].vertices) > 1e-12))
       throw Error("", "virtual object", "face " + std::to_string(o + 1) + " (" + objects[o].name + ") has no area");
+}
+
+ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vector<Polygon>& objects, Progress& progress) {
+  checkInteractiveObjects(objects);
   const auto& h = basis_->engine();
   const auto& windows = basis_->windows();
   {

@@ -115,7 +115,7 @@ struct GlDaylightRenderer::Impl {
   std::unique_ptr<QOpenGLShaderProgram> mapProgram;
   GLuint roomVao = 0, roomVbo = 0, objectVao = 0, objectVbo = 0, backgroundVao = 0, backgroundVbo = 0;
   GLsizei roomVertices = 0, objectVertices = 0;
-  GLuint roomTexture = 0, gainTexture = 0, skyTexture = 0, reachTexture = 0, infoTexture = 0;
+  GLuint roomTexture = 0, gainTexture = 0, sunTexture = 0, skyTexture = 0, reachTexture = 0, infoTexture = 0;
   GLuint maps = 0, mapFbo = 0;
   int mapLayers = 0, mapTextureSize = 0;
   int mapSize = 256;
@@ -298,6 +298,9 @@ struct GlDaylightRenderer::Impl {
         gl->glActiveTexture(GL_TEXTURE5);
         gl->glBindTexture(GL_TEXTURE_2D, reachTexture);
         p.setUniformValue("reach", 5);
+        gl->glActiveTexture(GL_TEXTURE6);
+        gl->glBindTexture(GL_TEXTURE_2D, sunTexture);
+        p.setUniformValue("sunLight", 6);
         p.setUniformValue("reachWords", haveObjects ? reachWords : 0);
         p.setUniformValue("viewOrigin", float(rect.x), float(rect.y));
         p.setUniformValue("viewSize", float(rect.width), float(rect.height));
@@ -327,7 +330,7 @@ GlDaylightRenderer::GlDaylightRenderer() : impl_(std::make_unique<Impl>()) {}
 GlDaylightRenderer::~GlDaylightRenderer() {
   auto& im = *impl_;
   if (!im.gl) return;
-  for (GLuint* t : {&im.roomTexture, &im.gainTexture, &im.skyTexture, &im.reachTexture, &im.infoTexture, &im.maps})
+  for (GLuint* t : {&im.roomTexture, &im.gainTexture, &im.sunTexture, &im.skyTexture, &im.reachTexture, &im.infoTexture, &im.maps})
     if (*t) im.gl->glDeleteTextures(1, t);
   for (GLuint* b : {&im.roomVbo, &im.objectVbo, &im.backgroundVbo})
     if (*b) im.gl->glDeleteBuffers(1, b);
@@ -381,6 +384,7 @@ void GlDaylightRenderer::initialize() {
   im.skyTexture = floatTexture(gl, 1, 1, GL_RGBA32F, GL_RGBA, zero, GL_NEAREST);
   im.roomTexture = floatTexture(gl, 1, 1, GL_RGBA32F, GL_RGBA, zero, GL_NEAREST);
   im.gainTexture = floatTexture(gl, 1, 1, GL_RGBA32F, GL_RGBA, zero, GL_NEAREST);
+  im.sunTexture = floatTexture(gl, 1, 1, GL_RGBA32F, GL_RGBA, zero, GL_NEAREST);
   im.infoTexture = floatTexture(gl, 6, 1, GL_RGBA32F, GL_RGBA, nullptr, GL_NEAREST);
   gl.glGenTextures(1, &im.reachTexture);
   gl.glBindTexture(GL_TEXTURE_2D, im.reachTexture);
@@ -425,6 +429,10 @@ void GlDaylightRenderer::setSky(const daylight::InteractiveSky& sky) {
                                                  rgba(sky.room).data(), GL_NEAREST));
   im.replaceTexture(im.gainTexture, floatTexture(gl, sky.gain.width, sky.gain.height, GL_RGBA32F, GL_RGBA,
                                                  rgba(sky.gain).data(), GL_NEAREST));
+  const ImageRGB sunLight = sky.sunLight.width == sky.room.width && sky.sunLight.height == sky.room.height
+                                ? sky.sunLight : ImageRGB(sky.room.width, sky.room.height);
+  im.replaceTexture(im.sunTexture, floatTexture(gl, sunLight.width, sunLight.height, GL_RGBA32F, GL_RGBA,
+                                                rgba(sunLight).data(), GL_NEAREST));
   im.replaceTexture(im.skyTexture, floatTexture(gl, sky.radiance.width, sky.radiance.height, GL_RGBA32F, GL_RGBA,
                                                 rgba(sky.radiance).data(), GL_NEAREST));
   gl.glBindTexture(GL_TEXTURE_2D, im.skyTexture);

@@ -156,6 +156,9 @@ struct InteractiveSky {
   std::vector<glm::dvec3> sunDirections;  // four directions over the sun's disc, each a quarter of it
   ImageRGB room;  // the photo under the sky, no objects (the camera's pixels)
   ImageRGB gain;  // per pixel photo / the photo's irradiance: radiance per unit irradiance (0: none)
+  // Per pixel the sun's direct irradiance in `room` (over the pixel's footprint): the most of the
+  // sun's light an object's shadow can take away there.
+  ImageRGB sunLight;
 };
 
 // Per 8 x 8 tile of the camera's pixels (with a pixel's border), the window samples and the sun
@@ -229,7 +232,8 @@ class DaylightRelighting {
   InteractiveSky interactiveSky(const SkyRadiance& sky, Progress& progress = silentProgress());
   // The tiles the shadows of a sphere (the objects' bounds) may reach under `light`.
   ShadowReach shadowReach(const InteractiveSky& light, const glm::dvec3& centre, double radius);
-  // The objects' indirect light per vertex under `sky` (builds the volume on first use).
+  // The objects' indirect light per vertex under `sky` (builds the volume on first use). Refused
+  // as render(..., Volume) refuses them: objects with a lamp on, a face with no area.
   ObjectIndirect objectIndirect(const SkyRadiance& sky, const std::vector<Polygon>& objects,
                                 Progress& progress = silentProgress());
   // The room's polygons that block light (every surface of the bases' engine but the windows).
@@ -241,13 +245,15 @@ class DaylightRelighting {
 
  private:
   void checkPhoto(const Scene& scene) const;
+  // Refuses (relume::Error) objects the interactive path cannot light: any with a lamp on, a face with no area.
+  void checkInteractiveObjects(const std::vector<Polygon>& objects) const;
   ImageRGB renderVolume(const SkyRadiance& sky, const std::vector<Polygon>& objects, Progress& progress);
   ImageRGB photo_, ePhoto_, eLast_;
   InteractiveOptions interactive_;
   std::unique_ptr<IrradianceVolume> volume_;
   SkyRadiance roomSky_;  // the sky eRoom_ was made for
   unsigned roomRevision_ = 0;  // and the basis's revision then (a NearField render re-solves it)
-  ImageRGB eRoom_;
+  ImageRGB eRoom_, eRoomSun_;  // (and the sun's direct part of it)
   ImageRGB roomOut_;  // the photo relit under roomSky_, no objects
   // Pixel i of the photo relit to irradiance e (the photo times e over the photo's irradiance).
   glm::vec3 relitPixel(size_t i, const glm::vec3& e) const;
