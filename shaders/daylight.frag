@@ -14,8 +14,15 @@ flat in vec3 vNormal;
 in vec3 vFrontE;
 in vec3 vBackE;
 flat in vec3 vAlbedo;
-uniform sampler2DArray maps;   // per map: room distance, object distance
-uniform sampler2D mapInfo;     // per map (row): its matrix (texels 0-3), origin + texel footprint, normal + area
+uniform sampler2DArray maps;   // per window sample's map: room distance, object distance
+uniform sampler2DArray sunMapArray;  // the same per direction of the sun's disc
+// Per map seven vectors: its matrix (0-3), origin + a texel's width (per metre of distance, or
+// metres), the window's normal or the light's direction + the sample's area, and the reach test
+// (a cone's axis + cos of its half-angle, or a cylinder's radius). MAX_MAPS: the renderer's, as
+// the context's largest uniform block holds (a uniform costs llvmpipe far less than a fetch).
+layout(std140) uniform MapBlock {
+  vec4 mapData[MAX_MAPS * 7];
+};
 uniform sampler2D skyRadiance; // equirectangular, +Z up (the library's InteractiveSky::radiance)
 uniform int windowSamples;     // maps 0 .. windowSamples - 1; then the sun's four
 uniform int sunMaps;           // 4 with a sun, else 0
@@ -42,18 +49,33 @@ vec3 skyAlong(vec3 d) {
   return texture(skyRadiance, vec2(u, v)).rgb;
 }
 
+// Could map m's object channel hold anything at p: is p inside the map's cone (perspective: from
+// the sample around the objects' sphere) or cylinder (orthographic: the sphere along the sun)?
+// (One texel fetch, before the four of the map's matrix.)
+bool inMap(int m, vec3 p, vec3 origin) {
+  vec4 k = mapData[m * 7 + 6];
+  if (m < windowSamples) {
+    vec3 d = p - origin;
+    return dot(d, k.xyz) >= k.w * length(d);
+  }
+  vec3 d = p - origin, along = mapData[m * 7 + 5].xyz;
+  vec3 across = d - dot(d, along) * along;
+  return dot(across, across) <= k.w * k.w;
+}
+
 // 0: the sample does not light p; 1: it lights p; 2: the room lets it through but an object blocks it.
 int sampleState(int m, vec3 p, vec3 n, float cosine, float dist) {
-  mat4 clip = mat4(texelFetch(mapInfo, ivec2(0, m), 0), texelFetch(mapInfo, ivec2(1, m), 0),
-                   texelFetch(mapInfo, ivec2(2, m), 0), texelFetch(mapInfo, ivec2(3, m), 0));
+  mat4 clip = mat4(mapData[m * 7 + 0], mapData[m * 7 + 1],
+                   mapData[m * 7 + 2], mapData[m * 7 + 3]);
   vec4 c = clip * vec4(p, 1.0);
-  float footprint = texelFetch(mapInfo, ivec2(4, m), 0).w;
+  float footprint = mapData[m * 7 + 4].w;
   if (m < windowSamples) footprint *= dist;  // perspective: a texel's width grows with distance
   float bias = 1.5 * footprint / max(cosine, 0.15) + 0.003;
   if (c.w <= 0.0) return 1;
   vec2 ndc = c.xy / c.w;
-  if (abs(ndc.x) >= 1.0 || abs(ndc.y) >= 1.0) return 1;  // outside the map: no object there, and the room?
-  vec2 t = texture(maps, vec3(0.5 * ndc + 0.5, float(m))).rg;
+  if (abs(ndc.x) >= 1.0 || abs(ndc.y) >= 1.0) return 1;  // outside the map: no object there
+  vec2 t = m < windowSamples ? texture(maps, vec3(0.5 * ndc + 0.5, float(m))).rg
+                             : texture(sunMapArray, vec3(0.5 * ndc + 0.5, float(m - windowSamples))).rg;
   if (dist > t.r + bias) return 0;
   return t.g < dist - bias ? 2 : 1;
 }
@@ -64,7 +86,7 @@ int sampleState(int m, vec3 p, vec3 n, float cosine, float dist) {
 vec3 direct(vec3 p, vec3 n) {
   vec3 e = vec3(0.0);
   for (int m = 0; m < windowSamples; ++m) {
-    vec4 o = texelFetch(mapInfo, ivec2(4, m), 0), w = texelFetch(mapInfo, ivec2(5, m), 0);
+    vec4 o = mapData[m * 7 + 4], w = mapData[m * 7 + 5];
     vec3 d = o.xyz - p;
     float r2 = dot(d, d), r = sqrt(r2);
     vec3 dir = d / r;
@@ -75,7 +97,7 @@ vec3 direct(vec3 p, vec3 n) {
   }
   for (int j = 0; j < sunMaps; ++j) {
     int m = windowSamples + j;
-    vec4 o = texelFetch(mapInfo, ivec2(4, m), 0), w = texelFetch(mapInfo, ivec2(5, m), 0);
+    vec4 o = mapData[m * 7 + 4], w = mapData[m * 7 + 5];
     float c = -dot(n, w.xyz);
     if (c <= 0.0) continue;
     if (sampleState(m, p, n, c, dot(p - o.xyz, w.xyz)) != 1) continue;
@@ -95,7 +117,9 @@ vec3 blocked(vec3 p, vec3 n, ivec2 tile, vec3 ex, vec3 ey, vec3 sunHere) {
       bits ^= low;
       int m = k * 32 + int(round(log2(float(low))));
       if (m < windowSamples) {
-        vec4 o = texelFetch(mapInfo, ivec2(4, m), 0), w = texelFetch(mapInfo, ivec2(5, m), 0);
+        vec4 o = mapData[m * 7 + 4];
+        if (!inMap(m, p, o.xyz)) continue;
+        vec4 w = mapData[m * 7 + 5];
         vec3 d = o.xyz - p;
         float r2 = dot(d, d), r = sqrt(r2);
         vec3 dir = d / r;
@@ -106,14 +130,22 @@ vec3 blocked(vec3 p, vec3 n, ivec2 tile, vec3 ex, vec3 ey, vec3 sunHere) {
         // The sun over the pixel's footprint, as the library's room light takes it (4 x 4 points
         // over 1.5 photo pixels, each towards one of the disc's directions): where the room's
         // own shadow edge crosses the pixel, only the share the room lets through is taken away.
-        for (int k = 0; k < 16; ++k) {
-          int s = windowSamples + k % sunMaps;
-          vec2 at = ((vec2(k % 4, k / 4) + 0.5) / 4.0 - 0.5) * 1.5;
-          vec3 q = p + at.x * ex + at.y * ey;
-          vec4 o = texelFetch(mapInfo, ivec2(4, s), 0), w = texelFetch(mapInfo, ivec2(5, s), 0);
+        for (int j = 0; j < sunMaps; ++j) {
+          int s = windowSamples + j;
+          vec4 o = mapData[s * 7 + 4], w = mapData[s * 7 + 5];
           float c = -dot(n, w.xyz);
           if (c <= 0.0) continue;
-          if (sampleState(s, q, n, c, dot(q - o.xyz, w.xyz)) == 2) es += sunQuarter * (c * float(sunMaps) / 16.0);
+          // (The cylinder test widened by the footprint's reach.)
+          float radius = mapData[s * 7 + 6].w;
+          vec3 d = p - o.xyz, across = d - dot(d, w.xyz) * w.xyz;
+          float reach = radius + 1.1 * (length(ex) + length(ey));
+          if (dot(across, across) > reach * reach) continue;
+          for (int f = 0; f < 16 / sunMaps; ++f) {
+            int k16 = f * sunMaps + j;
+            vec2 at = ((vec2(k16 % 4, k16 / 4) + 0.5) / 4.0 - 0.5) * 1.5;
+            vec3 q = p + at.x * ex + at.y * ey;
+            if (sampleState(s, q, n, c, dot(q - o.xyz, w.xyz)) == 2) es += sunQuarter * (c * float(sunMaps) / 16.0);
+          }
         }
       }
     }

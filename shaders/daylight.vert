@@ -6,6 +6,7 @@ layout(location = 2) in vec3 frontE;      // objects: indirect irradiance on the
 layout(location = 3) in vec3 backE;       // and on the back
 layout(location = 4) in vec3 albedo;      // objects: the face's
 uniform mat4 worldToClip;
+invariant gl_Position;  // the view's depth pre-pass (daylight_map.vert) and its shading pass give the same depth
 out vec3 vWorld;
 flat out vec3 vNormal;
 out vec3 vFrontE;

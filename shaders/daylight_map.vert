@@ -2,6 +2,7 @@
 // or the objects' polygons seen from a window sample (perspective) or from the sun (orthographic).
 layout(location = 0) in vec3 position;
 uniform mat4 worldToClip;
+invariant gl_Position;  // the view's depth pre-pass (daylight_map.vert) and its shading pass give the same depth
 out vec3 vWorld;
 void main() {
   vWorld = position;

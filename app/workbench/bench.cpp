@@ -10,6 +10,9 @@
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
+#include <QOffscreenSurface>
+#include <QOpenGLContext>
+#include <QOpenGLFramebufferObject>
 #include <QOpenGLWidget>
 #include <QSaveFile>
 #include <QThread>
@@ -32,6 +35,11 @@
 #include "photos_panel.h"
 #include "relume/ibr/fan.h"
 #include "relume/ibr/mesh.h"
+#include "relume/daylight/relight.h"
+#include "relume/daylight/sky.h"
+#include "relume/image/image.h"
+#include "relume/project/room_io.h"
+#include "relume/viewport/gl_daylight.h"
 #include "relume/viewport/gl_renderer.h"
 #include "relume/viewport/viewport_widget.h"
 
@@ -413,20 +421,123 @@ QJsonObject benchPhotos(int count, int width, int height) {
                      {"ui_waits_over_100_ms", over100}};
 }
 
+
+
+// The daylight viewport's renderer on a daylight room: see bench.h.
+QJsonObject benchDaylightView(const QString& roomPath, int runs) {
+  const Scene scene = loadRoom(roomPath.toStdString());
+  const Photo* main = scene.findPhoto(scene.mainPhoto);
+  if (!main || main->hdr.empty()) throw std::runtime_error(roomPath.toStdString() + ": no HDR main photo (not a daylight room)");
+  const ImageRGB photo = readImageLinear(main->hdr.front() == '/' ? main->hdr : scene.baseDir + "/" + main->hdr);
+  const daylight::SkyRegions cells(64);
+  const daylight::SkyRadiance photoSky = daylight::averageSky(daylight::readRoomSky(scene, scene.photoSky), cells);
+  QElapsedTimer t;
+  t.start();
+  std::string how;
+  auto session = daylight::openDaylightRelighting(scene, photo, main->camera, photoSky, {}, silentProgress(), &how);
+  std::fprintf(stderr, "bench: daylight session of %s in %.1f s%s%s\n", qPrintable(roomPath), double(t.elapsed()) / 1000,
+               how.empty() ? "" : ": ", how.c_str());
+  // The first variant's virtual objects (else a 40 cm box on the floor's middle), under its sky.
+  std::vector<Polygon> faces;
+  std::string skyName = scene.photoSky;
+  for (const auto& v : scene.variants)
+    if (faces.empty() && !v.virtualObjects.empty()) {
+      faces = daylight::variantObjects(scene, v, scene.sourceFile);
+      if (!v.sky.empty()) skyName = v.sky;
+    }
+  if (faces.empty()) throw std::runtime_error(roomPath.toStdString() + ": no variant with virtual objects to move");
+  const daylight::SkyRadiance sky = skyName == scene.photoSky ? photoSky : daylight::averageSky(daylight::readRoomSky(scene, skyName), cells);
+
+  QOffscreenSurface surface;
+  QOpenGLContext context;
+  QSurfaceFormat format;
+  format.setVersion(3, 3);
+  format.setProfile(QSurfaceFormat::CoreProfile);
+  context.setFormat(format);
+  if (!context.create()) throw std::runtime_error("no OpenGL 3.3 context");
+  surface.setFormat(context.format());
+  surface.create();
+  if (!context.makeCurrent(&surface)) throw std::runtime_error("cannot make the OpenGL context current");
+  QJsonArray rows;
+  {
+    QOpenGLFramebufferObject target(1280, 960, QOpenGLFramebufferObject::Depth);
+    GlDaylightRenderer gl;
+    gl.initialize();
+    gl.setRoom(session->roomPolygons(), session->camera());
+    DisplaySettings display;
+    display.exposure = 1.0;
+    for (int samples : std::vector<int>{16, 64, 256}) {
+      daylight::InteractiveOptions o = session->interactive();
+      o.directSamples = samples;
+      session->setInteractive(o);
+      const daylight::InteractiveSky light = session->interactiveSky(sky);
+      gl.setSky(light);
+      for (int size : std::vector<int>{64, 128, 256}) {
+        gl.setMapSize(size);
+        std::vector<double> lightMs, moved, maps, still;
+        for (int r = 0; r < std::max(runs, 3) + 1; ++r) {  // (the first: shaders compiled, caches warmed)
+          std::vector<Polygon> shifted = faces;
+          glm::dvec3 lo(1e300), hi(-1e300);
+          for (auto& f : shifted)
+            for (auto& q : f.vertices) {
+              q.x += 0.05 * (r % 2 ? 1 : -1);
+              lo = glm::min(lo, q), hi = glm::max(hi, q);
+            }
+          QElapsedTimer c;
+          c.start();
+          const daylight::ObjectIndirect indirect = session->objectIndirect(sky, shifted);
+          const daylight::ShadowReach reach = session->shadowReach(light, 0.5 * (lo + hi), 0.5 * glm::length(hi - lo));
+          const double cpuMs = double(c.nsecsElapsed()) / 1e6;
+          gl.setObjects(shifted, indirect, reach);
+          gl.draw(display, target.handle(), {0, 0, 1280, 960});
+          const double movedMs = gl.lastDrawMilliseconds(), mapMs = gl.lastMapMilliseconds();
+          gl.draw(display, target.handle(), {0, 0, 1280, 960});
+          if (r == 0) continue;
+          lightMs.push_back(cpuMs);
+          moved.push_back(movedMs);
+          maps.push_back(mapMs);
+          still.push_back(gl.lastDrawMilliseconds());
+        }
+        QJsonObject row{{"window_samples", int(light.window.size())},
+                        {"shadow_maps", gl.mapCount()},
+                        {"map_size", size},
+                        {"sun_map_size", gl.sunMapSize()},
+                        {"frame_object_moved_median_ms", median(moved)},
+                        {"maps_median_ms", median(maps)},
+                        {"frame_still_median_ms", median(still)},
+                        {"frames_per_second_object_moving", 1000.0 / std::max(median(moved), 1e-6)},
+                        {"library_light_moved_median_ms", median(lightMs)}};
+        std::fprintf(stderr,
+                     "bench: daylight view 1280x960, %d maps (window samples' %d^2, the sun's %d^2): moved %.1f ms (maps %.1f ms), still %.1f ms, library "
+                     "light for the move %.1f ms\n",
+                     gl.mapCount(), size, gl.sunMapSize(), median(moved), median(maps), median(still), median(lightMs));
+        rows.append(row);
+      }
+    }
+  }
+  context.doneCurrent();
+  return QJsonObject{{"room", roomPath}, {"width", 1280}, {"height", 960}, {"photo_width", photo.width},
+                     {"photo_height", photo.height}, {"objects_faces", int(faces.size())}, {"frames", rows}};
+}
+
 }  // namespace
 
-int runWorkbenchBench(const QString& out, const QStringList& rooms, int runs, int photos, QSize photoSize) {
+int runWorkbenchBench(const QString& out, const QStringList& rooms, int runs, int photos, QSize photoSize,
+                      const QStringList& daylightRooms) {
   QJsonArray results;
   QJsonObject photoResult;
+  QJsonArray daylightResults;
   try {
     for (const QString& r : rooms) results.append(benchRoom(r, runs));
     if (photos > 0) photoResult = benchPhotos(photos, photoSize.width(), photoSize.height());
+    for (const QString& d : daylightRooms) daylightResults.append(benchDaylightView(d, runs));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "relume-workbench --bench: %s\n", e.what());
     return 1;
   }
   QJsonObject all{{"runs", runs}, {"rooms", results}};
   if (photos > 0) all["photos"] = photoResult;
+  if (!daylightRooms.isEmpty()) all["daylight_view"] = daylightResults;
   all["peak_rss_mib"] = peakRssMiB();
   QSaveFile f(out);
   if (!f.open(QIODevice::WriteOnly) ||

@@ -33,6 +33,8 @@ int main(int argc, char** argv) {
     parser.addOption({"bench", "Measure the workbench on the rooms given and write JSON to FILE.", "FILE"});
     parser.addOption({"runs", "Repetitions for --bench (default 9).", "N", "9"});
     parser.addOption({"bench-photos", "Photos imported by --bench (default 100; 0: none).", "N", "100"});
+    parser.addOption({"bench-daylight", "A daylight room measured in the daylight viewport's renderer by --bench (repeatable).",
+                      "ROOM"});
     parser.addOption({"bench-photo-size", "Their size, WIDTHxHEIGHT (default 6000x4000, 24 megapixels).", "WxH", "6000x4000"});
     parser.process(app);
     if (parser.isSet("bench")) {
@@ -44,7 +46,7 @@ int main(int argc, char** argv) {
         relume::endProcess(2);
       }
       rc = relume::runWorkbenchBench(parser.value("bench"), parser.positionalArguments(), parser.value("runs").toInt(),
-                                     parser.value("bench-photos").toInt(), size);
+                                     parser.value("bench-photos").toInt(), size, parser.values("bench-daylight"));
     } else {
       relume::MainWindow window;
       window.show();

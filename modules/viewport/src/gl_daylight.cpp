@@ -58,6 +58,7 @@ GLuint floatTexture(QOpenGLFunctions_3_3_Core& gl, int w, int h, GLenum internal
 // metres (orthographic).
 struct MapCamera {
   glm::mat4 clip{1.f};
+  glm::vec4 reach{0.f};  // perspective: the cone's axis and cos(half-angle); orthographic: w the cylinder's radius
   glm::vec3 origin{0.f}, direction{0.f};
   float footprint = 0, area = 0;
   bool ortho = false;
@@ -86,6 +87,7 @@ MapCamera windowMap(const glm::dvec3& from, const glm::dvec3& normal, double are
   const glm::dmat4 proj = glm::perspective(2 * half, 1.0, 0.002, 500.0);
   m.clip = glm::mat4(proj * view);
   m.footprint = float(2 * std::tan(half) / size);
+  m.reach = glm::vec4(glm::vec3(axis), float(std::cos(half * std::sqrt(2.0))));  // (the square's corners)
   return m;
 }
 
@@ -103,6 +105,7 @@ MapCamera sunMap(const glm::dvec3& toSun, const glm::dvec3& centre, double radiu
   const glm::dmat4 proj = glm::ortho(-r, r, -r, r, 0.0, 500.0);
   m.clip = glm::mat4(proj * view);
   m.footprint = float(2 * r / size);
+  m.reach = glm::vec4(0.f, 0.f, 0.f, float(r * std::sqrt(2.0)));
   return m;
 }
 
@@ -113,12 +116,20 @@ struct GlDaylightRenderer::Impl {
   QByteArray displaySource, viewVertex, viewFragment, mapVertex, mapFragment;
   std::map<int, std::unique_ptr<QOpenGLShaderProgram>> viewPrograms;  // by OBJECT * 4 + OUTPUT
   std::unique_ptr<QOpenGLShaderProgram> mapProgram;
+  std::map<int, std::unique_ptr<QOpenGLShaderProgram>> compositePrograms;  // by OUTPUT
+  QByteArray compositeVertex, compositeFragment;
   GLuint roomVao = 0, roomVbo = 0, objectVao = 0, objectVbo = 0, backgroundVao = 0, backgroundVbo = 0;
   GLsizei roomVertices = 0, objectVertices = 0;
-  GLuint roomTexture = 0, gainTexture = 0, sunTexture = 0, skyTexture = 0, reachTexture = 0, infoTexture = 0;
-  GLuint maps = 0, mapFbo = 0;
-  int mapLayers = 0, mapTextureSize = 0;
-  int mapSize = 256;
+  GLuint roomTexture = 0, gainTexture = 0, sunTexture = 0, skyTexture = 0, reachTexture = 0, mapBuffer = 0;
+  int maxMaps = 0;  // as many maps' data as the largest uniform block holds (seven vec4 each)
+  // The maps: the window samples' (soft shadows: 128^2 by default) and the sun's (sharp: 256^2).
+  struct MapArray {
+    GLuint texture = 0;
+    int layers = 0, size = 0;
+  };
+  MapArray windowMaps, sunMaps;
+  GLuint mapFbo = 0;
+  int mapSize = 128, sunMapSize = 256;
   bool haveRoom = false, haveSky = false, mapsStale = true;
   Camera camera;
   std::vector<daylight::DirectSample> window;
@@ -129,7 +140,7 @@ struct GlDaylightRenderer::Impl {
   double radius = 0;
   bool haveObjects = false;
   int reachWords = 0;
-  gl::FloatTarget readback;
+  gl::FloatTarget readback, photoTarget;  // (photoTarget: the room at the photo's pixels)
   double lastMs = 0, lastMapMs = 0;
 
   std::unique_ptr<QOpenGLShaderProgram> compile(const QByteArray& vertex, const QByteArray& fragment, const char* name) const {
@@ -143,8 +154,20 @@ struct GlDaylightRenderer::Impl {
     auto& p = viewPrograms[(object ? 4 : 0) + int(output)];
     if (!p) {
       const QByteArray defines = "#version 330 core\n#define OBJECT " + QByteArray::number(object ? 1 : 0) +
-                                 "\n#define OUTPUT " + QByteArray::number(int(output)) + "\n";
+                                 "\n#define OUTPUT " + QByteArray::number(int(output)) + "\n#define MAX_MAPS " +
+                                 QByteArray::number(maxMaps) + "\n";
       p = compile(defines + viewVertex, defines + displaySource + viewFragment, ":/shaders/daylight.frag");
+      const GLuint block = gl->glGetUniformBlockIndex(p->programId(), "MapBlock");
+      if (block != GL_INVALID_INDEX) gl->glUniformBlockBinding(p->programId(), block, 0);
+    }
+    return *p;
+  }
+
+  QOpenGLShaderProgram& compositeProgram(DisplayOutput output) {
+    auto& p = compositePrograms[int(output)];
+    if (!p) {
+      const QByteArray defines = "#version 330 core\n#define OUTPUT " + QByteArray::number(int(output)) + "\n";
+      p = compile(defines + compositeVertex, defines + displaySource + compositeFragment, ":/shaders/daylight_composite.frag");
     }
     return *p;
   }
@@ -174,7 +197,7 @@ struct GlDaylightRenderer::Impl {
     std::vector<MapCamera> out;
     for (const auto& w : window) out.push_back(windowMap(w.point, w.normal, w.area, centre, radius, mapSize));
     if (sun)
-      for (const auto& d : sunDirections) out.push_back(sunMap(d, centre, radius, mapSize));
+      for (const auto& d : sunDirections) out.push_back(sunMap(d, centre, radius, sunMapSize));
     return out;
   }
 
@@ -183,36 +206,42 @@ struct GlDaylightRenderer::Impl {
     const int layers = layersNeeded();
     GLint maxLayers = 0;
     gl->glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+    maxLayers = std::min(maxLayers, maxMaps);
     if (layers > maxLayers)
       throw Error("", "OpenGL", std::to_string(layers) + " shadow maps asked for, the display holds " +
                                     std::to_string(maxLayers) + ": use fewer direct-light samples");
-    if (!maps || mapLayers != layers || mapTextureSize != mapSize) {
-      if (maps) gl->glDeleteTextures(1, &maps);
-      gl->glGenTextures(1, &maps);
-      gl->glBindTexture(GL_TEXTURE_2D_ARRAY, maps);
-      gl->glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RG32F, mapSize, mapSize, std::max(layers, 1), 0, GL_RG, GL_FLOAT, nullptr);
+    auto ensure = [&](MapArray& a, int layers, int size) {
+      if (a.texture && a.layers == layers && a.size == size) return;
+      if (a.texture) gl->glDeleteTextures(1, &a.texture);
+      gl->glGenTextures(1, &a.texture);
+      gl->glBindTexture(GL_TEXTURE_2D_ARRAY, a.texture);
+      gl->glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RG32F, size, size, std::max(layers, 1), 0, GL_RG, GL_FLOAT, nullptr);
       gl->glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
       gl->glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
       gl->glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
       gl->glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-      mapLayers = layers;
-      mapTextureSize = mapSize;
-    }
+      a.layers = layers;
+      a.size = size;
+    };
+    ensure(windowMaps, int(window.size()), mapSize);
+    ensure(sunMaps, sun ? int(sunDirections.size()) : 0, sunMapSize);
     const std::vector<MapCamera> cams = mapCameras();
-    // The cameras for the view pass: a row of six texels per map.
-    std::vector<float> info(size_t(std::max(layers, 1)) * 6 * 4, 0.f);
+    // The cameras for the view pass: seven vectors per map (the block's whole size, as GL asks).
+    std::vector<float> info(size_t(maxMaps) * 7 * 4, 0.f);
     for (size_t m = 0; m < cams.size(); ++m) {
-      float* row = &info[m * 24];
+      float* row = &info[m * 28];
       for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r) row[4 * c + r] = cams[m].clip[c][r];
       row[16] = cams[m].origin.x, row[17] = cams[m].origin.y, row[18] = cams[m].origin.z, row[19] = cams[m].footprint;
       row[20] = cams[m].direction.x, row[21] = cams[m].direction.y, row[22] = cams[m].direction.z, row[23] = cams[m].area;
+      for (int c = 0; c < 4; ++c) row[24 + c] = cams[m].reach[c];
     }
-    replaceTexture(infoTexture, floatTexture(*gl, 6, std::max(layers, 1), GL_RGBA32F, GL_RGBA, info.data(), GL_NEAREST));
+    gl->glBindBuffer(GL_UNIFORM_BUFFER, mapBuffer);
+    gl->glBufferData(GL_UNIFORM_BUFFER, GLsizeiptr(info.size() * sizeof(float)), info.data(), GL_DYNAMIC_DRAW);
+    gl->glBindBuffer(GL_UNIFORM_BUFFER, 0);
 
     if (!mapFbo) gl->glGenFramebuffers(1, &mapFbo);
     gl->glBindFramebuffer(GL_FRAMEBUFFER, mapFbo);
-    gl->glViewport(0, 0, mapSize, mapSize);
     gl->glDisable(GL_DEPTH_TEST);
     gl->glDisable(GL_CULL_FACE);
     gl->glDisable(GL_SCISSOR_TEST);
@@ -222,10 +251,13 @@ struct GlDaylightRenderer::Impl {
     gl->glClearColor(1e30f, 1e30f, 0.f, 1.f);
     mapProgram->bind();
     for (size_t m = 0; m < cams.size(); ++m) {
-      gl->glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, maps, 0, GLint(m));
-      if (m == 0 && gl->glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-        throw Error("", "OpenGL", "cannot draw into a two-channel float shadow map of " + std::to_string(mapSize) + "x" +
-                                      std::to_string(mapSize));
+      const bool isWindow = m < window.size();
+      const MapArray& a = isWindow ? windowMaps : sunMaps;
+      gl->glViewport(0, 0, a.size, a.size);
+      gl->glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, a.texture, 0, GLint(isWindow ? m : m - window.size()));
+      if ((m == 0 || m == window.size()) && gl->glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw Error("", "OpenGL", "cannot draw into a two-channel float shadow map of " + std::to_string(a.size) + "x" +
+                                      std::to_string(a.size));
       gl->glClear(GL_COLOR_BUFFER_BIT);
       mapProgram->setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(cams[m].clip)[0][0]));
       mapProgram->setUniformValue("origin", cams[m].origin.x, cams[m].origin.y, cams[m].origin.z);
@@ -248,76 +280,133 @@ struct GlDaylightRenderer::Impl {
     lastMapMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   }
 
+  // The uniforms and textures every pass of the view program reads.
+  QOpenGLShaderProgram& bindView(bool object, DisplayOutput output, const DisplaySettings& s, const glm::mat4& clip,
+                                 const ViewRect& rect) {
+    const glm::dvec3 eye = camera.center();
+    QOpenGLShaderProgram& p = viewProgram(object, output);
+    p.bind();
+    p.setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(clip)[0][0]));
+    p.setUniformValue("exposure", float(s.exposure));
+    p.setUniformValue("falseMin", float(s.falseMin));
+    p.setUniformValue("falseMax", float(s.falseMax));
+    p.setUniformValue("eye", float(eye.x), float(eye.y), float(eye.z));
+    p.setUniformValue("windowSamples", haveObjects ? int(window.size()) : 0);
+    p.setUniformValue("sunMaps", haveObjects && sun ? int(sunDirections.size()) : 0);
+    const glm::vec3 q(sunIrradiance / double(std::max<size_t>(sunDirections.size(), 1)));
+    p.setUniformValue("sunQuarter", q.x, q.y, q.z);
+    gl->glActiveTexture(GL_TEXTURE0);
+    gl->glBindTexture(GL_TEXTURE_2D_ARRAY, windowMaps.texture);
+    p.setUniformValue("maps", 0);
+    gl->glActiveTexture(GL_TEXTURE7);
+    gl->glBindTexture(GL_TEXTURE_2D_ARRAY, sunMaps.texture);
+    p.setUniformValue("sunMapArray", 7);
+    gl->glBindBufferBase(GL_UNIFORM_BUFFER, 0, mapBuffer);
+    gl->glActiveTexture(GL_TEXTURE2);
+    gl->glBindTexture(GL_TEXTURE_2D, skyTexture);
+    p.setUniformValue("skyRadiance", 2);
+    if (!object) {
+      gl->glActiveTexture(GL_TEXTURE3);
+      gl->glBindTexture(GL_TEXTURE_2D, roomTexture);
+      p.setUniformValue("room", 3);
+      gl->glActiveTexture(GL_TEXTURE4);
+      gl->glBindTexture(GL_TEXTURE_2D, gainTexture);
+      p.setUniformValue("gain", 4);
+      gl->glActiveTexture(GL_TEXTURE5);
+      gl->glBindTexture(GL_TEXTURE_2D, reachTexture);
+      p.setUniformValue("reach", 5);
+      gl->glActiveTexture(GL_TEXTURE6);
+      gl->glBindTexture(GL_TEXTURE_2D, sunTexture);
+      p.setUniformValue("sunLight", 6);
+      p.setUniformValue("reachWords", haveObjects ? reachWords : 0);
+      p.setUniformValue("viewOrigin", float(rect.x), float(rect.y));
+      p.setUniformValue("viewSize", float(rect.width), float(rect.height));
+      p.setUniformValue("photoSize", float(camera.width), float(camera.height));
+      p.setUniformValue("background", 0);
+    }
+    return p;
+  }
+
+  // The room's depth through the camera (the map program, colour masked).
+  void roomDepth(const glm::mat4& clip) {
+    mapProgram->bind();
+    mapProgram->setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(clip)[0][0]));
+    gl->glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    gl->glBindVertexArray(roomVao);
+    gl->glDrawArrays(GL_TRIANGLES, 0, roomVertices);
+    gl->glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  }
+  // A triangle over the whole view at the far end of the depth range.
+  void fullView(QOpenGLShaderProgram& p) {
+    p.setUniformValue("background", 1);
+    p.setUniformValue("worldToClip", QMatrix4x4());
+    gl->glBindVertexArray(backgroundVao);
+    gl->glDrawArrays(GL_TRIANGLES, 0, 3);
+  }
+
   void drawView(const DisplaySettings& s, GLuint target, const ViewRect& rect) {
     if (haveObjects && mapsStale) makeMaps();
     else lastMapMs = 0;
-    gl->glBindFramebuffer(GL_FRAMEBUFFER, target);
     gl->glDisable(GL_SCISSOR_TEST);
     gl->glDisable(GL_BLEND);
     gl->glDisable(GL_CULL_FACE);
+    gl->glEnable(GL_DEPTH_TEST);
+    gl->glClearDepth(1.0);
+    const glm::mat4 clip = gl::worldToClip(camera, 0.02, 1000.0);
+    // 1. The room at the photo's own pixels (linear): differential rendering is defined per photo
+    // pixel (as on the CPU path), so the light the objects take away is found once per pixel of
+    // it, whatever the size of the view. Its depth first, so that each pixel is shaded once
+    // (llvmpipe shades every fragment that passes the depth test); then what lies beyond every
+    // polygon (the sky through a window): the photo's pixels.
+    const int w = camera.width, h = camera.height;
+    photoTarget.ensure(*gl, w, h);
+    gl->glBindFramebuffer(GL_FRAMEBUFFER, photoTarget.fbo);
+    gl->glViewport(0, 0, w, h);
+    gl->glClearColor(0.f, 0.f, 0.f, 1.f);
+    gl->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    roomDepth(clip);
+    DisplaySettings linear;
+    linear.output = DisplayOutput::Linear;
+    {
+      gl->glDepthFunc(GL_LEQUAL);
+      QOpenGLShaderProgram& p = bindView(false, DisplayOutput::Linear, linear, clip, {0, 0, w, h});
+      gl->glBindVertexArray(roomVao);
+      gl->glDrawArrays(GL_TRIANGLES, 0, roomVertices);
+      gl->glDepthFunc(GL_LESS);
+      fullView(p);
+    }
+    // 2. The view: that image with the display transform, over the room's depth at the view's
+    // own size; the objects, per pixel of the view, depth-tested against it.
+    gl->glBindFramebuffer(GL_FRAMEBUFFER, target);
     if (s.output == DisplayOutput::Linear) gl->glClearColor(0.f, 0.f, 0.f, 1.f);
     else gl->glClearColor(0.16f, 0.16f, 0.17f, 1.f);
-    gl->glClearDepth(1.0);
     gl->glViewport(0, 0, rect.x + rect.width, rect.y + rect.height);
     gl->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     gl->glViewport(rect.x, rect.y, rect.width, rect.height);
-    gl->glEnable(GL_DEPTH_TEST);
-    gl->glDepthFunc(GL_LESS);
-    const glm::mat4 clip = gl::worldToClip(camera, 0.02, 1000.0);
-    const glm::dvec3 eye = camera.center();
-    const int windowSamples = haveObjects ? int(window.size()) : 0;
-    for (bool object : {false, true}) {
-      if (object && !haveObjects) break;
-      QOpenGLShaderProgram& p = viewProgram(object, s.output);
+    roomDepth(clip);
+    {
+      QOpenGLShaderProgram& p = compositeProgram(s.output);
       p.bind();
-      p.setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(clip)[0][0]));
       p.setUniformValue("exposure", float(s.exposure));
       p.setUniformValue("falseMin", float(s.falseMin));
       p.setUniformValue("falseMax", float(s.falseMax));
-      p.setUniformValue("eye", float(eye.x), float(eye.y), float(eye.z));
-      p.setUniformValue("windowSamples", windowSamples);
-      p.setUniformValue("sunMaps", haveObjects && sun ? int(sunDirections.size()) : 0);
-      const glm::vec3 q(sunIrradiance / double(std::max<size_t>(sunDirections.size(), 1)));
-      p.setUniformValue("sunQuarter", q.x, q.y, q.z);
+      p.setUniformValue("viewOrigin", float(rect.x), float(rect.y));
+      p.setUniformValue("viewSize", float(rect.width), float(rect.height));
       gl->glActiveTexture(GL_TEXTURE0);
-      gl->glBindTexture(GL_TEXTURE_2D_ARRAY, maps);
-      p.setUniformValue("maps", 0);
-      gl->glActiveTexture(GL_TEXTURE1);
-      gl->glBindTexture(GL_TEXTURE_2D, infoTexture);
-      p.setUniformValue("mapInfo", 1);
-      gl->glActiveTexture(GL_TEXTURE2);
-      gl->glBindTexture(GL_TEXTURE_2D, skyTexture);
-      p.setUniformValue("skyRadiance", 2);
-      if (!object) {
-        gl->glActiveTexture(GL_TEXTURE3);
-        gl->glBindTexture(GL_TEXTURE_2D, roomTexture);
-        p.setUniformValue("room", 3);
-        gl->glActiveTexture(GL_TEXTURE4);
-        gl->glBindTexture(GL_TEXTURE_2D, gainTexture);
-        p.setUniformValue("gain", 4);
-        gl->glActiveTexture(GL_TEXTURE5);
-        gl->glBindTexture(GL_TEXTURE_2D, reachTexture);
-        p.setUniformValue("reach", 5);
-        gl->glActiveTexture(GL_TEXTURE6);
-        gl->glBindTexture(GL_TEXTURE_2D, sunTexture);
-        p.setUniformValue("sunLight", 6);
-        p.setUniformValue("reachWords", haveObjects ? reachWords : 0);
-        p.setUniformValue("viewOrigin", float(rect.x), float(rect.y));
-        p.setUniformValue("viewSize", float(rect.width), float(rect.height));
-        p.setUniformValue("photoSize", float(camera.width), float(camera.height));
-      }
-      if (!object) {
-        // First what the camera sees beyond every polygon (through a window): the photo's pixels,
-        // a triangle over the whole view at the far end of the depth range.
-        p.setUniformValue("background", 1);
-        p.setUniformValue("worldToClip", QMatrix4x4());
-        gl->glBindVertexArray(backgroundVao);
-        gl->glDrawArrays(GL_TRIANGLES, 0, 3);
-        p.setUniformValue("background", 0);
-        p.setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(clip)[0][0]));
-      }
-      gl->glBindVertexArray(object ? objectVao : roomVao);
-      gl->glDrawArrays(GL_TRIANGLES, 0, object ? objectVertices : roomVertices);
+      gl->glBindTexture(GL_TEXTURE_2D, photoTarget.colour);
+      p.setUniformValue("image", 0);
+      gl->glDisable(GL_DEPTH_TEST);
+      gl->glDepthMask(GL_FALSE);
+      gl->glBindVertexArray(backgroundVao);
+      gl->glDrawArrays(GL_TRIANGLES, 0, 3);
+      gl->glDepthMask(GL_TRUE);
+      gl->glEnable(GL_DEPTH_TEST);
+    }
+    if (haveObjects) {
+      gl->glDepthFunc(GL_LESS);
+      bindView(true, s.output, s, clip, rect);
+      gl->glBindVertexArray(objectVao);
+      gl->glDrawArrays(GL_TRIANGLES, 0, objectVertices);
     }
     gl->glBindVertexArray(0);
     gl->glActiveTexture(GL_TEXTURE0);
@@ -330,14 +419,15 @@ GlDaylightRenderer::GlDaylightRenderer() : impl_(std::make_unique<Impl>()) {}
 GlDaylightRenderer::~GlDaylightRenderer() {
   auto& im = *impl_;
   if (!im.gl) return;
-  for (GLuint* t : {&im.roomTexture, &im.gainTexture, &im.sunTexture, &im.skyTexture, &im.reachTexture, &im.infoTexture, &im.maps})
+  for (GLuint* t : {&im.roomTexture, &im.gainTexture, &im.sunTexture, &im.skyTexture, &im.reachTexture, &im.windowMaps.texture, &im.sunMaps.texture})
     if (*t) im.gl->glDeleteTextures(1, t);
-  for (GLuint* b : {&im.roomVbo, &im.objectVbo, &im.backgroundVbo})
+  for (GLuint* b : {&im.roomVbo, &im.objectVbo, &im.backgroundVbo, &im.mapBuffer})
     if (*b) im.gl->glDeleteBuffers(1, b);
   for (GLuint* a : {&im.roomVao, &im.objectVao, &im.backgroundVao})
     if (*a) im.gl->glDeleteVertexArrays(1, a);
   if (im.mapFbo) im.gl->glDeleteFramebuffers(1, &im.mapFbo);
   im.readback.release(*im.gl);
+  im.photoTarget.release(*im.gl);
 }
 
 void GlDaylightRenderer::initialize() {
@@ -357,6 +447,14 @@ void GlDaylightRenderer::initialize() {
   im.viewFragment = read(":/shaders/daylight.frag");
   im.mapVertex = read(":/shaders/daylight_map.vert");
   im.mapFragment = read(":/shaders/daylight_map.frag");
+  im.compositeVertex = read(":/shaders/daylight_composite.vert");
+  im.compositeFragment = read(":/shaders/daylight_composite.frag");
+  im.compositePrograms.clear();
+  {
+    GLint block = 0;
+    im.gl->glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &block);
+    im.maxMaps = std::clamp(int(block / (7 * 16)), 1, 1028);
+  }
   const QByteArray version = "#version 330 core\n";
   im.mapProgram = im.compile(version + im.mapVertex, version + im.mapFragment, ":/shaders/daylight_map.frag");
   im.viewPrograms.clear();
@@ -385,7 +483,13 @@ void GlDaylightRenderer::initialize() {
   im.roomTexture = floatTexture(gl, 1, 1, GL_RGBA32F, GL_RGBA, zero, GL_NEAREST);
   im.gainTexture = floatTexture(gl, 1, 1, GL_RGBA32F, GL_RGBA, zero, GL_NEAREST);
   im.sunTexture = floatTexture(gl, 1, 1, GL_RGBA32F, GL_RGBA, zero, GL_NEAREST);
-  im.infoTexture = floatTexture(gl, 6, 1, GL_RGBA32F, GL_RGBA, nullptr, GL_NEAREST);
+  gl.glGenBuffers(1, &im.mapBuffer);
+  {
+    std::vector<float> none(size_t(im.maxMaps) * 7 * 4, 0.f);
+    gl.glBindBuffer(GL_UNIFORM_BUFFER, im.mapBuffer);
+    gl.glBufferData(GL_UNIFORM_BUFFER, GLsizeiptr(none.size() * sizeof(float)), none.data(), GL_DYNAMIC_DRAW);
+    gl.glBindBuffer(GL_UNIFORM_BUFFER, 0);
+  }
   gl.glGenTextures(1, &im.reachTexture);
   gl.glBindTexture(GL_TEXTURE_2D, im.reachTexture);
   const uint32_t none = 0;
@@ -492,7 +596,12 @@ void GlDaylightRenderer::setMapSize(int size) {
   impl_->mapSize = std::clamp(size, 16, 4096);
   impl_->mapsStale = true;
 }
+void GlDaylightRenderer::setSunMapSize(int size) {
+  impl_->sunMapSize = std::clamp(size, 16, 4096);
+  impl_->mapsStale = true;
+}
 int GlDaylightRenderer::mapSize() const { return impl_->mapSize; }
+int GlDaylightRenderer::sunMapSize() const { return impl_->sunMapSize; }
 int GlDaylightRenderer::mapCount() const { return impl_->layersNeeded(); }
 bool GlDaylightRenderer::ready() const { return impl_->haveRoom && impl_->haveSky; }
 

@@ -51,9 +51,12 @@ class GlDaylightRenderer {
   // (DaylightRelighting::shadowReach for their bounding sphere): the shadow maps are made again.
   void setObjects(const std::vector<Polygon>& objects, const daylight::ObjectIndirect& indirect,
                   const daylight::ShadowReach& reach);
-  // Shadow maps of size x size texels (default 256); made again at the next draw.
+  // The window samples' shadow maps, size x size texels (default 128: their shadows are soft, each
+  // one of many), and the sun's (default 256: its shadow is sharp); made again at the next draw.
   void setMapSize(int size);
   int mapSize() const;
+  void setSunMapSize(int size);
+  int sunMapSize() const;
   int mapCount() const;  // window samples + the sun's four (when the sky has a sun)
   bool ready() const;    // room and sky set
   // Clears `target` and draws the photo camera's view into it at `rect` (the objects' maps made
