@@ -1973,6 +1973,18 @@ Kein Schachbrett gefunden in: %1</translation>
         <source>%1, rendered in %2 ms</source>
         <translation>%1, in %2 ms gerendert</translation>
     </message>
+    <message>
+        <source>OpenGL</source>
+        <translation>OpenGL</translation>
+    </message>
+    <message>
+        <source>Draw the interactive method with OpenGL: a shadow map per sample through the windows and per direction of the sun&apos;s disc, as in the paper (the same light as the CPU path, drawn faster)</source>
+        <translation>Die interaktive Methode mit OpenGL zeichnen: eine Schattenkarte je Stichprobe durch die Fenster und je Richtung der Sonnenscheibe, wie im Artikel (dasselbe Licht wie der CPU-Pfad, schneller gezeichnet)</translation>
+    </message>
+    <message>
+        <source>OpenGL cannot draw the daylight view (%1): the CPU path draws it</source>
+        <translation>OpenGL kann die Tageslichtansicht nicht zeichnen (%1): der CPU-Pfad zeichnet sie</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

@@ -1973,6 +1973,18 @@ Aucun damier trouvé dans : %1</translation>
         <source>%1, rendered in %2 ms</source>
         <translation>%1, rendu en %2 ms</translation>
     </message>
+    <message>
+        <source>OpenGL</source>
+        <translation>OpenGL</translation>
+    </message>
+    <message>
+        <source>Draw the interactive method with OpenGL: a shadow map per sample through the windows and per direction of the sun&apos;s disc, as in the paper (the same light as the CPU path, drawn faster)</source>
+        <translation>Dessiner la méthode interactive avec OpenGL : une carte d&apos;ombres par échantillon à travers les fenêtres et par direction du disque solaire, comme dans l&apos;article (la même lumière que le chemin CPU, dessinée plus vite)</translation>
+    </message>
+    <message>
+        <source>OpenGL cannot draw the daylight view (%1): the CPU path draws it</source>
+        <translation>OpenGL ne peut pas dessiner la vue en lumière du jour (%1) : le chemin CPU la dessine</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

@@ -305,7 +305,12 @@ bool SkyPanel::drawOnGpu(const GpuFrame& frame, ImageRGB& out) {
     return true;
   } catch (const std::exception& e) {
     g.failed = true;
-    g.renderer.reset();  // (its GL objects, if any, go with the context)
+    if (g.context.makeCurrent(&g.surface)) {
+      g.renderer.reset();
+      g.context.doneCurrent();
+    } else {
+      g.renderer.reset();  // (no context: its GL objects go with it)
+    }
     gpu_->setChecked(false);
     gpu_->setEnabled(false);
     emit message(tr("OpenGL cannot draw the daylight view (%1): the CPU path draws it").arg(QString::fromUtf8(e.what())));

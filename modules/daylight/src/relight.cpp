@@ -1135,14 +1135,12 @@ ShadowReach DaylightRelighting::shadowReach(const std::vector<DirectSample>& ws,
   return out;
 }
 
-ObjectIndirect DaylightRelighting::objectIndirect(const SkyRadiance& sky, const std::vector<Polygon>& objects,
-                                                  Progress& progress) {
-  checkInteractiveObjects(objects);
-  ObjectIndirect out;
-  if (objects.empty()) return out;
-  volume(progress);
+namespace {
+// The objects' faces as polygons, and their bounding box.
+std::vector<std::vector<glm::dvec3>> facesAndBounds(const std::vector<Polygon>& objects, glm::dvec3& lo, glm::dvec3& hi) {
   std::vector<std::vector<glm::dvec3>> polys;
-  glm::dvec3 lo(1e300), hi(-1e300);
+  lo = glm::dvec3(1e300);
+  hi = glm::dvec3(-1e300);
   for (const auto& o : objects) {
     polys.push_back(o.vertices);
     for (const auto& v : o.vertices) {
@@ -1150,6 +1148,18 @@ ObjectIndirect DaylightRelighting::objectIndirect(const SkyRadiance& sky, const 
       hi = glm::max(hi, v);
     }
   }
+  return polys;
+}
+}  // namespace
+
+ObjectIndirect DaylightRelighting::objectIndirect(const SkyRadiance& sky, const std::vector<Polygon>& objects,
+                                                  Progress& progress) {
+  checkInteractiveObjects(objects);
+  ObjectIndirect out;
+  if (objects.empty()) return out;
+  volume(progress);
+  glm::dvec3 lo, hi;
+  const std::vector<std::vector<glm::dvec3>> polys = facesAndBounds(objects, lo, hi);
   const RayScene objectScene(polys);
   volume_->combine(*basis_, sky, lo, hi);
   // Both sides of every face: a face seen from behind (a single panel, not a closed solid) is lit
@@ -1219,15 +1229,8 @@ ImageRGB DaylightRelighting::renderVolume(const SkyRadiance& sky, const std::vec
 
   // The objects: their own ray scene, their box and bounding sphere, the volume combined for the
   // grid points they need, and per vertex the indirect light (Eq. 5, their own shadowing).
-  std::vector<std::vector<glm::dvec3>> polys;
-  glm::dvec3 lo(1e300), hi(-1e300);
-  for (const auto& o : objects) {
-    polys.push_back(o.vertices);
-    for (const auto& v : o.vertices) {
-      lo = glm::min(lo, v);
-      hi = glm::max(hi, v);
-    }
-  }
+  glm::dvec3 lo, hi;
+  const std::vector<std::vector<glm::dvec3>> polys = facesAndBounds(objects, lo, hi);
   const RayScene objectScene(polys);
   std::vector<size_t> firstTriangle;  // the scene's fan triangles, polygon after polygon
   for (size_t o = 0, t = 0; o < polys.size(); t += polys[o].size() >= 3 ? polys[o].size() - 2 : 0, ++o) firstTriangle.push_back(t);

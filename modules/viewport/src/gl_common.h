@@ -1,6 +1,9 @@
 #pragma once
 // What the viewport's renderers share (internal: Qt's GL headers stay in this module's .cpp files).
+#include <QFile>
+#include <QOpenGLContext>
 #include <QOpenGLFunctions_3_3_Core>
+#include <QOpenGLVersionFunctionsFactory>
 #include <glm/mat4x4.hpp>
 #include <string>
 
@@ -61,5 +64,21 @@ glm::mat4 worldToClip(const Camera& c, double nearZ, double farZ) {
   return glm::mat4(P * V);
 }
 
+
+// The current context's OpenGL 3.3 core functions; relume::Error when there are none.
+inline QOpenGLFunctions_3_3_Core* currentFunctions() {
+  QOpenGLContext* ctx = QOpenGLContext::currentContext();
+  if (!ctx) throw Error("", "OpenGL", "no current context");
+  auto* f = QOpenGLVersionFunctionsFactory::get<QOpenGLFunctions_3_3_Core>(ctx);
+  if (!f || !f->initializeOpenGLFunctions()) throw Error("", "OpenGL", "the display does not offer OpenGL 3.3 core");
+  return f;
+}
+
+// A shader's source from the binary's resources; relume::Error naming it when it is missing.
+inline QByteArray shaderSource(const char* name) {
+  QFile f(name);
+  if (!f.open(QIODevice::ReadOnly)) throw Error(name, "shader", "missing from the binary's resources");
+  return f.readAll();
+}
 
 }  // namespace relume::gl

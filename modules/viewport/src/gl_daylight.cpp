@@ -75,10 +75,10 @@ MapCamera windowMap(const glm::dvec3& from, const glm::dvec3& normal, double are
   glm::dvec3 axis = centre - from;
   const double d = glm::length(axis);
   double half;
-  if (d > 1.05 * radius) {
+  if (d > 1.25 * radius) {  // (half-angle under 57 degrees: a narrower map holds the sphere well)
     axis /= d;
-    half = std::asin(std::min(1.0, 1.05 * radius / d)) * 1.02;
-  } else {
+    half = std::asin(1.05 * radius / d) * 1.02;
+  } else {  // at or inside the sphere: a wide map along the window's normal (directions beyond 80 degrees from it left out)
     axis = normal;
     half = 80.0 * 3.14159265358979 / 180.0;
   }
@@ -206,10 +206,18 @@ struct GlDaylightRenderer::Impl {
     const int layers = layersNeeded();
     GLint maxLayers = 0;
     gl->glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
-    maxLayers = std::min(maxLayers, maxMaps);
-    if (layers > maxLayers)
-      throw Error("", "OpenGL", std::to_string(layers) + " shadow maps asked for, the display holds " +
-                                    std::to_string(maxLayers) + ": use fewer direct-light samples");
+    if (int(window.size()) > maxLayers || layers > maxMaps)
+      throw Error("", "OpenGL", std::to_string(window.size()) + " window samples' shadow maps asked for, the display holds " +
+                                    std::to_string(std::min<int>(maxLayers, maxMaps - 4)) + ": use fewer direct-light samples");
+    // (The blending and target below are put back however this ends.)
+    struct Restore {
+      QOpenGLFunctions_3_3_Core* gl;
+      ~Restore() {
+        gl->glBlendEquation(GL_FUNC_ADD);
+        gl->glDisable(GL_BLEND);
+        gl->glBindFramebuffer(GL_FRAMEBUFFER, 0);
+      }
+    } restore{gl};
     auto ensure = [&](MapArray& a, int layers, int size) {
       if (a.texture && a.layers == layers && a.size == size) return;
       if (a.texture) gl->glDeleteTextures(1, &a.texture);
@@ -273,8 +281,6 @@ struct GlDaylightRenderer::Impl {
       }
     }
     gl->glBindVertexArray(0);
-    gl->glBlendEquation(GL_FUNC_ADD);
-    gl->glDisable(GL_BLEND);
     mapsStale = false;
     gl->glFinish();
     lastMapMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -351,6 +357,9 @@ struct GlDaylightRenderer::Impl {
     gl->glDisable(GL_BLEND);
     gl->glDisable(GL_CULL_FACE);
     gl->glEnable(GL_DEPTH_TEST);
+    gl->glDepthMask(GL_TRUE);
+    gl->glDepthFunc(GL_LESS);
+    gl->glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     gl->glClearDepth(1.0);
     const glm::mat4 clip = gl::worldToClip(camera, 0.02, 1000.0);
     // 1. The room at the photo's own pixels (linear): differential rendering is defined per photo
@@ -418,7 +427,7 @@ GlDaylightRenderer::GlDaylightRenderer() : impl_(std::make_unique<Impl>()) {}
 
 GlDaylightRenderer::~GlDaylightRenderer() {
   auto& im = *impl_;
-  if (!im.gl) return;
+  if (!im.gl || !QOpenGLContext::currentContext()) return;  // (without its context, its objects go with it)
   for (GLuint* t : {&im.roomTexture, &im.gainTexture, &im.sunTexture, &im.skyTexture, &im.reachTexture, &im.windowMaps.texture, &im.sunMaps.texture})
     if (*t) im.gl->glDeleteTextures(1, t);
   for (GLuint* b : {&im.roomVbo, &im.objectVbo, &im.backgroundVbo, &im.mapBuffer})
@@ -433,15 +442,8 @@ GlDaylightRenderer::~GlDaylightRenderer() {
 void GlDaylightRenderer::initialize() {
   initDaylightShaderResources();
   auto& im = *impl_;
-  QOpenGLContext* ctx = QOpenGLContext::currentContext();
-  if (!ctx) throw Error("", "OpenGL", "no current context");
-  im.gl = QOpenGLVersionFunctionsFactory::get<QOpenGLFunctions_3_3_Core>(ctx);
-  if (!im.gl || !im.gl->initializeOpenGLFunctions()) throw Error("", "OpenGL", "the display does not offer OpenGL 3.3 core");
-  auto read = [](const char* name) {
-    QFile f(name);
-    if (!f.open(QIODevice::ReadOnly)) throw Error(name, "shader", "missing from the binary's resources");
-    return f.readAll();
-  };
+  im.gl = gl::currentFunctions();
+  auto read = [](const char* name) { return gl::shaderSource(name); };
   im.displaySource = read(":/shaders/display.glsl");
   im.viewVertex = read(":/shaders/daylight.vert");
   im.viewFragment = read(":/shaders/daylight.frag");
@@ -586,6 +588,11 @@ void GlDaylightRenderer::setObjects(const std::vector<Polygon>& objects, const d
   std::vector<uint32_t> bits(size_t(w) * size_t(h), 0);
   if (reach.bits.size() == size_t(reach.tilesX) * size_t(reach.tilesY) * size_t(reach.words)) bits.assign(reach.bits.begin(), reach.bits.end());
   if (bits.empty()) bits.assign(size_t(w) * size_t(h), 0);
+  GLint largest = 0;
+  gl.glGetIntegerv(GL_MAX_TEXTURE_SIZE, &largest);
+  if (w > largest || h > largest)
+    throw Error("", "OpenGL", "the shadows' tiles (" + std::to_string(w) + " x " + std::to_string(h) +
+                                  ") do not fit a texture of this display: use fewer direct-light samples");
   gl.glBindTexture(GL_TEXTURE_2D, im.reachTexture);
   gl.glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   gl.glTexImage2D(GL_TEXTURE_2D, 0, GL_R32UI, w, h, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, bits.data());
@@ -617,6 +624,7 @@ void GlDaylightRenderer::draw(const DisplaySettings& display, unsigned target, c
 
 ImageRGB GlDaylightRenderer::renderLinear() {
   auto& im = *impl_;
+  if (!ready()) throw Error("", "daylight view", "no room or sky to draw yet");
   const int w = im.camera.width, h = im.camera.height;
   im.readback.ensure(*im.gl, w, h);
   DisplaySettings linear;

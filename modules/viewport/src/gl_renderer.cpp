@@ -483,16 +483,8 @@ GlRelightRenderer::~GlRelightRenderer() {
 void GlRelightRenderer::initialize() {
   initShaderResources();
   auto& im = *impl_;
-  QOpenGLContext* ctx = QOpenGLContext::currentContext();
-  if (!ctx) throw Error("", "OpenGL", "no current context");
-  im.gl = QOpenGLVersionFunctionsFactory::get<QOpenGLFunctions_3_3_Core>(ctx);
-  if (!im.gl || !im.gl->initializeOpenGLFunctions())
-    throw Error("", "OpenGL", "the display does not offer OpenGL 3.3 core");
-  auto read = [](const char* name) {
-    QFile f(name);
-    if (!f.open(QIODevice::ReadOnly)) throw Error(name, "shader", "missing from the binary's resources");
-    return f.readAll();
-  };
+  im.gl = gl::currentFunctions();
+  auto read = [](const char* name) { return gl::shaderSource(name); };
   im.vertexSource = read(":/shaders/relight.vert");
   im.fragmentSource = read(":/shaders/relight.frag");
   im.displaySource = read(":/shaders/display.glsl");
