@@ -412,9 +412,16 @@ struct GlDaylightRenderer::Impl {
       gl->glEnable(GL_DEPTH_TEST);
     }
     if (haveObjects) {
+      // Their depth first too (a face behind another would be shaded and then covered), then
+      // each of their pixels shaded once.
+      mapProgram->bind();
+      gl->glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
       gl->glDepthFunc(GL_LESS);
-      bindView(true, s.output, s, clip, rect);
       gl->glBindVertexArray(objectVao);
+      gl->glDrawArrays(GL_TRIANGLES, 0, objectVertices);
+      gl->glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      gl->glDepthFunc(GL_LEQUAL);
+      bindView(true, s.output, s, clip, rect);
       gl->glDrawArrays(GL_TRIANGLES, 0, objectVertices);
     }
     gl->glBindVertexArray(0);
