@@ -37,7 +37,6 @@ uniform int reachWords;
 uniform vec2 viewOrigin;       // the drawn rectangle in framebuffer pixels
 uniform vec2 viewSize;
 uniform vec2 photoSize;
-uniform int background;        // 1: the photo's pixels where the camera sees no polygon (the sky through a window)
 #endif
 out vec4 colour;
 
@@ -165,10 +164,6 @@ void main() {
   vec2 f = (gl_FragCoord.xy - viewOrigin) / viewSize;
   vec2 uv = vec2(f.x, 1.0 - f.y);  // the photo's rows are top first
   vec3 base = texture(room, uv).rgb;
-  if (background == 1) {
-    colour = displayColour(base);
-    return;
-  }
   ivec2 px = ivec2(min(uv * photoSize, photoSize - 1.0));
   vec3 n = vNormal;
   if (dot(n, vWorld - eye) > 0.0) n = -n;

@@ -12,7 +12,7 @@
 
 namespace relume::gl {
 
-// A colour + depth framebuffer object of floats, resized on demand.
+// A colour + depth (and stencil) framebuffer object of floats, resized on demand.
 struct FloatTarget {
   GLuint fbo = 0, colour = 0, depth = 0;
   int width = 0, height = 0;
@@ -28,11 +28,11 @@ struct FloatTarget {
     gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     gl.glGenRenderbuffers(1, &depth);
     gl.glBindRenderbuffer(GL_RENDERBUFFER, depth);
-    gl.glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+    gl.glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, w, h);  // (a stencil for the daylight view's tiles)
     gl.glGenFramebuffers(1, &fbo);
     gl.glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     gl.glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour, 0);
-    gl.glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    gl.glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth);
     if (gl.glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
       throw Error("", "OpenGL", "cannot create a floating-point framebuffer of " + std::to_string(w) + "x" + std::to_string(h));
   }

@@ -118,7 +118,8 @@ struct GlDaylightRenderer::Impl {
   std::unique_ptr<QOpenGLShaderProgram> mapProgram;
   std::map<int, std::unique_ptr<QOpenGLShaderProgram>> compositePrograms;  // by OUTPUT
   QByteArray compositeVertex, compositeFragment;
-  GLuint roomVao = 0, roomVbo = 0, objectVao = 0, objectVbo = 0, backgroundVao = 0, backgroundVbo = 0;
+  GLuint roomVao = 0, roomVbo = 0, objectVao = 0, objectVbo = 0, backgroundVao = 0, backgroundVbo = 0, tileVao = 0, tileVbo = 0;
+  GLsizei tileVertices = 0;  // the tiles an object's shadow may reach, as triangles in the photo's clip space
   GLsizei roomVertices = 0, objectVertices = 0;
   GLuint roomTexture = 0, gainTexture = 0, sunTexture = 0, skyTexture = 0, reachTexture = 0, mapBuffer = 0;
   int maxMaps = 0;  // as many maps' data as the largest uniform block holds (seven vec4 each)
@@ -328,11 +329,15 @@ struct GlDaylightRenderer::Impl {
       p.setUniformValue("viewOrigin", float(rect.x), float(rect.y));
       p.setUniformValue("viewSize", float(rect.width), float(rect.height));
       p.setUniformValue("photoSize", float(camera.width), float(camera.height));
-      p.setUniformValue("background", 0);
     }
     return p;
   }
 
+  static DisplaySettings linearSettings() {
+    DisplaySettings linear;
+    linear.output = DisplayOutput::Linear;
+    return linear;
+  }
   // The room's depth through the camera (the map program, colour masked).
   void roomDepth(const glm::mat4& clip) {
     mapProgram->bind();
@@ -341,13 +346,6 @@ struct GlDaylightRenderer::Impl {
     gl->glBindVertexArray(roomVao);
     gl->glDrawArrays(GL_TRIANGLES, 0, roomVertices);
     gl->glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  }
-  // A triangle over the whole view at the far end of the depth range.
-  void fullView(QOpenGLShaderProgram& p) {
-    p.setUniformValue("background", 1);
-    p.setUniformValue("worldToClip", QMatrix4x4());
-    gl->glBindVertexArray(backgroundVao);
-    gl->glDrawArrays(GL_TRIANGLES, 0, 3);
   }
 
   void drawView(const DisplaySettings& s, GLuint target, const ViewRect& rect) {
@@ -364,25 +362,56 @@ struct GlDaylightRenderer::Impl {
     const glm::mat4 clip = gl::worldToClip(camera, 0.02, 1000.0);
     // 1. The room at the photo's own pixels (linear): differential rendering is defined per photo
     // pixel (as on the CPU path), so the light the objects take away is found once per pixel of
-    // it, whatever the size of the view. Its depth first, so that each pixel is shaded once
-    // (llvmpipe shades every fragment that passes the depth test); then what lies beyond every
-    // polygon (the sky through a window): the photo's pixels.
+    // it, whatever the size of the view.
     const int w = camera.width, h = camera.height;
     photoTarget.ensure(*gl, w, h);
     gl->glBindFramebuffer(GL_FRAMEBUFFER, photoTarget.fbo);
     gl->glViewport(0, 0, w, h);
     gl->glClearColor(0.f, 0.f, 0.f, 1.f);
-    gl->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    roomDepth(clip);
-    DisplaySettings linear;
-    linear.output = DisplayOutput::Linear;
+    gl->glClearStencil(0);
+    gl->glStencilMask(0xFF);
+    gl->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+    // The library's room under the sky everywhere (the sky through a window included)...
     {
+      QOpenGLShaderProgram& p = compositeProgram(DisplayOutput::Linear);
+      p.bind();
+      p.setUniformValue("viewOrigin", 0.f, 0.f);
+      p.setUniformValue("viewSize", float(w), float(h));
+      p.setUniformValue("topFirst", 1);
+      gl->glActiveTexture(GL_TEXTURE0);
+      gl->glBindTexture(GL_TEXTURE_2D, roomTexture);
+      p.setUniformValue("image", 0);
+      gl->glDisable(GL_DEPTH_TEST);
+      gl->glDepthMask(GL_FALSE);
+      gl->glBindVertexArray(backgroundVao);
+      gl->glDrawArrays(GL_TRIANGLES, 0, 3);
+      gl->glDepthMask(GL_TRUE);
+      gl->glEnable(GL_DEPTH_TEST);
+    }
+    // ... and where an object's shadow may fall (its tiles marked in the stencil), the room's
+    // polygons shaded with what the objects take away: their depth first, so that each pixel is
+    // shaded once (llvmpipe shades every fragment that passes the tests).
+    if (haveObjects && tileVertices > 0) {
+      mapProgram->bind();
+      mapProgram->setUniformValue("worldToClip", QMatrix4x4());
+      gl->glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+      gl->glDisable(GL_DEPTH_TEST);
+      gl->glEnable(GL_STENCIL_TEST);
+      gl->glStencilFunc(GL_ALWAYS, 1, 0xFF);
+      gl->glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+      gl->glBindVertexArray(tileVao);
+      gl->glDrawArrays(GL_TRIANGLES, 0, tileVertices);
+      gl->glEnable(GL_DEPTH_TEST);
+      gl->glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      gl->glStencilFunc(GL_EQUAL, 1, 0xFF);
+      gl->glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+      roomDepth(clip);
       gl->glDepthFunc(GL_LEQUAL);
-      QOpenGLShaderProgram& p = bindView(false, DisplayOutput::Linear, linear, clip, {0, 0, w, h});
+      bindView(false, DisplayOutput::Linear, linearSettings(), clip, {0, 0, w, h});
       gl->glBindVertexArray(roomVao);
       gl->glDrawArrays(GL_TRIANGLES, 0, roomVertices);
       gl->glDepthFunc(GL_LESS);
-      fullView(p);
+      gl->glDisable(GL_STENCIL_TEST);
     }
     // 2. The view: that image with the display transform, over the room's depth at the view's
     // own size; the objects, per pixel of the view, depth-tested against it.
@@ -401,6 +430,7 @@ struct GlDaylightRenderer::Impl {
       p.setUniformValue("falseMax", float(s.falseMax));
       p.setUniformValue("viewOrigin", float(rect.x), float(rect.y));
       p.setUniformValue("viewSize", float(rect.width), float(rect.height));
+      p.setUniformValue("topFirst", 0);
       gl->glActiveTexture(GL_TEXTURE0);
       gl->glBindTexture(GL_TEXTURE_2D, photoTarget.colour);
       p.setUniformValue("image", 0);
@@ -437,9 +467,9 @@ GlDaylightRenderer::~GlDaylightRenderer() {
   if (!im.gl || !QOpenGLContext::currentContext()) return;  // (without its context, its objects go with it)
   for (GLuint* t : {&im.roomTexture, &im.gainTexture, &im.sunTexture, &im.skyTexture, &im.reachTexture, &im.windowMaps.texture, &im.sunMaps.texture})
     if (*t) im.gl->glDeleteTextures(1, t);
-  for (GLuint* b : {&im.roomVbo, &im.objectVbo, &im.backgroundVbo, &im.mapBuffer})
+  for (GLuint* b : {&im.roomVbo, &im.objectVbo, &im.backgroundVbo, &im.mapBuffer, &im.tileVbo})
     if (*b) im.gl->glDeleteBuffers(1, b);
-  for (GLuint* a : {&im.roomVao, &im.objectVao, &im.backgroundVao})
+  for (GLuint* a : {&im.roomVao, &im.objectVao, &im.backgroundVao, &im.tileVao})
     if (*a) im.gl->glDeleteVertexArrays(1, a);
   if (im.mapFbo) im.gl->glDeleteFramebuffers(1, &im.mapFbo);
   im.readback.release(*im.gl);
@@ -474,6 +504,8 @@ void GlDaylightRenderer::initialize() {
   gl.glGenVertexArrays(1, &im.objectVao);
   gl.glGenBuffers(1, &im.roomVbo);
   gl.glGenBuffers(1, &im.objectVbo);
+  gl.glGenVertexArrays(1, &im.tileVao);
+  gl.glGenBuffers(1, &im.tileVbo);
   gl.glGenVertexArrays(1, &im.backgroundVao);
   gl.glGenBuffers(1, &im.backgroundVbo);
   {
@@ -595,6 +627,29 @@ void GlDaylightRenderer::setObjects(const std::vector<Polygon>& objects, const d
   std::vector<uint32_t> bits(size_t(w) * size_t(h), 0);
   if (reach.bits.size() == size_t(reach.tilesX) * size_t(reach.tilesY) * size_t(reach.words)) bits.assign(reach.bits.begin(), reach.bits.end());
   if (bits.empty()) bits.assign(size_t(w) * size_t(h), 0);
+  // The flagged tiles as quads (photo pixels -> clip space, top row first as the photo's).
+  {
+    std::vector<float> quads;
+    const double pw = std::max(im.camera.width, 1), ph = std::max(im.camera.height, 1);
+    for (int ty = 0; ty < reach.tilesY; ++ty)
+      for (int tx = 0; tx < reach.tilesX; ++tx) {
+        if (reach.bits.size() != size_t(reach.tilesX) * size_t(reach.tilesY) * size_t(reach.words) ||
+            !reach.any(size_t(ty) * size_t(reach.tilesX) + size_t(tx)))
+          continue;
+        const float x0 = float(2 * tx * daylight::ShadowReach::kTile / pw - 1);
+        const float x1 = float(std::min(2 * (tx + 1) * daylight::ShadowReach::kTile / pw, 2.0) - 1);
+        const float y0 = float(1 - 2 * ty * daylight::ShadowReach::kTile / ph);
+        const float y1 = float(1 - std::min(2 * (ty + 1) * daylight::ShadowReach::kTile / ph, 2.0));
+        const float corners[6][2] = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y0}, {x1, y1}, {x0, y1}};
+        for (const auto& c : corners) {
+          float v[kFloats] = {};
+          v[0] = c[0], v[1] = c[1], v[2] = 0.f;
+          quads.insert(quads.end(), v, v + kFloats);
+        }
+      }
+    im.upload(im.tileVao, im.tileVbo, quads);
+    im.tileVertices = GLsizei(quads.size() / kFloats);
+  }
   GLint largest = 0;
   gl.glGetIntegerv(GL_MAX_TEXTURE_SIZE, &largest);
   if (w > largest || h > largest)
