@@ -285,6 +285,92 @@ TEST(DaylightRelight, TheInteractivePathDrawsTheBoxAndItsSunShadowAsTheFullSolut
   EXPECT_EQ(relit.lastIrradiance().pixels, now.pixels);
 }
 
+TEST(DaylightRelight, TheInteractivePartsAGpuRendererIsGivenAreTheCpuPaths) {
+  // What a GPU renderer of the interactive method is given (DaylightRelighting::interactiveSky,
+  // shadowReach, objectIndirect) must be what the CPU path renders with: samples that stand for
+  // the windows' whole area, the sky's radiance per direction, the room relit under the sky, and
+  // tiles that hold every pixel a box's shadows darken.
+  const Scene room = windowRoom(0.5, 0.6, 0.7);
+  SkyRadiance sky = sunOnly(16);
+  for (size_t k = 0; k < sky.region.size(); ++k) sky.region[k] = glm::dvec3(0.2 + 0.02 * double(k), 0.3, 0.4);
+  const Camera cam = Camera::lookAt({0.4, 0.6, 2.3}, {2.0, 2.5, 0.0}, 160, 120, 110);
+  ImageRGB photo(cam.width, cam.height);
+  for (auto& v : photo.pixels) v = 0.25f;
+  BasisOptions o = options();
+  auto engine = std::make_shared<radiosity::Options>();
+  engine->epsilon = 0.03;  // coarse: this is about the parts, not the solution's accuracy
+  engine->minArea = 0.02;
+  o.engine = engine;
+  DaylightRelighting relit(room, photo, cam, sky, o);
+  relit.setInteractive({{4, 256}, 64});
+  const InteractiveSky light = relit.interactiveSky(sky);
+  double area = 0;
+  for (const auto& s : light.window) {
+    area += s.area;
+    EXPECT_NEAR(s.point.x, W, 1e-9);  // on the window
+    EXPECT_TRUE(s.point.y > Y0 - 1e-9 && s.point.y < Y1 + 1e-9 && s.point.z > Z0 - 1e-9 && s.point.z < Z1 + 1e-9);
+    EXPECT_NEAR(glm::dot(s.normal, glm::dvec3(-1, 0, 0)), 1.0, 1e-12);  // into the room
+  }
+  EXPECT_NEAR(area, (Y1 - Y0) * (Z1 - Z0), 1e-9);
+  EXPECT_GE(light.window.size(), 60u);
+  ASSERT_TRUE(light.sun);
+  ASSERT_EQ(light.sunDirections.size(), 4u);
+  for (const auto& d : light.sunDirections) EXPECT_GT(glm::dot(d, kSun), std::cos(0.3 * kPi / 180));
+  // The sky's radiance per direction: each region's own at its centre, the ground's (none here) below.
+  const SkyRegions& regions = relit.basis().regions();
+  for (int k = 0; k < int(sky.region.size()); ++k) {
+    const glm::dvec3 c = regions.centre(k);
+    const double phi = std::atan2(c.y, c.x), theta = std::acos(c.z);
+    const int u = std::clamp(int((phi + kPi) / (2 * kPi) * light.radiance.width), 0, light.radiance.width - 1);
+    const int v = std::clamp(int(theta / kPi * light.radiance.height), 0, light.radiance.height - 1);
+    EXPECT_NEAR(light.radiance.at(u, v).x, sky.region[size_t(k)].x, 1e-6) << "region " << k;
+  }
+  EXPECT_EQ(light.radiance.at(0, light.radiance.height - 1), glm::vec3(0.f));
+  // The room under the sky is the render without objects; radiance per unit irradiance times the
+  // irradiance gives it back.
+  const ImageRGB alone = relit.render(sky, {}, DaylightMethod::Volume);
+  EXPECT_EQ(light.room.pixels, alone.pixels);
+  const ImageRGB& e = relit.lastIrradiance();
+  for (size_t i = 0; i < alone.pixels.size(); ++i)
+    if (light.gain.pixels[i] > 0) EXPECT_NEAR(light.gain.pixels[i] * e.pixels[i], alone.pixels[i], 1e-4f * alone.pixels[i]);
+  // A box in the sun's patch: every pixel its shadows darken lies in a tile shadowReach flags.
+  const double xc = W - 0.5 * (Z0 + Z1) / std::tan(kElev), yc = 0.5 * (Y0 + Y1), h = 0.2;
+  std::vector<Polygon> faces;
+  for (const auto& f : boxObject("box", {xc - h, yc - h, 0.0}, {xc + h, yc + h, 2 * h}, glm::dvec3(0.5)).polygons) {
+    Polygon p = poly("box", f, 0.0);
+    p.albedo = glm::dvec3(0.5);
+    faces.push_back(p);
+  }
+  const ImageRGB withBox = relit.render(sky, faces, DaylightMethod::Volume);
+  const ShadowReach reach = relit.shadowReach(light, {xc, yc, h}, std::sqrt(3.0) * h);
+  ASSERT_EQ(reach.tilesX, (cam.width + 7) / 8);
+  ASSERT_EQ(reach.tilesY, (cam.height + 7) / 8);
+  size_t darker = 0, outside = 0, flagged = 0;
+  for (int y = 0; y < cam.height; ++y)
+    for (int x = 0; x < cam.width; ++x) {
+      if (withBox.at(x, y).x < alone.at(x, y).x * 0.999f) {
+        ++darker;
+        outside += !reach.any(size_t(y / 8) * size_t(reach.tilesX) + size_t(x / 8));
+      }
+    }
+  for (size_t t = 0; t < size_t(reach.tilesX) * size_t(reach.tilesY); ++t) flagged += reach.any(t);
+  std::printf("the box darkens %zu pixels, %zu of them outside the %zu of %d tiles flagged\n", darker, outside, flagged,
+              reach.tilesX * reach.tilesY);
+  EXPECT_GT(darker, 100u);
+  EXPECT_EQ(outside, 0u);
+  EXPECT_LT(flagged, size_t(reach.tilesX * reach.tilesY));  // (a culling that flags everything would pass the above)
+  // The box's indirect light per vertex, on both sides of every face: the faces' front sides
+  // lit by the room (the sky's light reflected by its walls), none negative.
+  const ObjectIndirect ind = relit.objectIndirect(sky, faces);
+  ASSERT_EQ(ind.front.size(), faces.size());
+  for (size_t f = 0; f < faces.size(); ++f) {
+    ASSERT_EQ(ind.front[f].size(), faces[f].vertices.size());
+    ASSERT_EQ(ind.back[f].size(), faces[f].vertices.size());
+    for (const auto& v : ind.front[f]) EXPECT_GT(v.x, 0.0);
+    for (const auto& v : ind.back[f]) EXPECT_GE(v.x, 0.0);
+  }
+}
+
 namespace {
 // Pixels of shown polygons, each with a reflectance of its own, lit in the model
 //   E(rho) = sky + rho x room (the unseen polygons' reflected light, affine in their reflectance)
