@@ -348,6 +348,27 @@ struct GlDaylightRenderer::Impl {
     gl->glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   }
 
+  // `image` over the whole of `rect` with the display transform (depth neither tested nor written).
+  void composite(const DisplaySettings& s, GLuint image, bool topFirst, const ViewRect& rect) {
+    QOpenGLShaderProgram& p = compositeProgram(s.output);
+    p.bind();
+    p.setUniformValue("exposure", float(s.exposure));
+    p.setUniformValue("falseMin", float(s.falseMin));
+    p.setUniformValue("falseMax", float(s.falseMax));
+    p.setUniformValue("viewOrigin", float(rect.x), float(rect.y));
+    p.setUniformValue("viewSize", float(rect.width), float(rect.height));
+    p.setUniformValue("topFirst", topFirst ? 1 : 0);
+    gl->glActiveTexture(GL_TEXTURE0);
+    gl->glBindTexture(GL_TEXTURE_2D, image);
+    p.setUniformValue("image", 0);
+    gl->glDisable(GL_DEPTH_TEST);
+    gl->glDepthMask(GL_FALSE);
+    gl->glBindVertexArray(backgroundVao);
+    gl->glDrawArrays(GL_TRIANGLES, 0, 3);
+    gl->glDepthMask(GL_TRUE);
+    gl->glEnable(GL_DEPTH_TEST);
+  }
+
   void drawView(const DisplaySettings& s, GLuint target, const ViewRect& rect) {
     if (haveObjects && mapsStale) makeMaps();
     else lastMapMs = 0;
@@ -372,22 +393,7 @@ struct GlDaylightRenderer::Impl {
     gl->glStencilMask(0xFF);
     gl->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
     // The library's room under the sky everywhere (the sky through a window included)...
-    {
-      QOpenGLShaderProgram& p = compositeProgram(DisplayOutput::Linear);
-      p.bind();
-      p.setUniformValue("viewOrigin", 0.f, 0.f);
-      p.setUniformValue("viewSize", float(w), float(h));
-      p.setUniformValue("topFirst", 1);
-      gl->glActiveTexture(GL_TEXTURE0);
-      gl->glBindTexture(GL_TEXTURE_2D, roomTexture);
-      p.setUniformValue("image", 0);
-      gl->glDisable(GL_DEPTH_TEST);
-      gl->glDepthMask(GL_FALSE);
-      gl->glBindVertexArray(backgroundVao);
-      gl->glDrawArrays(GL_TRIANGLES, 0, 3);
-      gl->glDepthMask(GL_TRUE);
-      gl->glEnable(GL_DEPTH_TEST);
-    }
+    composite(linearSettings(), roomTexture, true, {0, 0, w, h});
     // ... and where an object's shadow may fall (its tiles marked in the stencil), the room's
     // polygons shaded with what the objects take away: their depth first, so that each pixel is
     // shaded once (llvmpipe shades every fragment that passes the tests).
@@ -422,25 +428,7 @@ struct GlDaylightRenderer::Impl {
     gl->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     gl->glViewport(rect.x, rect.y, rect.width, rect.height);
     roomDepth(clip);
-    {
-      QOpenGLShaderProgram& p = compositeProgram(s.output);
-      p.bind();
-      p.setUniformValue("exposure", float(s.exposure));
-      p.setUniformValue("falseMin", float(s.falseMin));
-      p.setUniformValue("falseMax", float(s.falseMax));
-      p.setUniformValue("viewOrigin", float(rect.x), float(rect.y));
-      p.setUniformValue("viewSize", float(rect.width), float(rect.height));
-      p.setUniformValue("topFirst", 0);
-      gl->glActiveTexture(GL_TEXTURE0);
-      gl->glBindTexture(GL_TEXTURE_2D, photoTarget.colour);
-      p.setUniformValue("image", 0);
-      gl->glDisable(GL_DEPTH_TEST);
-      gl->glDepthMask(GL_FALSE);
-      gl->glBindVertexArray(backgroundVao);
-      gl->glDrawArrays(GL_TRIANGLES, 0, 3);
-      gl->glDepthMask(GL_TRUE);
-      gl->glEnable(GL_DEPTH_TEST);
-    }
+    composite(s, photoTarget.colour, false, rect);
     if (haveObjects) {
       // Their depth first too (a face behind another would be shaded and then covered), then
       // each of their pixels shaded once.
