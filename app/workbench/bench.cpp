@@ -470,7 +470,7 @@ QJsonObject benchDaylightView(const QString& roomPath, int runs) {
       daylight::InteractiveOptions o = session->interactive();
       o.directSamples = samples;
       session->setInteractive(o);
-      const daylight::InteractiveSky light = session->interactiveSky(sky);
+      const daylight::InteractiveSky& light = session->interactiveSky(sky);
       gl.setSky(light);
       for (int size : std::vector<int>{64, 128, 256}) {
         gl.setMapSize(size);

@@ -119,7 +119,9 @@ struct SkyPanel::State {
 
 // What the GPU path draws, made by the library off the UI thread.
 struct SkyPanel::GpuFrame {
-  daylight::InteractiveSky light;
+  daylight::InteractiveSky light;  // when hasLight (else the renderer holds lightVersion's)
+  bool hasLight = false;
+  unsigned lightVersion = 0;
   std::vector<Polygon> objects;
   daylight::ObjectIndirect indirect;
   daylight::ShadowReach reach;
@@ -132,6 +134,7 @@ struct SkyPanel::Gpu {
   QOpenGLContext context;
   std::unique_ptr<GlDaylightRenderer> renderer;
   int generation = -1;  // the room the renderer holds
+  unsigned lightVersion = ~0u;  // and the room's light (DaylightRelighting::roomVersion)
   bool failed = false;
   double mapMs = 0, drawMs = 0;
   ~Gpu() {  // the renderer's GL objects go with its own context current
@@ -293,10 +296,17 @@ bool SkyPanel::drawOnGpu(const GpuFrame& frame, ImageRGB& out) {
       throw Error("", "OpenGL", "the context cannot be made current");
     }
     if (g.generation != generation_) {
+      if (frame.room.empty() || !frame.hasLight) throw Error("", "daylight view", "a frame came without its room");
       g.renderer->setRoom(frame.room, frame.camera);
       g.generation = generation_;
+      g.lightVersion = ~0u;
     }
-    g.renderer->setSky(frame.light);
+    if (frame.hasLight) {
+      g.renderer->setSky(frame.light);
+      g.lightVersion = frame.lightVersion;
+    } else if (g.lightVersion != frame.lightVersion) {
+      throw Error("", "daylight view", "a frame came without the sky's light");
+    }
     g.renderer->setObjects(frame.objects, frame.indirect, frame.reach);
     out = g.renderer->renderLinear();
     g.mapMs = g.renderer->lastMapMilliseconds();
@@ -632,22 +642,29 @@ void SkyPanel::startRender() {
   s_->pending = false;
   gpu_->setEnabled(method == daylight::DaylightMethod::Volume && !(gpuState_ && gpuState_->failed));
   const bool gpu = gpu_->isEnabled() && gpu_->isChecked();
+  const bool heldRoom = gpuState_ && gpuState_->renderer && gpuState_->generation == generation_;
+  const unsigned heldLight = heldRoom ? gpuState_->lightVersion : ~0u;
   s_->rendering = jobs_->start(tr("Relighting under %1").arg(name), [=, this](Progress& p) {
     const auto t0 = std::chrono::steady_clock::now();
     for (size_t l = 0; l < lampExitance.size(); ++l) relit->setLampExitance(int(l), lampExitance[l]);
     if (gpu) {
       // The library's light for the frame here; OpenGL draws it on the UI thread (its context's).
+      // The sky's light and the room go along only when the renderer does not hold them yet (a
+      // drag asks for a frame at every move, under the same sky).
       auto frame = std::make_shared<GpuFrame>();
-      frame->light = relit->interactiveSky(sky, p);
+      const daylight::InteractiveSky& light = relit->interactiveSky(sky, p);
+      frame->lightVersion = relit->roomVersion();
+      frame->hasLight = frame->lightVersion != heldLight;
+      if (frame->hasLight) frame->light = light;
       frame->objects = objects;
-      frame->room = relit->roomPolygons();
+      if (!heldRoom) frame->room = relit->roomPolygons();
       frame->camera = relit->camera();
       if (!objects.empty()) {
         glm::dvec3 lo(1e300), hi(-1e300);
         for (const auto& o : objects)
           for (const auto& v : o.vertices) lo = glm::min(lo, v), hi = glm::max(hi, v);
         frame->indirect = relit->objectIndirect(sky, objects);
-        frame->reach = relit->shadowReach(frame->light, 0.5 * (lo + hi), 0.5 * glm::length(hi - lo));
+        frame->reach = relit->shadowReach(light, 0.5 * (lo + hi), 0.5 * glm::length(hi - lo));
       }
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       return JobRunner::Continuation([=, this] {

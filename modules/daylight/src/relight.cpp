@@ -1000,9 +1000,10 @@ void DaylightRelighting::updateRoom(const SkyRadiance& sky, Progress& progress) 
   for (size_t i = 0; i < seen_.surface.size(); ++i)
     if (seen_.surface[i] >= 0) put(roomOut_, i, relitPixel(i, get(eRoom_, i)));
   paintLamps(roomOut_, seen_, *basis_);
+  ++roomVersion_;
 }
 
-InteractiveSky DaylightRelighting::interactiveSky(const SkyRadiance& sky, Progress& progress) {
+const InteractiveSky& DaylightRelighting::interactiveSky(const SkyRadiance& sky, Progress& progress) {
   {
     Progress stage(progress, 0.0, 0.7);
     volume(stage);
@@ -1011,7 +1012,12 @@ InteractiveSky DaylightRelighting::interactiveSky(const SkyRadiance& sky, Progre
     Progress stage(progress, 0.7, 1.0);
     updateRoom(sky, stage);
   }
-  InteractiveSky out;
+  // Kept while the room's light and the sample count stay (an object's drag asks for it every move).
+  if (skyCache_ && skyCacheRoom_ == roomVersion_ && skyCache_->window.size() == skyCacheSamples_ &&
+      skyCacheRequested_ == interactive_.directSamples)
+    return *skyCache_;
+  auto made = std::make_unique<InteractiveSky>();
+  InteractiveSky& out = *made;
   out.window = windowSamples(basis_->engine(), basis_->windows(), interactive_.directSamples);
   out.sun = sky.sun.found && sky.sun.direction.z > 0;
   if (out.sun) {
@@ -1041,7 +1047,11 @@ InteractiveSky DaylightRelighting::interactiveSky(const SkyRadiance& sky, Progre
       if (a[c] > 1e-6f) g[c] = ph[c] / a[c];  // as relitPixel: where the photo had no light, nothing changes
     put(out.gain, i, g);
   }
-  return out;
+  skyCache_ = std::move(made);
+  skyCacheRoom_ = roomVersion_;
+  skyCacheSamples_ = skyCache_->window.size();
+  skyCacheRequested_ = interactive_.directSamples;
+  return *skyCache_;
 }
 
 ShadowReach DaylightRelighting::shadowReach(const InteractiveSky& light, const glm::dvec3& centre, double radius) {

@@ -227,9 +227,12 @@ class DaylightRelighting {
   // the sky at infinity, refuses any lamp on.
   void setLampExitance(int lamp, const glm::dvec3& exitance) { basis_->setLampExitance(lamp, exitance); }
   const InteractiveOptions& interactive() const { return interactive_; }
-  // The interactive method's light under `sky` for a GPU renderer (the room relit is kept, as
-  // render() keeps it, until the sky or the bases change).
-  InteractiveSky interactiveSky(const SkyRadiance& sky, Progress& progress = silentProgress());
+  // The interactive method's light under `sky` for a GPU renderer, kept (as render() keeps the
+  // room relit) until the sky, the bases or the sample count change; valid until the next call.
+  const InteractiveSky& interactiveSky(const SkyRadiance& sky, Progress& progress = silentProgress());
+  // Counts the room's light made anew (another sky, re-solved bases): a renderer holding the
+  // light of an earlier count must take it again.
+  unsigned roomVersion() const { return roomVersion_; }
   // The tiles the shadows of a sphere (the objects' bounds) may reach under `light`.
   ShadowReach shadowReach(const InteractiveSky& light, const glm::dvec3& centre, double radius);
   // The objects' indirect light per vertex under `sky` (builds the volume on first use). Refused
@@ -263,6 +266,11 @@ class DaylightRelighting {
   std::vector<glm::dvec4> tileSpheres_;
   std::vector<uint8_t> tileGap_;
   void updateRoom(const SkyRadiance& sky, Progress& progress);
+  unsigned roomVersion_ = 0;
+  std::unique_ptr<InteractiveSky> skyCache_;
+  unsigned skyCacheRoom_ = 0;
+  size_t skyCacheSamples_ = 0;
+  int skyCacheRequested_ = 0;
   ShadowReach shadowReach(const std::vector<DirectSample>& window, bool sun, const glm::dvec3& sunDirection,
                           const glm::dvec3& centre, double radius);
   // The interactive path's per-pixel light past the room alone (relight.cpp), kept while objects move.
