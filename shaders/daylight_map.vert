@@ -1,10 +1,9 @@
-// (The renderer prepends "#version 330 core".) A daylight shadow map (gl_daylight.cpp): the room's
-// or the objects' polygons seen from a window sample (perspective) or from the sun (orthographic).
+// (The renderer prepends "#version 330 core".) Positions through one camera, for depth and stencil
+// only (daylight_map.frag): the view's depth pre-passes and the photo tiles an object's shadow may
+// reach. (The shadow maps themselves: daylight_atlas.vert.)
 layout(location = 0) in vec3 position;
 uniform mat4 worldToClip;
-invariant gl_Position;  // the view's depth pre-pass (daylight_map.vert) and its shading pass give the same depth
-out vec3 vWorld;
+invariant gl_Position;  // the depth pre-pass and the shading pass (daylight.vert) give the same depth
 void main() {
-  vWorld = position;
   gl_Position = worldToClip * vec4(position, 1.0);
 }

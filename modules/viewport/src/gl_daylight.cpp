@@ -113,9 +113,10 @@ MapCamera sunMap(const glm::dvec3& toSun, const glm::dvec3& centre, double radiu
 
 struct GlDaylightRenderer::Impl {
   QOpenGLFunctions_3_3_Core* gl = nullptr;
-  QByteArray displaySource, viewVertex, viewFragment, mapVertex, mapFragment;
+  QByteArray displaySource, viewVertex, viewFragment, mapVertex, mapFragment, atlasVertex, atlasFragment;
   std::map<int, std::unique_ptr<QOpenGLShaderProgram>> viewPrograms;  // by OBJECT * 4 + OUTPUT
-  std::unique_ptr<QOpenGLShaderProgram> mapProgram;
+  std::unique_ptr<QOpenGLShaderProgram> mapProgram;    // depth and stencil through one camera
+  std::unique_ptr<QOpenGLShaderProgram> atlasProgram;  // the shadow maps, all of an atlas in one draw
   std::map<int, std::unique_ptr<QOpenGLShaderProgram>> compositePrograms;  // by OUTPUT
   QByteArray compositeVertex, compositeFragment;
   GLuint roomVao = 0, roomVbo = 0, objectVao = 0, objectVbo = 0, backgroundVao = 0, backgroundVbo = 0, tileVao = 0, tileVbo = 0;
@@ -123,12 +124,13 @@ struct GlDaylightRenderer::Impl {
   GLsizei roomVertices = 0, objectVertices = 0;
   GLuint roomTexture = 0, gainTexture = 0, sunTexture = 0, skyTexture = 0, reachTexture = 0, mapBuffer = 0;
   int maxMaps = 0;  // as many maps' data as the largest uniform block holds (seven vec4 each)
-  // The maps: the window samples' (soft shadows: 128^2 by default) and the sun's (sharp: 256^2).
-  struct MapArray {
+  // The maps: the window samples' (soft shadows: 128^2 by default) and the sun's (sharp: 256^2),
+  // each set in the square tiles of one RG32F texture, `columns` x `rows` of them.
+  struct Atlas {
     GLuint texture = 0;
-    int layers = 0, size = 0;
+    int count = 0, size = 0, columns = 1, rows = 1;
   };
-  MapArray windowMaps, sunMaps;
+  Atlas windowMaps, sunMaps;
   GLuint mapFbo = 0;
   int mapSize = 128, sunMapSize = 256;
   bool haveRoom = false, haveSky = false, mapsStale = true;
@@ -205,32 +207,41 @@ struct GlDaylightRenderer::Impl {
   void makeMaps() {
     const auto t0 = std::chrono::steady_clock::now();
     const int layers = layersNeeded();
-    GLint maxLayers = 0;
-    gl->glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
-    if (int(window.size()) > maxLayers || layers > maxMaps)
+    if (layers > maxMaps)
       throw Error("", "OpenGL", std::to_string(window.size()) + " window samples' shadow maps asked for, the display holds " +
-                                    std::to_string(std::min<int>(maxLayers, maxMaps - 4)) + ": use fewer direct-light samples");
+                                    std::to_string(maxMaps - 4) + ": use fewer direct-light samples");
     // (The blending and target below are put back however this ends.)
     struct Restore {
       QOpenGLFunctions_3_3_Core* gl;
       ~Restore() {
         gl->glBlendEquation(GL_FUNC_ADD);
         gl->glDisable(GL_BLEND);
+        for (GLenum c = 0; c < 4; ++c) gl->glDisable(GL_CLIP_DISTANCE0 + c);
         gl->glBindFramebuffer(GL_FRAMEBUFFER, 0);
       }
     } restore{gl};
-    auto ensure = [&](MapArray& a, int layers, int size) {
-      if (a.texture && a.layers == layers && a.size == size) return;
+    GLint maxSize = 0;
+    gl->glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+    auto ensure = [&](Atlas& a, int count, int size) {
+      if (a.texture && a.count == count && a.size == size) return;
+      const int columns = std::max(1, int(std::ceil(std::sqrt(double(std::max(count, 1)))))),
+                rows = std::max(1, (std::max(count, 1) + columns - 1) / columns);
+      if (std::max(columns, rows) * size > maxSize)
+        throw Error("", "OpenGL", std::to_string(count) + " shadow maps of " + std::to_string(size) + "x" + std::to_string(size) +
+                                      " do not fit the display's largest texture (" + std::to_string(maxSize) +
+                                      " texels a side): use fewer direct-light samples or smaller maps");
       if (a.texture) gl->glDeleteTextures(1, &a.texture);
       gl->glGenTextures(1, &a.texture);
-      gl->glBindTexture(GL_TEXTURE_2D_ARRAY, a.texture);
-      gl->glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RG32F, size, size, std::max(layers, 1), 0, GL_RG, GL_FLOAT, nullptr);
-      gl->glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-      gl->glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-      gl->glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-      gl->glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-      a.layers = layers;
+      gl->glBindTexture(GL_TEXTURE_2D, a.texture);
+      gl->glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, columns * size, rows * size, 0, GL_RG, GL_FLOAT, nullptr);
+      gl->glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      gl->glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      gl->glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      gl->glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+      a.count = count;
       a.size = size;
+      a.columns = columns;
+      a.rows = rows;
     };
     ensure(windowMaps, int(window.size()), mapSize);
     ensure(sunMaps, sun ? int(sunDirections.size()) : 0, sunMapSize);
@@ -254,31 +265,33 @@ struct GlDaylightRenderer::Impl {
     gl->glDisable(GL_DEPTH_TEST);
     gl->glDisable(GL_CULL_FACE);
     gl->glDisable(GL_SCISSOR_TEST);
+    for (GLenum c = 0; c < 4; ++c) gl->glEnable(GL_CLIP_DISTANCE0 + c);
     gl->glEnable(GL_BLEND);
     gl->glBlendEquation(GL_MIN);
     gl->glBlendFunc(GL_ONE, GL_ONE);
     gl->glClearColor(1e30f, 1e30f, 0.f, 1.f);
-    mapProgram->bind();
-    for (size_t m = 0; m < cams.size(); ++m) {
-      const bool isWindow = m < window.size();
-      const MapArray& a = isWindow ? windowMaps : sunMaps;
-      gl->glViewport(0, 0, a.size, a.size);
-      gl->glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, a.texture, 0, GLint(isWindow ? m : m - window.size()));
-      if ((m == 0 || m == window.size()) && gl->glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-        throw Error("", "OpenGL", "cannot draw into a two-channel float shadow map of " + std::to_string(a.size) + "x" +
-                                      std::to_string(a.size));
+    atlasProgram->bind();
+    gl->glBindBufferBase(GL_UNIFORM_BUFFER, 0, mapBuffer);
+    for (int set = 0; set < 2; ++set) {
+      const Atlas& a = set == 0 ? windowMaps : sunMaps;
+      const int first = set == 0 ? 0 : int(window.size()), count = set == 0 ? int(window.size()) : (sun ? int(sunDirections.size()) : 0);
+      gl->glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, a.texture, 0);
+      if (gl->glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw Error("", "OpenGL", "cannot draw into a two-channel float shadow map atlas of " + std::to_string(a.columns * a.size) +
+                                      "x" + std::to_string(a.rows * a.size));
+      gl->glViewport(0, 0, a.columns * a.size, a.rows * a.size);
       gl->glClear(GL_COLOR_BUFFER_BIT);
-      mapProgram->setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(cams[m].clip)[0][0]));
-      mapProgram->setUniformValue("origin", cams[m].origin.x, cams[m].origin.y, cams[m].origin.z);
-      mapProgram->setUniformValue("along", cams[m].direction.x, cams[m].direction.y, cams[m].direction.z);
-      mapProgram->setUniformValue("ortho", cams[m].ortho ? 1 : 0);
-      mapProgram->setUniformValue("channel", 0);
+      if (count == 0) continue;
+      atlasProgram->setUniformValue("firstMap", first);
+      gl->glUniform2i(atlasProgram->uniformLocation("grid"), a.columns, a.rows);
+      atlasProgram->setUniformValue("ortho", set == 1 ? 1 : 0);
+      atlasProgram->setUniformValue("channel", 0);
       gl->glBindVertexArray(roomVao);
-      gl->glDrawArrays(GL_TRIANGLES, 0, roomVertices);
+      gl->glDrawArraysInstanced(GL_TRIANGLES, 0, roomVertices, count);
       if (haveObjects) {
-        mapProgram->setUniformValue("channel", 1);
+        atlasProgram->setUniformValue("channel", 1);
         gl->glBindVertexArray(objectVao);
-        gl->glDrawArrays(GL_TRIANGLES, 0, objectVertices);
+        gl->glDrawArraysInstanced(GL_TRIANGLES, 0, objectVertices, count);
       }
     }
     gl->glBindVertexArray(0);
@@ -303,11 +316,13 @@ struct GlDaylightRenderer::Impl {
     const glm::vec3 q(sunIrradiance / double(std::max<size_t>(sunDirections.size(), 1)));
     p.setUniformValue("sunQuarter", q.x, q.y, q.z);
     gl->glActiveTexture(GL_TEXTURE0);
-    gl->glBindTexture(GL_TEXTURE_2D_ARRAY, windowMaps.texture);
+    gl->glBindTexture(GL_TEXTURE_2D, windowMaps.texture);
     p.setUniformValue("maps", 0);
+    gl->glUniform2i(p.uniformLocation("mapGrid"), windowMaps.columns, windowMaps.rows);
     gl->glActiveTexture(GL_TEXTURE7);
-    gl->glBindTexture(GL_TEXTURE_2D_ARRAY, sunMaps.texture);
+    gl->glBindTexture(GL_TEXTURE_2D, sunMaps.texture);
     p.setUniformValue("sunMapArray", 7);
+    gl->glUniform2i(p.uniformLocation("sunGrid"), sunMaps.columns, sunMaps.rows);
     gl->glBindBufferBase(GL_UNIFORM_BUFFER, 0, mapBuffer);
     gl->glActiveTexture(GL_TEXTURE2);
     gl->glBindTexture(GL_TEXTURE_2D, skyTexture);
@@ -338,13 +353,13 @@ struct GlDaylightRenderer::Impl {
     linear.output = DisplayOutput::Linear;
     return linear;
   }
-  // The room's depth through the camera (the map program, colour masked).
-  void roomDepth(const glm::mat4& clip) {
+  // Depth (and stencil) only through `clip`: the map program, colour masked.
+  void depthOnly(GLuint vao, GLsizei vertices, const glm::mat4& clip) {
     mapProgram->bind();
     mapProgram->setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(clip)[0][0]));
     gl->glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    gl->glBindVertexArray(roomVao);
-    gl->glDrawArrays(GL_TRIANGLES, 0, roomVertices);
+    gl->glBindVertexArray(vao);
+    gl->glDrawArrays(GL_TRIANGLES, 0, vertices);
     gl->glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   }
 
@@ -381,10 +396,13 @@ struct GlDaylightRenderer::Impl {
     gl->glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     gl->glClearDepth(1.0);
     const glm::mat4 clip = gl::worldToClip(camera, 0.02, 1000.0);
-    // 1. The room at the photo's own pixels (linear): differential rendering is defined per photo
-    // pixel (as on the CPU path), so the light the objects take away is found once per pixel of
-    // it, whatever the size of the view.
-    const int w = camera.width, h = camera.height;
+    // 1. The relit photo, linear, at the photo's own pixels (or the view's, when the view is
+    // smaller): differential rendering is defined per photo pixel, as on the CPU path. The light the
+    // objects take away is found once per pixel of it, and the objects are drawn at the same
+    // pixels as the room around them, whatever the size of the view (a view larger than the photo
+    // magnifies both alike; it also costs llvmpipe a quarter of the shading at twice the size).
+    const double shrink = std::min({1.0, double(rect.width) / camera.width, double(rect.height) / camera.height});
+    const int w = std::max(1, int(std::lround(camera.width * shrink))), h = std::max(1, int(std::lround(camera.height * shrink)));
     photoTarget.ensure(*gl, w, h);
     gl->glBindFramebuffer(GL_FRAMEBUFFER, photoTarget.fbo);
     gl->glViewport(0, 0, w, h);
@@ -392,26 +410,22 @@ struct GlDaylightRenderer::Impl {
     gl->glClearStencil(0);
     gl->glStencilMask(0xFF);
     gl->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
-    // The library's room under the sky everywhere (the sky through a window included)...
+    // The library's room under the sky everywhere (the sky through a window included), and the
+    // room's depth, which the objects are tested against...
     composite(linearSettings(), roomTexture, true, {0, 0, w, h});
+    if (haveObjects) depthOnly(roomVao, roomVertices, clip);
     // ... and where an object's shadow may fall (its tiles marked in the stencil), the room's
-    // polygons shaded with what the objects take away: their depth first, so that each pixel is
-    // shaded once (llvmpipe shades every fragment that passes the tests).
+    // polygons shaded with what the objects take away (each pixel once: llvmpipe shades every
+    // fragment that passes the tests, and the depth is already there).
     if (haveObjects && tileVertices > 0) {
-      mapProgram->bind();
-      mapProgram->setUniformValue("worldToClip", QMatrix4x4());
-      gl->glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
       gl->glDisable(GL_DEPTH_TEST);
       gl->glEnable(GL_STENCIL_TEST);
       gl->glStencilFunc(GL_ALWAYS, 1, 0xFF);
       gl->glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-      gl->glBindVertexArray(tileVao);
-      gl->glDrawArrays(GL_TRIANGLES, 0, tileVertices);
+      depthOnly(tileVao, tileVertices, glm::mat4(1.f));
       gl->glEnable(GL_DEPTH_TEST);
-      gl->glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
       gl->glStencilFunc(GL_EQUAL, 1, 0xFF);
       gl->glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-      roomDepth(clip);
       gl->glDepthFunc(GL_LEQUAL);
       bindView(false, DisplayOutput::Linear, linearSettings(), clip, {0, 0, w, h});
       gl->glBindVertexArray(roomVao);
@@ -419,29 +433,24 @@ struct GlDaylightRenderer::Impl {
       gl->glDepthFunc(GL_LESS);
       gl->glDisable(GL_STENCIL_TEST);
     }
-    // 2. The view: that image with the display transform, over the room's depth at the view's
-    // own size; the objects, per pixel of the view, depth-tested against it.
+    if (haveObjects) {
+      // The objects: their depth first too (a face behind another would be shaded and then
+      // covered), then each of their pixels shaded once.
+      depthOnly(objectVao, objectVertices, clip);
+      gl->glDepthFunc(GL_LEQUAL);
+      bindView(true, DisplayOutput::Linear, linearSettings(), clip, {0, 0, w, h});
+      gl->glBindVertexArray(objectVao);
+      gl->glDrawArrays(GL_TRIANGLES, 0, objectVertices);
+      gl->glDepthFunc(GL_LESS);
+    }
+    // 2. The view: that image with the display transform.
     gl->glBindFramebuffer(GL_FRAMEBUFFER, target);
     if (s.output == DisplayOutput::Linear) gl->glClearColor(0.f, 0.f, 0.f, 1.f);
     else gl->glClearColor(0.16f, 0.16f, 0.17f, 1.f);
     gl->glViewport(0, 0, rect.x + rect.width, rect.y + rect.height);
     gl->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     gl->glViewport(rect.x, rect.y, rect.width, rect.height);
-    roomDepth(clip);
     composite(s, photoTarget.colour, false, rect);
-    if (haveObjects) {
-      // Their depth first too (a face behind another would be shaded and then covered), then
-      // each of their pixels shaded once.
-      mapProgram->bind();
-      gl->glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-      gl->glDepthFunc(GL_LESS);
-      gl->glBindVertexArray(objectVao);
-      gl->glDrawArrays(GL_TRIANGLES, 0, objectVertices);
-      gl->glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-      gl->glDepthFunc(GL_LEQUAL);
-      bindView(true, s.output, s, clip, rect);
-      gl->glDrawArrays(GL_TRIANGLES, 0, objectVertices);
-    }
     gl->glBindVertexArray(0);
     gl->glActiveTexture(GL_TEXTURE0);
     gl->glDisable(GL_DEPTH_TEST);
@@ -474,6 +483,8 @@ void GlDaylightRenderer::initialize() {
   im.viewFragment = read(":/shaders/daylight.frag");
   im.mapVertex = read(":/shaders/daylight_map.vert");
   im.mapFragment = read(":/shaders/daylight_map.frag");
+  im.atlasVertex = read(":/shaders/daylight_atlas.vert");
+  im.atlasFragment = read(":/shaders/daylight_atlas.frag");
   im.compositeVertex = read(":/shaders/daylight_composite.vert");
   im.compositeFragment = read(":/shaders/daylight_composite.frag");
   im.compositePrograms.clear();
@@ -484,6 +495,12 @@ void GlDaylightRenderer::initialize() {
   }
   const QByteArray version = "#version 330 core\n";
   im.mapProgram = im.compile(version + im.mapVertex, version + im.mapFragment, ":/shaders/daylight_map.frag");
+  {
+    const QByteArray defines = version + "#define MAX_MAPS " + QByteArray::number(im.maxMaps) + "\n";
+    im.atlasProgram = im.compile(defines + im.atlasVertex, defines + im.atlasFragment, ":/shaders/daylight_atlas.vert");
+    const GLuint block = im.gl->glGetUniformBlockIndex(im.atlasProgram->programId(), "MapBlock");
+    if (block != GL_INVALID_INDEX) im.gl->glUniformBlockBinding(im.atlasProgram->programId(), block, 0);
+  }
   im.viewPrograms.clear();
   im.viewProgram(false, DisplayOutput::Exposed);  // errors show now
   im.viewProgram(true, DisplayOutput::Exposed);
