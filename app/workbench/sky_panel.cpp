@@ -22,6 +22,7 @@
 #include <glm/geometric.hpp>
 #include <map>
 #include <numbers>
+#include <optional>
 
 #include "click_photo_view.h"
 #include "job_runner.h"
@@ -67,14 +68,46 @@ struct ObjectsEntry {
   int variant = -1;
   std::vector<std::string> groups;
   std::map<std::string, glm::dvec3> moved;
+  // An entry from a file: the file's variant, its files named absolutely (a save makes it a
+  // variant of the project, as moved, so that what the user placed and dragged is kept).
+  std::optional<Variant> fromFile;
 };
+
+namespace {
+// A variant's objects moved as an entry's were dragged (each object by its group's move).
+void applyMoves(Variant& v, const ObjectsEntry& e) {
+  for (size_t k = 0; k < v.virtualObjects.size() && k < e.groups.size(); ++k) {
+    const auto it = e.moved.find(e.groups[k]);
+    if (it == e.moved.end()) continue;
+    VirtualBox& b = v.virtualObjects[k];
+    b.boxMin += it->second;
+    b.boxMax += it->second;
+    b.position += it->second;
+    for (auto& face : b.mesh)
+      for (auto& q : face) q += it->second;
+  }
+}
+
+// `v` as read from `file`, with every file it names made absolute (a project copies them in).
+Variant absoluteFiles(Variant v, const QString& file) {
+  const QDir dir = QFileInfo(file).absoluteDir();
+  auto abs = [&](std::string& rel) {
+    if (!rel.empty()) rel = QDir::cleanPath(dir.absoluteFilePath(QString::fromStdString(rel))).toStdString();
+  };
+  for (auto& l : v.virtualLamps) abs(l.photometryFile);
+  for (auto& b : v.virtualObjects) abs(b.fan);
+  abs(v.file);
+  abs(v.hdr);
+  return v;
+}
+}  // namespace
 
 // A variant's (or file's) objects and virtual lamps as one entry. Lamps daylight cannot light (a
 // photometric one) are left out beside objects, and `lampsLeftOut` says why; without objects the
 // error is the entry's.
 static ObjectsEntry objectsEntry(const Scene& room, const QString& label, const Variant& v, const std::string& file,
                                  QString& lampsLeftOut, int variant = -1) {
-  ObjectsEntry entry{label, {}, {}, variant, {}, {}};
+  ObjectsEntry entry{label, {}, {}, variant, {}, {}, {}};
   entry.polygons = daylight::variantObjects(room, v, file, &entry.groups);
   try {
     entry.lamps = daylight::variantLamps(v, file);
@@ -334,21 +367,25 @@ QString SkyPanel::path() const { return s_->path; }
 bool SkyPanel::saveProject(const QString& folder) {
   if (!isOpen() || jobs_->busy()) return false;
   const QString abs = QFileInfo(folder).absoluteFilePath();
-  // The room as it is shown: a variant's objects where they were dragged to.
+  // The room as it is shown: a variant's objects where they were dragged to, and each file's
+  // objects and lamps as one more variant (named after the file, apart from the room's own), so
+  // that the project keeps what the user placed.
   Scene shown = *s_->scene;
+  for (const ObjectsEntry& e : s_->objects)
+    if (e.variant >= 0 && size_t(e.variant) < shown.variants.size()) applyMoves(shown.variants[size_t(e.variant)], e);
   for (const ObjectsEntry& e : s_->objects) {
-    if (e.variant < 0 || size_t(e.variant) >= shown.variants.size()) continue;
-    auto& objects = shown.variants[size_t(e.variant)].virtualObjects;
-    for (size_t k = 0; k < objects.size() && k < e.groups.size(); ++k) {
-      const auto it = e.moved.find(e.groups[k]);
-      if (it == e.moved.end()) continue;
-      VirtualBox& b = objects[k];
-      b.boxMin += it->second;
-      b.boxMax += it->second;
-      b.position += it->second;
-      for (auto& face : b.mesh)
-        for (auto& q : face) q += it->second;
-    }
+    if (!e.fromFile) continue;
+    Variant v = *e.fromFile;
+    applyMoves(v, e);
+    auto taken = [&](const std::string& name) {
+      return std::any_of(shown.variants.begin(), shown.variants.end(), [&](const Variant& o) { return o.name == name; });
+    };
+    const std::string base = v.name.empty() ? "objects" : v.name;
+    v.name = base;
+    for (int k = 2; taken(v.name); ++k) v.name = base + " " + std::to_string(k);
+    // Its sky, if it names one, only when the room has it (a project names the room's skies).
+    if (std::none_of(shown.skies.begin(), shown.skies.end(), [&](const SkyCapture& c) { return c.name == v.sky; })) v.sky.clear();
+    shown.variants.push_back(std::move(v));
   }
   auto scene = std::make_shared<const Scene>(std::move(shown));
   auto relit = s_->relit;
@@ -414,7 +451,7 @@ std::shared_ptr<PreparedDaylight> SkyPanel::prepare(const Scene& scene, Progress
     if (c.name == scene.photoSky) sky.label = tr("%1 (the photos' sky)").arg(sky.label);
     room->skies.push_back(std::move(sky));
   }
-  room->objects.push_back({tr("None"), {}, {}, -1, {}, {}});
+  room->objects.push_back({tr("None"), {}, {}, -1, {}, {}, {}});
   for (const auto& v : scene.variants) {
     if (v.virtualObjects.empty() && v.virtualLamps.empty()) continue;
     try {
@@ -524,6 +561,7 @@ bool SkyPanel::addObjectsFile(const QString& file) {
       throw Error(file.toStdString(), "virtual_objects", "lists no virtual object and no virtual lamp (virtual_lights)");
     QString lampsLeftOut;
     s_->objects.push_back(objectsEntry(*s_->scene, QFileInfo(file).fileName(), v, file.toStdString(), lampsLeftOut));
+    s_->objects.back().fromFile = absoluteFiles(v, file);
     if (!lampsLeftOut.isEmpty())
       emit message(tr("The virtual lamps of %1 are left out: %2").arg(s_->objects.back().label, lampsLeftOut));
   } catch (const std::exception& e) {

@@ -65,7 +65,8 @@ class SkyPanel : public QWidget {
   // the middle of its base): the object slides over the plane it stands on to where the cursor
   // points, and is refused (a message; it stays) where it would leave the room or cut a polygon
   // (relume::checkVirtualObject). On the interactive path every move renders; otherwise the
-  // release does. The moves last while the room stays open (the entry's objects as moved).
+  // release does. Save keeps the moves: a variant's entry in its variant, a file's entry (its
+  // objects and lamps) as one more variant of the project, named after the file.
   std::vector<QString> objectHandles() const;
 
   QComboBox* skyBox() const { return sky_; }

@@ -2662,6 +2662,27 @@ class WorkbenchTest : public QObject {
     QVERIFY(!orange(rgbAt(noBox, newTop)));
     QVERIFY(std::abs(atOld.red() - floorOld.red()) <= 12 && std::abs(atOld.green() - floorOld.green()) <= 12 &&
             std::abs(atOld.blue() - floorOld.blue()) <= 12);
+    // Saved as a project, what the files placed is kept: each file's objects and lamps as a
+    // variant named after it, the box where it was dragged to, the downlight's photometric file
+    // copied in (it is the user's, even if daylight leaves it out).
+    const QString project = tmp_.path() + "/with_files.relume";
+    QVERIFY(w.saveTo(project));
+    QVERIFY(settle(120000));
+    const Scene saved = loadRoom(project.toStdString());
+    const Variant *boxes = nullptr, *pendant = nullptr;
+    for (const auto& v : saved.variants) {
+      if (v.name == "box_and_downlight") boxes = &v;
+      if (v.name == "pendant") pendant = &v;
+    }
+    QVERIFY(boxes && pendant);
+    QCOMPARE(boxes->virtualObjects.size(), size_t(1));
+    const glm::dvec3 corner = boxes->virtualObjects[0].boxMin;
+    qInfo("the file's dragged box in the saved project: corner %.4f, %.4f, %.4f", corner.x, corner.y, corner.z);
+    QVERIFY(glm::length(corner - glm::dvec3(1.4, 1.95, 0.0)) < 0.01);
+    QCOMPARE(boxes->virtualLamps.size(), size_t(1));
+    QVERIFY(QFileInfo(QString::fromStdString(saved.baseDir + "/" + boxes->virtualLamps[0].photometryFile)).isFile());
+    QCOMPARE(pendant->virtualLamps.size(), size_t(1));
+    QVERIFY(pendant->virtualObjects.empty());
   }
 
   void frenchInterface() {
