@@ -16,8 +16,10 @@ in vec3 vBackE;
 flat in vec3 vAlbedo;
 uniform sampler2D maps;        // per window sample's map (a tile of the atlas): room distance, object distance
 uniform ivec2 mapGrid;         // the atlas's columns and rows of tiles
+uniform float mapTexels;       // a tile's side in texels
 uniform sampler2D sunMapArray; // the same per direction of the sun's disc
 uniform ivec2 sunGrid;
+uniform float sunTexels;
 // Per map seven vectors: its matrix (0-3), origin + a texel's width (per metre of distance, or
 // metres), the window's normal or the light's direction + the sample's area, and the reach test
 // (a cone's axis + cos of its half-angle, or a cylinder's radius). MAX_MAPS: the renderer's, as
@@ -64,12 +66,14 @@ bool inMap(int m, vec3 p, vec3 origin) {
   return dot(across, across) <= k.w * k.w;
 }
 
-// Map i's point ndc (both within (-1, 1)) in its atlas: tile i, row by row from the bottom.
+// Map i's point ndc (both within (-1, 1)) in its atlas: tile i, row by row from the bottom, kept
+// within the tile's outer texels' centres (rounding must not read the next map's border).
 // (In floats: llvmpipe divides integers one lane at a time.)
-vec2 atlasAt(int i, ivec2 grid, vec2 ndc) {
+vec2 atlasAt(int i, ivec2 grid, float texels, vec2 ndc) {
   vec2 g = vec2(grid);
   float row = floor((float(i) + 0.5) / g.x);
-  return (vec2(float(i) - row * g.x, row) + 0.5 * ndc + 0.5) / g;
+  vec2 inTile = clamp(0.5 * ndc + 0.5, vec2(0.5 / texels), vec2(1.0 - 0.5 / texels));
+  return (vec2(float(i) - row * g.x, row) + inTile) / g;
 }
 
 // 0: the sample does not light p; 1: it lights p; 2: the room lets it through but an object blocks it.
@@ -83,8 +87,8 @@ int sampleState(int m, vec3 p, vec3 n, float cosine, float dist) {
   if (c.w <= 0.0) return 1;
   vec2 ndc = c.xy / c.w;
   if (abs(ndc.x) >= 1.0 || abs(ndc.y) >= 1.0) return 1;  // outside the map: no object there
-  vec2 t = m < windowSamples ? texture(maps, atlasAt(m, mapGrid, ndc)).rg
-                             : texture(sunMapArray, atlasAt(m - windowSamples, sunGrid, ndc)).rg;
+  vec2 t = m < windowSamples ? texture(maps, atlasAt(m, mapGrid, mapTexels, ndc)).rg
+                             : texture(sunMapArray, atlasAt(m - windowSamples, sunGrid, sunTexels, ndc)).rg;
   if (dist > t.r + bias) return 0;
   return t.g < dist - bias ? 2 : 1;
 }

@@ -1985,6 +1985,10 @@ Kein Schachbrett gefunden in: %1</translation>
         <source>OpenGL cannot draw the daylight view (%1): the CPU path draws it</source>
         <translation>OpenGL kann die Tageslichtansicht nicht zeichnen (%1): der CPU-Pfad zeichnet sie</translation>
     </message>
+    <message>
+        <source>Virtual lamp %1 of %2 is not saved: its photometric file %3 is gone</source>
+        <translation>Die virtuelle Lampe %1 aus %2 wird nicht gespeichert: ihre photometrische Datei %3 fehlt</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

@@ -1985,6 +1985,10 @@ Aucun damier trouvé dans : %1</translation>
         <source>OpenGL cannot draw the daylight view (%1): the CPU path draws it</source>
         <translation>OpenGL ne peut pas dessiner la vue en lumière du jour (%1) : le chemin CPU la dessine</translation>
     </message>
+    <message>
+        <source>Virtual lamp %1 of %2 is not saved: its photometric file %3 is gone</source>
+        <translation>La lampe virtuelle %1 de %2 n&apos;est pas enregistrée : son fichier photométrique %3 a disparu</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

@@ -193,12 +193,19 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   jobProgress_->hide();
   jobCancel_->hide();
   connect(jobCancel_, &QPushButton::clicked, jobs_, &JobRunner::cancel);
-  connect(jobs_, &JobRunner::started, this, [this](const QString& title) {
-    jobLabel_->setText(title);
-    jobProgress_->setValue(0);
+  jobShowTimer_ = new QTimer(this);
+  jobShowTimer_->setSingleShot(true);
+  jobShowTimer_->setInterval(250);
+  connect(jobShowTimer_, &QTimer::timeout, this, [this] {
+    if (!jobs_->busy()) return;
     jobLabel_->show();
     jobProgress_->show();
     jobCancel_->show();
+  });
+  connect(jobs_, &JobRunner::started, this, [this](const QString& title) {
+    jobLabel_->setText(title);
+    jobProgress_->setValue(0);
+    jobShowTimer_->start();
     setEditing(false);
   });
   connect(jobs_, &JobRunner::progressed, this, [this](double f, const QString& text) {
@@ -207,6 +214,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     jobLabel_->setText(text.left(60));
   });
   connect(jobs_, &JobRunner::finished, this, [this](bool ok, bool cancelled, const QString& message) {
+    jobShowTimer_->stop();
     jobLabel_->hide();
     jobProgress_->hide();
     jobCancel_->hide();

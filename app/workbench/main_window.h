@@ -116,6 +116,9 @@ class MainWindow : public QMainWindow {
   QLabel* jobLabel_;
   QProgressBar* jobProgress_;
   QPushButton* jobCancel_;
+  // Shows the three above once a job has run for a quarter of a second: a drag's renders (a few
+  // milliseconds each) would otherwise make the status bar flash and lay out twice per move.
+  class QTimer* jobShowTimer_;
   QMenu* recentMenu_;
   QActionGroup* modes_;
   QString lastError_;

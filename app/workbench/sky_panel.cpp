@@ -74,11 +74,15 @@ struct ObjectsEntry {
 };
 
 namespace {
-// A variant's objects moved as an entry's were dragged (each object by its group's move).
+// A variant's objects moved as an entry's were dragged (each object by its group's move). Its
+// images of the room under that lighting show the objects where they were: a moved variant
+// keeps none (a stale truth would be scored against).
 void applyMoves(Variant& v, const ObjectsEntry& e) {
   for (size_t k = 0; k < v.virtualObjects.size() && k < e.groups.size(); ++k) {
     const auto it = e.moved.find(e.groups[k]);
-    if (it == e.moved.end()) continue;
+    if (it == e.moved.end() || glm::length(it->second) == 0) continue;
+    v.file.clear();
+    v.hdr.clear();
     VirtualBox& b = v.virtualObjects[k];
     b.boxMin += it->second;
     b.boxMax += it->second;
@@ -385,6 +389,16 @@ bool SkyPanel::saveProject(const QString& folder) {
     for (int k = 2; taken(v.name); ++k) v.name = base + " " + std::to_string(k);
     // Its sky, if it names one, only when the room has it (a project names the room's skies).
     if (std::none_of(shown.skies.begin(), shown.skies.end(), [&](const SkyCapture& c) { return c.name == v.sky; })) v.sky.clear();
+    // A lamp whose photometric file has gone since the file was added is left out, and said
+    // (the save would fail on it every time).
+    for (size_t l = v.virtualLamps.size(); l-- > 0;)
+      if (!v.virtualLamps[l].photometryFile.empty() && !QFileInfo(QString::fromStdString(v.virtualLamps[l].photometryFile)).isFile()) {
+        emit message(tr("Virtual lamp %1 of %2 is not saved: its photometric file %3 is gone")
+                         .arg(QString::fromStdString(v.virtualLamps[l].name), e.label,
+                              QString::fromStdString(v.virtualLamps[l].photometryFile)));
+        v.virtualLamps.erase(v.virtualLamps.begin() + long(l));
+        if (l < v.virtualLampPolygons.size()) v.virtualLampPolygons.erase(v.virtualLampPolygons.begin() + long(l));
+      }
     shown.variants.push_back(std::move(v));
   }
   auto scene = std::make_shared<const Scene>(std::move(shown));

@@ -66,7 +66,8 @@ class SkyPanel : public QWidget {
   // points, and is refused (a message; it stays) where it would leave the room or cut a polygon
   // (relume::checkVirtualObject). On the interactive path every move renders; otherwise the
   // release does. Save keeps the moves: a variant's entry in its variant, a file's entry (its
-  // objects and lamps) as one more variant of the project, named after the file.
+  // objects and lamps) as one more variant of the project, under the name the file gives it (else
+  // the file's name). A moved variant keeps no truth images (they show the objects unmoved).
   std::vector<QString> objectHandles() const;
 
   QComboBox* skyBox() const { return sky_; }

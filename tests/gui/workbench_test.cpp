@@ -2367,6 +2367,13 @@ class WorkbenchTest : public QObject {
           boxMin["virtual_box_sun0"].y, boxMin["virtual_box_sun0"].z);
     QVERIFY(glm::length(boxMin["virtual_box_sun0"] - glm::dvec3(2.5, 1.95, 0.0)) < 0.01);
     QVERIFY(glm::length(boxMin["virtual_box_sun1"] - glm::dvec3(2.1, 1.95, 0.0)) < 1e-9);
+    // The moved variant keeps no image of the room under it (Cycles drew the box where it was);
+    // the other keeps its own.
+    for (const auto& v : saved.variants) {
+      if (v.name == "virtual_box_sun0") QVERIFY(v.file.empty() && v.hdr.empty());
+      if (v.name == "virtual_box_sun1")
+        QVERIFY(!v.hdr.empty() && QFileInfo(QString::fromStdString(saved.baseDir + "/" + v.hdr)).isFile());
+    }
   }
 
   void daylightInteractiveMethodDrawnByOpenGl() {
@@ -2538,6 +2545,8 @@ class WorkbenchTest : public QObject {
     // A file with a box and a photometric downlight (not lit under daylight yet): the box is kept
     // as an entry, the lamp left out, and the user told which.
     const QString mixed = tmp_.path() + "/box_and_downlight.json";
+    const QString ies = tmp_.path() + "/downlight_copy.ies";  // (removed below, before a second save)
+    QVERIFY(QFile::copy(RELUME_SOURCE_DIR "/resources/examples/downlight.ies", ies));
     {
       QFile f(mixed);
       QVERIFY(f.open(QIODevice::WriteOnly));
@@ -2545,7 +2554,7 @@ class WorkbenchTest : public QObject {
                   "albedo": [0.8, 0.38, 0.06]}],
                   "virtual_lights": [{"name": "downlight", "radiance_rgb": [80.0, 72.0, 60.0], "photometry": "%1",
                   "polygon": [[2.8, 1.9, 2.55], [2.8, 2.1, 2.55], [3.0, 2.1, 2.55], [3.0, 1.9, 2.55]]}]})")
-                  .arg(RELUME_SOURCE_DIR "/resources/examples/downlight.ies")
+                  .arg(ies)
                   .toUtf8());
     }
     said.clear();
@@ -2683,6 +2692,25 @@ class WorkbenchTest : public QObject {
     QVERIFY(QFileInfo(QString::fromStdString(saved.baseDir + "/" + boxes->virtualLamps[0].photometryFile)).isFile());
     QCOMPARE(pendant->virtualLamps.size(), size_t(1));
     QVERIFY(pendant->virtualObjects.empty());
+    // The downlight's file gone since: saved again, the lamp is left out and said, and the save
+    // goes through (it would fail on the missing file every time).
+    QVERIFY(QFile::remove(ies));
+    said.clear();
+    const QString again = tmp_.path() + "/without_the_ies.relume";
+    QVERIFY(w.saveTo(again));
+    QVERIFY(settle(120000));
+    bool toldGone = false;
+    for (const auto& m : said) toldGone = toldGone || (m.first().toString().contains("downlight") && m.first().toString().contains("gone"));
+    QVERIFY(toldGone);
+    const Scene savedAgain = loadRoom(again.toStdString());
+    bool found = false;
+    for (const auto& v : savedAgain.variants)
+      if (v.name == "box_and_downlight") {
+        found = true;
+        QVERIFY(v.virtualLamps.empty());
+        QCOMPARE(v.virtualObjects.size(), size_t(1));
+      }
+    QVERIFY(found);
   }
 
   void frenchInterface() {

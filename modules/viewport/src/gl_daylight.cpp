@@ -220,15 +220,17 @@ struct GlDaylightRenderer::Impl {
         gl->glBindFramebuffer(GL_FRAMEBUFFER, 0);
       }
     } restore{gl};
-    GLint maxSize = 0;
+    GLint maxSize = 0, maxViewport[2] = {0, 0};
     gl->glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+    gl->glGetIntegerv(GL_MAX_VIEWPORT_DIMS, maxViewport);
+    maxSize = std::min({maxSize, maxViewport[0], maxViewport[1]});  // (the atlas is drawn whole: one viewport)
     auto ensure = [&](Atlas& a, int count, int size) {
       if (a.texture && a.count == count && a.size == size) return;
       const int columns = std::max(1, int(std::ceil(std::sqrt(double(std::max(count, 1)))))),
                 rows = std::max(1, (std::max(count, 1) + columns - 1) / columns);
       if (std::max(columns, rows) * size > maxSize)
         throw Error("", "OpenGL", std::to_string(count) + " shadow maps of " + std::to_string(size) + "x" + std::to_string(size) +
-                                      " do not fit the display's largest texture (" + std::to_string(maxSize) +
+                                      " do not fit the display's largest texture or viewport (" + std::to_string(maxSize) +
                                       " texels a side): use fewer direct-light samples or smaller maps");
       if (a.texture) gl->glDeleteTextures(1, &a.texture);
       gl->glGenTextures(1, &a.texture);
@@ -319,10 +321,12 @@ struct GlDaylightRenderer::Impl {
     gl->glBindTexture(GL_TEXTURE_2D, windowMaps.texture);
     p.setUniformValue("maps", 0);
     gl->glUniform2i(p.uniformLocation("mapGrid"), windowMaps.columns, windowMaps.rows);
+    p.setUniformValue("mapTexels", float(std::max(windowMaps.size, 1)));
     gl->glActiveTexture(GL_TEXTURE7);
     gl->glBindTexture(GL_TEXTURE_2D, sunMaps.texture);
     p.setUniformValue("sunMapArray", 7);
     gl->glUniform2i(p.uniformLocation("sunGrid"), sunMaps.columns, sunMaps.rows);
+    p.setUniformValue("sunTexels", float(std::max(sunMaps.size, 1)));
     gl->glBindBufferBase(GL_UNIFORM_BUFFER, 0, mapBuffer);
     gl->glActiveTexture(GL_TEXTURE2);
     gl->glBindTexture(GL_TEXTURE_2D, skyTexture);
@@ -411,12 +415,16 @@ struct GlDaylightRenderer::Impl {
     gl->glStencilMask(0xFF);
     gl->glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
     // The library's room under the sky everywhere (the sky through a window included), and the
-    // room's depth, which the objects are tested against...
+    // depth of the room and of the objects...
     composite(linearSettings(), roomTexture, true, {0, 0, w, h});
-    if (haveObjects) depthOnly(roomVao, roomVertices, clip);
+    if (haveObjects) {
+      // (A room pixel an object covers is then not shaded, nor an object's face behind another:
+      // each pixel is shaded once below, as llvmpipe shades every fragment that passes the tests.)
+      depthOnly(roomVao, roomVertices, clip);
+      depthOnly(objectVao, objectVertices, clip);
+    }
     // ... and where an object's shadow may fall (its tiles marked in the stencil), the room's
-    // polygons shaded with what the objects take away (each pixel once: llvmpipe shades every
-    // fragment that passes the tests, and the depth is already there).
+    // polygons shaded with what the objects take away.
     if (haveObjects && tileVertices > 0) {
       gl->glDisable(GL_DEPTH_TEST);
       gl->glEnable(GL_STENCIL_TEST);
@@ -434,9 +442,7 @@ struct GlDaylightRenderer::Impl {
       gl->glDisable(GL_STENCIL_TEST);
     }
     if (haveObjects) {
-      // The objects: their depth first too (a face behind another would be shaded and then
-      // covered), then each of their pixels shaded once.
-      depthOnly(objectVao, objectVertices, clip);
+      // The objects, each of their pixels once (their depth is there).
       gl->glDepthFunc(GL_LEQUAL);
       bindView(true, DisplayOutput::Linear, linearSettings(), clip, {0, 0, w, h});
       gl->glBindVertexArray(objectVao);
