@@ -17,7 +17,7 @@ flat in vec3 vAlbedo;
 uniform sampler2D maps;        // per window sample's map (a tile of the atlas): room distance, object distance
 uniform ivec2 mapGrid;         // the atlas's columns and rows of tiles
 uniform float mapTexels;       // a tile's side in texels
-uniform sampler2D sunMapArray; // the same per direction of the sun's disc
+uniform sampler2D sunAtlas;    // the same per direction of the sun's disc
 uniform ivec2 sunGrid;
 uniform float sunTexels;
 // Per map seven vectors: its matrix (0-3), origin + a texel's width (per metre of distance, or
@@ -88,7 +88,7 @@ int sampleState(int m, vec3 p, vec3 n, float cosine, float dist) {
   vec2 ndc = c.xy / c.w;
   if (abs(ndc.x) >= 1.0 || abs(ndc.y) >= 1.0) return 1;  // outside the map: no object there
   vec2 t = m < windowSamples ? texture(maps, atlasAt(m, mapGrid, mapTexels, ndc)).rg
-                             : texture(sunMapArray, atlasAt(m - windowSamples, sunGrid, sunTexels, ndc)).rg;
+                             : texture(sunAtlas, atlasAt(m - windowSamples, sunGrid, sunTexels, ndc)).rg;
   if (dist > t.r + bias) return 0;
   return t.g < dist - bias ? 2 : 1;
 }

@@ -153,6 +153,11 @@ struct GlDaylightRenderer::Impl {
       throw Error(name, "shader", q->log().toStdString());
     return q;
   }
+  // The maps' uniform block (MapBlock) read from binding 0, where bindView and makeMaps put it.
+  void bindMapBlock(QOpenGLShaderProgram& p) const {
+    const GLuint block = gl->glGetUniformBlockIndex(p.programId(), "MapBlock");
+    if (block != GL_INVALID_INDEX) gl->glUniformBlockBinding(p.programId(), block, 0);
+  }
   QOpenGLShaderProgram& viewProgram(bool object, DisplayOutput output) {
     auto& p = viewPrograms[(object ? 4 : 0) + int(output)];
     if (!p) {
@@ -160,8 +165,7 @@ struct GlDaylightRenderer::Impl {
                                  "\n#define OUTPUT " + QByteArray::number(int(output)) + "\n#define MAX_MAPS " +
                                  QByteArray::number(maxMaps) + "\n";
       p = compile(defines + viewVertex, defines + displaySource + viewFragment, ":/shaders/daylight.frag");
-      const GLuint block = gl->glGetUniformBlockIndex(p->programId(), "MapBlock");
-      if (block != GL_INVALID_INDEX) gl->glUniformBlockBinding(p->programId(), block, 0);
+      bindMapBlock(*p);
     }
     return *p;
   }
@@ -324,7 +328,7 @@ struct GlDaylightRenderer::Impl {
     p.setUniformValue("mapTexels", float(std::max(windowMaps.size, 1)));
     gl->glActiveTexture(GL_TEXTURE7);
     gl->glBindTexture(GL_TEXTURE_2D, sunMaps.texture);
-    p.setUniformValue("sunMapArray", 7);
+    p.setUniformValue("sunAtlas", 7);
     gl->glUniform2i(p.uniformLocation("sunGrid"), sunMaps.columns, sunMaps.rows);
     p.setUniformValue("sunTexels", float(std::max(sunMaps.size, 1)));
     gl->glBindBufferBase(GL_UNIFORM_BUFFER, 0, mapBuffer);
@@ -504,8 +508,7 @@ void GlDaylightRenderer::initialize() {
   {
     const QByteArray defines = version + "#define MAX_MAPS " + QByteArray::number(im.maxMaps) + "\n";
     im.atlasProgram = im.compile(defines + im.atlasVertex, defines + im.atlasFragment, ":/shaders/daylight_atlas.vert");
-    const GLuint block = im.gl->glGetUniformBlockIndex(im.atlasProgram->programId(), "MapBlock");
-    if (block != GL_INVALID_INDEX) im.gl->glUniformBlockBinding(im.atlasProgram->programId(), block, 0);
+    im.bindMapBlock(*im.atlasProgram);
   }
   im.viewPrograms.clear();
   im.viewProgram(false, DisplayOutput::Exposed);  // errors show now
