@@ -28,6 +28,7 @@ uniform vec3 lampPosition[8];      // world
 uniform int lampLayer[8];          // the lamp's own-shadow view
 uniform vec3 lampAxes[24];
 uniform int footprint;             // fan pixels across a screen pixel (1..4)
+uniform vec3 codeNormal[225];      // the normal codes' normals, in a view's frame (ibr::byteToNormal)
 out vec4 colour;
 
 const float INV_PI = 0.31830988618379067;
@@ -88,7 +89,9 @@ int marchView(int j, vec3 o, vec3 d, out float tHit, out ivec2 texel) {
   return 0;
 }
 
-float selfShadow(int l, vec3 p) {
+// cosToView: the surface's normal against the shadow view's direction (a slope-scaled bias, as
+// ibr::drawObject's: a face the lamp grazes does not shadow itself).
+float selfShadow(int l, vec3 p, float cosToView) {
   float R = fanRadius;
   int S = fanSize;
   vec3 q = p - fanCentre;
@@ -96,7 +99,8 @@ float selfShadow(int l, vec3 p) {
   vec3 r = lampAxes[3 * l], u = lampAxes[3 * l + 1], c = lampAxes[3 * l + 2];
   float x = (dot(q, r) + R) * px, y = (R - dot(q, u)) * px;
   float depth = R - dot(q, c);
-  float bias = 2.0 / px;
+  float cv = clamp(cosToView, 0.12, 1.0);
+  float bias = (2.0 + 2.2 * sqrt(1.0 - cv * cv) / cv) / px;
   int ix = int(floor(x)), iy = int(floor(y));
   float lit = 0.0;
   for (int dy = -1; dy <= 1; ++dy)
@@ -134,9 +138,11 @@ void main() {
   vec3 pWorld = eye + tHit * r;
   vec3 pObj = eyeObject + tHit * dObj;
   float falloff[8];
+  vec3 nc = codeNormal[min(int(hit.r), 224)];
+  vec3 nObj = nc.x * viewAxes[3 * j] + nc.y * viewAxes[3 * j + 1] + nc.z * viewAxes[3 * j + 2];
   for (int l = 0; l < lampCount; ++l) {
     vec3 dl = lampPosition[l] - pWorld;
-    falloff[l] = selfShadow(l, pObj) / max(dot(dl, dl), 1e-8);
+    falloff[l] = selfShadow(l, pObj, dot(nObj, lampAxes[3 * l + 2])) / max(dot(dl, dl), 1e-8);
   }
   int S = fanSize;
   float gx = clamp((float(texel.x) + 0.5) * float(CELLS) / float(S) - 0.5, 0.0, float(CELLS - 1));

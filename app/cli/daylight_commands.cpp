@@ -27,6 +27,8 @@
 #include "relume/relight/relighter.h"
 #include "relume/daylight/sky.h"
 #include "relume/daylight/volume.h"
+#include "relume/ibr/fan.h"
+#include "relume/ibr/relit_objects.h"
 #include "relume/radiosity/sh.h"
 #include "relume/radiosity/form_factor.h"
 #include "relume/radiosity/hierarchy.h"
@@ -511,6 +513,7 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   std::vector<dl::BasisLamp> virtualLamps, besideLamps;  // asked for; listed beside objects
   std::vector<std::string> besideLampFiles;
   std::vector<Polygon> objects;
+  std::vector<ibr::ImageObject> imageObjects;
   auto leftOut = [](const std::exception& e) { std::fprintf(stderr, "warning: left out: %s\n", e.what()); };
   for (const auto& file : files) {
     const std::string& f = file.path;
@@ -535,14 +538,22 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
         }
       }
     }
+    // Image-based objects (an entry with a fan) are drawn after the render, lit by the same sky.
+    Variant polygonal = v;
+    std::erase_if(polygonal.virtualObjects, [](const VirtualBox& b) { return !b.fan.empty(); });
     if (file.objects) {
-      for (auto& o : dl::variantObjects(room, v, f)) objects.push_back(std::move(o));
+      for (auto& o : dl::variantObjects(room, polygonal, f)) objects.push_back(std::move(o));
+      imageObjectsOf(v, f, imageObjects);
     } else {
       for (const auto& b : v.virtualObjects) {
         Variant one;
         one.virtualObjects = {b};
         try {
-          for (auto& o : dl::variantObjects(room, one, f)) objects.push_back(std::move(o));
+          if (b.fan.empty()) {
+            for (auto& o : dl::variantObjects(room, one, f)) objects.push_back(std::move(o));
+          } else {
+            imageObjectsOf(one, f, imageObjects);
+          }
         } catch (const std::exception& e) {
           leftOut(e);
         }
@@ -561,6 +572,15 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
     throw Error("", "--lamp", "the volume method lights virtual objects by daylight only: with a lamp on, use near-field");
   if (!virtualLamps.empty() && method != "near-field")
     throw Error("", "--virtual-lamp", "virtual lamps under daylight take the near-field method (--daylight near-field)");
+  for (const auto& o : imageObjects) ibr::checkImageObject(room, o);
+  if (!imageObjects.empty()) {
+    if (method == "distant")
+      throw Error(imageObjects.front().fanFile, "image-based object '" + imageObjects.front().name + "'",
+                  "the distant method lights boxes and meshes only: use --daylight volume or near-field");
+    if (anyLamp || !virtualLamps.empty())
+      throw Error(imageObjects.front().fanFile, "image-based object '" + imageObjects.front().name + "'",
+                  "under daylight image-based objects are lit by daylight only: switch the lamps off");
+  }
   const Photo* main = room.findPhoto(camera.empty() ? room.mainPhoto : camera);
   if (!main) throw Error(room.sourceFile, "--camera", "the room has no photo named '" + camera + "'");
   if (main->hdr.empty()) throw Error(room.sourceFile, "photo " + main->name, "daylight relighting needs its linear (EXR) image");
@@ -608,9 +628,18 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   if (!opened.empty()) std::fprintf(stderr, "%s\n", opened.c_str());
   dl::DaylightRelighting& relit = *session;
   for (size_t l = 0; l < lampExitance.size(); ++l) relit.setLampExitance(int(l), lampExitance[l]);
+  // The room and its boxes and meshes, then the image-based objects under the same sky.
+  auto renderSky = [&](const dl::SkyRadiance& sky, Progress& draw) {
+    ImageRGB img = relit.render(sky, objects, how, draw, virtualLamps);
+    const auto stats = ibr::drawImageObjectsInDaylight(relit, sky, imageObjects, img);
+    for (size_t i = 0; i < stats.size(); ++i)
+      std::fprintf(stderr, "image-based object '%s': fan view %d, %zu pixels, shadows on %zu pixels\n",
+                   imageObjects[i].name.c_str(), stats[i].view, stats[i].objectPixels, stats[i].shadowPixels);
+    return img;
+  };
   if (!skyInfo.isDir()) {
     Progress draw(progress, 0.7, 1.0);
-    writeImage(out, relit.render(frames.front().sky, objects, how, draw, virtualLamps));
+    writeImage(out, renderSky(frames.front().sky, draw));
     std::fprintf(stderr, "wrote %s\n", out.c_str());
     return 0;
   }
@@ -625,7 +654,7 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   for (size_t i = 0; i < frames.size(); ++i) {
     Progress draw(progress, 0.7 + 0.3 * double(i) / double(frames.size()), 0.7 + 0.3 * double(i + 1) / double(frames.size()));
     const auto t0 = std::chrono::steady_clock::now();
-    const ImageRGB img = relit.render(frames[i].sky, objects, how, draw, virtualLamps);
+    const ImageRGB img = renderSky(frames[i].sky, draw);
     const double ms = 1000.0 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     times.push_back(ms);
     for (const char* ext : {".exr", ".png"}) writeImage(QDir(partial).filePath(QString::fromStdString(frames[i].stem + ext)).toStdString(), img);

@@ -211,6 +211,8 @@ void virtualsOf(const Variant& v, std::vector<VirtualLamp>& lamps, std::vector<V
   }
 }
 
+}  // namespace
+
 // The image-based objects a virtual-object file places (fan files relative to it).
 void imageObjectsOf(const Variant& v, const std::string& file, std::vector<ibr::ImageObject>& out) {
   const std::string dir = QFileInfo(QString::fromStdString(file)).absolutePath().toStdString();
@@ -226,6 +228,8 @@ void imageObjectsOf(const Variant& v, const std::string& file, std::vector<ibr::
     out.push_back(std::move(o));
   }
 }
+
+namespace {
 
 const Photo& photoNamedian(const Scene& scene, const std::string& name) {
   const Photo* p = scene.findPhoto(name);

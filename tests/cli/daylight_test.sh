@@ -129,10 +129,25 @@ PY
 "$relume" relight "$tmp/proj" --sky sun0 --virtual-object "$tmp/boxies.json" --daylight volume -o "$tmp/boxies.png" 2>"$tmp/boxies.err"
 check "a virtual-object file's photometric lamp is left out with a warning, its box drawn" \
   "[ $? -eq 0 ] && [ -s '$tmp/boxies.png' ] && grep -q 'warning: left out: .*downlight' '$tmp/boxies.err'"
+# An image-based object under daylight (its fan made by ibr-fan): drawn with its shadow by the
+# volume and near-field methods, lit by the window's samples, the sun and the irradiance volume;
+# the distant method and a lamp switched on are refused, naming the object's file.
+"$relume" ibr-fan "$(dirname "$0")/../../resources/examples/vase.obj" -o "$tmp/vase.fan" --views 24 --size 96 --rings 20,50 2>/dev/null
+echo '{"virtual_objects": [{"name": "sun_vase", "fan": "vase.fan", "position": [2.3, 2.1, 0.0]}]}' > "$tmp/vase.json"
+"$relume" relight "$tmp/proj" --sky sun0 --daylight volume --virtual-object "$tmp/vase.json" -o "$tmp/vase.exr" 2>"$tmp/vase.err"
+check "an image-based object is drawn under daylight with its shadow" \
+  "[ $? -eq 0 ] && [ -s '$tmp/vase.exr' ] && grep -Eq \"image-based object 'sun_vase': fan view [0-9]+, [1-9][0-9]+ pixels, shadows on [1-9][0-9]+ pixels\" '$tmp/vase.err'"
+"$relume" relight "$tmp/proj" --sky sun0 --daylight volume -o "$tmp/novase.exr" 2>/dev/null
+check "and it changes the image" "! cmp -s '$tmp/vase.exr' '$tmp/novase.exr'"
+"$relume" relight "$tmp/proj" --sky sun0 --daylight distant --virtual-object "$tmp/vase.json" -o "$tmp/x.png" 2>"$tmp/vased.err"
+check "an image-based object with the distant method is refused, naming its fan" \
+  "[ $? -eq 1 ] && grep -q 'vase.fan' '$tmp/vased.err' && grep -q 'volume or near-field' '$tmp/vased.err'"
 "$relume" relight "$tmp/lamproom" --sky sun0 --lamp L=1 --daylight distant -o "$tmp/x.png" 2>"$tmp/lampd.err"
 check "a lamp with the distant method (the sky alone) is refused" "[ $? -eq 1 ] && grep -q 'sky at infinity alone' '$tmp/lampd.err'"
 "$relume" relight "$tmp/lamproom" --sky sun0 --lamp L=1 --daylight volume --virtual-object "$tmp/box.json" -o "$tmp/x.png" 2>"$tmp/lampv.err"
 check "a lamp with virtual objects on the volume path is refused" "[ $? -eq 1 ] && grep -q 'daylight only' '$tmp/lampv.err'"
+"$relume" relight "$tmp/lamproom" --sky sun0 --lamp L=1 --daylight near-field --virtual-object "$tmp/vase.json" -o "$tmp/x.png" 2>"$tmp/lampvase.err"
+check "an image-based object with a lamp on is refused: lit by daylight only" "[ $? -eq 1 ] && grep -q 'daylight only' '$tmp/lampvase.err'"
 "$relume" relight "$tmp/proj" --sky sun0 --lamp Q=1 -o "$tmp/x.png" 2>"$tmp/lampq.err"
 check "a lamp the room does not have is an error naming it" "[ $? -eq 1 ] && grep -q \"lamp 'Q'\" '$tmp/lampq.err'"
 check "and no image is written by any of them" "[ ! -e '$tmp/x.png' ]"

@@ -149,6 +149,20 @@ LightTable indirectTable(const ImageFan& fan, int view, const Placement& place, 
   return t;
 }
 
+std::vector<LightTable> indirectTables(const ImageFan& fan, int view, const Placement& place,
+                                       const std::function<radiosity::SH9(const glm::dvec3&)>& indirectAt) {
+  const FanView& v = fan.view(view);
+  std::vector<LightTable> out;
+  out.reserve(size_t(kTableCells) * kTableCells);
+  for (int cy = 0; cy < kTableCells; ++cy)
+    for (int cx = 0; cx < kTableCells; ++cx) {
+      const double x = (cx + 0.5) / kTableCells * fan.size, y = (cy + 0.5) / kTableCells * fan.size;
+      const double depth = double(v.cellDepth[size_t(cy) * kTableCells + cx]);
+      out.push_back(indirectTable(fan, view, place, indirectAt(place.toWorld(fan, fan.pointAt(view, x, y, depth)))));
+    }
+  return out;
+}
+
 std::array<int, kDrawnViews> viewsToward(const ImageFan& fan, const Placement& place, const glm::dvec3& eye) {
   std::array<int, kDrawnViews> views{-1, -1, -1};
   const glm::dvec3 toEye = eye - place.toWorld(fan, fan.centre);
@@ -401,17 +415,20 @@ March marchView(const ImageFan& fan, const FanView& v, const ImageFan::Axes& ax,
 
 // How much of a lamp reaches the object's point p (object frame) past the object itself: p
 // against the depth of the fan image nearest the lamp's direction, 3 x 3 pixels around p's own
-// (percentage-closer), p lit where it is no deeper than the surface there by more than a bias of
-// two pixels (the depth across a pixel of a surface turned away from the view, and the lamp's
-// offset from the view's direction).
-double selfShadow(const ImageFan& fan, const FanView& v, const ImageFan::Axes& ax, const glm::dvec3& p) {
+// (percentage-closer), p lit where it is no deeper than the surface there by more than a bias:
+// two pixels (the lamp's offset from the view's direction), and as much as the surface's depth
+// changes across the kernel's reach (about two pixels from p) where it is turned away from the
+// view — `cosToView`, its normal's cosine with the view's direction. Without the slope, a face
+// the lamp grazes shadowed itself in rows (a box's side under a low sun lost a quarter of its light).
+double selfShadow(const ImageFan& fan, const FanView& v, const ImageFan::Axes& ax, const glm::dvec3& p, double cosToView) {
   const double R = fan.radius;
   const int S = fan.size;
   const glm::dvec3 q = p - fan.centre;
   const double px = S / (2.0 * R);
   const double x = (glm::dot(q, ax.right) + R) * px, y = (R - glm::dot(q, ax.up)) * px;
   const double depth = R - glm::dot(q, ax.toCamera);
-  const double bias = 2.0 / px;
+  const double c = std::clamp(cosToView, 0.12, 1.0);  // beyond tan 8 the map cannot tell
+  const double bias = (2.0 + 2.2 * std::sqrt(1.0 - c * c) / c) / px;
   const int ix = int(std::floor(x)), iy = int(std::floor(y));
   int lit = 0;
   for (int dy = -1; dy <= 1; ++dy)
@@ -468,7 +485,7 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
   // The tables of both views (§3: recomputed per frame from the lights).
   struct Lit {
     std::vector<LampTables> lamps;
-    LightTable indirect;
+    std::vector<LightTable> indirect;  // one, or per table cell (ObjectLighting::indirectAt)
     const FanView* view;
     ImageFan::Axes axes;
   } lit[kDrawnViews];
@@ -476,18 +493,21 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
     glm::dvec3 position;
     ImageFan::Axes axes;
     const FanView* image;
+    size_t lamp;  // in light.lamps
   };
   std::vector<Shadow> lamps;
   for (int j = 0; j < nViews; ++j) {
-    lit[j].indirect = indirectTable(fan, views[j], place, light.indirect);
+    lit[j].indirect = light.indirectAt ? indirectTables(fan, views[j], place, light.indirectAt)
+                                       : std::vector<LightTable>{indirectTable(fan, views[j], place, light.indirect)};
     lit[j].view = &fan.view(views[j]);
     lit[j].axes = fan.axes(views[j]);
   }
-  for (const auto& lamp : light.lamps) {
+  for (size_t li = 0; li < light.lamps.size(); ++li) {
+    const ObjectLamp& lamp = light.lamps[li];
     if (glm::dot(lamp.intensity, lamp.intensity) <= 0 && lamp.visible <= 0) continue;
     for (int j = 0; j < nViews; ++j) lit[j].lamps.push_back(lampTables(fan, views[j], place, lamp));
     const int kl = lampView(fan, place, lamp.position);
-    lamps.push_back({lamp.position, fan.axes(kl), &fan.view(kl)});
+    lamps.push_back({lamp.position, fan.axes(kl), &fan.view(kl), li});
   }
   const glm::dvec3 eyeObj = place.toObject(fan, eye);
   const double cosYaw = std::cos(place.yaw) / place.scale, sinYaw = std::sin(place.yaw) / place.scale;
@@ -528,9 +548,13 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
         const glm::dvec3 pWorld = eye + hit.t * r;
         const glm::dvec3 pObj = eyeObj + hit.t * dObj;
         // Per lamp: its falloff from this point and the object's own shadow here.
+        const glm::dvec3 nObj = fromView(fan, views[j], byteToNormal()[v.code[hit.texel]]);
         for (size_t l = 0; l < lamps.size(); ++l) {
           const glm::dvec3 dl = lamps[l].position - pWorld;
-          falloff[l] = selfShadow(fan, *lamps[l].image, lamps[l].axes, pObj) / std::max(glm::dot(dl, dl), 1e-8);
+          falloff[l] = selfShadow(fan, *lamps[l].image, lamps[l].axes, pObj, glm::dot(nObj, lamps[l].axes.toCamera)) /
+                       std::max(glm::dot(dl, dl), 1e-8);
+          if (light.lamps[lamps[l].lamp].perPoint && light.roomLets && falloff[l] > 0)
+            falloff[l] *= light.roomLets(lamps[l].lamp, pWorld);
         }
         // The four nearest cells' tables, bilinearly.
         const int tx = int(hit.texel % size_t(S)), ty = int(hit.texel / size_t(S));
@@ -554,7 +578,10 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
             const uint8_t code = v.code[ti];
             if (!v.alpha[ti] || code == kNoNormal) continue;
             // (Single precision: the tables are.)
-            glm::vec3 e = lit[j].indirect[code];
+            const auto& ind = lit[j].indirect;
+            glm::vec3 e = ind.size() == 1 ? ind[0][code]
+                                          : w[0] * ind[cell[0]][code] + w[1] * ind[cell[1]][code] +
+                                                w[2] * ind[cell[2]][code] + w[3] * ind[cell[3]][code];
             for (size_t l = 0; l < lamps.size(); ++l) {
               const auto& t = lit[j].lamps[l].table;
               e += float(falloff[l]) * (w[0] * t[cell[0]][code] + w[1] * t[cell[1]][code] + w[2] * t[cell[2]][code] +

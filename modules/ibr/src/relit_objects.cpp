@@ -48,18 +48,24 @@ std::vector<DrawStats> drawImageObjects(RelightSession& session, const std::vect
 std::vector<DrawStats> drawImageObjects(const RelightSession& session, const std::vector<ImageObject>& objects,
                                         const std::vector<ObjectLighting>& lights, const Camera& camera, ImageRGB& image,
                                         std::vector<uint8_t>* mask) {
-  std::vector<DrawStats> stats(objects.size());
-  if (objects.empty()) return stats;
-  if (lights.size() != objects.size()) throw Error("", "image-based objects", "one lighting per object expected");
   const auto& h = session.engine();
-  const RoomView room = roomView(h, camera);
-  if (mask) mask->assign(size_t(camera.width) * camera.height, 0);
   // The light arriving there: on real surfaces what the display's B / D is made of (irradiance),
   // and on a virtual object's faces too (their radiosity is reflectance x irradiance, so the share
   // taken off is the same).
   const IrradianceAt irradiance = [&](int surface, const glm::dvec3& p) {
     return glm::dvec3(h.irradiance(h.findLeaf(surface, h.toUV(surface, p))));
   };
+  return drawImageObjects(h, objects, lights, camera, irradiance, image, mask);
+}
+
+std::vector<DrawStats> drawImageObjects(const radiosity::HierarchicalRadiosity& h, const std::vector<ImageObject>& objects,
+                                        const std::vector<ObjectLighting>& lights, const Camera& camera,
+                                        const IrradianceAt& irradiance, ImageRGB& image, std::vector<uint8_t>* mask) {
+  std::vector<DrawStats> stats(objects.size());
+  if (objects.empty()) return stats;
+  if (lights.size() != objects.size()) throw Error("", "image-based objects", "one lighting per object expected");
+  const RoomView room = roomView(h, camera);
+  if (mask) mask->assign(size_t(camera.width) * camera.height, 0);
   for (size_t i = 0; i < objects.size(); ++i)
     stats[i].shadowPixels =
         drawShadows(*objects[i].fan, objects[i].place, lights[i], h, camera, room, irradiance, image).shadowPixels;

@@ -51,6 +51,10 @@ struct ObjectLamp {
   std::shared_ptr<const PhotometricDistribution> photometry;
   glm::dvec3 position{0.0};
   double visible = 1.0;  // the fraction of the lamp's area the object's centre sees past the room
+  // Seen past the room per drawn point of the object instead (visible is then 1, the tables hold
+  // the lamp's whole light, and ObjectLighting::roomLets is asked at each point): for a lamp whose
+  // light the room cuts sharply across an object (the sun's patch through a window).
+  bool perPoint = false;
   // Intensity towards the object's centre (W/sr, RGB), times `visible`.
   glm::dvec3 intensity{0.0};
   // Its intensity towards a point (times `visible`).
@@ -61,6 +65,13 @@ struct ObjectLighting {
   std::vector<ObjectLamp> lamps;
   radiosity::SH9 indirect;  // radiance arriving at the centre, the lamps' own emission left out
   glm::dvec3 centre{0.0};   // world
+  // For the lamps with perPoint: the share of lamp `lamp` (in `lamps`) that the room lets reach
+  // world point p of the object.
+  std::function<double(size_t lamp, const glm::dvec3& p)> roomLets;
+  // The indirect light at a world point, where a display can ask it there (an irradiance volume):
+  // drawObject then takes it at each table cell's surface point, as the lamps' tables are aimed,
+  // instead of `indirect` at the centre — next to a sunlit patch it changes across the object.
+  std::function<radiosity::SH9(const glm::dvec3& p)> indirectAt;
 };
 
 // The lights of a radiosity solution at a world point: every surface with an exitance is a lamp.
@@ -80,6 +91,9 @@ LampTables lampTables(const ImageFan& fan, int view, const Placement& place, con
                       int cells = kTableCells);
 // The indirect irradiance for each code's normal.
 LightTable indirectTable(const ImageFan& fan, int view, const Placement& place, const radiosity::SH9& sh);
+// The same per table cell (kTableCells^2, row-major), the light taken at each cell's surface point.
+std::vector<LightTable> indirectTables(const ImageFan& fan, int view, const Placement& place,
+                                       const std::function<radiosity::SH9(const glm::dvec3&)>& indirectAt);
 
 // The fan images a viewer at `eye` sees the object in, in the order they are asked: the one
 // nearest its direction, the next nearest, and the nearest on another ring (it sees under a lip

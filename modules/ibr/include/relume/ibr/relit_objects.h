@@ -12,6 +12,10 @@ namespace relume {
 class RelightSession;
 struct Scene;
 }  // namespace relume
+namespace relume::daylight {
+class DaylightRelighting;
+struct SkyRadiance;
+}  // namespace relume::daylight
 
 namespace relume::ibr {
 
@@ -37,6 +41,36 @@ std::vector<DrawStats> drawImageObjects(RelightSession& session, const std::vect
 std::vector<DrawStats> drawImageObjects(const RelightSession& session, const std::vector<ImageObject>& objects,
                                         const std::vector<ObjectLighting>& lights, const Camera& camera, ImageRGB& image,
                                         std::vector<uint8_t>* mask = nullptr);
+
+// The same on any room `h` (whose rays the objects are depth-tested and shadowed against), the
+// light shown at a real surface's point given by `irradiance` (what the shadows' share is of).
+std::vector<DrawStats> drawImageObjects(const radiosity::HierarchicalRadiosity& h, const std::vector<ImageObject>& objects,
+                                        const std::vector<ObjectLighting>& lights, const Camera& camera,
+                                        const IrradianceAt& irradiance, ImageRGB& image, std::vector<uint8_t>* mask = nullptr);
+
+// ---- Under daylight (Grosch, Eble, Mueller 2007 with the tables of Dinh et al.) ----
+// The daylight at an image-based object whose centre is `centre`, under `sky`, as the tables take
+// it: each window sample of the session's interactive method (the paper's set of shadow maps, here
+// DaylightRelighting::interactive().directSamples points over the windows) a small lamp in the
+// window's plane, of its share of the window's area, shining with the radiance of the sky region
+// (or the ground) seen through it from the centre; the sun a lamp the size of its disc far along
+// its direction, as bright as the sky image's sun; each seen from the centre past the room. The
+// indirect light is the irradiance volume's at the centre (Eq. 4, the windows' own light left out:
+// it is the samples'), at the centre and, for the tables' cells, at any point within `radius` of it
+// (ObjectLighting::indirectAt); the sun is seen past the room per point of the object (perPoint),
+// the window samples from the centre. Refused (relume::Error) with a room lamp switched on: under
+// daylight these objects are lit by daylight only.
+ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight::SkyRadiance& sky, const glm::dvec3& centre,
+                          double radius);
+// Draws image-based objects lit by daylight into `image`, the session's last render() under the
+// same `sky` (through the session's camera): their shadows on the room's pixels, each lamp's
+// share of the irradiance that render showed there (DaylightRelighting::lastIrradiance) taken
+// off, so that a shadow falls only where the room let the light through; then the objects,
+// depth-tested against the room. Objects the render() itself drew (boxes, meshes) neither hide
+// nor shadow them.
+std::vector<DrawStats> drawImageObjectsInDaylight(daylight::DaylightRelighting& session, const daylight::SkyRadiance& sky,
+                                                  const std::vector<ImageObject>& objects, ImageRGB& image,
+                                                  std::vector<uint8_t>* mask = nullptr);
 
 // The objects' shadows on the room's surfaces as maps in each surface's plane coordinates
 // (radiosity::HierarchicalRadiosity::toUV), for a display whose camera moves: per texel the
