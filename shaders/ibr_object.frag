@@ -28,7 +28,6 @@ uniform vec3 lampPosition[8];      // world
 uniform int lampLayer[8];          // the lamp's own-shadow view
 uniform vec3 lampAxes[24];
 uniform int footprint;             // fan pixels across a screen pixel (1..4)
-uniform vec3 codeNormal[225];      // the normal codes' normals, in a view's frame (ibr::byteToNormal)
 out vec4 colour;
 
 const float INV_PI = 0.31830988618379067;
@@ -116,6 +115,23 @@ float selfShadow(int l, vec3 p, float cosToView) {
   return lit / 9.0;
 }
 
+// Normal code k's normal in its view's frame (ibr::byteToNormal): the cells of the 17 x 17 grid
+// inside the circle, row by row; row b (-8..8) holds 2 W + 1 of them, W the largest with
+// W^2 + b^2 <= 72.
+const int ROW_HALF[17] = int[17](2, 4, 6, 6, 7, 7, 8, 8, 8, 8, 8, 7, 7, 6, 6, 4, 2);
+vec3 codeNormal(uint code) {
+  int k = int(code);
+  for (int j = 0; j < 17; ++j) {
+    int w = ROW_HALF[j], n = 2 * w + 1;
+    if (k < n) {
+      float x = 2.0 * float(k - w) / 17.0, y = 2.0 * float(j - 8) / 17.0;
+      return vec3(x, y, sqrt(max(0.0, 1.0 - x * x - y * y)));
+    }
+    k -= n;
+  }
+  return vec3(0.0, 0.0, 1.0);
+}
+
 vec3 entry(int j, int row, uint code) { return texelFetch(tables, ivec2(int(code), j * rowsPerView + row), 0).rgb; }
 
 void main() {
@@ -138,7 +154,7 @@ void main() {
   vec3 pWorld = eye + tHit * r;
   vec3 pObj = eyeObject + tHit * dObj;
   float falloff[8];
-  vec3 nc = codeNormal[min(int(hit.r), 224)];
+  vec3 nc = codeNormal(hit.r);
   vec3 nObj = nc.x * viewAxes[3 * j] + nc.y * viewAxes[3 * j + 1] + nc.z * viewAxes[3 * j + 2];
   for (int l = 0; l < lampCount; ++l) {
     vec3 dl = lampPosition[l] - pWorld;

@@ -1899,7 +1899,7 @@ Kein Schachbrett gefunden in: %1</translation>
     </message>
     <message>
         <source>Variant %1 left out: %2</source>
-        <translation>Variante %1 ausgelassen: %2</translation>
+        <translation>Variante %1 weggelassen: %2</translation>
     </message>
     <message>
         <source>Lamps on beside the daylight</source>
@@ -1988,6 +1988,18 @@ Kein Schachbrett gefunden in: %1</translation>
     <message>
         <source>Virtual lamp %1 of %2 is not saved: its photometric file %3 is gone</source>
         <translation>Die virtuelle Lampe %1 aus %2 wird nicht gespeichert: ihre photometrische Datei %3 fehlt</translation>
+    </message>
+    <message>
+        <source>Lamps (left out: image-based objects are lit by daylight only)</source>
+        <translation>Lampen (weggelassen: bildbasierte Objekte werden nur vom Tageslicht beleuchtet)</translation>
+    </message>
+    <message>
+        <source>The image-based objects of %1 are left out: they are drawn by the near-field and interactive methods</source>
+        <translation>Die bildbasierten Objekte von %1 werden weggelassen: Sie werden von der Nahfeld- und der interaktiven Methode gezeichnet</translation>
+    </message>
+    <message>
+        <source>The virtual lamps of %1 are left out: its image-based objects are lit by daylight only</source>
+        <translation>Die virtuellen Lampen von %1 werden weggelassen: Seine bildbasierten Objekte werden nur vom Tageslicht beleuchtet</translation>
     </message>
 </context>
 <context>

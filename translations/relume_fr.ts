@@ -1989,6 +1989,18 @@ Aucun damier trouvé dans : %1</translation>
         <source>Virtual lamp %1 of %2 is not saved: its photometric file %3 is gone</source>
         <translation>La lampe virtuelle %1 de %2 n&apos;est pas enregistrée : son fichier photométrique %3 a disparu</translation>
     </message>
+    <message>
+        <source>Lamps (left out: image-based objects are lit by daylight only)</source>
+        <translation>Lampes (écartées : les objets à base d&apos;images ne sont éclairés qu’à la lumière du jour)</translation>
+    </message>
+    <message>
+        <source>The image-based objects of %1 are left out: they are drawn by the near-field and interactive methods</source>
+        <translation>Les objets à base d&apos;images de %1 sont laissés de côté : ils sont dessinés par les méthodes en champ proche et interactive</translation>
+    </message>
+    <message>
+        <source>The virtual lamps of %1 are left out: its image-based objects are lit by daylight only</source>
+        <translation>Les lampes virtuelles de %1 sont laissées de côté : ses objets à base d&apos;images ne sont éclairés qu’à la lumière du jour</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

@@ -14,9 +14,6 @@
 
 class QCommandLineParser;
 
-namespace relume::ibr {
-struct ImageObject;
-}
 
 namespace relume::cli {
 
@@ -55,9 +52,6 @@ int keepDaylightSession(const Scene& room, int regions, const std::string& out, 
 ImageRGB sideBySide(const std::vector<const ImageRGB*>& imgs);
 int photometryCommand(const QStringList& args, Progress& progress);
 int ibrFanCommand(const QStringList& args, Progress& progress);
-// The image-based objects (entries with a fan) a virtual-object file places, their fans read
-// (paths relative to the file); throws relume::Error naming a fan file that cannot be read.
-void imageObjectsOf(const Variant& v, const std::string& file, std::vector<ibr::ImageObject>& out);
 }  // namespace relume::cli
 namespace relume {
 struct Scene;

@@ -513,7 +513,8 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   std::vector<dl::BasisLamp> virtualLamps, besideLamps;  // asked for; listed beside objects
   std::vector<std::string> besideLampFiles;
   std::vector<Polygon> objects;
-  std::vector<ibr::ImageObject> imageObjects;
+  std::vector<ibr::ImageObject> imageObjects, besideImages;  // asked for; listed beside lamps
+  std::vector<std::string> besideImageFiles;
   auto leftOut = [](const std::exception& e) { std::fprintf(stderr, "warning: left out: %s\n", e.what()); };
   for (const auto& file : files) {
     const std::string& f = file.path;
@@ -543,7 +544,7 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
     std::erase_if(polygonal.virtualObjects, [](const VirtualBox& b) { return !b.fan.empty(); });
     if (file.objects) {
       for (auto& o : dl::variantObjects(room, polygonal, f)) objects.push_back(std::move(o));
-      imageObjectsOf(v, f, imageObjects);
+      ibr::appendImageObjects(v, f, imageObjects);
     } else {
       for (const auto& b : v.virtualObjects) {
         Variant one;
@@ -552,7 +553,13 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
           if (b.fan.empty()) {
             for (auto& o : dl::variantObjects(room, one, f)) objects.push_back(std::move(o));
           } else {
-            imageObjectsOf(one, f, imageObjects);
+            std::vector<ibr::ImageObject> read;
+            ibr::appendImageObjects(one, f, read);
+            for (const auto& o : read) ibr::checkImageObject(room, o);
+            for (auto& o : read) {
+              besideImages.push_back(std::move(o));
+              besideImageFiles.push_back(f);
+            }
           }
         } catch (const std::exception& e) {
           leftOut(e);
@@ -560,12 +567,26 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
       }
     }
   }
-  // Lamps a file lists beside the objects asked for: lit by the near-field method only.
+  // Lamps a file lists beside the objects asked for: lit by the near-field method only, and not
+  // beside image-based objects (lit by daylight only).
   for (size_t i = 0; i < besideLamps.size(); ++i)
-    if (method == "near-field") virtualLamps.push_back(std::move(besideLamps[i]));
+    if (!imageObjects.empty())
+      leftOut(Error(besideLampFiles[i], "virtual lamp " + besideLamps[i].name,
+                    "left out beside image-based objects, which are lit by daylight only"));
+    else if (method == "near-field") virtualLamps.push_back(std::move(besideLamps[i]));
     else
       leftOut(Error(besideLampFiles[i], "virtual lamp " + besideLamps[i].name,
                     "virtual lamps under daylight take the near-field method (--daylight near-field)"));
+  // Image-based objects a lamp file lists beside its lamps: drawn where they can be.
+  for (size_t i = 0; i < besideImages.size(); ++i) {
+    const std::string why = method == "distant" ? "the distant method lights boxes and meshes only: use --daylight volume or near-field"
+                            : anyLamp || !virtualLamps.empty()
+                                ? "under daylight image-based objects are lit by daylight only: switch the lamps off"
+                            : !objects.empty() ? "boxes or meshes and image-based objects are not drawn together under daylight yet"
+                                               : "";
+    if (why.empty()) imageObjects.push_back(std::move(besideImages[i]));
+    else leftOut(Error(besideImageFiles[i], "image-based object '" + besideImages[i].name + "'", why));
+  }
   if (anyLamp && method == "distant")
     throw Error("", "--lamp", "the distant method is the sky at infinity alone: no lamp with --daylight distant");
   if (anyLamp && method == "volume" && !objects.empty())
@@ -580,6 +601,12 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
     if (anyLamp || !virtualLamps.empty())
       throw Error(imageObjects.front().fanFile, "image-based object '" + imageObjects.front().name + "'",
                   "under daylight image-based objects are lit by daylight only: switch the lamps off");
+    // (The render's boxes are not in the room the image-based objects are drawn against: their
+    // shadows and depth would be wrong where the two meet.)
+    if (!objects.empty())
+      throw Error(imageObjects.front().fanFile, "image-based object '" + imageObjects.front().name + "'",
+                  "boxes or meshes and image-based objects are not drawn together under daylight yet: give them in "
+                  "separate runs");
   }
   const Photo* main = room.findPhoto(camera.empty() ? room.mainPhoto : camera);
   if (!main) throw Error(room.sourceFile, "--camera", "the room has no photo named '" + camera + "'");

@@ -204,32 +204,12 @@ void virtualsOf(const Variant& v, std::vector<VirtualLamp>& lamps, std::vector<V
                      v.virtualLampPolygons[i], v.virtualLamps[i].radiance, v.virtualLamps[i].twoSided,
                      v.virtualLamps[i].photometry});
   for (const auto& b : v.virtualObjects) {
-    if (!b.fan.empty()) continue;  // image-based: imageObjectsOf
+    if (!b.fan.empty()) continue;  // image-based: ibr::appendImageObjects
     const std::string name = b.name.empty() ? "virtual_object_" + std::to_string(objects.size()) : b.name;
     if (b.mesh.empty()) objects.push_back(boxObject(name, b.boxMin, b.boxMax, b.albedo));
     else objects.push_back(VirtualObject{name, b.mesh, b.albedo});
   }
 }
-
-}  // namespace
-
-// The image-based objects a virtual-object file places (fan files relative to it).
-void imageObjectsOf(const Variant& v, const std::string& file, std::vector<ibr::ImageObject>& out) {
-  const std::string dir = QFileInfo(QString::fromStdString(file)).absolutePath().toStdString();
-  for (const auto& b : v.virtualObjects) {
-    if (b.fan.empty()) continue;
-    ibr::ImageObject o;
-    o.name = b.name.empty() ? "image_object_" + std::to_string(out.size()) : b.name;
-    o.fanFile = b.fan.front() == '/' ? b.fan : dir + "/" + b.fan;
-    o.fan = ibr::readFan(o.fanFile);
-    o.place.position = b.position;
-    o.place.scale = b.scale;
-    o.place.yaw = b.rotationDegrees * std::numbers::pi / 180.0;
-    out.push_back(std::move(o));
-  }
-}
-
-namespace {
 
 const Photo& photoNamedian(const Scene& scene, const std::string& name) {
   const Photo* p = scene.findPhoto(name);
@@ -352,7 +332,7 @@ int relightCommand(const QStringList& args, Progress& progress) {
     const Variant v = readVariantFile(str(f));
     if (v.virtualObjects.empty()) throw Error(str(f), "virtual_objects", "lists no virtual object");
     virtualsOf(v, vlamps, objects);
-    imageObjectsOf(v, str(f), imageObjects);
+    ibr::appendImageObjects(v, str(f), imageObjects);
   }
   for (const auto& o : imageObjects) ibr::checkImageObject(scene, o);
   const Photo& photo = photoNamedian(scene, p.isSet("camera") ? str(p.value("camera")) : data.photo);

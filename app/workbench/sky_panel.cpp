@@ -31,6 +31,7 @@
 #include "relume/geometry/error.h"
 #include "relume/geometry/progress.h"
 #include "relume/geometry/scene.h"
+#include "relume/ibr/relit_objects.h"
 #include "relume/image/image.h"
 #include "relume/project/room_io.h"
 #include "relume/raytrace/ray_scene.h"
@@ -71,6 +72,9 @@ struct ObjectsEntry {
   // An entry from a file: the file's variant, its files named absolutely (a save makes it a
   // variant of the project, as moved, so that what the user placed and dragged is kept).
   std::optional<Variant> fromFile;
+  // Its image-based objects (fan entries), lit by daylight only and drawn by the CPU path after
+  // the room's render (ibr::drawImageObjectsInDaylight, as relume relight --sky draws them).
+  std::vector<ibr::ImageObject> images;
 };
 
 namespace {
@@ -111,12 +115,22 @@ Variant absoluteFiles(Variant v, const QString& file) {
 // error is the entry's.
 static ObjectsEntry objectsEntry(const Scene& room, const QString& label, const Variant& v, const std::string& file,
                                  QString& lampsLeftOut, int variant = -1) {
-  ObjectsEntry entry{label, {}, {}, variant, {}, {}, {}};
-  entry.polygons = daylight::variantObjects(room, v, file, &entry.groups);
+  ObjectsEntry entry{label, {}, {}, variant, {}, {}, {}, {}};
+  // Boxes and meshes for the daylight path, image-based objects apart (their groups are the
+  // polygonal objects' only: what the panel drags).
+  Variant polygonal = v;
+  std::erase_if(polygonal.virtualObjects, [](const VirtualBox& b) { return !b.fan.empty(); });
+  entry.polygons = daylight::variantObjects(room, polygonal, file, &entry.groups);
+  ibr::appendImageObjects(v, file, entry.images);
+  for (const auto& o : entry.images) ibr::checkImageObject(room, o);
+  if (!entry.polygons.empty() && !entry.images.empty())
+    throw Error(file, "image-based object '" + entry.images.front().name + "'",
+                "boxes or meshes and image-based objects are not drawn together under daylight yet: put them in separate "
+                "files");
   try {
     entry.lamps = daylight::variantLamps(v, file);
   } catch (const std::exception& e) {
-    if (entry.polygons.empty()) throw;
+    if (entry.polygons.empty() && entry.images.empty()) throw;
     lampsLeftOut = QString::fromUtf8(e.what());
   }
   return entry;
@@ -271,7 +285,12 @@ SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jo
   connect(showPhoto_, &QCheckBox::toggled, this, &SkyPanel::show);
   connect(gpu_, &QCheckBox::toggled, this, [this] { requestRender(); });
   connect(method_, qOverload<int>(&QComboBox::currentIndexChanged), this,
-          [this](int m) { gpu_->setEnabled(m == 1 && !(gpuState_ && gpuState_->failed)); });
+          [this](int m) {
+            // (The OpenGL path does not draw image-based objects: an entry with some renders on the CPU.)
+            const int o = objects_->currentIndex();
+            const bool images = isOpen() && o >= 0 && size_t(o) < s_->objects.size() && !s_->objects[size_t(o)].images.empty();
+            gpu_->setEnabled(m == 1 && !images && !(gpuState_ && gpuState_->failed));
+          });
   connect(objects_, qOverload<int>(&QComboBox::currentIndexChanged), this, &SkyPanel::updateHandles);
   connect(view_, &ClickPhotoView::markerClicked, this, [this] { s_->refused = s_->dragMoved = false; });
   connect(view_, &ClickPhotoView::markerMoved, this, [this](const QString& n, QPointF px) { moveObject(n, px, false); });
@@ -637,17 +656,27 @@ void SkyPanel::rebuild() {
 
 void SkyPanel::updateLamps() {
   lamps_->setEnabled(isOpen() && lampsApply());
+  const int o = objects_->currentIndex();
+  const ObjectsEntry* chosen = isOpen() && o >= 0 && size_t(o) < s_->objects.size() ? &s_->objects[size_t(o)] : nullptr;
+  const bool images = chosen && !chosen->images.empty();
   lampsLabel_->setText(method_->currentIndex() == 2 ? tr("Lamps (left out: the distant method is the sky alone)")
+                       : images                    ? tr("Lamps (left out: image-based objects are lit by daylight only)")
                        : !lampsApply()             ? tr("Lamps (left out: the interactive path lights virtual objects by "
                                                         "daylight only; choose near-field)")
                                                    : tr("Lamps on beside the daylight"));
-  // Virtual lamps are lit with the near-field method only: said when the choice leaves them out.
-  const int o = objects_->currentIndex();
-  const bool virtualLamps = isOpen() && o >= 0 && size_t(o) < s_->objects.size() && !s_->objects[size_t(o)].lamps.empty();
-  const QString note = virtualLamps && method_->currentIndex() != 0
-                           ? tr("The virtual lamps of %1 are left out: they are lit with the near-field method only")
-                                 .arg(s_->objects[size_t(o)].label)
-                           : QString();
+  // Virtual lamps are lit with the near-field method only, and not beside image-based objects;
+  // image-based objects by the near-field and interactive methods: said when the choice leaves
+  // them out.
+  const bool virtualLamps = chosen && !chosen->lamps.empty();
+  const QString note =
+      images && method_->currentIndex() == 2
+          ? tr("The image-based objects of %1 are left out: they are drawn by the near-field and interactive methods")
+                .arg(chosen->label)
+      : virtualLamps && images
+          ? tr("The virtual lamps of %1 are left out: its image-based objects are lit by daylight only").arg(chosen->label)
+      : virtualLamps && method_->currentIndex() != 0
+          ? tr("The virtual lamps of %1 are left out: they are lit with the near-field method only").arg(chosen->label)
+          : QString();
   if (note != lampsNote_ && !note.isEmpty()) emit message(note);
   lampsNote_ = note;
 }
@@ -655,7 +684,8 @@ void SkyPanel::updateLamps() {
 bool SkyPanel::lampsApply() const {
   const int o = objects_->currentIndex();
   const bool objects = o >= 0 && size_t(o) < s_->objects.size() && !s_->objects[size_t(o)].polygons.empty();
-  return method_->currentIndex() == 0 || (method_->currentIndex() == 1 && !objects);
+  const bool images = o >= 0 && size_t(o) < s_->objects.size() && !s_->objects[size_t(o)].images.empty();
+  return !images && (method_->currentIndex() == 0 || (method_->currentIndex() == 1 && !objects));
 }
 
 void SkyPanel::requestRender() {
@@ -686,14 +716,18 @@ void SkyPanel::startRender() {
       if (lamps_->item(int(l))->checkState() == Qt::Checked) lampExitance[l] = std::numbers::pi * s_->scene->lamps[l].radiance;
   // Virtual lamps are lit near-field only (the interactive path lights by daylight alone).
   std::vector<daylight::BasisLamp> virtualLamps;
-  if (method == daylight::DaylightMethod::NearField) virtualLamps = chosen.lamps;
+  if (method == daylight::DaylightMethod::NearField && chosen.images.empty()) virtualLamps = chosen.lamps;
+  // Image-based objects: drawn after the room's render by the CPU path (the OpenGL path does not
+  // draw them), by the near-field and interactive methods.
+  std::vector<ibr::ImageObject> images;
+  if (method != daylight::DaylightMethod::Distant) images = chosen.images;
   const QString name = entry.names.empty() ? entry.label : entry.names[f];
   const int index = int(f), count = int(entry.frames.size()), generation = generation_;
   const double exposure = s_->exposure;
   auto relit = s_->relit;
   s_->pending = false;
-  gpu_->setEnabled(method == daylight::DaylightMethod::Volume && !(gpuState_ && gpuState_->failed));
-  const bool gpu = gpu_->isEnabled() && gpu_->isChecked();
+  gpu_->setEnabled(method == daylight::DaylightMethod::Volume && chosen.images.empty() && !(gpuState_ && gpuState_->failed));
+  const bool gpu = gpu_->isEnabled() && gpu_->isChecked() && chosen.images.empty();
   const bool heldRoom = gpuState_ && gpuState_->renderer && gpuState_->generation == generation_;
   const unsigned heldLight = heldRoom ? gpuState_->lightVersion : ~0u;
   s_->rendering = jobs_->start(tr("Relighting under %1").arg(name), [=, this](Progress& p) {
@@ -736,7 +770,8 @@ void SkyPanel::startRender() {
         show();
       });
     }
-    const ImageRGB img = relit->render(sky, objects, method, p, virtualLamps);
+    ImageRGB img = relit->render(sky, objects, method, p, virtualLamps);
+    ibr::drawImageObjectsInDaylight(*relit, sky, images, img);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     auto shown = std::make_shared<QImage>(displayed(img, exposure));  // the display encoding off the UI thread too
     return JobRunner::Continuation([=, this] {

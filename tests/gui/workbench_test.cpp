@@ -2752,6 +2752,89 @@ class WorkbenchTest : public QObject {
     saveShot(window_->viewport(), "viewport_orbit");
   }
 
+  void daylightImageBasedObjectInTheSkyPanel() {
+    // An image-based object from a file in the Sky panel (as `relume relight --sky` draws it): the
+    // example vase standing in sun0's sunlit patch. What a user sees: the vase where it stands,
+    // its sun shadow on the floor away from the sun, the lamps left out (daylight only), the
+    // interactive method drawing it too (by the CPU path: the OpenGL box unticked and disabled),
+    // and the distant method leaving it out, said.
+    ibr::FanOptions opt;
+    opt.viewsPerRing = 24;
+    opt.size = 128;
+    opt.ringElevations = {20.0, 50.0};
+    const auto fan = ibr::buildFan(ibr::readMesh(str(QStringLiteral(RELUME_SOURCE_DIR) + "/resources/examples/vase.obj")), opt);
+    ibr::writeFan(*fan, str(tmp_.path() + "/sky_vase.fan"));
+    const QString file = tmp_.path() + "/sky_vase.json";
+    {
+      QFile f(file);
+      QVERIFY(f.open(QIODevice::WriteOnly));
+      f.write(R"({"virtual_objects": [{"name": "vase", "fan": "sky_vase.fan", "position": [2.5, 2.0, 0.0]}]})");
+    }
+    const QString room = RELUME_SOURCE_DIR "/resources/daylight_room";
+    MainWindow w;
+    QVERIFY2(openDaylightRoom(w, room), qPrintable(w.lastError()));
+    SkyPanel* sky = w.skyPanel();
+    auto settle = [&](int timeoutMs) { return jobsSettled(w, timeoutMs); };
+    QVERIFY(settle(120000));
+    const int sun0 = sky->skyBox()->findText("sun0", Qt::MatchContains);
+    QVERIFY(sun0 >= 0);
+    if (sky->skyBox()->currentIndex() != sun0) {
+      sky->skyBox()->setCurrentIndex(sun0);
+      QVERIFY(settle(180000));
+    }
+    const QImage off = sky->shown().convertToFormat(QImage::Format_RGB888);
+    QVERIFY(sky->addObjectsFile(file));
+    QCOMPARE(sky->objectsBox()->currentText(), QString("sky_vase.json"));
+    QVERIFY(!sky->lampList()->isEnabled());
+    QVERIFY(settle(180000));
+    const QImage on = sky->shown().convertToFormat(QImage::Format_RGB888);
+    QCOMPARE(on.size(), off.size());
+    const Scene scene = loadRoom(room.toStdString());
+    const Camera cam = scene.findPhoto("main")->camera;
+    auto at = [&](const QImage& im, const glm::dvec3& p) {
+      glm::dvec2 px;
+      if (!cam.project(p, px)) return QColor();
+      const double sx = double(im.width()) / cam.width, sy = double(im.height()) / cam.height;
+      return im.pixelColor(int(px.x * sx), int(px.y * sy));
+    };
+    // The vase's body (terracotta: red over green), where the floor was.
+    const QColor body = at(on, {2.5, 2.0, 0.25}), floorThere = at(off, {2.5, 2.0, 0.25});
+    qInfo("vase body %d %d %d, the floor there before %d %d %d", body.red(), body.green(), body.blue(), floorThere.red(),
+          floorThere.green(), floorThere.blue());
+    QVERIFY(body != floorThere);
+    QVERIFY(body.red() > 1.6 * body.green());  // (the floor's brown: 1.3)
+    QVERIFY(floorThere.red() < 1.5 * floorThere.green());
+    // Its sun shadow: 40 cm from its foot away from the sun (sun0: 30 degrees up, from 100 degrees
+    // east of +Y), the floor at least a third darker; 40 cm towards the sun, as before.
+    const double r = 100 * std::numbers::pi / 180;
+    const glm::dvec3 away(-std::sin(r), -std::cos(r), 0.0);
+    const QColor shade = at(on, glm::dvec3(2.5, 2.0, 0.001) + 0.4 * away), lit = at(off, glm::dvec3(2.5, 2.0, 0.001) + 0.4 * away);
+    const QColor sunSide = at(on, glm::dvec3(2.5, 2.0, 0.001) - 0.4 * away), sunSideOff = at(off, glm::dvec3(2.5, 2.0, 0.001) - 0.4 * away);
+    qInfo("floor 40 cm from the vase away from the sun: %d (was %d); towards it: %d (was %d)", shade.green(), lit.green(),
+          sunSide.green(), sunSideOff.green());
+    QVERIFY(shade.green() < 0.67 * lit.green());
+    QVERIFY(std::abs(sunSide.green() - sunSideOff.green()) <= 3);
+    saveShot(&w, "sky_panel_image_object");
+    // The interactive method draws it as well, by the CPU path.
+    sky->methodBox()->setCurrentIndex(1);
+    QVERIFY(settle(180000));
+    QVERIFY(!sky->gpuToggle()->isEnabled());
+    const QImage interactive = sky->shown().convertToFormat(QImage::Format_RGB888);
+    const QColor body2 = at(interactive, {2.5, 2.0, 0.25}), shade2 = at(interactive, glm::dvec3(2.5, 2.0, 0.001) + 0.4 * away);
+    qInfo("interactive: vase body %d %d %d, its shadow %d", body2.red(), body2.green(), body2.blue(), shade2.green());
+    QVERIFY(body2.red() > 1.6 * body2.green());
+    QVERIFY(shade2.green() < 0.67 * lit.green());
+    // The distant method leaves it out, and says so.
+    QSignalSpy said(sky, &SkyPanel::message);
+    sky->methodBox()->setCurrentIndex(2);
+    QVERIFY(settle(180000));
+    bool told = false;
+    for (const auto& m : said) told = told || m.first().toString().contains("image-based");
+    QVERIFY(told);
+    const QColor distantBody = at(sky->shown().convertToFormat(QImage::Format_RGB888), {2.5, 2.0, 0.25});
+    QVERIFY(distantBody.red() < 1.5 * distantBody.green());
+  }
+
   void cleanupTestCase() { window_.reset(); }
 };
 

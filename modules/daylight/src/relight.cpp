@@ -38,8 +38,8 @@ std::vector<Polygon> variantObjects(const Scene& room, const Variant& variant, c
   std::vector<VirtualObject> made;  // checked against each other as they come
   for (size_t k = 0; k < variant.virtualObjects.size(); ++k) {
     const auto& b = variant.virtualObjects[k];
-    if (!b.fan.empty()) throw Error(file, "virtual object " + b.name, "image-based objects under daylight are drawn by relume relight --sky; the Sky "
-                                                        "panel and relume evaluate do not draw them yet");
+    if (!b.fan.empty()) throw Error(file, "virtual object " + b.name, "image-based objects under daylight are drawn by relume relight --sky and the "
+                                                        "Sky panel (after the render); relume evaluate does not draw them yet");
     const VirtualObject o = b.mesh.empty() ? boxObject(b.name, b.boxMin, b.boxMax, b.albedo) : meshObject(b.name, b.mesh, b.albedo);
     try {
       checkVirtualObject(room, o);

@@ -14,6 +14,7 @@
 #include "relume/geometry/error.h"
 #include "relume/geometry/polygon.h"
 #include "relume/ibr/relit_objects.h"
+#include "relume/radiosity/form_factor.h"
 #include "relume/radiosity/hierarchy.h"
 #include "relume/raytrace/ray_scene.h"
 
@@ -85,17 +86,32 @@ ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight:
     l.perPoint = true;
     l.visible = 1.0;
     l.intensity = l.intensityTowards(c);
-    // Towards the disc's centre and four points near its rim (for the penumbra).
+    // Towards the disc's centre and four points at about 0.7 of its radius (for the penumbra;
+    // the square's corners lie at 1.25 radii).
     std::vector<glm::dvec3> towards{s};
-    for (const auto& q : l.polygon) towards.push_back(glm::normalize(l.position + 0.9 * (q - l.position) - c));
+    for (const auto& q : l.polygon) towards.push_back(glm::normalize(l.position + 0.55 * (q - l.position) - c));
     out.lamps.push_back(std::move(l));
     const size_t sunLamp = out.lamps.size() - 1;
+    // As the daylight path lets the sun in: out through a window, the room not in the way there
+    // (a gap in a model that is not closed lets no sun in).
+    std::vector<std::pair<std::vector<glm::dvec3>, glm::dvec3>> windows;
+    for (int w : basis.windows()) {
+      const auto& v = h.surfaces()[size_t(w)].vertices;
+      windows.emplace_back(v, polygonNormal(v));
+    }
     const RayScene* rays = &h.rayScene();
-    out.roomLets = [rays, towards, sunLamp](size_t lamp, const glm::dvec3& p) {
+    out.roomLets = [rays, towards, sunLamp, windows](size_t lamp, const glm::dvec3& p) {
       if (lamp != sunLamp) return 1.0;
       double v = 0;
-      for (const auto& d : towards)
-        if (!rays->occluded(glm::vec3(p), glm::vec3(p + kSunDistance * d), 1e-5f)) v += 1.0 / double(towards.size());
+      for (const auto& d : towards) {
+        double t = -1;
+        for (const auto& [poly, n] : windows) {
+          if (glm::dot(d, n) >= 0) continue;
+          const double tw = radiosity::rayThroughPolygon(p, d, poly, n);
+          if (tw > 0 && (t < 0 || tw < t)) t = tw;
+        }
+        if (t > 0 && !rays->occluded(glm::vec3(p), glm::vec3(p + t * d), float(1e-4 / t))) v += 1.0 / double(towards.size());
+      }
       return v;
     };
   }
@@ -122,7 +138,10 @@ std::vector<DrawStats> drawImageObjectsInDaylight(daylight::DaylightRelighting& 
     const int x = std::clamp(int(std::floor(px.x)), 0, camera.width - 1), y = std::clamp(int(std::floor(px.y)), 0, camera.height - 1);
     return glm::dvec3(shown.at(x, y));
   };
-  return drawImageObjects(session.basis().engine(), objects, lights, camera, irradiance, image, mask);
+  // The sun the render showed per pixel (over the pixel's footprint and the sun's disc): the most
+  // an object's sun shadow takes off there.
+  const ImageRGB sunShown = session.interactiveSky(sky).sunLight;
+  return drawImageObjects(session.basis().engine(), objects, lights, camera, irradiance, image, mask, &sunShown);
 }
 
 }  // namespace relume::ibr

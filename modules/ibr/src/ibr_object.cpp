@@ -706,7 +706,7 @@ ObjectShadows::Casters ObjectShadows::castersNear(const glm::dvec3& centre, doub
 }
 
 glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int surface, const glm::dvec3& X,
-                                const glm::dvec3& n, Casters casters) const {
+                                const glm::dvec3& n, Casters casters, glm::dvec3* perPoint) const {
   const ImageFan& fan = *fan_;
   const int S = fan.size;
   const glm::dvec3 cw = centre_;
@@ -768,12 +768,22 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
       blocked += lv.samples[k].second * (silhouette.alpha[ti] / 255.0);
     }
     if (!(blocked > 0)) continue;
-    // The lamp's direct irradiance at X, if the room lets it through.
+    // The lamp's direct irradiance at X, as far as the room lets it through (a lamp seen per
+    // point: as the lighting says; else the line to its centre, its ends' margin a fifth of a
+    // millimetre however far the lamp).
     const glm::dvec3 lift = X + 1e-4 * n;
-    if (h.rayScene().occluded(glm::vec3(lift), glm::vec3(lamp.position))) continue;
+    double through = 1.0;
+    if (lamp.perPoint && light_->roomLets) {
+      through = light_->roomLets(lv.lamp, lift);
+    } else {
+      const double len = glm::length(lamp.position - lift);
+      if (h.rayScene().occluded(glm::vec3(lift), glm::vec3(lamp.position), float(std::min(1e-4, 2e-4 / std::max(len, 1e-9)))))
+        continue;
+    }
+    if (!(through > 0)) continue;
     const double f = radiosity::emitterFormFactor(X, n, lamp.polygon, shapes_[ci]);
     if (!(f > 0)) continue;
-    out += blocked * f * lamp.exitance;
+    (perPoint && lamp.perPoint ? *perPoint : out) += blocked * through * f * lamp.exitance;
   }
   return out;
 }
@@ -787,8 +797,9 @@ std::vector<char> emittingSurfaces(const radiosity::HierarchicalRadiosity& h) {
 
 DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectLighting& light,
                       const radiosity::HierarchicalRadiosity& h, const Camera& cam, const RoomView& room,
-                      const IrradianceAt& irradiance, ImageRGB& image) {
+                      const IrradianceAt& irradiance, ImageRGB& image, const ImageRGB* perPointCap) {
   DrawStats st;
+  if (perPointCap && (perPointCap->width != cam.width || perPointCap->height != cam.height)) perPointCap = nullptr;
   const ObjectShadows shadows(fan, place, light);
   if (shadows.empty()) return st;
   const std::vector<char> emitters = emittingSurfaces(h);
@@ -824,7 +835,9 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
         // Lamps keep their glow: a shadow falls on what reflects.
         if (surface < 0 || emitters[size_t(surface)]) continue;
         const glm::dvec3 X(room.point[pi]);
-        const glm::dvec3 taken = shadows.taken(h, surface, X, glm::dvec3(room.normal[pi]), near);
+        glm::dvec3 perPoint(0.0);
+        glm::dvec3 taken = shadows.taken(h, surface, X, glm::dvec3(room.normal[pi]), near, perPointCap ? &perPoint : nullptr);
+        if (perPointCap) taken += glm::min(perPoint, glm::dvec3(perPointCap->at(x, y)));
         if (taken == glm::dvec3(0.0)) continue;
         const glm::dvec3 total = irradiance(surface, X);
         glm::dvec3 keep;

@@ -3,16 +3,35 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <numbers>
 #include <map>
 #include <cmath>
 #include <glm/geometric.hpp>
 
 #include "relume/geometry/error.h"
 #include "relume/geometry/polygon.h"
+#include "relume/geometry/scene.h"
+#include "relume/ibr/fan.h"
 #include "relume/radiosity/hierarchy.h"
 #include "relume/relight/relighter.h"
 
 namespace relume::ibr {
+
+void appendImageObjects(const Variant& v, const std::string& file, std::vector<ImageObject>& out) {
+  const std::filesystem::path dir = std::filesystem::absolute(std::filesystem::path(file)).parent_path();
+  for (const auto& b : v.virtualObjects) {
+    if (b.fan.empty()) continue;
+    ImageObject o;
+    o.name = b.name.empty() ? "image_object_" + std::to_string(out.size()) : b.name;
+    o.fanFile = b.fan.front() == '/' ? b.fan : (dir / b.fan).lexically_normal().string();
+    o.fan = readFan(o.fanFile);
+    o.place.position = b.position;
+    o.place.scale = b.scale;
+    o.place.yaw = b.rotationDegrees * std::numbers::pi / 180.0;
+    out.push_back(std::move(o));
+  }
+}
 
 void checkImageObject(const Scene& scene, const ImageObject& o) {
   const ImageFan& f = *o.fan;
@@ -60,7 +79,8 @@ std::vector<DrawStats> drawImageObjects(const RelightSession& session, const std
 
 std::vector<DrawStats> drawImageObjects(const radiosity::HierarchicalRadiosity& h, const std::vector<ImageObject>& objects,
                                         const std::vector<ObjectLighting>& lights, const Camera& camera,
-                                        const IrradianceAt& irradiance, ImageRGB& image, std::vector<uint8_t>* mask) {
+                                        const IrradianceAt& irradiance, ImageRGB& image, std::vector<uint8_t>* mask,
+                                        const ImageRGB* perPointCap) {
   std::vector<DrawStats> stats(objects.size());
   if (objects.empty()) return stats;
   if (lights.size() != objects.size()) throw Error("", "image-based objects", "one lighting per object expected");
@@ -68,7 +88,7 @@ std::vector<DrawStats> drawImageObjects(const radiosity::HierarchicalRadiosity& 
   if (mask) mask->assign(size_t(camera.width) * camera.height, 0);
   for (size_t i = 0; i < objects.size(); ++i)
     stats[i].shadowPixels =
-        drawShadows(*objects[i].fan, objects[i].place, lights[i], h, camera, room, irradiance, image).shadowPixels;
+        drawShadows(*objects[i].fan, objects[i].place, lights[i], h, camera, room, irradiance, image, perPointCap).shadowPixels;
   std::vector<size_t> order(objects.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
   const glm::dvec3 eye = camera.center();

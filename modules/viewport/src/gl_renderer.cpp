@@ -302,7 +302,6 @@ struct GlRelightRenderer::Impl {
       gl->glUniform1iv(prog.uniformLocation("lampLayer"), kObjectLamps, lampLayers.data());
       prog.setUniformValueArray("lampAxes", &lampAxes[0].x, 3 * kObjectLamps, 3);
       prog.setUniformValue("footprint", std::clamp(int(std::lround(pixel / texel)), 1, 4));
-      prog.setUniformValueArray("codeNormal", &ibr::byteToNormal()[0].x, ibr::kNormalCodes, 3);
       gl->glActiveTexture(GL_TEXTURE0);
       gl->glBindTexture(GL_TEXTURE_2D_ARRAY, o.data);
       gl->glActiveTexture(GL_TEXTURE1);

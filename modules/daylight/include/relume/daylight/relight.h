@@ -120,7 +120,7 @@ enum class DaylightMethod { NearField, Distant, Volume };
 // room, not through a wall; a room's outside ground does not make "inside" reach past its walls).
 // Refused with a relume::Error naming `file` and the object: an object that fails that check,
 // and image-based objects (drawn after render() by ibr::drawImageObjectsInDaylight, which
-// `relume relight --sky` calls; a caller that does not must not be given them silently).
+// `relume relight --sky` and the Sky panel call, giving this only the variant's other objects).
 // `groups` (if given) gets each virtual object's group name, in the variant's order: the group of
 // its faces (an unnamed object is "object k", a repeated name gets " (k)").
 std::vector<Polygon> variantObjects(const Scene& room, const Variant& variant, const std::string& file,

@@ -180,8 +180,10 @@ class ObjectShadows {
   bool mayShadow(const glm::dvec3& centre, double radius) const { return castersNear(centre, radius) != 0; }
   // The irradiance (W/m^2, RGB) taken off point X (normal n) of engine surface `surface`, by the
   // casters in `casters` (from castersNear around X: the others take nothing there).
+  // With `perPoint` given, the part of the lamps seen past the room per point (ObjectLamp::perPoint)
+  // goes there instead of into the result (a display may cap it by what it showed of them).
   glm::dvec3 taken(const radiosity::HierarchicalRadiosity& h, int surface, const glm::dvec3& X, const glm::dvec3& n,
-                   Casters casters = kAllCasters) const;
+                   Casters casters = kAllCasters, glm::dvec3* perPoint = nullptr) const;
 
  private:
   const ImageFan* fan_;
@@ -215,8 +217,11 @@ std::vector<char> emittingSurfaces(const radiosity::HierarchicalRadiosity& h);
 // fan image nearest the lamp's direction (the silhouette, its depth in front of the pixel); where
 // it is blocked (by the coverage there), that lamp's direct irradiance at the point, over the
 // irradiance shown, is taken off. A lamp switched off or dimmed casts a shadow as much lighter.
+// `perPointCap` (optional, per pixel): the most the lamps seen per point can take off there — what
+// the display showed of them (the sun over a pixel's footprint, where one ray to each point of its
+// disc would take off a sharper edge than the display drew).
 DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectLighting& light,
                       const radiosity::HierarchicalRadiosity& h, const Camera& camera, const RoomView& room,
-                      const IrradianceAt& irradiance, ImageRGB& image);
+                      const IrradianceAt& irradiance, ImageRGB& image, const ImageRGB* perPointCap = nullptr);
 
 }  // namespace relume::ibr

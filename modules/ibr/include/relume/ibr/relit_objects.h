@@ -11,6 +11,7 @@
 namespace relume {
 class RelightSession;
 struct Scene;
+struct Variant;
 }  // namespace relume
 namespace relume::daylight {
 class DaylightRelighting;
@@ -25,6 +26,12 @@ struct ImageObject {
   Placement place;
   std::string fanFile;  // for messages
 };
+
+// The image-based objects (entries with a fan) a variant places, appended to `out` with their fans
+// read: fan paths relative to the folder of `file` (the variant file, or a project's scene.json);
+// an unnamed one is "image_object_<k>", k its place in `out`. Throws relume::Error naming a fan
+// file that cannot be read.
+void appendImageObjects(const Variant& v, const std::string& file, std::vector<ImageObject>& out);
 
 // Throws relume::Error naming the object and its fan file when the object (its mesh's bounding
 // box, placed) leaves the room or cuts one of its polygons.
@@ -43,10 +50,12 @@ std::vector<DrawStats> drawImageObjects(const RelightSession& session, const std
                                         std::vector<uint8_t>* mask = nullptr);
 
 // The same on any room `h` (whose rays the objects are depth-tested and shadowed against), the
-// light shown at a real surface's point given by `irradiance` (what the shadows' share is of).
+// light shown at a real surface's point given by `irradiance` (what the shadows' share is of);
+// `perPointCap` as drawShadows takes it.
 std::vector<DrawStats> drawImageObjects(const radiosity::HierarchicalRadiosity& h, const std::vector<ImageObject>& objects,
                                         const std::vector<ObjectLighting>& lights, const Camera& camera,
-                                        const IrradianceAt& irradiance, ImageRGB& image, std::vector<uint8_t>* mask = nullptr);
+                                        const IrradianceAt& irradiance, ImageRGB& image, std::vector<uint8_t>* mask = nullptr,
+                                        const ImageRGB* perPointCap = nullptr);
 
 // ---- Under daylight (Grosch, Eble, Mueller 2007 with the tables of Dinh et al.) ----
 // The daylight at an image-based object whose centre is `centre`, under `sky`, as the tables take
@@ -60,14 +69,17 @@ std::vector<DrawStats> drawImageObjects(const radiosity::HierarchicalRadiosity& 
 // (ObjectLighting::indirectAt); the sun is seen past the room per point of the object (perPoint),
 // the window samples from the centre. Refused (relume::Error) with a room lamp switched on: under
 // daylight these objects are lit by daylight only.
+// What it returns looks up the session's room and irradiance volume as they are now: valid until
+// the session's next render() or volume combination (another sky, objects added to the basis).
 ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight::SkyRadiance& sky, const glm::dvec3& centre,
                           double radius);
 // Draws image-based objects lit by daylight into `image`, the session's last render() under the
 // same `sky` (through the session's camera): their shadows on the room's pixels, each lamp's
 // share of the irradiance that render showed there (DaylightRelighting::lastIrradiance) taken
 // off, so that a shadow falls only where the room let the light through; then the objects,
-// depth-tested against the room. Objects the render() itself drew (boxes, meshes) neither hide
-// nor shadow them.
+// depth-tested against the room. The render must have drawn no box or mesh: those are not in the
+// room the objects are drawn against (their depth and their shadows would be wrong where the two
+// meet), so callers refuse the mix.
 std::vector<DrawStats> drawImageObjectsInDaylight(daylight::DaylightRelighting& session, const daylight::SkyRadiance& sky,
                                                   const std::vector<ImageObject>& objects, ImageRGB& image,
                                                   std::vector<uint8_t>* mask = nullptr);
