@@ -127,6 +127,9 @@ static ObjectsEntry objectsEntry(const Scene& room, const QString& label, const 
     throw Error(file, "image-based object '" + entry.images.front().name + "'",
                 "boxes or meshes and image-based objects are not drawn together under daylight yet: put them in separate "
                 "files");
+  // (Then every virtual object is a fan: each one's group, in the variant's order, is its name.)
+  if (!entry.images.empty())
+    for (const auto& im : entry.images) entry.groups.push_back(im.name);
   try {
     entry.lamps = daylight::variantLamps(v, file);
   } catch (const std::exception& e) {
@@ -809,6 +812,7 @@ std::vector<QString> SkyPanel::objectHandles() const {
     const QString g = QString::fromStdString(p.group);
     if (std::find(names.begin(), names.end(), g) == names.end()) names.push_back(g);
   }
+  for (const auto& im : s_->objects[size_t(o)].images) names.push_back(QString::fromStdString(im.name));
   return names;
 }
 
@@ -827,6 +831,25 @@ bool objectBounds(const std::vector<Polygon>& faces, const std::string& group, g
       }
   return any;
 }
+// The bounds of image-based object `name` among `images` as placed (its mesh's box, turned); null
+// when there is none of that name.
+const ibr::ImageObject* imageBounds(const std::vector<ibr::ImageObject>& images, const std::string& name, glm::dvec3& lo,
+                                    glm::dvec3& hi) {
+  for (const auto& im : images) {
+    if (im.name != name) continue;
+    const ibr::ImageFan& f = *im.fan;
+    lo = glm::dvec3(1e300);
+    hi = glm::dvec3(-1e300);
+    for (int i = 0; i < 8; ++i) {
+      const glm::dvec3 c = im.place.toWorld(f, glm::dvec3(i & 1 ? f.boundsMax.x : f.boundsMin.x, i & 2 ? f.boundsMax.y : f.boundsMin.y,
+                                                          i & 4 ? f.boundsMax.z : f.boundsMin.z));
+      lo = glm::min(lo, c);
+      hi = glm::max(hi, c);
+    }
+    return &im;
+  }
+  return nullptr;
+}
 }  // namespace
 
 void SkyPanel::updateHandles() {
@@ -836,7 +859,9 @@ void SkyPanel::updateHandles() {
     for (const QString& name : objectHandles()) {
       glm::dvec3 lo, hi;
       glm::dvec2 px;
-      if (!objectBounds(s_->objects[size_t(o)].polygons, name.toStdString(), lo, hi)) continue;
+      if (!objectBounds(s_->objects[size_t(o)].polygons, name.toStdString(), lo, hi) &&
+          !imageBounds(s_->objects[size_t(o)].images, name.toStdString(), lo, hi))
+        continue;
       if (s_->camera.project({0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z}, px)) markers.push_back({name, QPointF(px.x, px.y)});
     }
   view_->setToolTip(markers.empty() ? QString() : tr("Drag a virtual object's cross to move it over the floor"));
@@ -849,7 +874,9 @@ void SkyPanel::moveObject(const QString& name, QPointF pixel, bool released) {
   std::vector<Polygon>& faces = s_->objects[size_t(o)].polygons;
   const std::string group = name.toStdString();
   glm::dvec3 lo, hi;
-  if (!objectBounds(faces, group, lo, hi)) return;
+  // An image-based object is dragged by its placement (its bounding box standing on the plane).
+  const ibr::ImageObject* image = nullptr;
+  if (!objectBounds(faces, group, lo, hi) && !(image = imageBounds(s_->objects[size_t(o)].images, group, lo, hi))) return;
   // Where the ray through the cursor meets the plane the object stands on.
   const glm::dvec3 eye = s_->camera.center(), dir = s_->camera.rayDirection(pixel.x(), pixel.y());
   const double t = std::abs(dir.z) > 1e-9 ? (lo.z - eye.z) / dir.z : -1;
@@ -867,6 +894,16 @@ void SkyPanel::moveObject(const QString& name, QPointF pixel, bool released) {
     step = eye + t * dir - glm::dvec3(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z);
     step.z = 0;
     moved.name = group;
+  }
+  if (why.isEmpty() && image) {
+    ibr::ImageObject there = *image;
+    there.place.position += step;
+    try {
+      ibr::checkImageObject(*s_->scene, there);
+    } catch (const std::exception& e) {
+      why = QString::fromUtf8(e.what());
+    }
+  } else if (why.isEmpty()) {
     for (const auto& p : faces)
       if (p.group == group) {
         moved.albedo = p.albedo;
@@ -896,9 +933,14 @@ void SkyPanel::moveObject(const QString& name, QPointF pixel, bool released) {
     if (!s_->refused) emit message(tr("Not moved: %1").arg(why));
     s_->refused = true;  // said once per drag; the object stays at its last good place
   } else if (glm::length(step) > 1e-6) {
-    size_t k = 0;  // the checked faces, in the order they were taken
-    for (auto& p : faces)
-      if (p.group == group) p.vertices = std::move(moved.polygons[k++]);
+    if (image) {
+      for (auto& im : s_->objects[size_t(o)].images)
+        if (im.name == group) im.place.position += step;
+    } else {
+      size_t k = 0;  // the checked faces, in the order they were taken
+      for (auto& p : faces)
+        if (p.group == group) p.vertices = std::move(moved.polygons[k++]);
+    }
     s_->objects[size_t(o)].moved[group] += step;
     s_->dragMoved = true;
     if (interactive) requestRender();

@@ -2824,6 +2824,51 @@ class WorkbenchTest : public QObject {
     qInfo("interactive: vase body %d %d %d, its shadow %d", body2.red(), body2.green(), body2.blue(), shade2.green());
     QVERIFY(body2.red() > 1.6 * body2.green());
     QVERIFY(shade2.green() < 0.67 * lit.green());
+    // Dragged by its cross as a box is, 60 cm along the floor: drawn where it now stands, the floor
+    // where it stood; saved, the project's variant has it there.
+    ClickPhotoView* view = sky->view();
+    QCOMPARE(view->markers().size(), size_t(1));
+    auto pixelOf = [&](const glm::dvec3& p) {
+      glm::dvec2 px;
+      cam.project(p, px);
+      return px;
+    };
+    const glm::dvec2 base = pixelOf({2.5, 2.0, 0.0});
+    QVERIFY(std::hypot(view->markers()[0].pixel.x() - base.x, view->markers()[0].pixel.y() - base.y) < 0.5);
+    const glm::dvec3 to(1.9, 2.0, 0.0);
+    const glm::dvec2 target = pixelOf(to);
+    auto send = [&](QEvent::Type type, const glm::dvec2& px, Qt::MouseButton button, Qt::MouseButtons buttons) {
+      const QPointF pos = view->widgetPosition(QPointF(px.x, px.y));
+      QMouseEvent e(type, pos, view->mapToGlobal(pos), button, buttons, Qt::NoModifier);
+      QApplication::sendEvent(view, &e);
+    };
+    send(QEvent::MouseButtonPress, base, Qt::LeftButton, Qt::LeftButton);
+    for (int k = 1; k <= 2; ++k) {
+      send(QEvent::MouseMove, base + (target - base) * (k / 2.0), Qt::NoButton, Qt::LeftButton);
+      QVERIFY(settle(60000));
+    }
+    send(QEvent::MouseButtonRelease, target, Qt::LeftButton, Qt::NoButton);
+    QVERIFY(settle(60000));
+    QVERIFY(std::hypot(view->markers()[0].pixel.x() - target.x, view->markers()[0].pixel.y() - target.y) < 0.5);
+    const QImage dragged = sky->shown().convertToFormat(QImage::Format_RGB888);
+    const QColor newBody = at(dragged, to + glm::dvec3(0, 0, 0.25)), oldPlace = at(dragged, {2.5, 2.0, 0.25});
+    qInfo("dragged 60 cm: vase body %d %d %d there, where it stood %d %d %d", newBody.red(), newBody.green(), newBody.blue(),
+          oldPlace.red(), oldPlace.green(), oldPlace.blue());
+    QVERIFY(newBody.red() > 1.6 * newBody.green());
+    QVERIFY(oldPlace.red() < 1.5 * oldPlace.green());
+    saveShot(&w, "sky_panel_image_object_dragged");
+    const QString saved = tmp_.path() + "/sky_vase_project";
+    QVERIFY(sky->saveProject(saved));
+    QVERIFY(settle(180000));
+    const Scene back = loadRoom(saved.toStdString());
+    const VirtualBox* kept = nullptr;
+    for (const auto& v : back.variants)
+      for (const auto& b : v.virtualObjects)
+        if (!b.fan.empty()) kept = &b;
+    QVERIFY(kept);
+    qInfo("saved: the vase at %.3f %.3f %.3f, its fan %s", kept->position.x, kept->position.y, kept->position.z, kept->fan.c_str());
+    QVERIFY(glm::length(kept->position - to) < 0.01);
+    QVERIFY(QFileInfo(saved + "/" + QString::fromStdString(kept->fan)).isFile());
     // The distant method leaves it out, and says so.
     QSignalSpy said(sky, &SkyPanel::message);
     sky->methodBox()->setCurrentIndex(2);
