@@ -768,6 +768,11 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
       blocked += lv.samples[k].second * (silhouette.alpha[ti] / 255.0);
     }
     if (!(blocked > 0)) continue;
+    // A lamp seen per point whose light the display gives (perPoint asked): the share blocked.
+    if (perPoint && lamp.perPoint) {
+      *perPoint += glm::dvec3(blocked);
+      continue;
+    }
     // The lamp's direct irradiance at X, as far as the room lets it through (a lamp seen per
     // point: as the lighting says; else the line to its centre, its ends' margin a fifth of a
     // millimetre however far the lamp).
@@ -783,7 +788,7 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
     if (!(through > 0)) continue;
     const double f = radiosity::emitterFormFactor(X, n, lamp.polygon, shapes_[ci]);
     if (!(f > 0)) continue;
-    (perPoint && lamp.perPoint ? *perPoint : out) += blocked * through * f * lamp.exitance;
+    out += blocked * through * f * lamp.exitance;
   }
   return out;
 }
@@ -837,7 +842,7 @@ DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectL
         const glm::dvec3 X(room.point[pi]);
         glm::dvec3 perPoint(0.0);
         glm::dvec3 taken = shadows.taken(h, surface, X, glm::dvec3(room.normal[pi]), near, perPointCap ? &perPoint : nullptr);
-        if (perPointCap) taken += glm::min(perPoint, glm::dvec3(perPointCap->at(x, y)));
+        if (perPointCap) taken += glm::min(perPoint, glm::dvec3(1.0)) * glm::dvec3(perPointCap->at(x, y));
         if (taken == glm::dvec3(0.0)) continue;
         const glm::dvec3 total = irradiance(surface, X);
         glm::dvec3 keep;

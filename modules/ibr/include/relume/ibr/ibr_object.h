@@ -180,8 +180,9 @@ class ObjectShadows {
   bool mayShadow(const glm::dvec3& centre, double radius) const { return castersNear(centre, radius) != 0; }
   // The irradiance (W/m^2, RGB) taken off point X (normal n) of engine surface `surface`, by the
   // casters in `casters` (from castersNear around X: the others take nothing there).
-  // With `perPoint` given, the part of the lamps seen past the room per point (ObjectLamp::perPoint)
-  // goes there instead of into the result (a display may cap it by what it showed of them).
+  // With `perPoint` given, the lamps seen past the room per point (ObjectLamp::perPoint) are left
+  // out of the result and the share of their area the object hides from X is added there instead
+  // (a display that knows what it showed of them takes that share of it).
   glm::dvec3 taken(const radiosity::HierarchicalRadiosity& h, int surface, const glm::dvec3& X, const glm::dvec3& n,
                    Casters casters = kAllCasters, glm::dvec3* perPoint = nullptr) const;
 
@@ -217,9 +218,10 @@ std::vector<char> emittingSurfaces(const radiosity::HierarchicalRadiosity& h);
 // fan image nearest the lamp's direction (the silhouette, its depth in front of the pixel); where
 // it is blocked (by the coverage there), that lamp's direct irradiance at the point, over the
 // irradiance shown, is taken off. A lamp switched off or dimmed casts a shadow as much lighter.
-// `perPointCap` (optional, per pixel): the most the lamps seen per point can take off there — what
-// the display showed of them (the sun over a pixel's footprint, where one ray to each point of its
-// disc would take off a sharper edge than the display drew).
+// `perPointCap` (optional, per pixel): the light the display showed there of the lamps seen per
+// point (the sun over a pixel's footprint and its disc, past the room); the share of those lamps the
+// object hides takes that share of it off (a ray per disc point from the pixel's centre would cut
+// a sharper sunlit edge than the display drew).
 DrawStats drawShadows(const ImageFan& fan, const Placement& place, const ObjectLighting& light,
                       const radiosity::HierarchicalRadiosity& h, const Camera& camera, const RoomView& room,
                       const IrradianceAt& irradiance, ImageRGB& image, const ImageRGB* perPointCap = nullptr);
