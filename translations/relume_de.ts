@@ -1995,11 +1995,15 @@ Kein Schachbrett gefunden in: %1</translation>
     </message>
     <message>
         <source>The image-based objects of %1 are left out: they are drawn by the near-field and interactive methods</source>
-        <translation>Die bildbasierten Objekte von %1 werden weggelassen: Sie werden von der Nahfeld- und der interaktiven Methode gezeichnet</translation>
+        <translation>Die bildbasierten Objekte von %1 werden weggelassen: sie werden von der Nahfeld- und der interaktiven Methode gezeichnet</translation>
     </message>
     <message>
         <source>The virtual lamps of %1 are left out: its image-based objects are lit by daylight only</source>
-        <translation>Die virtuellen Lampen von %1 werden weggelassen: Seine bildbasierten Objekte werden nur vom Tageslicht beleuchtet</translation>
+        <translation>Die virtuellen Lampen von %1 werden weggelassen: ihre bildbasierten Objekte werden nur vom Tageslicht beleuchtet</translation>
+    </message>
+    <message>
+        <source>Image-based object %1 of %2 is not saved: its fan file %3 is gone</source>
+        <translation>Das bildbasierte Objekt %1 von %2 wird nicht gespeichert: seine Bildfächer-Datei %3 ist verschwunden</translation>
     </message>
 </context>
 <context>

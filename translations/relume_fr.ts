@@ -2001,6 +2001,10 @@ Aucun damier trouvé dans : %1</translation>
         <source>The virtual lamps of %1 are left out: its image-based objects are lit by daylight only</source>
         <translation>Les lampes virtuelles de %1 sont laissées de côté : ses objets à base d&apos;images ne sont éclairés qu’à la lumière du jour</translation>
     </message>
+    <message>
+        <source>Image-based object %1 of %2 is not saved: its fan file %3 is gone</source>
+        <translation>L&apos;objet à base d&apos;images %1 de %2 n&apos;est pas enregistré : son fichier d&apos;éventail %3 a disparu</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

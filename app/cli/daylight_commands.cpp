@@ -553,13 +553,15 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
           if (b.fan.empty()) {
             for (auto& o : dl::variantObjects(room, one, f)) objects.push_back(std::move(o));
           } else {
-            std::vector<ibr::ImageObject> read;
-            ibr::appendImageObjects(one, f, read);
-            for (const auto& o : read) ibr::checkImageObject(room, o);
-            for (auto& o : read) {
-              besideImages.push_back(std::move(o));
-              besideImageFiles.push_back(f);
+            const size_t before = besideImages.size();
+            ibr::appendImageObjects(one, f, besideImages);
+            try {
+              for (size_t i = before; i < besideImages.size(); ++i) ibr::checkImageObject(room, besideImages[i]);
+            } catch (...) {
+              besideImages.resize(before);
+              throw;
             }
+            besideImageFiles.resize(besideImages.size(), f);
           }
         } catch (const std::exception& e) {
           leftOut(e);

@@ -126,7 +126,7 @@ static ObjectsEntry objectsEntry(const Scene& room, const QString& label, const 
   if (!entry.polygons.empty() && !entry.images.empty())
     throw Error(file, "image-based object '" + entry.images.front().name + "'",
                 "boxes or meshes and image-based objects are not drawn together under daylight yet: put them in separate "
-                "files");
+                "files or variants");
   // (Then every virtual object is a fan: each one's group, in the variant's order, is its name.)
   if (!entry.images.empty())
     for (const auto& im : entry.images) entry.groups.push_back(im.name);
@@ -421,6 +421,14 @@ bool SkyPanel::saveProject(const QString& folder) {
         v.virtualLamps.erase(v.virtualLamps.begin() + long(l));
         if (l < v.virtualLampPolygons.size()) v.virtualLampPolygons.erase(v.virtualLampPolygons.begin() + long(l));
       }
+    // So is an image-based object whose fan file has gone (a project names only its own files).
+    for (size_t k = v.virtualObjects.size(); k-- > 0;)
+      if (!v.virtualObjects[k].fan.empty() && !QFileInfo(QString::fromStdString(v.virtualObjects[k].fan)).isFile()) {
+        emit message(tr("Image-based object %1 of %2 is not saved: its fan file %3 is gone")
+                         .arg(QString::fromStdString(v.virtualObjects[k].name), e.label,
+                              QString::fromStdString(v.virtualObjects[k].fan)));
+        v.virtualObjects.erase(v.virtualObjects.begin() + long(k));
+      }
     shown.variants.push_back(std::move(v));
   }
   auto scene = std::make_shared<const Scene>(std::move(shown));
@@ -487,7 +495,7 @@ std::shared_ptr<PreparedDaylight> SkyPanel::prepare(const Scene& scene, Progress
     if (c.name == scene.photoSky) sky.label = tr("%1 (the photos' sky)").arg(sky.label);
     room->skies.push_back(std::move(sky));
   }
-  room->objects.push_back({tr("None"), {}, {}, -1, {}, {}, {}});
+  room->objects.push_back({tr("None"), {}, {}, -1, {}, {}, {}, {}});
   for (const auto& v : scene.variants) {
     if (v.virtualObjects.empty() && v.virtualLamps.empty()) continue;
     try {
@@ -773,8 +781,9 @@ void SkyPanel::startRender() {
         show();
       });
     }
-    ImageRGB img = relit->render(sky, objects, method, p, virtualLamps);
-    ibr::drawImageObjectsInDaylight(*relit, sky, images, img);
+    Progress room(p, 0.0, images.empty() ? 1.0 : 0.7), fans(p, images.empty() ? 1.0 : 0.7, 1.0);
+    ImageRGB img = relit->render(sky, objects, method, room, virtualLamps);
+    ibr::drawImageObjectsInDaylight(*relit, sky, images, img, nullptr, fans);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     auto shown = std::make_shared<QImage>(displayed(img, exposure));  // the display encoding off the UI thread too
     return JobRunner::Continuation([=, this] {

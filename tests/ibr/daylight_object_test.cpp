@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <glm/geometric.hpp>
 #include <string>
@@ -206,4 +207,28 @@ TEST(ImageObjectsInDaylight, ABoxsFanLooksAsTheSameBoxGivenAsPolygons) {
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(ratio[c], 1.0, 0.08) << skyName << " channel " << c;
     EXPECT_GE(double(close), 0.85 * double(n)) << skyName;
   }
+}
+
+TEST(ImageObjectsInDaylight, FansOfOneNameInAFileAreToldApart) {
+  // Each is dragged, saved and named in messages by its name: a repeated one gets its place.
+  Session& s = session();
+  const std::string dir = std::string(RELUME_BINARY_DIR) + "/ibr_daylight_names";
+  std::filesystem::create_directories(dir);
+  ibr::writeFan(*s.object.fan, dir + "/box.fan");
+  Variant v;
+  for (int i = 0; i < 3; ++i) {
+    VirtualBox b;
+    b.name = i < 2 ? "box" : "";
+    b.fan = "box.fan";
+    b.position = glm::dvec3(1.0 + i, 2.0, 0.0);
+    v.virtualObjects.push_back(b);
+  }
+  std::vector<ibr::ImageObject> out;
+  ibr::appendImageObjects(v, dir + "/objects.json", out);
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_EQ(out[0].name, "box");
+  EXPECT_EQ(out[1].name, "box (2)");
+  EXPECT_EQ(out[2].name, "image_object_2");
+  EXPECT_EQ(out[1].fanFile, dir + "/box.fan");
+  EXPECT_DOUBLE_EQ(out[2].place.position.x, 3.0);
 }

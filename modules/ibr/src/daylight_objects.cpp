@@ -120,8 +120,12 @@ ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight:
 
 std::vector<DrawStats> drawImageObjectsInDaylight(daylight::DaylightRelighting& session, const daylight::SkyRadiance& sky,
                                                   const std::vector<ImageObject>& objects, ImageRGB& image,
-                                                  std::vector<uint8_t>* mask) {
+                                                  std::vector<uint8_t>* mask, Progress& progress) {
   if (objects.empty()) return std::vector<DrawStats>();
+  {
+    Progress built(progress, 0.0, 0.9);
+    session.volume(built);  // (made once; Cancel leaves none)
+  }
   const Camera& camera = session.camera();
   const ImageRGB& shown = session.lastIrradiance();
   if (image.width != camera.width || image.height != camera.height || shown.width != camera.width ||
@@ -140,7 +144,7 @@ std::vector<DrawStats> drawImageObjectsInDaylight(daylight::DaylightRelighting& 
   };
   // The sun the render showed per pixel (over the pixel's footprint and the sun's disc): the most
   // an object's sun shadow takes off there.
-  const ImageRGB sunShown = session.interactiveSky(sky).sunLight;
+  const ImageRGB sunShown = session.interactiveSky(sky, progress).sunLight;
   return drawImageObjects(session.basis().engine(), objects, lights, camera, irradiance, image, mask, &sunShown);
 }
 

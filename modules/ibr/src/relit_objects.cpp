@@ -24,6 +24,15 @@ void appendImageObjects(const Variant& v, const std::string& file, std::vector<I
     if (b.fan.empty()) continue;
     ImageObject o;
     o.name = b.name.empty() ? "image_object_" + std::to_string(out.size()) : b.name;
+    // A name taken already gets its place in the list (each object is dragged, saved and named in
+    // messages by it).
+    auto taken = [&](const std::string& n) {
+      return std::any_of(out.begin(), out.end(), [&](const ImageObject& x) { return x.name == n; });
+    };
+    if (taken(o.name)) {
+      const std::string base = o.name;
+      for (size_t k = out.size() + 1; taken(o.name); ++k) o.name = base + " (" + std::to_string(k) + ")";
+    }
     o.fanFile = b.fan.front() == '/' ? b.fan : (dir / b.fan).lexically_normal().string();
     o.fan = readFan(o.fanFile);
     o.place.position = b.position;

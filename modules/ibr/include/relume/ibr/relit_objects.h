@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "relume/geometry/progress.h"
 #include "relume/ibr/ibr_object.h"
 
 namespace relume {
@@ -29,8 +30,8 @@ struct ImageObject {
 
 // The image-based objects (entries with a fan) a variant places, appended to `out` with their fans
 // read: fan paths relative to the folder of `file` (the variant file, or a project's scene.json);
-// an unnamed one is "image_object_<k>", k its place in `out`. Throws relume::Error naming a fan
-// file that cannot be read.
+// an unnamed one is "image_object_<k>", k its place in `out`, and a name `out` has already gets
+// " (<k>)". Throws relume::Error naming a fan file that cannot be read.
 void appendImageObjects(const Variant& v, const std::string& file, std::vector<ImageObject>& out);
 
 // Throws relume::Error naming the object and its fan file when the object (its mesh's bounding
@@ -80,9 +81,10 @@ ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight:
 // depth-tested against the room. The render must have drawn no box or mesh: those are not in the
 // room the objects are drawn against (their depth and their shadows would be wrong where the two
 // meet), so callers refuse the mix.
+// `progress`: the first call builds the session's irradiance volume (DaylightRelighting::volume).
 std::vector<DrawStats> drawImageObjectsInDaylight(daylight::DaylightRelighting& session, const daylight::SkyRadiance& sky,
                                                   const std::vector<ImageObject>& objects, ImageRGB& image,
-                                                  std::vector<uint8_t>* mask = nullptr);
+                                                  std::vector<uint8_t>* mask = nullptr, Progress& progress = silentProgress());
 
 // The objects' shadows on the room's surfaces as maps in each surface's plane coordinates
 // (radiosity::HierarchicalRadiosity::toUV), for a display whose camera moves: per texel the
