@@ -128,8 +128,7 @@ static ObjectsEntry objectsEntry(const Scene& room, const QString& label, const 
                 "boxes or meshes and image-based objects are not drawn together under daylight yet: put them in separate "
                 "files or variants");
   // (Then every virtual object is a fan: each one's group, in the variant's order, is its name.)
-  if (!entry.images.empty())
-    for (const auto& im : entry.images) entry.groups.push_back(im.name);
+  for (const auto& im : entry.images) entry.groups.push_back(im.name);
   try {
     entry.lamps = daylight::variantLamps(v, file);
   } catch (const std::exception& e) {
@@ -138,6 +137,12 @@ static ObjectsEntry objectsEntry(const Scene& room, const QString& label, const 
   }
   return entry;
 }
+
+// Entry o of `objects` if there is one (the combo box's current index may be -1).
+static const ObjectsEntry* entryAt(const std::vector<ObjectsEntry>& objects, int o) {
+  return o >= 0 && size_t(o) < objects.size() ? &objects[size_t(o)] : nullptr;
+}
+static bool hasImages(const ObjectsEntry* e) { return e && !e->images.empty(); }
 
 // A daylight room made ready off the UI thread: nothing in adopt() can fail.
 struct PreparedDaylight {
@@ -290,8 +295,7 @@ SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jo
   connect(method_, qOverload<int>(&QComboBox::currentIndexChanged), this,
           [this](int m) {
             // (The OpenGL path does not draw image-based objects: an entry with some renders on the CPU.)
-            const int o = objects_->currentIndex();
-            const bool images = isOpen() && o >= 0 && size_t(o) < s_->objects.size() && !s_->objects[size_t(o)].images.empty();
+            const bool images = isOpen() && hasImages(entryAt(s_->objects, objects_->currentIndex()));
             gpu_->setEnabled(m == 1 && !images && !(gpuState_ && gpuState_->failed));
           });
   connect(objects_, qOverload<int>(&QComboBox::currentIndexChanged), this, &SkyPanel::updateHandles);
@@ -667,9 +671,8 @@ void SkyPanel::rebuild() {
 
 void SkyPanel::updateLamps() {
   lamps_->setEnabled(isOpen() && lampsApply());
-  const int o = objects_->currentIndex();
-  const ObjectsEntry* chosen = isOpen() && o >= 0 && size_t(o) < s_->objects.size() ? &s_->objects[size_t(o)] : nullptr;
-  const bool images = chosen && !chosen->images.empty();
+  const ObjectsEntry* chosen = isOpen() ? entryAt(s_->objects, objects_->currentIndex()) : nullptr;
+  const bool images = hasImages(chosen);
   lampsLabel_->setText(method_->currentIndex() == 2 ? tr("Lamps (left out: the distant method is the sky alone)")
                        : images                    ? tr("Lamps (left out: image-based objects are lit by daylight only)")
                        : !lampsApply()             ? tr("Lamps (left out: the interactive path lights virtual objects by "
@@ -693,10 +696,9 @@ void SkyPanel::updateLamps() {
 }
 
 bool SkyPanel::lampsApply() const {
-  const int o = objects_->currentIndex();
-  const bool objects = o >= 0 && size_t(o) < s_->objects.size() && !s_->objects[size_t(o)].polygons.empty();
-  const bool images = o >= 0 && size_t(o) < s_->objects.size() && !s_->objects[size_t(o)].images.empty();
-  return !images && (method_->currentIndex() == 0 || (method_->currentIndex() == 1 && !objects));
+  const ObjectsEntry* e = entryAt(s_->objects, objects_->currentIndex());
+  const bool objects = e && !e->polygons.empty();
+  return !hasImages(e) && (method_->currentIndex() == 0 || (method_->currentIndex() == 1 && !objects));
 }
 
 void SkyPanel::requestRender() {

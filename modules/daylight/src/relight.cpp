@@ -123,8 +123,8 @@ glm::dvec3 ontoFace(const std::vector<glm::dvec3>& v, const glm::dvec3& x) {
   return inside ? x : best + 0.01 * (centroid - best);
 }
 
-// Where the ray from p along d leaves through one of the windows (out through the face that looks
-// into the room): the distance, or -1.
+}  // namespace
+
 double throughWindow(const radiosity::HierarchicalRadiosity& h, const std::vector<int>& windows, const glm::dvec3& p,
                      const glm::dvec3& d) {
   double best = -1;
@@ -137,6 +137,8 @@ double throughWindow(const radiosity::HierarchicalRadiosity& h, const std::vecto
   }
   return best;
 }
+
+namespace {
 
 // The sun's direct light over a pixel's footprint (4 x 4 camera rays over 1.5 pixels, as a
 // renderer's or a camera's pixel filter spreads a sunlit edge), each point towards another

@@ -14,7 +14,6 @@
 #include "relume/geometry/error.h"
 #include "relume/geometry/polygon.h"
 #include "relume/ibr/relit_objects.h"
-#include "relume/radiosity/form_factor.h"
 #include "relume/radiosity/hierarchy.h"
 #include "relume/raytrace/ray_scene.h"
 
@@ -59,7 +58,9 @@ ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight:
     return vol->at(len > radius ? c + d * (radius / len) : p);
   };
   const glm::dvec3 ground = basis.groundRadiance(sky);
-  for (const daylight::DirectSample& ws : daylight::windowSamples(h, basis.windows(), session.interactive().directSamples)) {
+  // The interactive method's window samples (kept by the session while the sky stays).
+  const std::vector<daylight::DirectSample> samples = session.interactiveSky(sky).window;
+  for (const daylight::DirectSample& ws : samples) {
     const glm::dvec3 toSample = ws.point - c;
     const double d = glm::length(toSample);
     if (!(d > 0) || glm::dot(ws.normal, toSample) >= 0) continue;  // the centre is not in front of it
@@ -94,23 +95,15 @@ ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight:
     const size_t sunLamp = out.lamps.size() - 1;
     // As the daylight path lets the sun in: out through a window, the room not in the way there
     // (a gap in a model that is not closed lets no sun in).
-    std::vector<std::pair<std::vector<glm::dvec3>, glm::dvec3>> windows;
-    for (int w : basis.windows()) {
-      const auto& v = h.surfaces()[size_t(w)].vertices;
-      windows.emplace_back(v, polygonNormal(v));
-    }
-    const RayScene* rays = &h.rayScene();
-    out.roomLets = [rays, towards, sunLamp, windows](size_t lamp, const glm::dvec3& p) {
+    const radiosity::HierarchicalRadiosity* engine = &h;
+    const std::vector<int>* windows = &basis.windows();
+    out.roomLets = [engine, windows, towards, sunLamp](size_t lamp, const glm::dvec3& p) {
       if (lamp != sunLamp) return 1.0;
       double v = 0;
       for (const auto& d : towards) {
-        double t = -1;
-        for (const auto& [poly, n] : windows) {
-          if (glm::dot(d, n) >= 0) continue;
-          const double tw = radiosity::rayThroughPolygon(p, d, poly, n);
-          if (tw > 0 && (t < 0 || tw < t)) t = tw;
-        }
-        if (t > 0 && !rays->occluded(glm::vec3(p), glm::vec3(p + t * d), float(1e-4 / t))) v += 1.0 / double(towards.size());
+        const double t = daylight::throughWindow(*engine, *windows, p, d);
+        if (t > 0 && !engine->rayScene().occluded(glm::vec3(p), glm::vec3(p + t * d), float(1e-4 / t)))
+          v += 1.0 / double(towards.size());
       }
       return v;
     };
@@ -126,6 +119,7 @@ std::vector<DrawStats> drawImageObjectsInDaylight(daylight::DaylightRelighting& 
     Progress built(progress, 0.0, 0.9);
     session.volume(built);  // (made once; Cancel leaves none)
   }
+  session.interactiveSky(sky, progress);  // the window samples and the room under this sky, made once per sky
   const Camera& camera = session.camera();
   const ImageRGB& shown = session.lastIrradiance();
   if (image.width != camera.width || image.height != camera.height || shown.width != camera.width ||
@@ -144,7 +138,7 @@ std::vector<DrawStats> drawImageObjectsInDaylight(daylight::DaylightRelighting& 
   };
   // The sun the render showed per pixel (over the pixel's footprint and the sun's disc): the most
   // an object's sun shadow takes off there.
-  const ImageRGB sunShown = session.interactiveSky(sky, progress).sunLight;
+  const ImageRGB& sunShown = session.interactiveSky(sky, progress).sunLight;  // (valid until its next call: none below)
   return drawImageObjects(session.basis().engine(), objects, lights, camera, irradiance, image, mask, &sunShown);
 }
 

@@ -145,6 +145,11 @@ struct DirectSample {
 std::vector<DirectSample> windowSamples(const radiosity::HierarchicalRadiosity& engine, const std::vector<int>& windows,
                                         int count);
 
+// Where the ray from p along d leaves the room through one of `windows` (out through the face that
+// looks into the room): the distance, or -1. The sun reaches a point only this way.
+double throughWindow(const radiosity::HierarchicalRadiosity& engine, const std::vector<int>& windows, const glm::dvec3& p,
+                     const glm::dvec3& d);
+
 // The sky's direct light for the interactive method, and the room under it without objects.
 struct InteractiveSky {
   std::vector<DirectSample> window;
