@@ -99,8 +99,8 @@ QJsonObject ibrBench(const Scene& sceneIn, int runs, Progress& progress) {
                              {"size", fan->size}, {"seconds", seconds(t0)}, {"file_bytes", qint64(bytes)}};
   }
   // Banding on a smooth sphere (the normal image of a sphere filling the view, coded plain and
-  // dithered), at growing sizes: a band of plain coding is a cell of the 17 x 17 grid wide, a
-  // dithered run (around a normal that is a code's own) grows only as its square root.
+  // dithered), at growing sizes: a band of plain coding is a cell of the 17 x 17 grid wide; a
+  // dithered run is longest at the rim, where the normals lie beyond the outermost codes.
   {
     QJsonArray banding;
     for (int w : {256, 512, 1024, 2048}) {

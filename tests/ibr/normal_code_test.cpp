@@ -142,13 +142,15 @@ TEST(NormalCode, DitheringKeepsTheLocalMeanNormalAndShadingCloserThanPlainCoding
   std::printf("mean error of 4x4 block-mean normals: plain %.4f, dithered %.4f\n", errPlain / blocks, errDithered / blocks);
   EXPECT_LT(errDithered, 0.5 * errPlain);
   // Shading from the codes against exact shading, per pixel and after a 3 x 3 box filter, for
-  // three lights: the filtered dithered shading closer than the filtered plain.
+  // three lights: the filtered dithered shading much closer than the filtered plain (6 dB: the
+  // error is carried in all of the normal's components, so the mean shade is kept, not only the
+  // mean x and y — dithering x and y alone gains only 3.3 dB for the first light).
   for (const glm::vec3 l : {glm::vec3(0.6f, 0.f, 0.8f), glm::vec3(0.5f, 0.5f, 0.7f), glm::vec3(-0.9f, 0.2f, 0.4f)}) {
     const double pp = shadingPsnr(xy, mask, plain, w, l, false), pf = shadingPsnr(xy, mask, plain, w, l, true);
     const double dp = shadingPsnr(xy, mask, dithered, w, l, false), df = shadingPsnr(xy, mask, dithered, w, l, true);
     std::printf("light (%.1f, %.1f, %.1f): plain %.1f dB per pixel, %.1f dB filtered; dithered %.1f dB, %.1f dB filtered\n",
                 l.x, l.y, l.z, pp, pf, dp, df);
-    EXPECT_GT(df, pf + 3.0);
+    EXPECT_GT(df, pf + 6.0);
   }
   // Outside the mask: no code.
   for (size_t i = 0; i < mask.size(); ++i)

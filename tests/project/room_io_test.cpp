@@ -565,6 +565,13 @@ TEST_F(BadInput, AVariantsVirtualLampsObjectsAndImagesAndAKeptDaylightSessionAre
   EXPECT_EQ(text(fs::path(proj) / "daylight/solution.bin"), "old");
   saveProject(loadRoom(proj), proj, silentProgress(), [](const std::string& staging) { write(fs::path(staging) / "daylight/solution.bin", "new"); });
   EXPECT_EQ(text(fs::path(proj) / "daylight/solution.bin"), "new");
+  // The preprocess's results (relight/) stay when a save writes only a daylight session (the Sky
+  // panel's), and the daylight session when a save writes only relight/ (the workbench's).
+  saveProject(loadRoom(proj), proj, silentProgress(), [](const std::string& staging) { write(fs::path(staging) / "relight/relight.json", "lamps"); });
+  EXPECT_EQ(text(fs::path(proj) / "daylight/solution.bin"), "new");
+  saveProject(loadRoom(proj), proj, silentProgress(), [](const std::string& staging) { write(fs::path(staging) / "daylight/solution.bin", "sky"); });
+  EXPECT_EQ(text(fs::path(proj) / "relight/relight.json"), "lamps");
+  EXPECT_EQ(text(fs::path(proj) / "daylight/solution.bin"), "sky");
   // And the variants survive a second save too.
   EXPECT_EQ(loadRoom(proj).variants.at(0).virtualObjects.size(), 3u);
   // The workbench's edits and the fans of the objects it placed (objects/) go along together when

@@ -1021,9 +1021,13 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
         // with it.
         if (std::string(name) == "workbench.json") keepFolder("objects");
       }
-    // So does a kept daylight session (daylight/, which checks itself against the room, photo,
-    // sky and options when it is opened), unless the caller wrote one.
-    if (fromProject) keepFolder("daylight");
+    // So do a kept daylight session (daylight/, which checks itself against the room, photo,
+    // sky and options when it is opened) and the preprocess's results (relight/: its textures and
+    // estimates, written by saveRelightProject), unless the caller wrote them: a save from the Sky
+    // panel or `relume daylight-basis` does not lose the lamp session's preprocess, nor a save from
+    // the workbench the daylight session.
+    if (fromProject)
+      for (const char* name : {"daylight", "relight"}) keepFolder(name);
     progress.poll();
   } catch (...) {
     QDir(staging).removeRecursively();

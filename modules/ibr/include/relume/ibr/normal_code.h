@@ -28,11 +28,11 @@ uint8_t encodeNormal(glm::vec2 xy);
 
 // A normal image coded pixel by pixel. `normals` holds x, y per pixel (row-major, width x height);
 // pixels with mask[i] == 0 get kNoNormal. Without dithering each pixel gets encodeNormal. With
-// dithering (Floyd-Steinberg, the paper's §3.1), each pixel takes the code nearest in x and y to
-// its normal plus the error carried to it, and its own error in x and in y is spread over the
-// neighbours still to be coded (7/16 right, 3/16 down-left, 5/16 down, 1/16 down-right; only onto
-// pixels inside the mask), so that the mean normal over a small area is kept and the bands of
-// equal codes break up.
+// dithering (Floyd-Steinberg, the paper's §3.1, which dithers x and y), each pixel takes the code
+// nearest its normal plus the error carried to it, and its own error — in x, y and z, so that the
+// mean shade is kept and not only the mean x and y — is spread over the neighbours still to be
+// coded (7/16 right, 3/16 down-left, 5/16 down, 1/16 down-right; only onto pixels inside the
+// mask), so that the mean normal over a small area is kept and the bands of equal codes break up.
 void encodeNormalImage(std::span<const glm::vec2> normals, std::span<const uint8_t> mask, int width, int height,
                        bool dither, std::span<uint8_t> codes);
 
