@@ -113,6 +113,7 @@ Variant absoluteFiles(Variant v, const QString& file) {
 // A variant's (or file's) objects and virtual lamps as one entry. Lamps daylight cannot light (a
 // photometric one) are left out beside objects, and `lampsLeftOut` says why; without objects the
 // error is the entry's.
+// A room's own variant (`variant` >= 0) names its fans from the room's folder (Scene::baseDir).
 static ObjectsEntry objectsEntry(const Scene& room, const QString& label, const Variant& v, const std::string& file,
                                  QString& lampsLeftOut, int variant = -1) {
   ObjectsEntry entry{label, {}, {}, variant, {}, {}, {}, {}};
@@ -121,7 +122,7 @@ static ObjectsEntry objectsEntry(const Scene& room, const QString& label, const 
   Variant polygonal = v;
   std::erase_if(polygonal.virtualObjects, [](const VirtualBox& b) { return !b.fan.empty(); });
   entry.polygons = daylight::variantObjects(room, polygonal, file, &entry.groups);
-  ibr::appendImageObjects(v, file, entry.images);
+  ibr::appendImageObjects(v, file, entry.images, variant >= 0 ? room.baseDir : std::string());
   for (const auto& o : entry.images) ibr::checkImageObject(room, o);
   if (!entry.polygons.empty() && !entry.images.empty())
     throw Error(file, "image-based object '" + entry.images.front().name + "'",

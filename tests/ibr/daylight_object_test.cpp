@@ -231,4 +231,11 @@ TEST(ImageObjectsInDaylight, FansOfOneNameInAFileAreToldApart) {
   EXPECT_EQ(out[2].name, "image_object_2");
   EXPECT_EQ(out[1].fanFile, dir + "/box.fan");
   EXPECT_DOUBLE_EQ(out[2].place.position.x, 3.0);
+  // A room's own variant names its fans from the room's folder (an OBJ + JSON room's JSON folder),
+  // not from the folder of the file the room was read from (its OBJ, elsewhere).
+  std::vector<ibr::ImageObject> own;
+  ibr::appendImageObjects(v, dir + "/mesh/room.obj", own, dir);
+  ASSERT_EQ(own.size(), 3u);
+  EXPECT_EQ(own[0].fanFile, dir + "/box.fan");
+  EXPECT_THROW(ibr::appendImageObjects(v, dir + "/mesh/room.obj", own), Error);  // no dir/mesh/box.fan
 }

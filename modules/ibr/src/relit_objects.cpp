@@ -18,8 +18,10 @@
 
 namespace relume::ibr {
 
-void appendImageObjects(const Variant& v, const std::string& file, std::vector<ImageObject>& out) {
-  const std::filesystem::path dir = std::filesystem::absolute(std::filesystem::path(file)).parent_path();
+void appendImageObjects(const Variant& v, const std::string& file, std::vector<ImageObject>& out,
+                        const std::string& folder) {
+  const std::filesystem::path dir = folder.empty() ? std::filesystem::absolute(std::filesystem::path(file)).parent_path()
+                                                   : std::filesystem::absolute(std::filesystem::path(folder));
   for (const auto& b : v.virtualObjects) {
     if (b.fan.empty()) continue;
     ImageObject o;

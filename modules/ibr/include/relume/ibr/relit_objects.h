@@ -29,10 +29,12 @@ struct ImageObject {
 };
 
 // The image-based objects (entries with a fan) a variant places, appended to `out` with their fans
-// read: fan paths relative to the folder of `file` (the variant file, or a project's scene.json);
-// an unnamed one is "image_object_<k>", k its place in `out`, and a name `out` has already gets
-// " (<k>)". Throws relume::Error naming a fan file that cannot be read.
-void appendImageObjects(const Variant& v, const std::string& file, std::vector<ImageObject>& out);
+// read: fan paths relative to `folder`, or when it is empty to the folder of `file` (the variant
+// file); a room's own variants pass its Scene::baseDir, which for an OBJ + JSON room is the JSON's
+// folder, not the OBJ's. An unnamed one is "image_object_<k>", k its place in `out`, and a name
+// `out` has already gets " (<k>)". Throws relume::Error naming a fan file that cannot be read.
+void appendImageObjects(const Variant& v, const std::string& file, std::vector<ImageObject>& out,
+                        const std::string& folder = {});
 
 // Throws relume::Error naming the object and its fan file when the object (its mesh's bounding
 // box, placed) leaves the room or cuts one of its polygons.
