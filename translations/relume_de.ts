@@ -2005,6 +2005,10 @@ Kein Schachbrett gefunden in: %1</translation>
         <source>Image-based object %1 of %2 is not saved: its fan file %3 is gone</source>
         <translation>Das bildbasierte Objekt %1 von %2 wird nicht gespeichert: seine Bildfächer-Datei %3 ist verschwunden</translation>
     </message>
+    <message>
+        <source>%1: the sun&apos;s pixels are clipped (at 65504, half float&apos;s largest value, or saturated): its light is understated (its colour is taken from its pixels that did not clip).</source>
+        <translation>%1: die Pixel der Sonne sind abgeschnitten (bei 65504, dem größten Half-Float-Wert, oder gesättigt): ihr Licht wird unterschätzt (ihre Farbe stammt aus ihren nicht abgeschnittenen Pixeln).</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

@@ -2005,6 +2005,10 @@ Aucun damier trouvé dans : %1</translation>
         <source>Image-based object %1 of %2 is not saved: its fan file %3 is gone</source>
         <translation>L&apos;objet à base d&apos;images %1 de %2 n&apos;est pas enregistré : son fichier d&apos;éventail %3 a disparu</translation>
     </message>
+    <message>
+        <source>%1: the sun&apos;s pixels are clipped (at 65504, half float&apos;s largest value, or saturated): its light is understated (its colour is taken from its pixels that did not clip).</source>
+        <translation>%1 : les pixels du soleil sont écrêtés (à 65504, la plus grande valeur du demi-flottant, ou saturés) : sa lumière est sous-estimée (sa couleur est prise de ses pixels non écrêtés).</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

@@ -66,8 +66,9 @@ dl::SkyRadiance averaged(const dl::SkyImage& image, const dl::SkyRegions& cells)
   if (s.sun.found && s.sun.clipped)
     std::fprintf(stderr,
                  "warning: %s: the sun's pixels are clipped (at 65504, half float's largest value, or saturated): its light is "
-                 "understated and its colour shifted; save the sky as full-float HDR, bracketed far enough\n",
-                 image.file.c_str());
+                 "understated%s; save the sky as full-float HDR, bracketed far enough\n",
+                 image.file.c_str(),
+                 s.sun.colourFromUnclipped ? " (its colour is taken from its pixels that did not clip)" : " and its colour shifted");
   return s;
 }
 

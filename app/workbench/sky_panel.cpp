@@ -208,11 +208,14 @@ struct SkyPanel::Gpu {
 namespace {
 // A sky's warning for the user, or nothing.
 QString clippedNote(const daylight::SkyRadiance& sky, const QString& name) {
-  return sky.sun.found && sky.sun.clipped
+  if (!sky.sun.found || !sky.sun.clipped) return QString();
+  return sky.sun.colourFromUnclipped
              ? SkyPanel::tr("%1: the sun's pixels are clipped (at 65504, half float's largest value, or saturated): its light is "
-                            "understated and its colour shifted.")
+                            "understated (its colour is taken from its pixels that did not clip).")
                    .arg(name)
-             : QString();
+             : SkyPanel::tr("%1: the sun's pixels are clipped (at 65504, half float's largest value, or saturated): its light is "
+                            "understated and its colour shifted.")
+                   .arg(name);
 }
 }  // namespace
 

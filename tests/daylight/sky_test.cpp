@@ -150,10 +150,19 @@ TEST(Sky, ASunClippedAtHalfFloatsLargestValueOrSaturatedIsFlagged) {
   EXPECT_FALSE(a.sun.clipped);
   EXPECT_TRUE(b.sun.clipped);
   EXPECT_TRUE(c.sun.clipped);
-  // What clipping does to the light: understated, and redder channels cut most.
-  std::printf("sun irradiance R/B: full float %.3f, clipped at 65504 %.3f\n", a.sun.irradiance.x / a.sun.irradiance.z,
-              b.sun.irradiance.x / b.sun.irradiance.z);
-  EXPECT_LT(b.sun.irradiance.x, a.sun.irradiance.x);
+  // What clipping does to the light: understated (a pixel clipped in every channel holds only a
+  // lower bound), but not whitened: the disc's edge pixels, clipped nowhere, give the sun's colour,
+  // and the clipped pixels take it (unrestored, clipping at 65504 made the sun's R/B 1.0 here).
+  for (const SkyRadiance* x : {&b, &c}) {
+    std::printf("sun irradiance against full float's: R %.3f G %.3f B %.3f, R/B %.3f (full float %.3f)\n",
+                x->sun.irradiance.x / a.sun.irradiance.x, x->sun.irradiance.y / a.sun.irradiance.y,
+                x->sun.irradiance.z / a.sun.irradiance.z, x->sun.irradiance.x / x->sun.irradiance.z,
+                a.sun.irradiance.x / a.sun.irradiance.z);
+    EXPECT_TRUE(x->sun.colourFromUnclipped);
+    for (int ch = 0; ch < 3; ++ch) EXPECT_LE(x->sun.irradiance[ch], 1.001 * a.sun.irradiance[ch]);
+    EXPECT_NEAR(x->sun.irradiance.x / x->sun.irradiance.z, a.sun.irradiance.x / a.sun.irradiance.z, 0.03);
+    EXPECT_NEAR(x->sun.irradiance.x / x->sun.irradiance.y, a.sun.irradiance.x / a.sun.irradiance.y, 0.03);
+  }
 }
 
 TEST(Sky, BadSkyImagesAreRefusedWithTheirProblem) {

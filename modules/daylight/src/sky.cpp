@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <limits>
 #include <numbers>
 
 #include "relume/geometry/error.h"
@@ -308,21 +309,14 @@ SkyRadiance averageSky(const SkyImage& sky, const SkyRegions& regions, const Sky
       }
     }
     out.sunBackground = background;
-    glm::dvec3 weighted(0.0);
     for (size_t i = 0; i < px.size(); ++i)
-      if (glm::dot(px[i].dir, px[brightest].dir) >= cosR) {
-        isSun[i] = 1;
-        const glm::dvec3 excess = glm::max(px[i].L - background, glm::dvec3(0.0));
-        out.sun.irradiance += excess * px[i].omega;
-        out.sun.solidAngle += px[i].omega;
-        weighted += px[i].dir * (luminance(excess) * px[i].omega);
-        ++out.sun.pixels;
-      }
+      if (glm::dot(px[i].dir, px[brightest].dir) >= cosR) isSun[i] = 1;
     out.sun.found = true;
     // Clipped: the sun's brightest pixel at exactly half float's largest value (an EXR saved as
     // half float), or a plateau — two or more of its pixels at exactly the same peak in some
-    // channel, as a camera's saturated pixels are.
-    for (int c = 0; c < 3 && !out.sun.clipped; ++c) {
+    // channel, as a camera's saturated pixels are. Per channel, the value it clipped at.
+    glm::dvec3 clipAt(std::numeric_limits<double>::infinity());
+    for (int c = 0; c < 3; ++c) {
       double peak = 0;
       int atPeak = 0;
       for (size_t i = 0; i < px.size(); ++i) {
@@ -330,8 +324,56 @@ SkyRadiance averageSky(const SkyImage& sky, const SkyRegions& regions, const Sky
         if (px[i].L[c] > peak) peak = px[i].L[c], atPeak = 0;
         if (px[i].L[c] == peak) ++atPeak;
       }
-      out.sun.clipped = peak == 65504.0 || (atPeak >= 2 && peak > options.sunThreshold * std::max(median, 1e-30));
+      if (peak == 65504.0 || (atPeak >= 2 && peak > options.sunThreshold * std::max(median, 1e-30))) {
+        clipAt[c] = peak;
+        out.sun.clipped = true;
+      }
     }
+    // A clipped channel of a pixel holds only a lower bound of its radiance, and a pixel clipped
+    // in some channels but not all is whiter than the sun. The sun's pixels that clipped nowhere
+    // (its disc's edge, spread over the neighbours by the lens and the pixel filter) show its
+    // colour; each clipped pixel takes that colour, scaled to what its unclipped channels measure
+    // (or, when every channel clipped, to the least scale its clipped values allow: the light stays
+    // understated there, never overstated).
+    std::vector<glm::dvec3> excess(px.size(), glm::dvec3(0.0));
+    glm::dvec3 colour(0.0);
+    for (size_t i = 0; i < px.size(); ++i) {
+      if (!isSun[i]) continue;
+      excess[i] = glm::max(px[i].L - background, glm::dvec3(0.0));
+      if (px[i].L.x < clipAt.x && px[i].L.y < clipAt.y && px[i].L.z < clipAt.z) colour += excess[i];
+    }
+    const double top = std::max({colour.x, colour.y, colour.z});
+    if (out.sun.clipped && top > 0) {
+      colour /= top;  // its largest channel 1
+      out.sun.colourFromUnclipped = true;
+      for (size_t i = 0; i < px.size(); ++i) {
+        if (!isSun[i]) continue;
+        double known = 0, knownWeight = 0, bound = 0;
+        bool any = false;
+        for (int c = 0; c < 3; ++c) {
+          if (!(colour[c] > 0)) continue;
+          if (px[i].L[c] >= clipAt[c]) {
+            any = true;
+            bound = std::max(bound, excess[i][c] / colour[c]);
+          } else {
+            known += excess[i][c];
+            knownWeight += colour[c];
+          }
+        }
+        if (!any) continue;
+        const double scale = knownWeight > 0 ? std::max(known / knownWeight, 0.0) : bound;
+        for (int c = 0; c < 3; ++c)
+          if (px[i].L[c] >= clipAt[c]) excess[i][c] = std::max(excess[i][c], scale * colour[c]);
+      }
+    }
+    glm::dvec3 weighted(0.0);
+    for (size_t i = 0; i < px.size(); ++i)
+      if (isSun[i]) {
+        out.sun.irradiance += excess[i] * px[i].omega;
+        out.sun.solidAngle += px[i].omega;
+        weighted += px[i].dir * (luminance(excess[i]) * px[i].omega);
+        ++out.sun.pixels;
+      }
     // No excess anywhere (a clipped sky): the brightest pixel's direction.
     out.sun.direction = glm::length(weighted) > 0 ? glm::normalize(weighted) : px[brightest].dir;
   }

@@ -123,6 +123,11 @@ struct Sun {
   // (A synthetic sun of one uniform radiance whose disc covers two whole pixels looks clipped too;
   // a real sun's limb darkening gives every pixel its own value.)
   bool clipped = false;
+  // Clipped, and its colour taken from its pixels that clipped in no channel: each clipped pixel
+  // was given that colour, at what its unclipped channels measure (or the least its clipped ones
+  // allow). The irradiance is then right in colour, and still a lower bound where a pixel clipped
+  // in every channel.
+  bool colourFromUnclipped = false;
 };
 
 struct SkyRadiance {
