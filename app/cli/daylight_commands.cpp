@@ -585,8 +585,7 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
     const std::string why = method == "distant" ? "the distant method lights boxes and meshes only: use --daylight volume or near-field"
                             : anyLamp || !virtualLamps.empty()
                                 ? "under daylight image-based objects are lit by daylight only: switch the lamps off"
-                            : !objects.empty() ? "boxes or meshes and image-based objects are not drawn together under daylight yet"
-                                               : "";
+                                : "";
     if (why.empty()) imageObjects.push_back(std::move(besideImages[i]));
     else leftOut(Error(besideImageFiles[i], "image-based object '" + besideImages[i].name + "'", why));
   }
@@ -604,12 +603,6 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
     if (anyLamp || !virtualLamps.empty())
       throw Error(imageObjects.front().fanFile, "image-based object '" + imageObjects.front().name + "'",
                   "under daylight image-based objects are lit by daylight only: switch the lamps off");
-    // (The render's boxes are not in the room the image-based objects are drawn against: their
-    // shadows and depth would be wrong where the two meet.)
-    if (!objects.empty())
-      throw Error(imageObjects.front().fanFile, "image-based object '" + imageObjects.front().name + "'",
-                  "boxes or meshes and image-based objects are not drawn together under daylight yet: give them in "
-                  "separate runs");
   }
   const Photo* main = room.findPhoto(camera.empty() ? room.mainPhoto : camera);
   if (!main) throw Error(room.sourceFile, "--camera", "the room has no photo named '" + camera + "'");
@@ -661,7 +654,7 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
   // The room and its boxes and meshes, then the image-based objects under the same sky.
   auto renderSky = [&](const dl::SkyRadiance& sky, Progress& draw) {
     ImageRGB img = relit.render(sky, objects, how, draw, virtualLamps);
-    const auto stats = ibr::drawImageObjectsInDaylight(relit, sky, imageObjects, img);
+    const auto stats = ibr::drawImageObjectsInDaylight(relit, sky, imageObjects, img, nullptr, silentProgress(), objects);
     for (size_t i = 0; i < stats.size(); ++i)
       std::fprintf(stderr, "image-based object '%s': fan view %d, %zu pixels, shadows on %zu pixels\n",
                    imageObjects[i].name.c_str(), stats[i].view, stats[i].objectPixels, stats[i].shadowPixels);

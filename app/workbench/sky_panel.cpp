@@ -117,19 +117,20 @@ Variant absoluteFiles(Variant v, const QString& file) {
 static ObjectsEntry objectsEntry(const Scene& room, const QString& label, const Variant& v, const std::string& file,
                                  QString& lampsLeftOut, int variant = -1) {
   ObjectsEntry entry{label, {}, {}, variant, {}, {}, {}, {}};
-  // Boxes and meshes for the daylight path, image-based objects apart (their groups are the
-  // polygonal objects' only: what the panel drags).
+  // Boxes and meshes for the daylight path, image-based objects apart (drawn after the render).
   Variant polygonal = v;
   std::erase_if(polygonal.virtualObjects, [](const VirtualBox& b) { return !b.fan.empty(); });
-  entry.polygons = daylight::variantObjects(room, polygonal, file, &entry.groups);
+  std::vector<std::string> polygonGroups;
+  entry.polygons = daylight::variantObjects(room, polygonal, file, &polygonGroups);
   ibr::appendImageObjects(v, file, entry.images, variant >= 0 ? room.baseDir : std::string());
   for (const auto& o : entry.images) ibr::checkImageObject(room, o);
-  if (!entry.polygons.empty() && !entry.images.empty())
-    throw Error(file, "image-based object '" + entry.images.front().name + "'",
-                "boxes or meshes and image-based objects are not drawn together under daylight yet: put them in separate "
-                "files or variants");
-  // (Then every virtual object is a fan: each one's group, in the variant's order, is its name.)
-  for (const auto& im : entry.images) entry.groups.push_back(im.name);
+  // Each virtual object's group, in the variant's order (what the panel drags and a save moves):
+  // a box's or mesh's faces' group, a fan's name.
+  size_t nextPolygonal = 0, nextImage = 0;
+  for (const VirtualBox& b : v.virtualObjects) {
+    if (b.fan.empty() && nextPolygonal < polygonGroups.size()) entry.groups.push_back(polygonGroups[nextPolygonal++]);
+    else if (!b.fan.empty() && nextImage < entry.images.size()) entry.groups.push_back(entry.images[nextImage++].name);
+  }
   try {
     entry.lamps = daylight::variantLamps(v, file);
   } catch (const std::exception& e) {
@@ -789,7 +790,7 @@ void SkyPanel::startRender() {
     }
     Progress room(p, 0.0, images.empty() ? 1.0 : 0.7), fans(p, images.empty() ? 1.0 : 0.7, 1.0);
     ImageRGB img = relit->render(sky, objects, method, room, virtualLamps);
-    ibr::drawImageObjectsInDaylight(*relit, sky, images, img, nullptr, fans);
+    ibr::drawImageObjectsInDaylight(*relit, sky, images, img, nullptr, fans, objects);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     auto shown = std::make_shared<QImage>(displayed(img, exposure));  // the display encoding off the UI thread too
     return JobRunner::Continuation([=, this] {

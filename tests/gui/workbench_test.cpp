@@ -2879,6 +2879,124 @@ class WorkbenchTest : public QObject {
     QVERIFY(distantBody.red() < 1.5 * distantBody.green());
   }
 
+  void daylightBoxAndImageBasedObjectTogetherInTheSkyPanel() {
+    // A file that places an image-based object (the example vase, in sun0's sunlit patch) and a box
+    // between it and the window: both are drawn, where the box's sun shadow lies the vase's takes
+    // no more light, each is dragged by its own cross, and a save keeps each where it was left.
+    ibr::FanOptions opt;
+    opt.viewsPerRing = 24;
+    opt.size = 128;
+    opt.ringElevations = {20.0, 50.0};
+    const auto fan = ibr::buildFan(ibr::readMesh(str(QStringLiteral(RELUME_SOURCE_DIR) + "/resources/examples/vase.obj")), opt);
+    ibr::writeFan(*fan, str(tmp_.path() + "/mixed_vase.fan"));
+    const QString alone = tmp_.path() + "/vase_alone.json", mixed = tmp_.path() + "/vase_and_box.json";
+    for (const auto& [name, text] :
+         {std::pair{alone, QByteArray(R"({"virtual_objects": [{"name": "vase", "fan": "mixed_vase.fan", "position": [2.5, 2.0, 0.0]}]})")},
+          std::pair{mixed, QByteArray(R"({"virtual_objects": [{"name": "vase", "fan": "mixed_vase.fan", "position": [2.5, 2.0, 0.0]},
+              {"name": "screen", "box_min": [2.75, 1.8, 0.0], "box_max": [2.9, 2.2, 0.6], "albedo": [0.2, 0.3, 0.8]}]})")}}) {
+      QFile f(name);
+      QVERIFY(f.open(QIODevice::WriteOnly));
+      f.write(text);
+    }
+    const QString room = RELUME_SOURCE_DIR "/resources/daylight_room";
+    MainWindow w;
+    QVERIFY2(openDaylightRoom(w, room), qPrintable(w.lastError()));
+    SkyPanel* sky = w.skyPanel();
+    auto settle = [&](int timeoutMs) { return jobsSettled(w, timeoutMs); };
+    QVERIFY(settle(120000));
+    const int sun0 = sky->skyBox()->findText("sun0", Qt::MatchContains);
+    QVERIFY(sun0 >= 0);
+    if (sky->skyBox()->currentIndex() != sun0) {
+      sky->skyBox()->setCurrentIndex(sun0);
+      QVERIFY(settle(180000));
+    }
+    const Scene scene = loadRoom(room.toStdString());
+    const Camera cam = scene.findPhoto("main")->camera;
+    auto at = [&](const QImage& im, const glm::dvec3& p) {
+      glm::dvec2 px;
+      if (!cam.project(p, px)) return QColor();
+      const double sx = double(im.width()) / cam.width, sy = double(im.height()) / cam.height;
+      return im.pixelColor(int(px.x * sx), int(px.y * sy));
+    };
+    // The sun (30 degrees up, from 100 degrees east of +Y): a floor point 30 cm from the vase's
+    // foot away from it lies in the vase's shadow, and in the box's too once the box stands there.
+    const double r = 100 * std::numbers::pi / 180;
+    const glm::dvec3 away(-std::sin(r), -std::cos(r), 0.0), behind = glm::dvec3(2.5, 2.0, 0.001) + 0.3 * away;
+    QVERIFY(sky->addObjectsFile(alone));
+    QVERIFY(settle(180000));
+    const QColor vaseShadow = at(sky->shown().convertToFormat(QImage::Format_RGB888), behind);
+    QVERIFY(sky->addObjectsFile(mixed));
+    QCOMPARE(sky->objectsBox()->currentText(), QString("vase_and_box.json"));
+    QVERIFY(settle(180000));
+    const QImage both = sky->shown().convertToFormat(QImage::Format_RGB888);
+    saveShot(&w, "sky_panel_box_and_image_object");
+    // The box (blue, its face towards the camera) drawn where it stands, the vase (terracotta) too.
+    const QColor box = at(both, {2.825, 1.8, 0.3}), vase = at(both, {2.5, 2.0, 0.2}), bothShadows = at(both, behind);
+    qInfo("box face %d %d %d; vase body %d %d %d; the floor in both shadows %d %d %d, in the vase's alone %d %d %d", box.red(),
+          box.green(), box.blue(), vase.red(), vase.green(), vase.blue(), bothShadows.red(), bothShadows.green(),
+          bothShadows.blue(), vaseShadow.red(), vaseShadow.green(), vaseShadow.blue());
+    QVERIFY(box.blue() > box.red() + 15);
+    QVERIFY(vase.red() > 1.4 * vase.green());
+    // Where the box's shadow already took the sun, the vase's takes it no more: the floor there as
+    // in the vase's shadow alone, not darker (the sun is not taken twice).
+    QVERIFY(bothShadows.green() >= 0.8 * vaseShadow.green());
+    QVERIFY(bothShadows.green() > 10);
+    // Two crosses, one per object; the vase's dragged 60 cm along the floor, the box's left alone.
+    ClickPhotoView* view = sky->view();
+    QCOMPARE(view->markers().size(), size_t(2));
+    auto pixelOf = [&](const glm::dvec3& p) {
+      glm::dvec2 px;
+      cam.project(p, px);
+      return px;
+    };
+    auto nearest = [&](const glm::dvec2& px) {
+      size_t best = 0;
+      for (size_t k = 1; k < view->markers().size(); ++k)
+        if (std::hypot(view->markers()[k].pixel.x() - px.x, view->markers()[k].pixel.y() - px.y) <
+            std::hypot(view->markers()[best].pixel.x() - px.x, view->markers()[best].pixel.y() - px.y))
+          best = k;
+      return std::hypot(view->markers()[best].pixel.x() - px.x, view->markers()[best].pixel.y() - px.y);
+    };
+    const glm::dvec2 base = pixelOf({2.5, 2.0, 0.0}), boxBase = pixelOf({2.825, 2.0, 0.0});
+    QVERIFY(nearest(base) < 0.5);
+    QVERIFY(nearest(boxBase) < 0.5);
+    const glm::dvec3 to(1.9, 2.0, 0.0);
+    const glm::dvec2 target = pixelOf(to);
+    auto send = [&](QEvent::Type type, const glm::dvec2& px, Qt::MouseButton button, Qt::MouseButtons buttons) {
+      const QPointF pos = view->widgetPosition(QPointF(px.x, px.y));
+      QMouseEvent e(type, pos, view->mapToGlobal(pos), button, buttons, Qt::NoModifier);
+      QApplication::sendEvent(view, &e);
+    };
+    send(QEvent::MouseButtonPress, base, Qt::LeftButton, Qt::LeftButton);
+    send(QEvent::MouseMove, target, Qt::NoButton, Qt::LeftButton);
+    send(QEvent::MouseButtonRelease, target, Qt::LeftButton, Qt::NoButton);
+    QVERIFY(settle(60000));
+    QVERIFY(nearest(target) < 0.5);
+    QVERIFY(nearest(boxBase) < 0.5);
+    const QImage dragged = sky->shown().convertToFormat(QImage::Format_RGB888);
+    const QColor moved = at(dragged, to + glm::dvec3(0, 0, 0.2)), boxStill = at(dragged, {2.825, 1.8, 0.3});
+    qInfo("dragged: vase body %d %d %d, box face %d %d %d", moved.red(), moved.green(), moved.blue(), boxStill.red(),
+          boxStill.green(), boxStill.blue());
+    QVERIFY(moved.red() > 1.4 * moved.green());
+    QVERIFY(boxStill.blue() > boxStill.red() + 15);
+    const QString saved = tmp_.path() + "/vase_and_box_project";
+    QVERIFY(sky->saveProject(saved));
+    QVERIFY(settle(180000));
+    const Scene back = loadRoom(saved.toStdString());
+    const Variant* v = nullptr;
+    for (const auto& x : back.variants)
+      if (x.virtualObjects.size() == 2) v = &x;
+    QVERIFY(v);
+    const VirtualBox& savedVase = v->virtualObjects[0];
+    const VirtualBox& savedBox = v->virtualObjects[1];
+    qInfo("saved: vase at %.3f %.3f, box from %.3f %.3f", savedVase.position.x, savedVase.position.y, savedBox.boxMin.x,
+          savedBox.boxMin.y);
+    QVERIFY(!savedVase.fan.empty());
+    QVERIFY(glm::length(savedVase.position - to) < 0.01);
+    QVERIFY(savedBox.fan.empty());
+    QVERIFY(glm::length(savedBox.boxMin - glm::dvec3(2.75, 1.8, 0.0)) < 1e-6);
+  }
+
   void cleanupTestCase() { window_.reset(); }
 };
 

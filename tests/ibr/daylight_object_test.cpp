@@ -239,3 +239,91 @@ TEST(ImageObjectsInDaylight, FansOfOneNameInAFileAreToldApart) {
   EXPECT_EQ(own[0].fanFile, dir + "/box.fan");
   EXPECT_THROW(ibr::appendImageObjects(v, dir + "/mesh/room.obj", own), Error);  // no dir/mesh/box.fan
 }
+
+namespace {
+// A square panel of side `side` centred on c, facing along the unit n (one polygon, two-sided for
+// rays).
+Polygon panel(const glm::dvec3& c, const glm::dvec3& n, double side) {
+  const glm::dvec3 a = glm::normalize(glm::cross(n, std::abs(n.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
+  const glm::dvec3 b = glm::cross(n, a);
+  const double h = 0.5 * side;
+  Polygon p;
+  p.name = "panel";
+  p.group = "panel";
+  p.kind = PolygonKind::Real;
+  p.albedo = glm::dvec3(0.5);
+  p.vertices = {c - h * a - h * b, c + h * a - h * b, c + h * a + h * b, c - h * a + h * b};
+  return p;
+}
+}  // namespace
+
+TEST(ImageObjectsInDaylight, ABoxOrMeshOfTheRenderHidesTheFanBehindItAndShadesItFromTheSun) {
+  // A render's boxes and meshes are not in the session's room: drawn with the image-based object,
+  // they hide it where they stand nearer the camera, and hide the sun from it as the room does.
+  Session& s = session();
+  daylight::DaylightRelighting& relit = *s.relit;
+  const ImageRGB base = relit.render(s.sky, {}, daylight::DaylightMethod::Volume);
+  ImageRGB alone = base;
+  std::vector<uint8_t> maskAlone;
+  ibr::drawImageObjectsInDaylight(relit, s.sky, {s.object}, alone, &maskAlone);
+  const glm::dvec3 centre = s.object.place.toWorld(*s.object.fan, s.object.fan->centre);
+  const Camera& cam = relit.camera();
+  size_t covered = 0;
+  for (uint8_t m : maskAlone) covered += m > 0;
+  ASSERT_GT(covered, 500u);
+
+  // (a) A panel 60 % of the way from the camera to the object, 12 cm across: where a pixel's ray
+  // meets it, the object is not drawn; elsewhere exactly as alone.
+  const glm::dvec3 eye = cam.center(), towards = glm::normalize(centre - eye);
+  const Polygon front = panel(eye + 0.6 * glm::length(centre - eye) * towards, -towards, 0.12);
+  ImageRGB hid = base;
+  std::vector<uint8_t> maskHid;
+  ibr::drawImageObjectsInDaylight(relit, s.sky, {s.object}, hid, &maskHid, silentProgress(), {front});
+  const RayScene frontRays({front.vertices});
+  size_t behind = 0, behindDrawn = 0, beside = 0, besideChanged = 0;
+  for (int y = 0; y < cam.height; ++y)
+    for (int x = 0; x < cam.width; ++x) {
+      const size_t i = size_t(y) * size_t(cam.width) + size_t(x);
+      if (!maskAlone[i]) continue;
+      const bool blocked = frontRays.intersect(Ray{glm::vec3(eye), glm::vec3(cam.rayDirection(x + 0.5, y + 0.5)), 0.f, 1e30f}).polygon >= 0;
+      if (blocked) {
+        ++behind;
+        behindDrawn += maskHid[i] > 0;
+      } else {
+        ++beside;
+        besideChanged += maskHid[i] != maskAlone[i];
+      }
+    }
+  std::printf("object pixels behind the panel %zu (drawn on %zu), beside it %zu (changed %zu)\n", behind, behindDrawn, beside,
+              besideChanged);
+  ASSERT_GT(behind, 50u);
+  ASSERT_GT(beside, 50u);
+  EXPECT_EQ(behindDrawn, 0u);
+  EXPECT_LE(besideChanged, beside / 50);
+
+  // (b) A panel 0.6 m towards the sun, 1 m across, square to it: the sun no longer reaches the
+  // object, which keeps only the window's sky and the room's light — much darker where the sun
+  // fell on it, and nowhere brighter.
+  ASSERT_TRUE(s.sky.sun.found);
+  const glm::dvec3 sunDir = glm::normalize(s.sky.sun.direction);
+  const Polygon shade = panel(centre + 0.6 * sunDir, -sunDir, 1.0);
+  ImageRGB shaded = base;
+  std::vector<uint8_t> maskShaded;
+  ibr::drawImageObjectsInDaylight(relit, s.sky, {s.object}, shaded, &maskShaded, silentProgress(), {shade});
+  double lumAlone = 0, lumShaded = 0;
+  size_t n = 0, brighter = 0;
+  for (size_t i = 0; i < maskAlone.size(); ++i) {
+    if (maskAlone[i] < 255 || maskShaded[i] < 255) continue;  // wholly the object in both
+    const double a = daylight::luminance(glm::dvec3(alone.at(int(i % size_t(cam.width)), int(i / size_t(cam.width))))),
+                 b = daylight::luminance(glm::dvec3(shaded.at(int(i % size_t(cam.width)), int(i / size_t(cam.width)))));
+    lumAlone += a;
+    lumShaded += b;
+    brighter += b > 1.01 * a + 1e-6;
+    ++n;
+  }
+  std::printf("object's mean luminance with the sun %.4f, its sun hidden by a panel %.4f (%zu pixels, %zu brighter)\n",
+              lumAlone / double(n), lumShaded / double(n), n, brighter);
+  ASSERT_GT(n, 500u);
+  EXPECT_LT(lumShaded, 0.6 * lumAlone);
+  EXPECT_EQ(brighter, 0u);
+}

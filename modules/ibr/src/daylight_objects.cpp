@@ -4,6 +4,7 @@
 // showed.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <glm/geometric.hpp>
 #include <numbers>
 
@@ -39,13 +40,17 @@ constexpr double kSunHalfAngle = 0.265 * std::numbers::pi / 180.0;
 }  // namespace
 
 ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight::SkyRadiance& sky, const glm::dvec3& c,
-                          double radius) {
+                          double radius, const RayScene* occluders) {
   daylight::DaylightBasis& basis = session.basis();
   if (basis.anyLampOn())
     throw Error("", "image-based object", "under daylight image-based objects are lit by daylight only: switch the lamps off");
   const auto& h = basis.engine();
   ObjectLighting out;
   out.centre = c;
+  out.occluders = occluders;
+  auto hidden = [&](const glm::dvec3& a, const glm::dvec3& b, float eps) {
+    return h.rayScene().occluded(glm::vec3(a), glm::vec3(b), eps) || (occluders && occluders->occluded(glm::vec3(a), glm::vec3(b), eps));
+  };
   // The room's light at the centre, the windows' own left out (the samples bring it).
   daylight::IrradianceVolume& volume = session.volume();
   volume.combine(basis, sky, c - glm::dvec3(radius), c + glm::dvec3(radius));
@@ -70,7 +75,7 @@ ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight:
     l.exitance = std::numbers::pi * (k >= 0 ? sky.region[size_t(k)] : ground);
     if (glm::dot(l.exitance, l.exitance) <= 0) continue;
     l.position = ws.point;
-    l.visible = h.rayScene().occluded(glm::vec3(c), glm::vec3(ws.point), 1e-5f) ? 0.0 : 1.0;
+    l.visible = hidden(c, ws.point, 1e-5f) ? 0.0 : 1.0;
     l.intensity = l.intensityTowards(c);
     out.lamps.push_back(std::move(l));
   }
@@ -97,12 +102,13 @@ ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight:
     // (a gap in a model that is not closed lets no sun in).
     const radiosity::HierarchicalRadiosity* engine = &h;
     const std::vector<int>* windows = &basis.windows();
-    out.roomLets = [engine, windows, towards, sunLamp](size_t lamp, const glm::dvec3& p) {
+    out.roomLets = [engine, windows, towards, sunLamp, occluders](size_t lamp, const glm::dvec3& p) {
       if (lamp != sunLamp) return 1.0;
       double v = 0;
       for (const auto& d : towards) {
         const double t = daylight::throughWindow(*engine, *windows, p, d);
-        if (t > 0 && !engine->rayScene().occluded(glm::vec3(p), glm::vec3(p + t * d), float(1e-4 / t)))
+        if (t > 0 && !engine->rayScene().occluded(glm::vec3(p), glm::vec3(p + t * d), float(1e-4 / t)) &&
+            !(occluders && occluders->occluded(glm::vec3(p), glm::vec3(p + t * d), float(1e-4 / t))))
           v += 1.0 / double(towards.size());
       }
       return v;
@@ -113,8 +119,14 @@ ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight:
 
 std::vector<DrawStats> drawImageObjectsInDaylight(daylight::DaylightRelighting& session, const daylight::SkyRadiance& sky,
                                                   const std::vector<ImageObject>& objects, ImageRGB& image,
-                                                  std::vector<uint8_t>* mask, Progress& progress) {
+                                                  std::vector<uint8_t>* mask, Progress& progress,
+                                                  const std::vector<Polygon>& polygonal) {
   if (objects.empty()) return std::vector<DrawStats>();
+  // The render's boxes and meshes, as occluders beside the room.
+  std::vector<std::vector<glm::dvec3>> faces;
+  for (const Polygon& p : polygonal)
+    if (p.vertices.size() >= 3) faces.push_back(p.vertices);
+  const std::unique_ptr<RayScene> occluders = faces.empty() ? nullptr : std::make_unique<RayScene>(faces);
   {
     Progress built(progress, 0.0, 0.9);
     session.volume(built);  // (made once; Cancel leaves none)
@@ -127,7 +139,7 @@ std::vector<DrawStats> drawImageObjectsInDaylight(daylight::DaylightRelighting& 
     throw Error("", "image-based objects", "the image is not the daylight session's render through its camera");
   std::vector<ObjectLighting> lights;
   for (const auto& o : objects)
-    lights.push_back(daylightAt(session, sky, o.place.toWorld(*o.fan, o.fan->centre), o.fan->radius * o.place.scale));
+    lights.push_back(daylightAt(session, sky, o.place.toWorld(*o.fan, o.fan->centre), o.fan->radius * o.place.scale, occluders.get()));
   // The irradiance the render showed at a room point: its pixel's (the shadows ask only about
   // points their pixels see).
   const IrradianceAt irradiance = [&](int, const glm::dvec3& p) {
@@ -138,8 +150,20 @@ std::vector<DrawStats> drawImageObjectsInDaylight(daylight::DaylightRelighting& 
   };
   // The sun the render showed per pixel (over the pixel's footprint and the sun's disc): the most
   // an object's sun shadow takes off there.
-  const ImageRGB& sunShown = session.interactiveSky(sky, progress).sunLight;  // (valid until its next call: none below)
-  return drawImageObjects(session.basis().engine(), objects, lights, camera, irradiance, image, mask, &sunShown);
+  const daylight::InteractiveSky& room = session.interactiveSky(sky, progress);  // (valid until its next call: none below)
+  if (!occluders)
+    return drawImageObjects(session.basis().engine(), objects, lights, camera, irradiance, image, mask, &room.sunLight);
+  // With boxes or meshes in the render, the sun it showed at a pixel is the room's less what they
+  // took off there (the irradiance the room alone would have, room / gain, less the render's):
+  // where their own shadow already took the sun, an object's shadow takes no more.
+  ImageRGB sunShown = room.sunLight;
+  for (size_t i = 0; i < sunShown.pixels.size(); ++i) {
+    const float g = room.gain.pixels[i];
+    if (!(g > 0)) continue;
+    const float lost = std::max(0.f, room.room.pixels[i] / g - shown.pixels[i]);
+    sunShown.pixels[i] = std::max(0.f, sunShown.pixels[i] - lost);
+  }
+  return drawImageObjects(session.basis().engine(), objects, lights, camera, irradiance, image, mask, &sunShown, occluders.get());
 }
 
 }  // namespace relume::ibr

@@ -264,7 +264,7 @@ void roomTiles(RoomView& v) {
 }
 }  // namespace
 
-RoomView roomView(const radiosity::HierarchicalRadiosity& h, const Camera& cam) {
+RoomView roomView(const radiosity::HierarchicalRadiosity& h, const Camera& cam, const RayScene* occluders) {
   RoomView v;
   v.width = cam.width;
   v.height = cam.height;
@@ -278,14 +278,21 @@ RoomView roomView(const radiosity::HierarchicalRadiosity& h, const Camera& cam) 
   for (const auto& surf : h.surfaces()) normals.push_back(surf.vertices.size() >= 3 ? polygonNormal(surf.vertices) : glm::dvec3(0.0));
   tbb::parallel_for(tbb::blocked_range<int>(0, cam.height, 8), [&](const tbb::blocked_range<int>& rows) {
     std::vector<Ray> rays(size_t(cam.width));
-    std::vector<RayHit> hits(rays.size());
+    std::vector<RayHit> hits(rays.size()), other(occluders ? rays.size() : 0);
     for (int y = rows.begin(); y < rows.end(); ++y) {
       for (int x = 0; x < cam.width; ++x) rays[size_t(x)] = Ray{glm::vec3(eye), glm::vec3(cam.rayDirection(x + 0.5, y + 0.5)), 0.f, 1e30f};
       h.rayScene().intersect(rays, hits);
+      if (occluders) occluders->intersect(rays, other);
       for (int x = 0; x < cam.width; ++x) {
+        const size_t i = size_t(y) * cam.width + x;
+        if (occluders && other[size_t(x)].polygon >= 0 && (hits[size_t(x)].polygon < 0 || other[size_t(x)].t < hits[size_t(x)].t)) {
+          v.depth[i] = other[size_t(x)].t;  // an occluder beside the room: depth only
+          v.point[i] = other[size_t(x)].point;
+          v.normal[i] = other[size_t(x)].geometricNormal;
+          continue;
+        }
         const RayHit& hit = hits[size_t(x)];
         if (hit.polygon < 0) continue;
-        const size_t i = size_t(y) * cam.width + x;
         v.depth[i] = hit.t;
         v.point[i] = hit.point;
         const glm::dvec3& nrm = normals[size_t(hit.polygon)];
@@ -739,7 +746,13 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
     if (cull_ && re.lampCentre.z - lv.lampRadius > 0 && !mayCross(xf, xf, re.lampCentre, lv.lampRadius, re.lo, re.hi))
       continue;
     const double toPixel = 0.5 * S / rs;
-    double blocked = 0;
+    double blocked = 0, blockedAny = 0;  // (blocked: of the lines no occluder beside the room blocks)
+    const glm::dvec3 from = X + 1e-4 * n;
+    auto occludedBeside = [&](size_t k) {
+      const glm::dvec3& P = lv.samples[k].first;
+      return light_->occluders->occluded(glm::vec3(from), glm::vec3(P),
+                                         float(std::min(1e-4, 2e-4 / std::max(glm::length(P - from), 1e-9))));
+    };
     // Per lamp point P, in that frame (no division but u's, no square root): the tests that
     // reject most lines first.
     const double x2 = xr * xr + xu * xu + xt * xt, rs2 = rs * rs;
@@ -765,14 +778,30 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
       const double c = fan.radius - fan.depthMetres(silhouette.depth[ti]);
       const double along = (place_.scale * a - xr) * sr + (place_.scale * b - xu) * su + (place_.scale * c - xt) * st;
       if (along <= 0 || along * along <= 1e-6 * len2) continue;
-      blocked += lv.samples[k].second * (silhouette.alpha[ti] / 255.0);
+      // A line an occluder beside the room (a daylight render's box) blocks already brought no
+      // light here: the object takes none off it.
+      const double share = lv.samples[k].second * (silhouette.alpha[ti] / 255.0);
+      blockedAny += share;
+      if (light_->occluders && occludedBeside(k)) continue;
+      blocked += share;
     }
-    if (!(blocked > 0)) continue;
-    // A lamp seen per point whose light the display gives (perPoint asked): the share blocked.
+    if (!(blockedAny > 0)) continue;
+    // A lamp seen per point whose light the display gives (perPoint asked): the share blocked —
+    // with occluders beside the room, of the lines they leave (the display's light there is what
+    // they left): the share of what is left that the object hides. Where they leave no line but
+    // the display still showed some of the lamp (its own edge of their shadow), as if they were not there.
     if (perPoint && lamp.perPoint) {
-      *perPoint += glm::dvec3(blocked);
+      if (!light_->occluders) {
+        *perPoint += glm::dvec3(blocked);
+        continue;
+      }
+      double left = 0;
+      for (size_t k = 0; k < lv.samples.size(); ++k)
+        if (!occludedBeside(k)) left += lv.samples[k].second;
+      *perPoint += glm::dvec3(left > 1e-3 ? std::min(1.0, blocked / left) : blockedAny);
       continue;
     }
+    if (!(blocked > 0)) continue;
     // The lamp's direct irradiance at X, as far as the room lets it through (a lamp seen per
     // point: as the lighting says; else the line to its centre, its ends' margin a fifth of a
     // millimetre however far the lamp).
@@ -782,7 +811,9 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
       through = light_->roomLets(lv.lamp, lift);
     } else {
       const double len = glm::length(lamp.position - lift);
-      if (h.rayScene().occluded(glm::vec3(lift), glm::vec3(lamp.position), float(std::min(1e-4, 2e-4 / std::max(len, 1e-9)))))
+      const float eps = float(std::min(1e-4, 2e-4 / std::max(len, 1e-9)));
+      if (h.rayScene().occluded(glm::vec3(lift), glm::vec3(lamp.position), eps) ||
+          (light_->occluders && light_->occluders->occluded(glm::vec3(lift), glm::vec3(lamp.position), eps)))
         continue;
     }
     if (!(through > 0)) continue;

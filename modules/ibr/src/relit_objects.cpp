@@ -91,11 +91,11 @@ std::vector<DrawStats> drawImageObjects(const RelightSession& session, const std
 std::vector<DrawStats> drawImageObjects(const radiosity::HierarchicalRadiosity& h, const std::vector<ImageObject>& objects,
                                         const std::vector<ObjectLighting>& lights, const Camera& camera,
                                         const IrradianceAt& irradiance, ImageRGB& image, std::vector<uint8_t>* mask,
-                                        const ImageRGB* perPointCap) {
+                                        const ImageRGB* perPointCap, const RayScene* occluders) {
   std::vector<DrawStats> stats(objects.size());
   if (objects.empty()) return stats;
   if (lights.size() != objects.size()) throw Error("", "image-based objects", "one lighting per object expected");
-  const RoomView room = roomView(h, camera);
+  const RoomView room = roomView(h, camera, occluders);
   if (mask) mask->assign(size_t(camera.width) * camera.height, 0);
   for (size_t i = 0; i < objects.size(); ++i)
     stats[i].shadowPixels =

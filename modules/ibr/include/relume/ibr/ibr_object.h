@@ -21,6 +21,9 @@
 #include "relume/radiosity/form_factor.h"
 #include "relume/radiosity/sh.h"
 
+namespace relume {
+class RayScene;
+}
 namespace relume::radiosity {
 class HierarchicalRadiosity;
 }
@@ -72,6 +75,10 @@ struct ObjectLighting {
   // drawObject then takes it at each table cell's surface point, as the lamps' tables are aimed,
   // instead of `indirect` at the centre — next to a sunlit patch it changes across the object.
   std::function<radiosity::SH9(const glm::dvec3& p)> indirectAt;
+  // Occluders beside the room (a daylight render's boxes and meshes, which are not in the room's
+  // rays): they hide lamps from the object and from the room points its shadows fall on, as the
+  // room does. Not owned; null: none.
+  const RayScene* occluders = nullptr;
 };
 
 // The lights of a radiosity solution at a world point: every surface with an exitance is a lamp.
@@ -142,7 +149,10 @@ struct RoomView {
   int tilesY() const { return (height + kRoomTile - 1) / kRoomTile; }
   std::vector<glm::dvec4> tiles;
 };
-RoomView roomView(const radiosity::HierarchicalRadiosity& h, const Camera& camera);
+// With `occluders` (not in the room's rays), a pixel that sees one of them nearer than the room
+// takes its depth and point and no surface: an object behind it is hidden there, and no shadow
+// falls on it.
+RoomView roomView(const radiosity::HierarchicalRadiosity& h, const Camera& camera, const RayScene* occluders = nullptr);
 
 struct DrawStats {
   int view = -1;  // the fan view drawn

@@ -13,6 +13,7 @@ namespace relume {
 class RelightSession;
 struct Scene;
 struct Variant;
+struct Polygon;
 }  // namespace relume
 namespace relume::daylight {
 class DaylightRelighting;
@@ -54,11 +55,11 @@ std::vector<DrawStats> drawImageObjects(const RelightSession& session, const std
 
 // The same on any room `h` (whose rays the objects are depth-tested and shadowed against), the
 // light shown at a real surface's point given by `irradiance` (what the shadows' share is of);
-// `perPointCap` as drawShadows takes it.
+// `perPointCap` as drawShadows takes it; `occluders` (not in h's rays) as roomView takes them.
 std::vector<DrawStats> drawImageObjects(const radiosity::HierarchicalRadiosity& h, const std::vector<ImageObject>& objects,
                                         const std::vector<ObjectLighting>& lights, const Camera& camera,
                                         const IrradianceAt& irradiance, ImageRGB& image, std::vector<uint8_t>* mask = nullptr,
-                                        const ImageRGB* perPointCap = nullptr);
+                                        const ImageRGB* perPointCap = nullptr, const RayScene* occluders = nullptr);
 
 // ---- Under daylight (Grosch, Eble, Mueller 2007 with the tables of Dinh et al.) ----
 // The daylight at an image-based object whose centre is `centre`, under `sky`, as the tables take
@@ -74,19 +75,24 @@ std::vector<DrawStats> drawImageObjects(const radiosity::HierarchicalRadiosity& 
 // daylight these objects are lit by daylight only.
 // What it returns looks up the session's room and irradiance volume as they are now: valid until
 // the session's next render() or volume combination (another sky, objects added to the basis).
+// `occluders` (boxes and meshes drawn by the render, not in the session's room): they hide the
+// window samples and the sun as the room does (ObjectLighting::occluders); not owned.
 ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight::SkyRadiance& sky, const glm::dvec3& centre,
-                          double radius);
+                          double radius, const RayScene* occluders = nullptr);
 // Draws image-based objects lit by daylight into `image`, the session's last render() under the
 // same `sky` (through the session's camera): their shadows on the room's pixels, each lamp's
 // share of the irradiance that render showed there (DaylightRelighting::lastIrradiance) taken
 // off, so that a shadow falls only where the room let the light through; then the objects,
-// depth-tested against the room. The render must have drawn no box or mesh: those are not in the
-// room the objects are drawn against (their depth and their shadows would be wrong where the two
-// meet), so callers refuse the mix.
+// depth-tested against the room. `polygonal`: the boxes and meshes that render drew (placed as it
+// drew them). They hide the image-based objects behind them, their pixels take no shadow of
+// them, and they hide the window samples and the sun from them and from the room points their
+// shadows fall on; an image-based object's shadow on a box or mesh is not drawn, nor its light
+// reflected onto them (the render solved the room without it).
 // `progress`: the first call builds the session's irradiance volume (DaylightRelighting::volume).
 std::vector<DrawStats> drawImageObjectsInDaylight(daylight::DaylightRelighting& session, const daylight::SkyRadiance& sky,
                                                   const std::vector<ImageObject>& objects, ImageRGB& image,
-                                                  std::vector<uint8_t>* mask = nullptr, Progress& progress = silentProgress());
+                                                  std::vector<uint8_t>* mask = nullptr, Progress& progress = silentProgress(),
+                                                  const std::vector<Polygon>& polygonal = {});
 
 // The objects' shadows on the room's surfaces as maps in each surface's plane coordinates
 // (radiosity::HierarchicalRadiosity::toUV), for a display whose camera moves: per texel the
