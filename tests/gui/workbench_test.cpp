@@ -2882,7 +2882,8 @@ class WorkbenchTest : public QObject {
   void daylightBoxAndImageBasedObjectTogetherInTheSkyPanel() {
     // A file that places an image-based object (the example vase, in sun0's sunlit patch) and a box
     // between it and the window: both are drawn, where the box's sun shadow lies the vase's takes
-    // no more light, each is dragged by its own cross, and a save keeps each where it was left.
+    // no more light, each is dragged by its own cross (though the box bears the vase's name), and a
+    // save keeps each where it was left.
     ibr::FanOptions opt;
     opt.viewsPerRing = 24;
     opt.size = 128;
@@ -2893,7 +2894,7 @@ class WorkbenchTest : public QObject {
     for (const auto& [name, text] :
          {std::pair{alone, QByteArray(R"({"virtual_objects": [{"name": "vase", "fan": "mixed_vase.fan", "position": [2.5, 2.0, 0.0]}]})")},
           std::pair{mixed, QByteArray(R"({"virtual_objects": [{"name": "vase", "fan": "mixed_vase.fan", "position": [2.5, 2.0, 0.0]},
-              {"name": "screen", "box_min": [2.75, 1.8, 0.0], "box_max": [2.9, 2.2, 0.6], "albedo": [0.2, 0.3, 0.8]}]})")}}) {
+              {"name": "vase", "box_min": [2.75, 1.8, 0.0], "box_max": [2.9, 2.2, 0.6], "albedo": [0.2, 0.3, 0.8]}]})")}}) {
       QFile f(name);
       QVERIFY(f.open(QIODevice::WriteOnly));
       f.write(text);

@@ -155,7 +155,11 @@ std::vector<DrawStats> drawImageObjectsInDaylight(daylight::DaylightRelighting& 
     return drawImageObjects(session.basis().engine(), objects, lights, camera, irradiance, image, mask, &room.sunLight);
   // With boxes or meshes in the render, the sun it showed at a pixel is the room's less what they
   // took off there (the irradiance the room alone would have, room / gain, less the render's):
-  // where their own shadow already took the sun, an object's shadow takes no more.
+  // where their own shadow already took the sun, an object's shadow takes no more. (Taken from
+  // the render rather than from the shadow lines, whose edge of a box's shadow need not fall on
+  // the render's pixel for pixel: the lines alone left a dotted seam there. What the boxes took
+  // off counts their sky as well, so next to a box, out of its sun shadow, an object's sun shadow
+  // comes out lighter by about the sky the box hides there.)
   ImageRGB sunShown = room.sunLight;
   for (size_t i = 0; i < sunShown.pixels.size(); ++i) {
     const float g = room.gain.pixels[i];

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "relume/geometry/polygon.h"
 #include "relume/geometry/progress.h"
 #include "relume/ibr/ibr_object.h"
 
@@ -13,7 +14,6 @@ namespace relume {
 class RelightSession;
 struct Scene;
 struct Variant;
-struct Polygon;
 }  // namespace relume
 namespace relume::daylight {
 class DaylightRelighting;
