@@ -28,6 +28,7 @@
 #include <QtTest>
 #include <QMouseEvent>
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <cmath>
 #include <filesystem>
@@ -179,6 +180,44 @@ bool openDaylightRoom(MainWindow& w, const QString& room) {
   w.resize(1400, 820);
   w.show();
   return QTest::qWaitForWindowExposed(&w) && w.openPath(room) && jobsSettled(w, 300000) && w.skyPanel()->isOpen();
+}
+
+// The example vase's fan (3 x 24 views at 128 px: quick to make, enough for the Sky panel's
+// checks), written to `path`.
+void writeExampleVaseFan(const QString& path) {
+  ibr::FanOptions opt;
+  opt.viewsPerRing = 24;
+  opt.size = 128;
+  opt.ringElevations = {20.0, 50.0};
+  const auto fan = ibr::buildFan(ibr::readMesh(QStringLiteral(RELUME_SOURCE_DIR "/resources/examples/vase.obj").toStdString()), opt);
+  ibr::writeFan(*fan, path.toStdString());
+}
+
+// The Sky panel under sun0 (the photos' sky), its render waited for.
+bool showSun0(MainWindow& w) {
+  SkyPanel* sky = w.skyPanel();
+  if (!jobsSettled(w, 120000)) return false;
+  const int sun0 = sky->skyBox()->findText("sun0", Qt::MatchContains);
+  if (sun0 < 0) return false;
+  if (sky->skyBox()->currentIndex() == sun0) return true;
+  sky->skyBox()->setCurrentIndex(sun0);
+  return jobsSettled(w, 180000);
+}
+
+// A press at `from`, a move and a release at `to` (photo pixels) on a photo view, as a drag.
+void dragInView(ClickPhotoView* view, const glm::dvec2& from, const glm::dvec2& to, int steps = 1,
+                const std::function<void()>& betweenMoves = {}) {
+  auto send = [&](QEvent::Type type, const glm::dvec2& px, Qt::MouseButton button, Qt::MouseButtons buttons) {
+    const QPointF pos = view->widgetPosition(QPointF(px.x, px.y));
+    QMouseEvent e(type, pos, view->mapToGlobal(pos), button, buttons, Qt::NoModifier);
+    QApplication::sendEvent(view, &e);
+  };
+  send(QEvent::MouseButtonPress, from, Qt::LeftButton, Qt::LeftButton);
+  for (int k = 1; k <= steps; ++k) {
+    send(QEvent::MouseMove, from + (to - from) * (double(k) / steps), Qt::NoButton, Qt::LeftButton);
+    if (betweenMoves) betweenMoves();
+  }
+  send(QEvent::MouseButtonRelease, to, Qt::LeftButton, Qt::NoButton);
 }
 
 bool copyFolder(const QString& from, const QString& to) {
@@ -2758,12 +2797,7 @@ class WorkbenchTest : public QObject {
     // its sun shadow on the floor away from the sun, the interactive method drawing it too (by the
     // CPU path: the OpenGL box greyed out), dragged by its cross and saved where it was dragged,
     // and the distant method leaving it out, said.
-    ibr::FanOptions opt;
-    opt.viewsPerRing = 24;
-    opt.size = 128;
-    opt.ringElevations = {20.0, 50.0};
-    const auto fan = ibr::buildFan(ibr::readMesh(str(QStringLiteral(RELUME_SOURCE_DIR) + "/resources/examples/vase.obj")), opt);
-    ibr::writeFan(*fan, str(tmp_.path() + "/sky_vase.fan"));
+    writeExampleVaseFan(tmp_.path() + "/sky_vase.fan");
     const QString file = tmp_.path() + "/sky_vase.json";
     {
       QFile f(file);
@@ -2775,13 +2809,7 @@ class WorkbenchTest : public QObject {
     QVERIFY2(openDaylightRoom(w, room), qPrintable(w.lastError()));
     SkyPanel* sky = w.skyPanel();
     auto settle = [&](int timeoutMs) { return jobsSettled(w, timeoutMs); };
-    QVERIFY(settle(120000));
-    const int sun0 = sky->skyBox()->findText("sun0", Qt::MatchContains);
-    QVERIFY(sun0 >= 0);
-    if (sky->skyBox()->currentIndex() != sun0) {
-      sky->skyBox()->setCurrentIndex(sun0);
-      QVERIFY(settle(180000));
-    }
+    QVERIFY(showSun0(w));
     const QImage off = sky->shown().convertToFormat(QImage::Format_RGB888);
     QVERIFY(sky->addObjectsFile(file));
     QCOMPARE(sky->objectsBox()->currentText(), QString("sky_vase.json"));
@@ -2836,17 +2864,9 @@ class WorkbenchTest : public QObject {
     QVERIFY(std::hypot(view->markers()[0].pixel.x() - base.x, view->markers()[0].pixel.y() - base.y) < 0.5);
     const glm::dvec3 to(1.9, 2.0, 0.0);
     const glm::dvec2 target = pixelOf(to);
-    auto send = [&](QEvent::Type type, const glm::dvec2& px, Qt::MouseButton button, Qt::MouseButtons buttons) {
-      const QPointF pos = view->widgetPosition(QPointF(px.x, px.y));
-      QMouseEvent e(type, pos, view->mapToGlobal(pos), button, buttons, Qt::NoModifier);
-      QApplication::sendEvent(view, &e);
-    };
-    send(QEvent::MouseButtonPress, base, Qt::LeftButton, Qt::LeftButton);
-    for (int k = 1; k <= 2; ++k) {
-      send(QEvent::MouseMove, base + (target - base) * (k / 2.0), Qt::NoButton, Qt::LeftButton);
-      QVERIFY(settle(60000));
-    }
-    send(QEvent::MouseButtonRelease, target, Qt::LeftButton, Qt::NoButton);
+    bool settledBetween = true;
+    dragInView(view, base, target, 2, [&] { settledBetween = settle(60000) && settledBetween; });
+    QVERIFY(settledBetween);
     QVERIFY(settle(60000));
     QVERIFY(std::hypot(view->markers()[0].pixel.x() - target.x, view->markers()[0].pixel.y() - target.y) < 0.5);
     const QImage dragged = sky->shown().convertToFormat(QImage::Format_RGB888);
@@ -2884,12 +2904,7 @@ class WorkbenchTest : public QObject {
     // between it and the window: both are drawn, where the box's sun shadow lies the vase's takes
     // no more light, each is dragged by its own cross (though the box bears the vase's name), and a
     // save keeps each where it was left.
-    ibr::FanOptions opt;
-    opt.viewsPerRing = 24;
-    opt.size = 128;
-    opt.ringElevations = {20.0, 50.0};
-    const auto fan = ibr::buildFan(ibr::readMesh(str(QStringLiteral(RELUME_SOURCE_DIR) + "/resources/examples/vase.obj")), opt);
-    ibr::writeFan(*fan, str(tmp_.path() + "/mixed_vase.fan"));
+    writeExampleVaseFan(tmp_.path() + "/mixed_vase.fan");
     const QString alone = tmp_.path() + "/vase_alone.json", mixed = tmp_.path() + "/vase_and_box.json";
     for (const auto& [name, text] :
          {std::pair{alone, QByteArray(R"({"virtual_objects": [{"name": "vase", "fan": "mixed_vase.fan", "position": [2.5, 2.0, 0.0]}]})")},
@@ -2904,13 +2919,7 @@ class WorkbenchTest : public QObject {
     QVERIFY2(openDaylightRoom(w, room), qPrintable(w.lastError()));
     SkyPanel* sky = w.skyPanel();
     auto settle = [&](int timeoutMs) { return jobsSettled(w, timeoutMs); };
-    QVERIFY(settle(120000));
-    const int sun0 = sky->skyBox()->findText("sun0", Qt::MatchContains);
-    QVERIFY(sun0 >= 0);
-    if (sky->skyBox()->currentIndex() != sun0) {
-      sky->skyBox()->setCurrentIndex(sun0);
-      QVERIFY(settle(180000));
-    }
+    QVERIFY(showSun0(w));
     const Scene scene = loadRoom(room.toStdString());
     const Camera cam = scene.findPhoto("main")->camera;
     auto at = [&](const QImage& im, const glm::dvec3& p) {
@@ -2963,14 +2972,7 @@ class WorkbenchTest : public QObject {
     QVERIFY(nearest(boxBase) < 0.5);
     const glm::dvec3 to(1.9, 2.0, 0.0);
     const glm::dvec2 target = pixelOf(to);
-    auto send = [&](QEvent::Type type, const glm::dvec2& px, Qt::MouseButton button, Qt::MouseButtons buttons) {
-      const QPointF pos = view->widgetPosition(QPointF(px.x, px.y));
-      QMouseEvent e(type, pos, view->mapToGlobal(pos), button, buttons, Qt::NoModifier);
-      QApplication::sendEvent(view, &e);
-    };
-    send(QEvent::MouseButtonPress, base, Qt::LeftButton, Qt::LeftButton);
-    send(QEvent::MouseMove, target, Qt::NoButton, Qt::LeftButton);
-    send(QEvent::MouseButtonRelease, target, Qt::LeftButton, Qt::NoButton);
+    dragInView(view, base, target);
     QVERIFY(settle(60000));
     QVERIFY(nearest(target) < 0.5);
     QVERIFY(nearest(boxBase) < 0.5);
