@@ -122,20 +122,10 @@ static ObjectsEntry objectsEntry(const Scene& room, const QString& label, const 
   std::erase_if(polygonal.virtualObjects, [](const VirtualBox& b) { return !b.fan.empty(); });
   std::vector<std::string> polygonGroups;
   entry.polygons = daylight::variantObjects(room, polygonal, file, &polygonGroups);
-  ibr::appendImageObjects(v, file, entry.images, variant >= 0 ? room.baseDir : std::string());
+  // (A fan named as a box or mesh of the entry gets its place: each object is dragged and saved
+  // by its name.)
+  ibr::appendImageObjects(v, file, entry.images, variant >= 0 ? room.baseDir : std::string(), polygonGroups);
   for (const auto& o : entry.images) ibr::checkImageObject(room, o);
-  // A fan named as a box or mesh of the entry gets its place among the fans (each object is
-  // dragged and saved by its name).
-  for (size_t k = 0; k < entry.images.size(); ++k) {
-    auto taken = [&](const std::string& n) {
-      if (std::find(polygonGroups.begin(), polygonGroups.end(), n) != polygonGroups.end()) return true;
-      for (size_t j = 0; j < entry.images.size(); ++j)
-        if (j != k && entry.images[j].name == n) return true;
-      return false;
-    };
-    const std::string base = entry.images[k].name;
-    for (size_t m = k + 1; taken(entry.images[k].name); ++m) entry.images[k].name = base + " (" + std::to_string(m) + ")";
-  }
   // Each virtual object's group, in the variant's order (what the panel drags and a save moves):
   // a box's or mesh's faces' group, a fan's name.
   size_t nextPolygonal = 0, nextImage = 0;

@@ -193,6 +193,21 @@ void writeExampleVaseFan(const QString& path) {
   ibr::writeFan(*fan, path.toStdString());
 }
 
+// Where world point p falls in the photo of `cam` (pixels).
+glm::dvec2 photoPixel(const Camera& cam, const glm::dvec3& p) {
+  glm::dvec2 px(-1.0);
+  cam.project(p, px);
+  return px;
+}
+
+// The colour a view's image `im` (the photo's frame at any size) shows at world point p; invalid
+// behind the camera.
+QColor colourSeen(const QImage& im, const Camera& cam, const glm::dvec3& p) {
+  glm::dvec2 px;
+  if (!cam.project(p, px)) return QColor();
+  return im.pixelColor(int(px.x * double(im.width()) / cam.width), int(px.y * double(im.height()) / cam.height));
+}
+
 // The Sky panel under sun0 (the photos' sky), its render waited for.
 bool showSun0(MainWindow& w) {
   SkyPanel* sky = w.skyPanel();
@@ -2818,12 +2833,7 @@ class WorkbenchTest : public QObject {
     QCOMPARE(on.size(), off.size());
     const Scene scene = loadRoom(room.toStdString());
     const Camera cam = scene.findPhoto("main")->camera;
-    auto at = [&](const QImage& im, const glm::dvec3& p) {
-      glm::dvec2 px;
-      if (!cam.project(p, px)) return QColor();
-      const double sx = double(im.width()) / cam.width, sy = double(im.height()) / cam.height;
-      return im.pixelColor(int(px.x * sx), int(px.y * sy));
-    };
+    auto at = [&](const QImage& im, const glm::dvec3& p) { return colourSeen(im, cam, p); };
     // The vase's body (terracotta: red over green), where the floor was.
     const QColor body = at(on, {2.5, 2.0, 0.25}), floorThere = at(off, {2.5, 2.0, 0.25});
     qInfo("vase body %d %d %d, the floor there before %d %d %d", body.red(), body.green(), body.blue(), floorThere.red(),
@@ -2855,11 +2865,7 @@ class WorkbenchTest : public QObject {
     // where it stood; saved, the project's variant has it there.
     ClickPhotoView* view = sky->view();
     QCOMPARE(view->markers().size(), size_t(1));
-    auto pixelOf = [&](const glm::dvec3& p) {
-      glm::dvec2 px;
-      cam.project(p, px);
-      return px;
-    };
+    auto pixelOf = [&](const glm::dvec3& p) { return photoPixel(cam, p); };
     const glm::dvec2 base = pixelOf({2.5, 2.0, 0.0});
     QVERIFY(std::hypot(view->markers()[0].pixel.x() - base.x, view->markers()[0].pixel.y() - base.y) < 0.5);
     const glm::dvec3 to(1.9, 2.0, 0.0);
@@ -2922,12 +2928,7 @@ class WorkbenchTest : public QObject {
     QVERIFY(showSun0(w));
     const Scene scene = loadRoom(room.toStdString());
     const Camera cam = scene.findPhoto("main")->camera;
-    auto at = [&](const QImage& im, const glm::dvec3& p) {
-      glm::dvec2 px;
-      if (!cam.project(p, px)) return QColor();
-      const double sx = double(im.width()) / cam.width, sy = double(im.height()) / cam.height;
-      return im.pixelColor(int(px.x * sx), int(px.y * sy));
-    };
+    auto at = [&](const QImage& im, const glm::dvec3& p) { return colourSeen(im, cam, p); };
     // The sun (30 degrees up, from 100 degrees east of +Y): a floor point 30 cm from the vase's
     // foot away from it lies in the vase's shadow, and in the box's too once the box stands there.
     const double r = 100 * std::numbers::pi / 180;
@@ -2954,11 +2955,7 @@ class WorkbenchTest : public QObject {
     // Two crosses, one per object; the vase's dragged 60 cm along the floor, the box's left alone.
     ClickPhotoView* view = sky->view();
     QCOMPARE(view->markers().size(), size_t(2));
-    auto pixelOf = [&](const glm::dvec3& p) {
-      glm::dvec2 px;
-      cam.project(p, px);
-      return px;
-    };
+    auto pixelOf = [&](const glm::dvec3& p) { return photoPixel(cam, p); };
     auto nearest = [&](const glm::dvec2& px) {
       size_t best = 0;
       for (size_t k = 1; k < view->markers().size(); ++k)

@@ -48,9 +48,6 @@ ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight:
   ObjectLighting out;
   out.centre = c;
   out.occluders = occluders;
-  auto hidden = [&](const glm::dvec3& a, const glm::dvec3& b, float eps) {
-    return h.rayScene().occluded(glm::vec3(a), glm::vec3(b), eps) || (occluders && occluders->occluded(glm::vec3(a), glm::vec3(b), eps));
-  };
   // The room's light at the centre, the windows' own left out (the samples bring it).
   daylight::IrradianceVolume& volume = session.volume();
   volume.combine(basis, sky, c - glm::dvec3(radius), c + glm::dvec3(radius));
@@ -64,7 +61,7 @@ ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight:
   };
   const glm::dvec3 ground = basis.groundRadiance(sky);
   // The interactive method's window samples (kept by the session while the sky stays).
-  const std::vector<daylight::DirectSample> samples = session.interactiveSky(sky).window;
+  const std::vector<daylight::DirectSample>& samples = session.interactiveSky(sky).window;
   for (const daylight::DirectSample& ws : samples) {
     const glm::dvec3 toSample = ws.point - c;
     const double d = glm::length(toSample);
@@ -75,7 +72,7 @@ ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight:
     l.exitance = std::numbers::pi * (k >= 0 ? sky.region[size_t(k)] : ground);
     if (glm::dot(l.exitance, l.exitance) <= 0) continue;
     l.position = ws.point;
-    l.visible = hidden(c, ws.point, 1e-5f) ? 0.0 : 1.0;
+    l.visible = blockedBetween(h.rayScene(), occluders, c, ws.point, 1e-5f) ? 0.0 : 1.0;
     l.intensity = l.intensityTowards(c);
     out.lamps.push_back(std::move(l));
   }
@@ -107,9 +104,7 @@ ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight:
       double v = 0;
       for (const auto& d : towards) {
         const double t = daylight::throughWindow(*engine, *windows, p, d);
-        if (t > 0 && !engine->rayScene().occluded(glm::vec3(p), glm::vec3(p + t * d), float(1e-4 / t)) &&
-            !(occluders && occluders->occluded(glm::vec3(p), glm::vec3(p + t * d), float(1e-4 / t))))
-          v += 1.0 / double(towards.size());
+        if (t > 0 && !blockedBetween(engine->rayScene(), occluders, p, p + t * d, float(1e-4 / t))) v += 1.0 / double(towards.size());
       }
       return v;
     };

@@ -264,6 +264,12 @@ void roomTiles(RoomView& v) {
 }
 }  // namespace
 
+bool blockedBetween(const RayScene& room, const RayScene* occluders, const glm::dvec3& a, const glm::dvec3& b,
+                    float endEpsilon) {
+  return room.occluded(glm::vec3(a), glm::vec3(b), endEpsilon) ||
+         (occluders && occluders->occluded(glm::vec3(a), glm::vec3(b), endEpsilon));
+}
+
 RoomView roomView(const radiosity::HierarchicalRadiosity& h, const Camera& cam, const RayScene* occluders) {
   RoomView v;
   v.width = cam.width;
@@ -719,6 +725,7 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
   const glm::dvec3 cw = centre_;
   const double rs = radius_;
   glm::dvec3 out(0.0);
+  std::vector<int8_t> beside;  // (with occluders beside the room: per lamp line)
   for (size_t ci = 0; ci < casters_.size(); ++ci) {
     if (!(casters >> std::min<size_t>(ci, 63) & 1)) continue;
     const ShadowCaster& lv = casters_[ci];
@@ -748,10 +755,15 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
     const double toPixel = 0.5 * S / rs;
     double blocked = 0, blockedAny = 0;  // (blocked: of the lines no occluder beside the room blocks)
     const glm::dvec3 from = X + 1e-4 * n;
+    // Whether an occluder beside the room blocks line k, each line asked once (-1: not yet).
+    if (light_->occluders) beside.assign(lv.samples.size(), -1);
     auto occludedBeside = [&](size_t k) {
-      const glm::dvec3& P = lv.samples[k].first;
-      return light_->occluders->occluded(glm::vec3(from), glm::vec3(P),
-                                         float(std::min(1e-4, 2e-4 / std::max(glm::length(P - from), 1e-9))));
+      if (beside[k] < 0) {
+        const glm::dvec3& P = lv.samples[k].first;
+        beside[k] = light_->occluders->occluded(glm::vec3(from), glm::vec3(P),
+                                                float(std::min(1e-4, 2e-4 / std::max(glm::length(P - from), 1e-9))));
+      }
+      return beside[k] != 0;
     };
     // Per lamp point P, in that frame (no division but u's, no square root): the tests that
     // reject most lines first.
@@ -811,9 +823,7 @@ glm::dvec3 ObjectShadows::taken(const radiosity::HierarchicalRadiosity& h, int s
       through = light_->roomLets(lv.lamp, lift);
     } else {
       const double len = glm::length(lamp.position - lift);
-      const float eps = float(std::min(1e-4, 2e-4 / std::max(len, 1e-9)));
-      if (h.rayScene().occluded(glm::vec3(lift), glm::vec3(lamp.position), eps) ||
-          (light_->occluders && light_->occluders->occluded(glm::vec3(lift), glm::vec3(lamp.position), eps)))
+      if (blockedBetween(h.rayScene(), light_->occluders, lift, lamp.position, float(std::min(1e-4, 2e-4 / std::max(len, 1e-9)))))
         continue;
     }
     if (!(through > 0)) continue;

@@ -19,7 +19,7 @@
 namespace relume::ibr {
 
 void appendImageObjects(const Variant& v, const std::string& file, std::vector<ImageObject>& out,
-                        const std::string& folder) {
+                        const std::string& folder, const std::vector<std::string>& reserved) {
   const std::filesystem::path dir = folder.empty() ? std::filesystem::absolute(std::filesystem::path(file)).parent_path()
                                                    : std::filesystem::absolute(std::filesystem::path(folder));
   for (const auto& b : v.virtualObjects) {
@@ -29,7 +29,8 @@ void appendImageObjects(const Variant& v, const std::string& file, std::vector<I
     // A name taken already gets its place in the list (each object is dragged, saved and named in
     // messages by it).
     auto taken = [&](const std::string& n) {
-      return std::any_of(out.begin(), out.end(), [&](const ImageObject& x) { return x.name == n; });
+      return std::any_of(out.begin(), out.end(), [&](const ImageObject& x) { return x.name == n; }) ||
+             std::find(reserved.begin(), reserved.end(), n) != reserved.end();
     };
     if (taken(o.name)) {
       const std::string base = o.name;

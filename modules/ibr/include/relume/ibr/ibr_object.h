@@ -154,6 +154,11 @@ struct RoomView {
 // falls on it.
 RoomView roomView(const radiosity::HierarchicalRadiosity& h, const Camera& camera, const RayScene* occluders = nullptr);
 
+// Whether the room's rays or the occluders beside them (ObjectLighting::occluders; null: none)
+// block the segment from a to b (its ends' margin `endEpsilon`, as RayScene::occluded takes it).
+bool blockedBetween(const RayScene& room, const RayScene* occluders, const glm::dvec3& a, const glm::dvec3& b,
+                    float endEpsilon);
+
 struct DrawStats {
   int view = -1;  // the fan view drawn
   size_t objectPixels = 0, shadowPixels = 0;

@@ -33,9 +33,10 @@ struct ImageObject {
 // read: fan paths relative to `folder`, or when it is empty to the folder of `file` (the variant
 // file); a room's own variants pass its Scene::baseDir, which for an OBJ + JSON room is the JSON's
 // folder, not the OBJ's. An unnamed one is "image_object_<k>", k its place in `out`, and a name
-// `out` has already gets " (<k>)". Throws relume::Error naming a fan file that cannot be read.
+// `out` or `reserved` (the names of objects drawn beside them, e.g. boxes) has already gets
+// " (<k>)". Throws relume::Error naming a fan file that cannot be read.
 void appendImageObjects(const Variant& v, const std::string& file, std::vector<ImageObject>& out,
-                        const std::string& folder = {});
+                        const std::string& folder = {}, const std::vector<std::string>& reserved = {});
 
 // Throws relume::Error naming the object and its fan file when the object (its mesh's bounding
 // box, placed) leaves the room or cuts one of its polygons.
