@@ -273,3 +273,116 @@ TEST(Panorama, ASkyReadFromAPanoramaGivesWhatItsFisheyeGives) {
     EXPECT_NE(std::string(e.what()).find("synthetic.exr"), std::string::npos);
   }
 }
+
+TEST(Fisheye, ACalibratedLensMapsPixelsAndDirectionsBothWaysAndCoversTheHemisphere) {
+  // OpenCV's fisheye model (as `relume calibrate --fisheye` writes it): theta_d = theta (1 + k1
+  // theta^2 + ...), pixel = principal + focal * theta_d along the direction's azimuth.
+  const double k[4] = {0.03, -0.012, 0.004, -0.0006};
+  const glm::dvec2 focal(130, 131), principal(321.3, 238.8);
+  const FisheyeModel m = fisheyeCalibrated(focal, principal, k, 180, glm::dvec2(0.0), 0, "lens.json");
+  auto thetaD = [&](double t) { return t + k[0] * std::pow(t, 3) + k[1] * std::pow(t, 5) + k[2] * std::pow(t, 7) + k[3] * std::pow(t, 9); };
+  // Looking up with image up = +Y: 60 degrees from the zenith towards -X lies to the image's right.
+  const auto p = directionPixel(m, fromElevAzim(30, 180));
+  ASSERT_TRUE(p);
+  EXPECT_NEAR(p->x, principal.x + focal.x * thetaD(kPi / 3), 1e-9);
+  EXPECT_NEAR(p->y, principal.y, 1e-9);
+  const auto q = directionPixel(m, fromElevAzim(20, 90));  // towards +Y: image up
+  ASSERT_TRUE(q);
+  EXPECT_NEAR(q->y, principal.y - focal.y * thetaD(70 * kPi / 180), 1e-9);
+  double worstAngle = 0, worstPixel = 0;
+  for (int e = 1; e <= 89; e += 4)
+    for (int a = 0; a < 360; a += 17) {
+      const glm::dvec3 d = fromElevAzim(e, a);
+      const auto px = directionPixel(m, d);
+      ASSERT_TRUE(px) << e << " " << a;
+      const auto back = pixelDirection(m, px->x, px->y);
+      ASSERT_TRUE(back);
+      worstAngle = std::max(worstAngle, std::acos(std::min(1.0, glm::dot(*back, d))));
+      const auto again = directionPixel(m, *back);
+      worstPixel = std::max(worstPixel, glm::length(*again - *px));
+    }
+  EXPECT_LT(worstAngle, 1e-7);
+  EXPECT_LT(worstPixel, 1e-6);
+  EXPECT_FALSE(directionPixel(m, fromElevAzim(-5, 0))) << "below the 180-degree view";
+  double sum = 0;
+  for (int y = 0; y < 480; ++y)
+    for (int x = 0; x < 640; ++x) sum += pixelSolidAngle(m, x, y);
+  std::printf("calibrated lens: solid angle over the image %.5f (2 pi = %.5f)\n", sum, 2 * kPi);
+  EXPECT_NEAR(sum, 2 * kPi, 0.005 * 2 * kPi);
+  // Its image circle bounds the view when given.
+  const FisheyeModel circled = fisheyeCalibrated(focal, principal, k, 180, principal, 150, "lens.json");
+  EXPECT_TRUE(pixelDirection(circled, principal.x + 149, principal.y));
+  EXPECT_FALSE(pixelDirection(circled, principal.x + 151, principal.y));
+  // A distortion that folds the image back on itself before the view's edge is no lens.
+  const double fold[4] = {-0.5, 0, 0, 0};
+  const std::string e = [&] {
+    try {
+      fisheyeCalibrated(focal, principal, fold, 180, glm::dvec2(0.0), 0, "lens.json");
+    } catch (const Error& err) {
+      return std::string(err.what());
+    }
+    return std::string();
+  }();
+  EXPECT_NE(e.find("lens.json"), std::string::npos) << e;
+  EXPECT_NE(e.find("folds"), std::string::npos) << e;
+}
+
+namespace {
+// A fisheye photo's image: a sky inside the circle (1 at the centre, 0.25 at its edge), a dark
+// tree line along part of its edge, a black border with faint noise; 8 x 8 sub-pixels at the edge.
+ImageRGB circleImage(int w, int h, glm::dvec2 c, double r) {
+  ImageRGB im(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      double sum = 0;
+      for (int j = 0; j < 8; ++j)
+        for (int i = 0; i < 8; ++i) {
+          const glm::dvec2 p(x + (i + 0.5) / 8, y + (j + 0.5) / 8);
+          const double d = glm::length(p - c) / r, az = std::atan2(p.y - c.y, p.x - c.x) * 180 / kPi;
+          if (d > 1) continue;
+          const bool tree = d > 1 - 12 / r && az > 20 && az < 70;
+          sum += tree ? 0.02 : 1 - 0.75 * d * d;
+        }
+      const double noise = 1e-4 * ((x * 7919 + y * 104729) % 13) / 13.0;
+      im.set(x, y, glm::vec3(float(sum / 64 + noise)));
+    }
+  return im;
+}
+}  // namespace
+
+TEST(Fisheye, TheImageCircleIsFoundFromTheDarkBorderAroundIt) {
+  {
+    const glm::dvec2 c(163.4, 127.2);
+    const ImageCircle f = findImageCircle(circleImage(320, 260, c, 117.6), "sky.exr");
+    std::printf("circle: centre %.3f %.3f radius %.3f (true 163.4 127.2 117.6), rms %.3f px over %d points\n", f.centre.x,
+                f.centre.y, f.radius, f.rms, f.points);
+    EXPECT_LT(glm::length(f.centre - c), 0.3);
+    EXPECT_NEAR(f.radius, 117.6, 0.3);
+  }
+  {  // filling the image: only the corners are dark
+    const ImageCircle f = findImageCircle(circleImage(256, 256, glm::dvec2(128, 128), 128), "sky.exr");
+    EXPECT_LT(glm::length(f.centre - glm::dvec2(128, 128)), 0.3);
+    EXPECT_NEAR(f.radius, 128, 0.3);
+  }
+  {  // Blender's own fisheye render of the daylight sample room's sky (equidistant, the circle filling it)
+    const std::string file = std::string(RELUME_SOURCE_DIR) + "/resources/daylight_room/sky/fisheye_sun1.exr";
+    const ImageRGB im = readImageLinear(file);
+    const ImageCircle f = findImageCircle(im, file);
+    std::printf("Blender's fisheye: centre %.3f %.3f radius %.3f (%dx%d), rms %.3f px\n", f.centre.x, f.centre.y, f.radius,
+                im.width, im.height, f.rms);
+    EXPECT_LT(glm::length(f.centre - glm::dvec2(im.width / 2.0, im.height / 2.0)), 0.5);
+    EXPECT_NEAR(f.radius, im.width / 2.0, 0.5);
+  }
+  // Lit to its corners: no circle to find, and the message says what to do.
+  ImageRGB lit(200, 150);
+  for (int y = 0; y < 150; ++y)
+    for (int x = 0; x < 200; ++x) lit.set(x, y, glm::vec3(0.5f));
+  try {
+    findImageCircle(lit, "full_frame.exr");
+    ADD_FAILURE() << "a lit image has no circle";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("full_frame.exr"), std::string::npos) << m;
+    EXPECT_NE(m.find("--circle"), std::string::npos) << m;
+  }
+}

@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <cstdio>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 #include <limits>
 #include <numbers>
+#include <vector>
 
 #include "relume/geometry/error.h"
 #include "relume/geometry/scene.h"
@@ -30,7 +33,240 @@ double radiusOf(const FisheyeModel& m, double theta) {
   return std::sin(theta / 2.0) / std::sin(tm / 2.0);
 }
 
+// A calibrated fisheye's view at image point (px, py): the angle from the axis and the unit
+// direction in the image plane (x right, y up), or nothing outside its circle or field of view.
+struct LensPoint {
+  double theta, c, s;
+};
+std::optional<LensPoint> calibratedPoint(const FisheyeModel& m, double px, double py) {
+  if (m.radius > 0 && std::hypot(px - m.circleCentre.x, py - m.circleCentre.y) > m.radius) return std::nullopt;
+  const double x = (px - m.centre.x) / m.focal.x, y = (py - m.centre.y) / m.focal.y;
+  const double td = std::hypot(x, y);
+  const double theta = fisheyeTheta(m, td);
+  if (!(theta <= thetaMax(m))) return std::nullopt;
+  return LensPoint{theta, td > 0 ? x / td : 1.0, td > 0 ? -y / td : 0.0};
+}
+
 }  // namespace
+
+double fisheyeThetaD(const FisheyeModel& m, double theta) {
+  const double t2 = theta * theta;
+  return theta * (1 + t2 * (m.k[0] + t2 * (m.k[1] + t2 * (m.k[2] + t2 * m.k[3]))));
+}
+
+double fisheyeTheta(const FisheyeModel& m, double thetaD) {
+  // theta_d(theta) rises monotonically up to the field of view's edge (fisheyeCalibrated checks):
+  // Newton's method from theta = theta_d, kept within [0, the edge + 10 %], then bisection should
+  // a step leave the bracket.
+  const double hi = thetaMax(m) * 1.1;
+  if (!(thetaD > 0)) return 0;
+  if (fisheyeThetaD(m, hi) < thetaD) return hi * 2;  // beyond the calibrated range: outside
+  double lo = 0, up = hi, t = std::min(thetaD, hi);
+  for (int i = 0; i < 60; ++i) {
+    const double f = fisheyeThetaD(m, t) - thetaD;
+    if (std::abs(f) < 1e-14) break;
+    (f > 0 ? up : lo) = t;
+    const double t2 = t * t;
+    const double d = 1 + t2 * (3 * m.k[0] + t2 * (5 * m.k[1] + t2 * (7 * m.k[2] + t2 * 9 * m.k[3])));
+    double next = d > 0 ? t - f / d : 0.5 * (lo + up);
+    if (!(next > lo && next < up)) next = 0.5 * (lo + up);
+    t = next;
+  }
+  return t;
+}
+
+FisheyeModel fisheyeCalibrated(const glm::dvec2& focal, const glm::dvec2& principal, const double (&k)[4], double fovDeg,
+                               const glm::dvec2& circleCentre, double circleRadius, const std::string& file) {
+  if (!(focal.x > 0 && focal.y > 0 && std::isfinite(focal.x) && std::isfinite(focal.y)))
+    throw Error(file, "fisheye lens", "its focal lengths must be positive numbers of pixels");
+  if (!(fovDeg > 0 && fovDeg <= 360)) throw Error(file, "fisheye lens", "its field of view must lie in (0, 360] degrees");
+  for (double v : {principal.x, principal.y, k[0], k[1], k[2], k[3], circleCentre.x, circleCentre.y, circleRadius})
+    if (!std::isfinite(v)) throw Error(file, "fisheye lens", "its principal point, distortion and circle must be numbers");
+  FisheyeModel m;
+  m.projection = FisheyeProjection::OpenCvFisheye;
+  m.fovDeg = fovDeg;
+  m.centre = principal;
+  m.focal = focal;
+  for (int i = 0; i < 4; ++i) m.k[i] = k[i];
+  m.circleCentre = circleCentre;
+  m.radius = std::max(0.0, circleRadius);
+  m.axes = glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1));
+  // The mapping must rise with the angle over the whole view (steps of 0.1 degree), or one pixel
+  // would see two directions.
+  double last = 0;
+  for (int i = 1; i <= 1000; ++i) {
+    const double td = fisheyeThetaD(m, thetaMax(m) * 1.1 * i / 1000);
+    if (!(td > last))
+      throw Error(file, "fisheye lens",
+                  "its distortion (k1..k4) folds the image back on itself before the edge of its " + std::to_string(fovDeg) +
+                      "-degree view: not a lens (calibrate it again, or give a smaller field of view)");
+    last = td;
+  }
+  return m;
+}
+
+namespace {
+// The circle through `pts` by least squares: Kasa's algebraic fit (about the points' mean), then
+// Gauss-Newton on the points' distances from it.
+ImageCircle fitCircle(const std::vector<glm::dvec2>& pts) {
+  glm::dvec2 mean(0.0);
+  for (const auto& p : pts) mean += p;
+  mean /= double(pts.size());
+  glm::dmat3 a(0.0);
+  glm::dvec3 b(0.0);
+  for (const auto& q : pts) {
+    const glm::dvec2 p = q - mean;
+    const glm::dvec3 row(p.x, p.y, 1.0);
+    a += glm::outerProduct(row, row);
+    b -= row * glm::dot(p, p);
+  }
+  const glm::dvec3 def = glm::inverse(a) * b;
+  ImageCircle c;
+  c.centre = mean + glm::dvec2(-def.x / 2, -def.y / 2);
+  c.radius = std::sqrt(std::max(0.0, def.x * def.x / 4 + def.y * def.y / 4 - def.z));
+  for (int it = 0; it < 20; ++it) {
+    glm::dmat3 n(0.0);
+    glm::dvec3 g(0.0);
+    for (const auto& p : pts) {
+      const glm::dvec2 d = p - c.centre;
+      const double len = std::max(1e-9, glm::length(d));
+      const glm::dvec3 j(-d.x / len, -d.y / len, -1.0);
+      const double r = len - c.radius;
+      n += glm::outerProduct(j, j);
+      g += j * r;
+    }
+    const glm::dvec3 step = glm::inverse(n) * g;
+    c.centre -= glm::dvec2(step.x, step.y);
+    c.radius -= step.z;
+    if (glm::length(step) < 1e-9) break;
+  }
+  double ss = 0;
+  for (const auto& p : pts) ss += std::pow(glm::length(p - c.centre) - c.radius, 2);
+  c.rms = std::sqrt(ss / double(pts.size()));
+  c.points = int(pts.size());
+  return c;
+}
+}  // namespace
+
+ImageCircle findImageCircle(const ImageRGB& im, const std::string& file) {
+  const int w = im.width, h = im.height;
+  if (w < 16 || h < 16) throw Error(file, "image circle", "the image is too small to find its circle in");
+  std::vector<double> lum(size_t(w) * size_t(h));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double l = luminance(glm::dvec3(im.at(x, y)));
+      lum[size_t(y) * size_t(w) + size_t(x)] = std::isfinite(l) ? std::max(0.0, l) : 0.0;
+    }
+  auto medianOf = [&](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  // The disc's level (a box a quarter of the shorter side across at the centre) and the border's
+  // (boxes an eighth of it in the four corners, which a circle inside the image leaves dark).
+  const int side = std::min(w, h), q = std::max(2, side / 8);
+  std::vector<double> centre, corners;
+  for (int y = h / 2 - q; y < h / 2 + q; ++y)
+    for (int x = w / 2 - q; x < w / 2 + q; ++x) centre.push_back(lum[size_t(y) * size_t(w) + size_t(x)]);
+  for (int y = 0; y < q; ++y)
+    for (int x = 0; x < q; ++x)
+      for (const auto& [cx, cy] : {std::pair{x, y}, {w - 1 - x, y}, {x, h - 1 - y}, {w - 1 - x, h - 1 - y}})
+        corners.push_back(lum[size_t(cy) * size_t(w) + size_t(cx)]);
+  const double disc = medianOf(centre), border = medianOf(corners);
+  if (!(disc > 0) || border > 0.05 * disc)
+    throw Error(file, "image circle",
+                "no dark border around a lit disc (the corners are " + std::to_string(int(std::lround(100 * border / std::max(disc, 1e-30)))) +
+                    " % as bright as the centre): the circle fills or overflows the image; give it as --circle CX,CY,R");
+  const double level = border + 0.1 * (disc - border);
+  auto at = [&](double x, double y) {  // bilinear, pixel centres at +0.5
+    const double fx = std::clamp(x - 0.5, 0.0, w - 1.0), fy = std::clamp(y - 0.5, 0.0, h - 1.0);
+    const int x0 = std::min(int(fx), w - 2), y0 = std::min(int(fy), h - 2);
+    const double u = fx - x0, v = fy - y0;
+    auto L = [&](int xx, int yy) { return lum[size_t(yy) * size_t(w) + size_t(xx)]; };
+    return (1 - v) * ((1 - u) * L(x0, y0) + u * L(x0 + 1, y0)) + v * ((1 - u) * L(x0, y0 + 1) + u * L(x0 + 1, y0 + 1));
+  };
+  // Along each ray from the image's centre, walking in from the image's edge: where the luminance
+  // first rises through the level and stays above it for two more pixels (a stray bright pixel of
+  // the border is no edge). A ray that starts lit at the image's edge has no edge point: the circle
+  // runs beyond the image there.
+  const glm::dvec2 o(w / 2.0, h / 2.0);
+  std::vector<glm::dvec2> pts;
+  constexpr double kStep = 0.25;
+  for (int a = 0; a < 720; ++a) {
+    const double ang = a * kPi / 360, dx = std::cos(ang), dy = std::sin(ang);
+    const double tx = dx > 0 ? (w - 0.5 - o.x) / dx : dx < 0 ? (0.5 - o.x) / dx : 1e30;
+    const double ty = dy > 0 ? (h - 0.5 - o.y) / dy : dy < 0 ? (0.5 - o.y) / dy : 1e30;
+    const double tmax = std::min(tx, ty);
+    auto lit = [&](double t) { return at(o.x + t * dx, o.y + t * dy) > level; };
+    if (lit(tmax)) continue;
+    for (double t = tmax - kStep; t > 4; t -= kStep) {
+      if (!lit(t) || !lit(t - 1) || !lit(t - 2)) continue;
+      // The edge itself: where the luminance is half way between the border's just outside and the
+      // disc's just inside (a pixel half covered by the disc), whatever the sky's brightness there.
+      auto L = [&](double u) { return at(o.x + u * dx, o.y + u * dy); };
+      // (The disc's side taken 3 px in and carried to the edge along its slope there.)
+      const double out = L(std::min(tmax, t + 2)), in = 2 * L(t - 3) - L(t - 5), half = 0.5 * (out + in);
+      double tc = -1;
+      for (double u = std::min(tmax, t + 2); u > t - 3; u -= 1.0 / 16) {
+        const double a0 = L(u), a1 = L(u - 1.0 / 16);
+        if (a1 >= half && a0 < half) {
+          tc = u - (half - a0) / (a1 - a0) / 16;
+          break;
+        }
+      }
+      if (tc > 0) pts.emplace_back(o.x + tc * dx, o.y + tc * dy);
+      break;
+    }
+  }
+  auto tooLittle = [&](size_t n) {
+    return Error(file, "image circle",
+                 "the edge of the lit disc was found over too little of it (" + std::to_string(n) +
+                     " points): give the circle as --circle CX,CY,R");
+  };
+  if (pts.size() < 24) throw tooLittle(pts.size());
+  // A start that points off the circle along a whole arc (a tree line, a roof) cannot pull: of 300
+  // circles through three edge points (spread over the list), the one most points lie within a
+  // pixel of; then least squares over those, and points more than three robust deviations off it
+  // dropped until none is.
+  ImageCircle c;
+  {
+    size_t best = 0;
+    uint32_t seed = 12345;
+    auto next = [&] { return size_t((seed = seed * 1664525u + 1013904223u) >> 8) % pts.size(); };
+    for (int trial = 0; trial < 300; ++trial) {
+      const ImageCircle t = fitCircle({pts[next()], pts[next()], pts[next()]});
+      if (!(t.radius > 2) || !std::isfinite(t.radius)) continue;
+      size_t inliers = 0;
+      for (const auto& p : pts) inliers += std::abs(glm::length(p - t.centre) - t.radius) < 1.0 ? 1 : 0;
+      if (inliers > best) best = inliers, c = t;
+    }
+    std::vector<glm::dvec2> near;
+    for (const auto& p : pts)
+      if (std::abs(glm::length(p - c.centre) - c.radius) < 1.0) near.push_back(p);
+    if (near.size() < 24) throw tooLittle(near.size());
+    pts = std::move(near);
+    c = fitCircle(pts);
+  }
+  for (int round = 0; round < 3; ++round) {
+    std::vector<double> dev;
+    for (const auto& p : pts) dev.push_back(std::abs(glm::length(p - c.centre) - c.radius));
+    const double keep = std::max(0.25, 3 * 1.4826 * medianOf(dev));
+    std::vector<glm::dvec2> kept;
+    for (size_t i = 0; i < pts.size(); ++i)
+      if (dev[i] <= keep) kept.push_back(pts[i]);
+    if (kept.size() == pts.size()) break;
+    if (kept.size() < 24) throw tooLittle(kept.size());
+    pts = std::move(kept);
+    c = fitCircle(pts);
+  }
+  bool quadrant[4] = {false, false, false, false};
+  for (const auto& p : pts) quadrant[(p.x >= c.centre.x ? 0 : 1) + (p.y >= c.centre.y ? 0 : 2)] = true;
+  if (int(quadrant[0]) + int(quadrant[1]) + int(quadrant[2]) + int(quadrant[3]) < 3) throw tooLittle(pts.size());
+  if (!(c.radius > 2) || c.rms > 1.5)
+    throw Error(file, "image circle",
+                "the edge of the lit disc is no circle (its points lie " + std::to_string(c.rms) +
+                    " px off the best one): give it as --circle CX,CY,R");
+  return c;
+}
 
 FisheyeModel fisheyeLookingUp(int width, int height, FisheyeProjection projection, double fovDeg) {
   FisheyeModel m;
@@ -98,6 +334,11 @@ std::optional<glm::dvec3> pixelDirection(const FisheyeModel& m, double px, doubl
     const double az = (0.5 - px / m.width) * 2.0 * kPi, el = (0.5 - py / m.height) * kPi;
     return glm::normalize(m.axes * glm::dvec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)));
   }
+  if (m.projection == FisheyeProjection::OpenCvFisheye) {
+    const auto p = calibratedPoint(m, px, py);
+    if (!p) return std::nullopt;
+    return glm::normalize(m.axes * glm::dvec3(std::sin(p->theta) * p->c, std::sin(p->theta) * p->s, std::cos(p->theta)));
+  }
   const double dx = px - m.centre.x, dy = py - m.centre.y;
   const double r = std::sqrt(dx * dx + dy * dy);
   if (!(m.radius > 0) || r > m.radius) return std::nullopt;
@@ -118,9 +359,15 @@ std::optional<glm::dvec2> directionPixel(const FisheyeModel& m, const glm::dvec3
   }
   const double theta = std::acos(std::clamp(local.z, -1.0, 1.0));
   if (theta > thetaMax(m) + 1e-12) return std::nullopt;
-  const double r = radiusOf(m, theta) * m.radius;
   const double h = std::hypot(local.x, local.y);
   const double c = h > 0 ? local.x / h : 1.0, s = h > 0 ? local.y / h : 0.0;
+  if (m.projection == FisheyeProjection::OpenCvFisheye) {
+    const double td = fisheyeThetaD(m, theta);
+    const glm::dvec2 p(m.centre.x + m.focal.x * td * c, m.centre.y - m.focal.y * td * s);
+    if (m.radius > 0 && glm::length(p - m.circleCentre) > m.radius + 1e-9) return std::nullopt;
+    return p;
+  }
+  const double r = radiusOf(m, theta) * m.radius;
   return glm::dvec2(m.centre.x + r * c, m.centre.y - r * s);
 }
 
@@ -130,9 +377,28 @@ double pixelSolidAngle(const FisheyeModel& m, int x, int y) {
     const double top = (0.5 - double(y) / m.height) * kPi, bottom = (0.5 - double(y + 1) / m.height) * kPi;
     return 2.0 * kPi / m.width * (std::sin(top) - std::sin(bottom));
   }
+  constexpr int kSub = 4;
+  if (m.projection == FisheyeProjection::OpenCvFisheye) {
+    // Numerically, over 4 x 4 sub-pixels: the area the sub-pixel's directions cover on the unit
+    // sphere, |dd/dx x dd/dy| dx dy (central differences; the focal lengths may differ per axis).
+    double sum = 0;
+    const double h = 1e-3;
+    for (int j = 0; j < kSub; ++j)
+      for (int i = 0; i < kSub; ++i) {
+        const double px = x + (i + 0.5) / kSub, py = y + (j + 0.5) / kSub;
+        if (!calibratedPoint(m, px, py)) continue;
+        auto dir = [&](double u, double v) {
+          const double a = (u - m.centre.x) / m.focal.x, b = (v - m.centre.y) / m.focal.y, td = std::hypot(a, b);
+          const double t = fisheyeTheta(m, td);
+          return td > 0 ? glm::dvec3(std::sin(t) * a / td, std::sin(t) * b / td, std::cos(t)) : glm::dvec3(0, 0, 1);
+        };
+        const glm::dvec3 du = (dir(px + h, py) - dir(px - h, py)) / (2 * h), dv = (dir(px, py + h) - dir(px, py - h)) / (2 * h);
+        sum += glm::length(glm::cross(du, dv)) / (kSub * kSub);
+      }
+    return sum;
+  }
   // Numerically, over 4 x 4 sub-pixels: the solid angle of an image area dA at normalised
   // radius s is sin(theta) dtheta dphi with dphi = dA_tangential / r.
-  constexpr int kSub = 4;
   double sum = 0;
   for (int j = 0; j < kSub; ++j)
     for (int i = 0; i < kSub; ++i) {
@@ -160,6 +426,17 @@ void checkSkyImage(const SkyImage& sky) {
                       std::to_string(im.width) + "x" + std::to_string(im.height));
   } else if (!(m.fovDeg > 0 && m.fovDeg <= 360)) {
     throw Error(sky.file, "fisheye", "its field of view must lie in (0, 360] degrees");
+  } else if (m.projection == FisheyeProjection::OpenCvFisheye) {
+    // The view (its circle, or the field of view's edge through the lens) inside the image.
+    const double td = fisheyeThetaD(m, thetaMax(m));
+    const glm::dvec2 c = m.radius > 0 ? m.circleCentre : m.centre,
+                     r = m.radius > 0 ? glm::dvec2(m.radius) : glm::dvec2(m.focal.x * td, m.focal.y * td);
+    if (c.x - r.x < -0.5 || c.y - r.y < -0.5 || c.x + r.x > im.width + 0.5 || c.y + r.y > im.height + 0.5)
+      throw Error(sky.file, "fisheye",
+                  "the calibrated lens's view (centre " + std::to_string(c.x) + ", " + std::to_string(c.y) + ", reaching " +
+                      std::to_string(r.x) + " x " + std::to_string(r.y) + " px) does not lie inside the " +
+                      std::to_string(im.width) + "x" + std::to_string(im.height) +
+                      " image: part of the sky would be missing (give the image circle, or a smaller field of view)");
   } else if (!(m.radius > 0) || m.centre.x - m.radius < -0.5 || m.centre.y - m.radius < -0.5 ||
       m.centre.x + m.radius > im.width + 0.5 || m.centre.y + m.radius > im.height + 0.5)
     throw Error(sky.file, "fisheye",

@@ -33,6 +33,13 @@ enum class FisheyeProjection {
   // (1/2 - (y + 1/2) / height) x 180 degrees towards column 2 (the zenith at the top row). What a
   // viewer turning round sees; day101's panoramas with the identity axes (centre along +X, +Z up).
   Equirectangular,
+  // A calibrated fisheye: OpenCV's fisheye model (Kannala-Brandt, COLMAP's OPENCV_FISHEYE), as
+  // `relume calibrate --fisheye` measures it from checkerboard photos. A point at angle theta from
+  // the optical axis lies at theta_d = theta (1 + k1 theta^2 + k2 theta^4 + k3 theta^6 + k4 theta^8)
+  // from the principal point `centre`, in units of the focal lengths `focal` (pixels, per axis).
+  // The view ends at fovDeg / 2 from the axis and, when `radius` > 0, at the image circle of that
+  // radius around `circleCentre` (where the lens's light ends on the sensor).
+  OpenCvFisheye,
 };
 
 struct FisheyeModel {
@@ -45,7 +52,37 @@ struct FisheyeModel {
   // left). (Equirectangular: see above.)
   glm::dmat3 axes{1.0};
   int width = 0, height = 0;  // the image's size (equirectangular; the fisheye needs only the circle)
+  // OpenCvFisheye only: focal lengths (pixels), distortion k1..k4, and the image circle's centre
+  // (its radius is `radius`; 0: no circle, the field of view alone bounds the view).
+  glm::dvec2 focal{0.0};
+  double k[4] = {0, 0, 0, 0};
+  glm::dvec2 circleCentre{0.0};
 };
+
+// A calibrated fisheye (FisheyeProjection::OpenCvFisheye) looking up with image up = +Y (as
+// fisheyeLookingUp), limited to `fovDeg` and, when `circleRadius` > 0, to that image circle.
+// Throws relume::Error naming `file` when the focal lengths are not positive or the distortion
+// does not map angles to radii monotonically up to fovDeg / 2 (no lens does: it would fold the
+// image over itself).
+FisheyeModel fisheyeCalibrated(const glm::dvec2& focal, const glm::dvec2& principal, const double (&k)[4], double fovDeg,
+                               const glm::dvec2& circleCentre, double circleRadius, const std::string& file);
+// The angle from the axis (radians) of a calibrated fisheye at distorted radius theta_d (focal
+// units), and the distorted radius of an angle: the model's own mapping (Newton's method back).
+double fisheyeTheta(const FisheyeModel& m, double thetaD);
+double fisheyeThetaD(const FisheyeModel& m, double theta);
+
+// The image circle of a fisheye photo: the edge between the lit disc and the dark border around
+// it, found along 720 rays from the image's centre (sub-pixel, where the luminance crosses a level
+// between the border's and the disc's) and fitted by a circle (least squares, points more than
+// three robust deviations off dropped). `rms` is the fitted points' distance from it (pixels).
+// Throws relume::Error naming `file` when there is no dark border (the circle fills or overflows
+// the image), when the edge is found over too little of the circle, or when it is no circle.
+struct ImageCircle {
+  glm::dvec2 centre{0.0};
+  double radius = 0, rms = 0;
+  int points = 0;  // edge points the fit kept
+};
+ImageCircle findImageCircle(const ImageRGB& image, const std::string& file);
 
 // An equirectangular panorama of width x height pixels: the centre column along `axes` column 0
 // (default +X), +Z up (see FisheyeProjection::Equirectangular).
