@@ -624,6 +624,77 @@ TEST(Calibration, CheckerboardPhotosGiveTheIntrinsics) {
   EXPECT_LT(in.rms, 0.5);
 }
 
+TEST(Calibration, FisheyeCheckerboardPhotosGiveTheLensAnglesBack) {
+  // Photos of the board through a 190-degree-class fisheye (OpenCV's model with distortion), the
+  // board seen on the axis and towards the image's edges; the calibrated lens must give back the
+  // angle from the axis of every image radius the views covered.
+  const fs::path d = tempDir("fisheye_calib");
+  const int cols = 9, rows = 6;
+  const double sq = 0.025, f = 190, cx = 322.4, cy = 238.1;
+  const double k[4] = {0.02, -0.015, 0.003, -0.0004};
+  const glm::dvec3 centre(4 * sq, 2.5 * sq, 0);
+  std::vector<std::string> files;
+  int i = 0;
+  // Twelve views from in front of the board (z < 0), 22-30 cm from its centre and seen from up to
+  // 25 degrees off its normal, the optical axis turned away from the board by 0, 20 or 38 degrees
+  // in twelve directions: the board lands on the axis and out to about 60 degrees from it.
+  for (int v = 0; v < 12; ++v) {
+    const double alpha = (v == 0 ? 0.0 : v < 5 ? 20.0 : 38.0) * M_PI / 180, phi = v * 137.5 * M_PI / 180;
+    const double beta = (v % 3) * 12.5 * M_PI / 180, psi = v * 73.0 * M_PI / 180, dist = 0.22 + 0.08 * (v % 2);
+    const glm::dvec3 eye = centre + dist * glm::dvec3(std::sin(beta) * std::cos(psi), std::sin(beta) * std::sin(psi), -std::cos(beta));
+    const glm::dvec3 toBoard = glm::normalize(centre - eye);
+    const glm::dvec3 side = glm::normalize(glm::cross(toBoard, glm::dvec3(std::cos(phi), std::sin(phi), 0.0)));
+    const glm::dvec3 z = glm::normalize(std::cos(alpha) * toBoard + std::sin(alpha) * glm::cross(side, toBoard));
+    const glm::dvec3 down = glm::normalize(glm::dvec3(0, 1, 0) - z * z.y), xAxis = glm::cross(down, z);
+    Camera cam;
+    cam.width = 640, cam.height = 480;
+    cam.R = glm::transpose(glm::dmat3(xAxis, down, z));  // rows: the camera's axes in the world
+    cam.t = -(cam.R * eye);
+    const std::string file = (d / ("fisheye" + std::to_string(i++) + ".png")).string();
+    writeImage8(file, test::renderFisheyeCheckerboard(cam, f, cx, cy, k, cols, rows, sq));
+    files.push_back(file);
+  }
+  const FisheyeIntrinsics in = calibrateFisheyeCheckerboard(files, cols, rows, sq, silentProgress());
+  std::printf("fisheye calibration: fx %.2f fy %.2f cx %.2f cy %.2f k %.4f %.4f %.4f %.4f rms %.3f px, %zu of %zu photos\n",
+              in.fx, in.fy, in.cx, in.cy, in.k[0], in.k[1], in.k[2], in.k[3], in.rms, in.used.size(), files.size());
+  ASSERT_GE(in.used.size(), 8u) << "the board must be found in most photos";
+  EXPECT_LT(in.rms, 0.3);
+  EXPECT_NEAR(in.cx, cx, 1.5);
+  EXPECT_NEAR(in.cy, cy, 1.5);
+  // The angle at each image radius out to 60 degrees from the axis.
+  auto thetaD = [](const double (&kk)[4], double t) {
+    const double t2 = t * t;
+    return t * (1 + t2 * (kk[0] + t2 * (kk[1] + t2 * (kk[2] + t2 * kk[3]))));
+  };
+  const double reach = 60 * M_PI / 180;
+  double worst = 0;
+  for (double t = 0.01; t <= reach; t += 0.01) {
+    const double rTrue = f * thetaD(k, t);
+    // the calibrated lens's angle at that radius (bisection on its own model)
+    double lo = 0, hi = M_PI;
+    for (int it = 0; it < 60; ++it) (in.fx * thetaD(in.k, 0.5 * (lo + hi)) < rTrue ? lo : hi) = 0.5 * (lo + hi);
+    worst = std::max(worst, std::abs(0.5 * (lo + hi) - t));
+  }
+  std::printf("fisheye calibration: worst angle error up to 60 degrees from the axis %.3f degrees\n", worst * 180 / M_PI);
+  EXPECT_LT(worst * 180 / M_PI, 0.2);
+  // Kept as JSON and read back (the lens `relume sky --lens` reads).
+  const std::string json = (d / "lens.json").string();
+  FisheyeIntrinsics withCircle = in;
+  withCircle.circleX = 320, withCircle.circleY = 240, withCircle.circleRadius = 231.5;
+  writeFisheyeIntrinsics(withCircle, json);
+  const FisheyeIntrinsics back = readFisheyeIntrinsics(json);
+  EXPECT_DOUBLE_EQ(back.fx, in.fx);
+  EXPECT_DOUBLE_EQ(back.k[3], in.k[3]);
+  EXPECT_DOUBLE_EQ(back.circleRadius, 231.5);
+  // A pinhole calibration is not a fisheye lens: refused naming the file and the field.
+  Intrinsics pin;
+  pin.width = 640, pin.height = 480, pin.fx = pin.fy = 500, pin.cx = 320, pin.cy = 240;
+  writeIntrinsics(pin, json);
+  const std::string e = errorText([&] { readFisheyeIntrinsics(json); });
+  EXPECT_NE(e.find("lens.json"), std::string::npos) << e;
+  EXPECT_NE(e.find("OPENCV_FISHEYE"), std::string::npos) << e;
+}
+
 TEST(Calibration, NoCheckerboardIsAClearError) {
   const fs::path d = tempDir("nocalib");
   Image8 blank;

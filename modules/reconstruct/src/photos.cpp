@@ -286,8 +286,16 @@ void mergeBracketGroups(const std::vector<std::vector<PhotoInfo>>& groups, const
   }
 }
 
-Intrinsics calibrateCheckerboard(const std::vector<std::string>& files, int cols, int rows, double square,
-                                 Progress& progress) {
+namespace {
+// The checkerboard's inner corners in each photo that shows the whole board (OpenCV's corners put
+// the top-left pixel's centre at (0, 0); Relume's at (0.5, 0.5)), and the board's own points.
+struct BoardViews {
+  int width = 0, height = 0;
+  std::vector<std::vector<cv::Point3f>> object;
+  std::vector<std::vector<cv::Point2f>> image;
+  std::vector<std::string> used, rejected;
+};
+BoardViews findBoards(const std::vector<std::string>& files, int cols, int rows, double square, Progress& progress) {
   if (cols < 2 || rows < 2) throw Error("", "--pattern", "needs at least 2x2 inner corners");
   if (!(square > 0)) throw Error("", "--square", "the square size must be positive (metres)");
   if (files.empty()) throw Error("", "checkerboard", "no photos given");
@@ -295,14 +303,12 @@ Intrinsics calibrateCheckerboard(const std::vector<std::string>& files, int cols
   std::vector<cv::Point3f> board;
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) board.emplace_back(float(c * square), float(r * square), 0.f);
-  std::vector<std::vector<cv::Point3f>> objectPoints;
-  std::vector<std::vector<cv::Point2f>> imagePoints;
-  Intrinsics in;
+  BoardViews v;
   for (size_t i = 0; i < files.size(); ++i) {
     progress.report(0.8 * i / files.size(), "finding the checkerboard in " + files[i]);
     const Image8 im = readImage8(files[i]);
-    if (in.width == 0) in.width = im.width, in.height = im.height;
-    else if (im.width != in.width || im.height != in.height)
+    if (v.width == 0) v.width = im.width, v.height = im.height;
+    else if (im.width != v.width || im.height != v.height)
       throw Error(files[i], "", "has another size than " + files[0] + "; calibrate one camera setting at a time");
     cv::Mat rgb(im.height, im.width, CV_8UC3, const_cast<unsigned char*>(im.pixels.data())), gray;
     cv::cvtColor(rgb, gray, cv::COLOR_RGB2GRAY);
@@ -310,29 +316,46 @@ Intrinsics calibrateCheckerboard(const std::vector<std::string>& files, int cols
     const bool found = cv::findChessboardCorners(
         gray, pattern, corners, cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_FAST_CHECK);
     if (!found) {
-      in.rejected.push_back(files[i]);
+      v.rejected.push_back(files[i]);
       continue;
     }
     cv::cornerSubPix(gray, corners, cv::Size(5, 5), cv::Size(-1, -1),
                      cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-3));
-    // OpenCV's corners put the top-left pixel's centre at (0, 0); Relume's at (0.5, 0.5).
     for (auto& c : corners) c += cv::Point2f(0.5f, 0.5f);
-    imagePoints.push_back(corners);
-    objectPoints.push_back(board);
-    in.used.push_back(files[i]);
+    v.image.push_back(corners);
+    v.object.push_back(board);
+    v.used.push_back(files[i]);
   }
-  if (imagePoints.size() < 3) {
+  if (v.image.size() < 3) {
     std::string names;
-    for (const auto& f : in.rejected) names += (names.empty() ? "" : ", ") + fs::path(f).filename().string();
+    for (const auto& f : v.rejected) names += (names.empty() ? "" : ", ") + fs::path(f).filename().string();
     throw Error(files.size() == 1 ? files[0] : fs::path(files[0]).parent_path().string(), "checkerboard",
                 "a " + std::to_string(cols) + "x" + std::to_string(rows) + " inner-corner checkerboard was found in " +
-                    std::to_string(imagePoints.size()) + " photo(s); calibration needs 3 or more (not found in: " + names + ")");
+                    std::to_string(v.image.size()) + " photo(s); calibration needs 3 or more (not found in: " + names + ")");
   }
-  progress.report(0.85, "calibrating from " + std::to_string(imagePoints.size()) + " photos");
+  progress.report(0.85, "calibrating from " + std::to_string(v.image.size()) + " photos");
+  return v;
+}
+
+// The calibration's JSON written atomically.
+void writeJson(const QJsonObject& o, const std::string& path) {
+  QSaveFile f(QString::fromStdString(path));
+  if (!f.open(QIODevice::WriteOnly) || f.write(QJsonDocument(o).toJson()) < 0 || !f.commit())
+    throw Error(path, "", "cannot write the file");
+}
+}  // namespace
+
+Intrinsics calibrateCheckerboard(const std::vector<std::string>& files, int cols, int rows, double square,
+                                 Progress& progress) {
+  BoardViews v = findBoards(files, cols, rows, square, progress);
+  Intrinsics in;
+  in.width = v.width;
+  in.height = v.height;
+  in.used = std::move(v.used);
+  in.rejected = std::move(v.rejected);
   cv::Mat K, dist;
   std::vector<cv::Mat> rv, tv;
-  in.rms = cv::calibrateCamera(objectPoints, imagePoints, cv::Size(in.width, in.height), K, dist, rv, tv,
-                               cv::CALIB_FIX_K3);
+  in.rms = cv::calibrateCamera(v.object, v.image, cv::Size(in.width, in.height), K, dist, rv, tv, cv::CALIB_FIX_K3);
   in.fx = K.at<double>(0, 0);
   in.fy = K.at<double>(1, 1);
   in.cx = K.at<double>(0, 2);
@@ -345,13 +368,100 @@ Intrinsics calibrateCheckerboard(const std::vector<std::string>& files, int cols
   return in;
 }
 
-void writeIntrinsics(const Intrinsics& in, const std::string& path) {
-  QJsonObject o{{"width", in.width}, {"height", in.height}, {"model", "OPENCV"},
+FisheyeIntrinsics calibrateFisheyeCheckerboard(const std::vector<std::string>& files, int cols, int rows, double square,
+                                               Progress& progress) {
+  BoardViews v = findBoards(files, cols, rows, square, progress);
+  FisheyeIntrinsics in;
+  in.width = v.width;
+  in.height = v.height;
+  in.used = std::move(v.used);
+  in.rejected = std::move(v.rejected);
+  // OpenCV's fisheye fit wants the corners relative to its own pixel convention and double points.
+  std::vector<std::vector<cv::Point3d>> object;
+  std::vector<std::vector<cv::Point2d>> image;
+  for (size_t i = 0; i < v.image.size(); ++i) {
+    object.emplace_back(v.object[i].begin(), v.object[i].end());
+    image.emplace_back();
+    for (const auto& c : v.image[i]) image.back().emplace_back(c.x - 0.5, c.y - 0.5);
+  }
+  cv::Matx33d K;
+  cv::Vec4d D;
+  std::vector<cv::Vec3d> rv, tv;
+  try {
+    in.rms = cv::fisheye::calibrate(object, image, cv::Size(in.width, in.height), K, D, rv, tv,
+                                    cv::fisheye::CALIB_RECOMPUTE_EXTRINSIC | cv::fisheye::CALIB_FIX_SKEW,
+                                    cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 200, 1e-12));
+  } catch (const cv::Exception& e) {
+    throw Error(fs::path(files[0]).parent_path().string(), "fisheye calibration",
+                "OpenCV's fit failed (" + std::string(e.err) +
+                    "): the photos do not determine the lens; take more, with the board nearer the image's edges too");
+  }
+  in.fx = K(0, 0);
+  in.fy = K(1, 1);
+  in.cx = K(0, 2) + 0.5;
+  in.cy = K(1, 2) + 0.5;
+  for (int i = 0; i < 4; ++i) in.k[i] = D[i];
+  if (!(in.fx > 0 && in.fy > 0) || !std::isfinite(in.rms))
+    throw Error(fs::path(files[0]).parent_path().string(), "fisheye calibration", "the fit gave no lens (focal lengths not positive)");
+  progress.report(1, "calibrated");
+  return in;
+}
+
+void writeFisheyeIntrinsics(const FisheyeIntrinsics& in, const std::string& path) {
+  QJsonObject o{{"width", in.width}, {"height", in.height}, {"model", "OPENCV_FISHEYE"},
                 {"fx", in.fx}, {"fy", in.fy}, {"cx", in.cx}, {"cy", in.cy},
-                {"k1", in.k1}, {"k2", in.k2}, {"p1", in.p1}, {"p2", in.p2}, {"rms_pixels", in.rms}};
-  QSaveFile f(QString::fromStdString(path));
-  if (!f.open(QIODevice::WriteOnly) || f.write(QJsonDocument(o).toJson()) < 0 || !f.commit())
-    throw Error(path, "", "cannot write the file");
+                {"k1", in.k[0]}, {"k2", in.k[1]}, {"k3", in.k[2]}, {"k4", in.k[3]}, {"rms_pixels", in.rms}};
+  if (in.circleRadius > 0) o["circle"] = QJsonObject{{"cx", in.circleX}, {"cy", in.circleY}, {"radius", in.circleRadius}};
+  writeJson(o, path);
+}
+
+FisheyeIntrinsics readFisheyeIntrinsics(const std::string& path) {
+  QFile f(QString::fromStdString(path));
+  if (!f.open(QIODevice::ReadOnly)) throw Error(path, "", "cannot open the file");
+  QJsonParseError err;
+  const QJsonDocument doc = QJsonDocument::fromJson(f.readAll(), &err);
+  if (doc.isNull() || !doc.isObject()) throw Error(path, "", "is not JSON: " + err.errorString().toStdString());
+  const QJsonObject o = doc.object();
+  if (o["model"].toString() != "OPENCV_FISHEYE")
+    throw Error(path, "model", "must be OPENCV_FISHEYE (as `relume calibrate --fisheye` writes it), not '" +
+                                   o["model"].toString().toStdString() + "'");
+  auto number = [&](const QJsonObject& in, const char* key, bool required) {
+    const QJsonValue v = in[key];
+    if (v.isUndefined() && !required) return 0.0;
+    if (!v.isDouble() || !std::isfinite(v.toDouble()))
+      throw Error(path, key, "must be a number (as `relume calibrate --fisheye` writes it)");
+    return v.toDouble();
+  };
+  FisheyeIntrinsics in;
+  for (auto [key, out] : {std::pair{"width", &in.width}, {"height", &in.height}}) {
+    const double x = number(o, key, true);
+    if (!(x >= 1 && x <= (1 << 20)) || x != std::floor(x)) throw Error(path, key, "must be a whole number of pixels from 1 to 1048576");
+    *out = int(x);
+  }
+  in.fx = number(o, "fx", true);
+  in.fy = number(o, "fy", true);
+  in.cx = number(o, "cx", true);
+  in.cy = number(o, "cy", true);
+  const char* ks[4] = {"k1", "k2", "k3", "k4"};
+  for (int i = 0; i < 4; ++i) in.k[i] = number(o, ks[i], false);
+  in.rms = number(o, "rms_pixels", false);
+  if (!(in.fx > 0) || !(in.fy > 0)) throw Error(path, "fx, fy", "must be positive (pixels)");
+  if (o.contains("circle")) {
+    if (!o["circle"].isObject()) throw Error(path, "circle", "must be an object with cx, cy and radius (pixels)");
+    const QJsonObject c = o["circle"].toObject();
+    in.circleX = number(c, "cx", true);
+    in.circleY = number(c, "cy", true);
+    in.circleRadius = number(c, "radius", true);
+    if (!(in.circleRadius > 0)) throw Error(path, "circle", "its radius must be positive (pixels)");
+  }
+  return in;
+}
+
+void writeIntrinsics(const Intrinsics& in, const std::string& path) {
+  writeJson(QJsonObject{{"width", in.width}, {"height", in.height}, {"model", "OPENCV"},
+                        {"fx", in.fx}, {"fy", in.fy}, {"cx", in.cx}, {"cy", in.cy},
+                        {"k1", in.k1}, {"k2", in.k2}, {"p1", in.p1}, {"p2", in.p2}, {"rms_pixels", in.rms}},
+            path);
 }
 
 Intrinsics parseIntrinsics(const std::string& bytes, const std::string& name) {
