@@ -27,6 +27,7 @@
 #include "relume/relight/relighter.h"
 #include "relume/daylight/sky.h"
 #include "relume/daylight/volume.h"
+#include "relume/reconstruct/photos.h"
 #include "relume/ibr/fan.h"
 #include "relume/ibr/relit_objects.h"
 #include "relume/radiosity/sh.h"
@@ -279,11 +280,16 @@ int skyCommand(const QStringList& args, Progress& progress) {
                              "centre column along +X, +Z up).", "NAME"});
   p.addOption({"panorama", "With a daylight ROOM: read its sky's equirectangular panorama instead of its fisheye."});
   p.addOption({"fov", "Field of view across the image circle in degrees (default 180).", "DEG"});
-  p.addOption({"circle", "The image circle as CX,CY,R in pixels (default: centred, filling the image).", "CX,CY,R"});
+  p.addOption({"circle", "The image circle as CX,CY,R in pixels, or auto: found from the dark border around it "
+                         "(default: centred, filling the image; with --lens, the lens file's).", "CX,CY,R|auto"});
+  p.addOption({"lens", "A calibrated fisheye (`relume calibrate --fisheye`, OpenCV's fisheye model) instead of an "
+                       "ideal projection; --fov limits its view (default 180).", "LENS.json"});
   p.addOption({"regions", "Number of sky regions (default 64).", "N"});
   p.addOption({"json", "Also write the regions, the sun and the irradiances as JSON.", "OUT.json"});
   p.addOption({"sky", "With a daylight ROOM: which of its skies (default: the one its photos were taken under).", "NAME"});
-  parseOrThrow(p, args, 1, "relume sky FISHEYE.exr|PANORAMA.exr|ROOM [--sky NAME] [--panorama] [--projection equidistant|equisolid|equirectangular] [--fov 180] [--regions 64]");
+  parseOrThrow(p, args, 1, "relume sky FISHEYE.exr|PANORAMA.exr|ROOM [--sky NAME] [--panorama] [--projection equidistant|equisolid|equirectangular] [--lens LENS.json] [--circle CX,CY,R|auto] [--fov 180] [--regions 64]");
+  if (p.isSet("lens") && (p.isSet("projection") || p.isSet("panorama")))
+    throw Error("", "--lens", "a calibrated lens is its own projection: give --lens or --projection / --panorama, not both");
   std::string file = p.positionalArguments()[0].toStdString();
   std::string description;  // the lens in words, when a room's daylight section gives it
   if (!isRadianceFile(file)) {
@@ -313,19 +319,43 @@ int skyCommand(const QStringList& args, Progress& progress) {
   if (!ok || regions < 1 || regions > 100000) throw Error("", "--regions", "must be a whole number from 1 to 100000");
   int w = 0, h = 0;
   imageSize(file, w, h);
-  dl::FisheyeModel model =
-      proj == "equirectangular" ? dl::equirectangular(w, h)
-      : description.empty()
-          ? dl::fisheyeLookingUp(w, h, proj == "equisolid" ? dl::FisheyeProjection::Equisolid : dl::FisheyeProjection::Equidistant, fov)
-          : dl::fisheyeFromDescription(description, w, h, file);
+  dl::FisheyeModel model;
+  if (p.isSet("lens")) {
+    const std::string lensFile = p.value("lens").toStdString();
+    const recon::FisheyeIntrinsics lens = recon::readFisheyeIntrinsics(lensFile);
+    if (lens.width != w || lens.height != h)
+      throw Error(lensFile, "width, height",
+                  "the lens was calibrated on " + std::to_string(lens.width) + "x" + std::to_string(lens.height) +
+                      " images, " + file + " is " + std::to_string(w) + "x" + std::to_string(h));
+    model = dl::fisheyeCalibrated({lens.fx, lens.fy}, {lens.cx, lens.cy}, lens.k, fov, {lens.circleX, lens.circleY},
+                                  lens.circleRadius, lensFile);
+  } else {
+    model = proj == "equirectangular" ? dl::equirectangular(w, h)
+            : description.empty()
+                ? dl::fisheyeLookingUp(w, h, proj == "equisolid" ? dl::FisheyeProjection::Equisolid : dl::FisheyeProjection::Equidistant, fov)
+                : dl::fisheyeFromDescription(description, w, h, file);
+  }
   if (p.isSet("circle") && proj == "equirectangular") throw Error("", "--circle", "a panorama has no image circle");
   if (p.isSet("circle")) {
-    const QStringList c = p.value("circle").split(',');
-    bool a = false, b = false, r = false;
-    if (c.size() != 3) throw Error("", "--circle", "must be CX,CY,R (pixels)");
-    model.centre = {c[0].toDouble(&a), c[1].toDouble(&b)};
-    model.radius = c[2].toDouble(&r);
-    if (!a || !b || !r) throw Error("", "--circle", "must be CX,CY,R (pixels)");
+    glm::dvec2 centre(0.0);
+    double radius = 0;
+    if (p.value("circle") == "auto") {
+      progress.report(0, "finding the image circle of " + file);
+      const dl::ImageCircle c = dl::findImageCircle(readImageLinear(file), file);
+      std::printf("image circle: centre %.2f, %.2f, radius %.2f px (its edge %.2f px off the circle, %d points)\n", c.centre.x,
+                  c.centre.y, c.radius, c.rms, c.points);
+      centre = c.centre, radius = c.radius;
+    } else {
+      const QStringList c = p.value("circle").split(',');
+      bool a = false, b = false, r = false;
+      if (c.size() != 3) throw Error("", "--circle", "must be CX,CY,R (pixels) or auto");
+      centre = {c[0].toDouble(&a), c[1].toDouble(&b)};
+      radius = c[2].toDouble(&r);
+      if (!a || !b || !r || !(radius > 0)) throw Error("", "--circle", "must be CX,CY,R (pixels, R positive) or auto");
+    }
+    if (model.projection == dl::FisheyeProjection::OpenCvFisheye) model.circleCentre = centre;
+    else model.centre = centre;
+    model.radius = radius;
   }
   progress.report(0, "reading " + file);
   const dl::SkyImage sky = dl::readSkyImage(file, model);

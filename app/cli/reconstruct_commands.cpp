@@ -12,9 +12,11 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <numbers>
 #include <random>
 
 #include "commands.h"
+#include "relume/daylight/sky.h"
 #include "relume/geometry/error.h"
 #include "relume/image/image.h"
 #include "relume/project/room_io.h"
@@ -299,12 +301,19 @@ int hdrMergeCommand(const QStringList& args, Progress& progress) {
 
 int calibrateCommand(const QStringList& args, Progress& progress) {
   QCommandLineParser p;
-  p.setApplicationDescription("Intrinsics and distortion from checkerboard photos (OpenCV calibrateCamera).");
+  p.setApplicationDescription(
+      "Intrinsics and distortion from checkerboard photos (OpenCV calibrateCamera), or with --fisheye a fisheye lens "
+      "(OpenCV's fisheye model) for the sky camera, with its image circle found in a photo through it.");
   p.addPositionalArgument("CHECKERBOARD_DIR", "Folder of checkerboard photos, one camera setting.");
   p.addOption({"pattern", "Inner corners, columns x rows (e.g. 9x6).", "CxR"});
   p.addOption({"square", "Square size in metres (e.g. 0.025).", "METRES"});
-  p.addOption({QStringList{"o", "output"}, "Intrinsics JSON (default: CHECKERBOARD_DIR/intrinsics.json).", "FILE"});
-  parseOrThrow(p, args, 1, "relume calibrate CHECKERBOARD_DIR --pattern 9x6 --square 0.025 [-o intrinsics.json]");
+  p.addOption({"fisheye", "A fisheye lens (k1..k4 of OpenCV's fisheye model; COLMAP's OPENCV_FISHEYE), for `relume sky --lens`."});
+  p.addOption({"circle-from", "With --fisheye: a photo through the lens (e.g. a sky image) whose image circle is found from "
+                              "the dark border around it and kept with the lens.", "IMAGE"});
+  p.addOption({QStringList{"o", "output"}, "Intrinsics JSON (default: CHECKERBOARD_DIR/intrinsics.json, with --fisheye "
+                                           "CHECKERBOARD_DIR/fisheye.json).", "FILE"});
+  parseOrThrow(p, args, 1, "relume calibrate CHECKERBOARD_DIR --pattern 9x6 --square 0.025 [--fisheye [--circle-from IMAGE]] [-o intrinsics.json]");
+  if (p.isSet("circle-from") && !p.isSet("fisheye")) throw Error("", "--circle-from", "is for a fisheye lens: add --fisheye");
   if (!p.isSet("pattern") || !p.isSet("square")) throw Error("", "command line", "--pattern CxR and --square METRES are required");
   const QStringList pat = p.value("pattern").toLower().split('x');
   bool ok1 = false, ok2 = false, ok3 = false;
@@ -316,6 +325,43 @@ int calibrateCommand(const QStringList& args, Progress& progress) {
   std::vector<std::string> files;
   for (const auto& f : listPhotos(dir))
     if (!isRadianceFile(f)) files.push_back(f);
+  if (p.isSet("fisheye")) {
+    FisheyeIntrinsics in = calibrateFisheyeCheckerboard(files, cols, rows, square, progress);
+    for (const auto& r : in.rejected) std::fprintf(stderr, "warning: no checkerboard found in %s\n", r.c_str());
+    std::printf("fx %.2f fy %.2f cx %.2f cy %.2f k1 %.5f k2 %.5f k3 %.5f k4 %.5f, rms %.3f px, %zu photos\n", in.fx, in.fy, in.cx,
+                in.cy, in.k[0], in.k[1], in.k[2], in.k[3], in.rms, in.used.size());
+    if (p.isSet("circle-from")) {
+      const std::string image = str(p.value("circle-from"));
+      const ImageRGB im = readImageLinear(image);
+      if (im.width != in.width || im.height != in.height)
+        throw Error(image, "--circle-from",
+                    "is " + std::to_string(im.width) + "x" + std::to_string(im.height) + ", the checkerboard photos " +
+                        std::to_string(in.width) + "x" + std::to_string(in.height) + ": not the same camera setting");
+      const daylight::ImageCircle c = daylight::findImageCircle(im, image);
+      in.circleX = c.centre.x, in.circleY = c.centre.y, in.circleRadius = c.radius;
+      // How far from its axis the calibrated lens sees at the circle's edge (the least over the
+      // edge): what the lens's light reaches, as the calibration extrapolates it.
+      try {
+        const daylight::FisheyeModel m = daylight::fisheyeCalibrated({in.fx, in.fy}, {in.cx, in.cy}, in.k, 200, {0, 0}, 0, image);
+        double least = 1e9;
+        for (int a = 0; a < 360; ++a) {
+          const double ang = a * std::numbers::pi / 180;
+          const double x = (c.centre.x + c.radius * std::cos(ang) - in.cx) / in.fx, y = (c.centre.y + c.radius * std::sin(ang) - in.cy) / in.fy;
+          least = std::min(least, daylight::fisheyeTheta(m, std::hypot(x, y)));
+        }
+        std::printf("image circle: centre %.2f, %.2f, radius %.2f px; the lens sees %.1f degrees from its axis there (a %.1f-degree view)\n",
+                    c.centre.x, c.centre.y, c.radius, least * 180 / std::numbers::pi, 2 * least * 180 / std::numbers::pi);
+      } catch (const Error&) {
+        std::fprintf(stderr, "warning: the calibrated distortion folds back before 100 degrees from the axis: the photos did not "
+                             "reach the image's edge; take some with the board nearer it\n");
+      }
+    }
+    const std::string out = p.isSet("output") ? str(p.value("output")) : (fs::path(dir) / "fisheye.json").string();
+    writeFisheyeIntrinsics(in, out);
+    std::printf("-> %s\nCOLMAP camera: OPENCV_FISHEYE %d %d %.6f %.6f %.6f %.6f %.8f %.8f %.8f %.8f\n", out.c_str(), in.width,
+                in.height, in.fx, in.fy, in.cx, in.cy, in.k[0], in.k[1], in.k[2], in.k[3]);
+    return 0;
+  }
   const Intrinsics in = calibrateCheckerboard(files, cols, rows, square, progress);
   const std::string out = p.isSet("output") ? str(p.value("output")) : (fs::path(dir) / "intrinsics.json").string();
   writeIntrinsics(in, out);

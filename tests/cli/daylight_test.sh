@@ -165,4 +165,26 @@ check "an image-based object with a lamp on is refused: lit by daylight only" "[
 check "a lamp the room does not have is an error naming it" "[ $? -eq 1 ] && grep -q \"lamp 'Q'\" '$tmp/lampq.err'"
 check "and no image is written by any of them" "[ ! -e '$tmp/x.png' ]"
 
+# The sky camera's lens: its image circle found from the dark border (Blender's fisheye: centred,
+# filling the 256 x 256 image), the same sun as the lens described in words; a calibrated lens of
+# another image size refused naming it; a circle that cannot be found refused.
+"$relume" sky "$room/sky/fisheye_sun0.exr" --circle auto >"$tmp/circle.out" 2>"$tmp/circle.err"
+check "sky --circle auto finds Blender's circle (centre 128, 128, radius 128 within half a pixel)" \
+  "[ $? -eq 0 ] && python3 -c \"import re; m=re.search(r'image circle: centre ([0-9.]+), ([0-9.]+), radius ([0-9.]+)', open('$tmp/circle.out').read()); \
+assert m and all(abs(float(x) - 128) < 0.5 for x in m.groups()), m\""
+"$relume" sky "$room/sky/fisheye_sun0.exr" >"$tmp/nocircle.out" 2>/dev/null
+check "and the sun it gives is the described lens's (within 0.1 degree)" \
+  "python3 -c \"import re; e=[float(re.search(r'sun: elevation ([0-9.]+)', open(f).read()).group(1)) for f in ('$tmp/circle.out', '$tmp/nocircle.out')]; \
+assert abs(e[0] - e[1]) < 0.1, e\""
+cat > "$tmp/lens.json" <<'JSON'
+{"model": "OPENCV_FISHEYE", "width": 640, "height": 480, "fx": 190, "fy": 190, "cx": 320, "cy": 240, "k1": 0.02, "k2": 0, "k3": 0, "k4": 0}
+JSON
+"$relume" sky "$room/sky/fisheye_sun0.exr" --lens "$tmp/lens.json" 2>"$tmp/lens.err"
+check "a calibrated lens of another image size is refused, naming the lens file" \
+  "[ $? -eq 1 ] && grep -q 'lens.json' '$tmp/lens.err' && grep -q '640x480' '$tmp/lens.err'"
+oiiotool "$room/sky/fisheye_sun0.exr" --fill:color=1,1,1 256x256+0+0 -o "$tmp/white.exr"
+"$relume" sky "$tmp/white.exr" --circle auto 2>"$tmp/white.err"
+check "an image lit to its corners has no circle to find: refused, naming it and what to give" \
+  "[ $? -eq 1 ] && grep -q 'white.exr' '$tmp/white.err' && grep -q -- '--circle CX,CY,R' '$tmp/white.err'"
+
 exit $fail

@@ -327,6 +327,35 @@ TEST(Fisheye, ACalibratedLensMapsPixelsAndDirectionsBothWaysAndCoversTheHemisphe
   EXPECT_NE(e.find("folds"), std::string::npos) << e;
 }
 
+TEST(Sky, ASkySeenThroughACalibratedLensGivesWhatTheSkyHolds) {
+  // The same sky and sun as above, photographed through a distorted fisheye of unequal focal
+  // lengths inside its image circle: the sun where it is, its irradiance and the sky's on a
+  // horizontal plane as the sky itself gives them.
+  const glm::dvec3 sunDir = fromElevAzim(30, 120);
+  const double sunRadius = 0.265 * kPi / 180, sunL = 2e5;
+  auto skyL = [](const glm::dvec3& d) { return glm::dvec3(0.5 + 0.5 * d.z, 0.6 + 0.5 * d.z, 0.9 + 0.5 * d.z); };
+  const double k[4] = {0.03, -0.012, 0.004, -0.0006};
+  const FisheyeModel lens = fisheyeCalibrated({150, 153}, {321.3, 242.8}, k, 180, {321.0, 243.0}, 236, "lens.json");
+  const SkyImage s = render(lens, 640, 490, [&](const glm::dvec3& d) {
+    return glm::dot(d, sunDir) >= std::cos(sunRadius) ? glm::dvec3(sunL) : skyL(d);
+  }, sunDir);
+  checkSkyImage(s);
+  const SkyRegions regions(64);
+  const SkyRadiance avg = averageSky(s, regions);
+  ASSERT_TRUE(avg.sun.found);
+  EXPECT_LT(std::acos(std::min(1.0, glm::dot(avg.sun.direction, sunDir))) * 180 / kPi, 0.3);
+  const double expected = sunL * 2 * kPi * (1 - std::cos(sunRadius));
+  EXPECT_NEAR(avg.sun.irradiance.x, expected, 0.05 * expected);
+  // The sky alone on a horizontal plane: pi (0.5 + 0.5 * 2/3) in red for this sky, exactly.
+  SkyRadiance skyOnly = avg;
+  skyOnly.sun.found = false;
+  const glm::dvec3 e = planeIrradiance(regions, skyOnly, {0, 0, 1});
+  const double want = kPi * (0.5 + 0.5 * 2.0 / 3.0);
+  std::printf("through the calibrated lens: sun %.4g (expected %.4g), sky on a horizontal plane %.4f (exact %.4f)\n",
+              avg.sun.irradiance.x, expected, e.x, want);
+  EXPECT_NEAR(e.x, want, 0.01 * want);
+}
+
 namespace {
 // A fisheye photo's image: a sky inside the circle (1 at the centre, 0.25 at its edge), a dark
 // tree line along part of its edge, a black border with faint noise; 8 x 8 sub-pixels at the edge.
