@@ -67,7 +67,8 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
 // named in `lampScale` switched on (S x their radiance), by the near-field, volume or distant method.
 int daylightRelight(const Scene& room, const std::string& sky, const std::vector<std::string>& objectFiles,
                     const std::vector<std::string>& lampFiles, const std::map<std::string, glm::dvec3>& lampScale,
-                    const std::string& method, const std::string& camera, const std::string& out, Progress& progress);
+                    const std::string& method, const std::string& camera, const std::string& out, Progress& progress,
+                    const std::string& lensFile = {});
 // The index of the room's lamp `name`, its `scale` checked (finite, >= 0); relume::Error naming
 // `where` and listing the room's lamps when it has no such lamp.
 int lampNamed(const Scene& scene, const std::string& name, const glm::dvec3& scale, const std::string& where);

@@ -27,7 +27,7 @@
 #include "relume/relight/relighter.h"
 #include "relume/daylight/sky.h"
 #include "relume/daylight/volume.h"
-#include "relume/reconstruct/photos.h"
+#include "relume/project/fisheye_lens.h"
 #include "relume/ibr/fan.h"
 #include "relume/ibr/relit_objects.h"
 #include "relume/radiosity/sh.h"
@@ -322,13 +322,12 @@ int skyCommand(const QStringList& args, Progress& progress) {
   dl::FisheyeModel model;
   if (p.isSet("lens")) {
     const std::string lensFile = p.value("lens").toStdString();
-    const recon::FisheyeIntrinsics lens = recon::readFisheyeIntrinsics(lensFile);
+    const FisheyeLens lens = readFisheyeLens(lensFile);
     if (lens.width != w || lens.height != h)
       throw Error(lensFile, "width, height",
                   "the lens was calibrated on " + std::to_string(lens.width) + "x" + std::to_string(lens.height) +
                       " images, " + file + " is " + std::to_string(w) + "x" + std::to_string(h));
-    model = dl::fisheyeCalibrated({lens.fx, lens.fy}, {lens.cx, lens.cy}, lens.k, fov, {lens.circleX, lens.circleY},
-                                  lens.circleRadius, lensFile);
+    model = dl::fisheyeCalibrated(lens, fov, lensFile);
   } else {
     model = proj == "equirectangular" ? dl::equirectangular(w, h)
             : description.empty()
@@ -507,7 +506,7 @@ int evaluateDaylight(const Scene& bundle, const QString& outDir, Progress& progr
 
 int daylightRelight(const Scene& room, const std::string& skyName, const std::vector<std::string>& objectFiles,
                     const std::vector<std::string>& lampFiles, const std::map<std::string, glm::dvec3>& lampScale, const std::string& method, const std::string& camera,
-                    const std::string& out, Progress& progress) {
+                    const std::string& out, Progress& progress, const std::string& lensFile) {
   if (method != "near-field" && method != "distant" && method != "volume")
     throw Error("", "--daylight", "must be near-field, volume or distant, not '" + method + "'");
   // Lamps switched on beside the daylight: S x the radiance the room gives the lamp (the photos
@@ -648,7 +647,11 @@ int daylightRelight(const Scene& room, const std::string& skyName, const std::ve
     dl::SkyRadiance sky;
   };
   std::vector<Frame> frames;
-  auto fisheye = [&](const std::string& file) { return averaged(dl::readFisheyeLookingUp(file), cells); };
+  if (!lensFile.empty() && !skyInfo.isDir() && !isRadianceFile(skyName))
+    throw Error(lensFile, "--lens", "is the lens of a fisheye file or folder given as --sky; the room's own skies (here '" +
+                                        skyName + "') name theirs in its daylight section");
+  const FisheyeLens lens = lensFile.empty() ? FisheyeLens{} : readFisheyeLens(lensFile);
+  auto fisheye = [&](const std::string& file) { return averaged(dl::readFisheyeLookingUp(file, lens), cells); };
   if (skyInfo.isDir()) {
     const QStringList names = QDir(skyInfo.filePath()).entryList({"*.exr", "*.EXR", "*.hdr", "*.HDR"}, QDir::Files, QDir::Name);
     if (names.isEmpty()) throw Error(skyName, "--sky", "the folder holds no HDR sky image (.exr or .hdr)");

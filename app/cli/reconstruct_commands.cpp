@@ -19,6 +19,7 @@
 #include "relume/daylight/sky.h"
 #include "relume/geometry/error.h"
 #include "relume/image/image.h"
+#include "relume/project/fisheye_lens.h"
 #include "relume/project/room_io.h"
 #include "relume/reconstruct/click_build.h"
 #include "relume/reconstruct/clicks.h"
@@ -326,10 +327,11 @@ int calibrateCommand(const QStringList& args, Progress& progress) {
   for (const auto& f : listPhotos(dir))
     if (!isRadianceFile(f)) files.push_back(f);
   if (p.isSet("fisheye")) {
-    FisheyeIntrinsics in = calibrateFisheyeCheckerboard(files, cols, rows, square, progress);
-    for (const auto& r : in.rejected) std::fprintf(stderr, "warning: no checkerboard found in %s\n", r.c_str());
+    FisheyeCalibration cal = calibrateFisheyeCheckerboard(files, cols, rows, square, progress);
+    FisheyeLens& in = cal.lens;
+    for (const auto& r : cal.rejected) std::fprintf(stderr, "warning: no checkerboard found in %s\n", r.c_str());
     std::printf("fx %.2f fy %.2f cx %.2f cy %.2f k1 %.5f k2 %.5f k3 %.5f k4 %.5f, rms %.3f px, %zu photos\n", in.fx, in.fy, in.cx,
-                in.cy, in.k[0], in.k[1], in.k[2], in.k[3], in.rms, in.used.size());
+                in.cy, in.k[0], in.k[1], in.k[2], in.k[3], in.rms, cal.used.size());
     if (p.isSet("circle-from")) {
       const std::string image = str(p.value("circle-from"));
       const ImageRGB im = readImageLinear(image);
@@ -342,7 +344,9 @@ int calibrateCommand(const QStringList& args, Progress& progress) {
       // How far from its axis the calibrated lens sees at the circle's edge (the least over the
       // edge): what the lens's light reaches, as the calibration extrapolates it.
       try {
-        const daylight::FisheyeModel m = daylight::fisheyeCalibrated({in.fx, in.fy}, {in.cx, in.cy}, in.k, 200, {0, 0}, 0, image);
+        FisheyeLens bare = in;
+        bare.circleRadius = 0;
+        const daylight::FisheyeModel m = daylight::fisheyeCalibrated(bare, 200, image);
         double least = 1e9;
         for (int a = 0; a < 360; ++a) {
           const double ang = a * std::numbers::pi / 180;
@@ -357,7 +361,7 @@ int calibrateCommand(const QStringList& args, Progress& progress) {
       }
     }
     const std::string out = p.isSet("output") ? str(p.value("output")) : (fs::path(dir) / "fisheye.json").string();
-    writeFisheyeIntrinsics(in, out);
+    writeFisheyeLens(in, out);
     std::printf("-> %s\nCOLMAP camera: OPENCV_FISHEYE %d %d %.6f %.6f %.6f %.6f %.8f %.8f %.8f %.8f\n", out.c_str(), in.width,
                 in.height, in.fx, in.fy, in.cx, in.cy, in.k[0], in.k[1], in.k[2], in.k[3]);
     return 0;

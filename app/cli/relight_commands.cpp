@@ -277,6 +277,8 @@ int relightCommand(const QStringList& args, Progress& progress) {
                       "looking up, image up = +Y), or a folder of them (a time-varying sky: one frame per image, in name "
                       "order, written to the -o folder as NAME.exr and NAME.png with frames.json); PROJECT is then the "
                       "room (bundle or project) with its windows.", "NAME|FISHEYE.exr|FOLDER"});
+  p.addOption({"lens", "With --sky FISHEYE.exr or FOLDER: the fisheye's calibrated lens (`relume calibrate --fisheye`) "
+                       "instead of the ideal equidistant projection.", "LENS.json"});
   p.addOption({"daylight", "With --sky: near-field (default: the windows' light through the room's basis solutions, "
                            "objects added to them), volume (the interactive path: objects lit by the SH irradiance volume and "
                            "64 samples through the windows, nothing solved again) or distant (the sky at infinity, for "
@@ -309,9 +311,10 @@ int relightCommand(const QStringList& args, Progress& progress) {
     for (const QString& f : p.values("virtual-lamp")) lampFiles.push_back(str(f));
     return daylightRelight(openRoom(p.positionalArguments()[0]), str(p.value("sky")), files, lampFiles, scales,
                            p.isSet("daylight") ? str(p.value("daylight")) : "near-field", str(p.value("camera")), str(out),
-                           progress);
+                           progress, str(p.value("lens")));
   }
   if (p.isSet("daylight")) throw Error("", "--daylight", "needs --sky");
+  if (p.isSet("lens")) throw Error("", "--lens", "is the lens of a --sky fisheye: needs --sky");
   RelightMethod method = RelightMethod::Full;
   if (p.isSet("method")) {
     if (p.value("method") == "ratio-only") method = RelightMethod::RatioOnly;

@@ -179,6 +179,15 @@ assert abs(e[0] - e[1]) < 0.1, e\""
 cat > "$tmp/lens.json" <<'JSON'
 {"model": "OPENCV_FISHEYE", "width": 640, "height": 480, "fx": 190, "fy": 190, "cx": 320, "cy": 240, "k1": 0.02, "k2": 0, "k3": 0, "k4": 0}
 JSON
+# A calibrated lens that is the ideal equidistant 180-degree projection of the 256 x 256 fisheye
+# (f = 128 / (pi / 2), no distortion) relights the room as the ideal projection does.
+python3 -c "import json, math; json.dump({'model': 'OPENCV_FISHEYE', 'width': 256, 'height': 256, 'fx': 256 / math.pi, \
+'fy': 256 / math.pi, 'cx': 128, 'cy': 128, 'k1': 0, 'k2': 0, 'k3': 0, 'k4': 0}, open('$tmp/ideal_lens.json', 'w'))"
+"$relume" relight "$tmp/proj" --sky "$room/sky/fisheye_sun1.exr" --lens "$tmp/ideal_lens.json" -o "$tmp/lens_sun1.exr" 2>"$tmp/lensrel.err"
+"$relume" relight "$tmp/proj" --sky "$room/sky/fisheye_sun1.exr" -o "$tmp/ideal_sun1.exr" 2>/dev/null
+check "a fisheye read through a calibrated lens equal to the ideal projection relights the room alike (PSNR over 50 dB)" \
+  "[ -s '$tmp/lens_sun1.exr' ] && \"$relume\" compare '$tmp/lens_sun1.exr' '$tmp/ideal_sun1.exr' 2>/dev/null | python3 -c \"import re,sys; t=sys.stdin.read(); \
+m=re.search(r'([0-9.]+) dB', t); assert m and float(m.group(1)) > 50, t\""
 "$relume" sky "$room/sky/fisheye_sun0.exr" --lens "$tmp/lens.json" 2>"$tmp/lens.err"
 check "a calibrated lens of another image size is refused, naming the lens file" \
   "[ $? -eq 1 ] && grep -q 'lens.json' '$tmp/lens.err' && grep -q '640x480' '$tmp/lens.err'"

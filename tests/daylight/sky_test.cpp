@@ -10,6 +10,7 @@
 
 #include "relume/daylight/sky.h"
 #include "relume/geometry/error.h"
+#include "relume/geometry/scene.h"
 
 using namespace relume;
 using namespace relume::daylight;
@@ -279,7 +280,14 @@ TEST(Fisheye, ACalibratedLensMapsPixelsAndDirectionsBothWaysAndCoversTheHemisphe
   // theta^2 + ...), pixel = principal + focal * theta_d along the direction's azimuth.
   const double k[4] = {0.03, -0.012, 0.004, -0.0006};
   const glm::dvec2 focal(130, 131), principal(321.3, 238.8);
-  const FisheyeModel m = fisheyeCalibrated(focal, principal, k, 180, glm::dvec2(0.0), 0, "lens.json");
+  auto lensOf = [&](const double (&kk)[4], double circle) {
+    FisheyeLens l;
+    l.width = 640, l.height = 480, l.fx = focal.x, l.fy = focal.y, l.cx = principal.x, l.cy = principal.y;
+    for (int i = 0; i < 4; ++i) l.k[i] = kk[i];
+    l.circleX = principal.x, l.circleY = principal.y, l.circleRadius = circle;
+    return l;
+  };
+  const FisheyeModel m = fisheyeCalibrated(lensOf(k, 0), 180, "lens.json");
   auto thetaD = [&](double t) { return t + k[0] * std::pow(t, 3) + k[1] * std::pow(t, 5) + k[2] * std::pow(t, 7) + k[3] * std::pow(t, 9); };
   // Looking up with image up = +Y: 60 degrees from the zenith towards -X lies to the image's right.
   const auto p = directionPixel(m, fromElevAzim(30, 180));
@@ -310,14 +318,14 @@ TEST(Fisheye, ACalibratedLensMapsPixelsAndDirectionsBothWaysAndCoversTheHemisphe
   std::printf("calibrated lens: solid angle over the image %.5f (2 pi = %.5f)\n", sum, 2 * kPi);
   EXPECT_NEAR(sum, 2 * kPi, 0.005 * 2 * kPi);
   // Its image circle bounds the view when given.
-  const FisheyeModel circled = fisheyeCalibrated(focal, principal, k, 180, principal, 150, "lens.json");
+  const FisheyeModel circled = fisheyeCalibrated(lensOf(k, 150), 180, "lens.json");
   EXPECT_TRUE(pixelDirection(circled, principal.x + 149, principal.y));
   EXPECT_FALSE(pixelDirection(circled, principal.x + 151, principal.y));
   // A distortion that folds the image back on itself before the view's edge is no lens.
   const double fold[4] = {-0.5, 0, 0, 0};
   const std::string e = [&] {
     try {
-      fisheyeCalibrated(focal, principal, fold, 180, glm::dvec2(0.0), 0, "lens.json");
+      fisheyeCalibrated(lensOf(fold, 0), 180, "lens.json");
     } catch (const Error& err) {
       return std::string(err.what());
     }
@@ -335,7 +343,11 @@ TEST(Sky, ASkySeenThroughACalibratedLensGivesWhatTheSkyHolds) {
   const double sunRadius = 0.265 * kPi / 180, sunL = 2e5;
   auto skyL = [](const glm::dvec3& d) { return glm::dvec3(0.5 + 0.5 * d.z, 0.6 + 0.5 * d.z, 0.9 + 0.5 * d.z); };
   const double k[4] = {0.03, -0.012, 0.004, -0.0006};
-  const FisheyeModel lens = fisheyeCalibrated({150, 153}, {321.3, 242.8}, k, 180, {321.0, 243.0}, 236, "lens.json");
+  FisheyeLens l;
+  l.width = 640, l.height = 490, l.fx = 150, l.fy = 153, l.cx = 321.3, l.cy = 242.8;
+  for (int i = 0; i < 4; ++i) l.k[i] = k[i];
+  l.circleX = 321.0, l.circleY = 243.0, l.circleRadius = 236;
+  const FisheyeModel lens = fisheyeCalibrated(l, 180, "lens.json");
   const SkyImage s = render(lens, 640, 490, [&](const glm::dvec3& d) {
     return glm::dot(d, sunDir) >= std::cos(sunRadius) ? glm::dvec3(sunL) : skyL(d);
   }, sunDir);
@@ -354,6 +366,47 @@ TEST(Sky, ASkySeenThroughACalibratedLensGivesWhatTheSkyHolds) {
   std::printf("through the calibrated lens: sun %.4g (expected %.4g), sky on a horizontal plane %.4f (exact %.4f)\n",
               avg.sun.irradiance.x, expected, e.x, want);
   EXPECT_NEAR(e.x, want, 0.01 * want);
+}
+
+TEST(Sky, ARoomsSkyTakenThroughItsCalibratedLensIsReadThroughIt) {
+  // A room whose measured sky names a calibrated lens (the words give only its orientation: image
+  // up = -X): the fisheye is read through the lens, turned as the words say, and the sun is where
+  // it was photographed.
+  const glm::dvec3 sunDir = fromElevAzim(40, 200);
+  FisheyeLens l;
+  l.width = 320, l.height = 250, l.fx = 75, l.fy = 76, l.cx = 160.7, l.cy = 124.6;
+  l.k[0] = 0.025, l.k[1] = -0.01;
+  Scene room;
+  room.baseDir = ::testing::TempDir();
+  room.sourceFile = room.baseDir + "/scene.json";
+  SkyCapture cap;
+  cap.name = "noon";
+  cap.fisheye = "lens_sky.exr";
+  cap.fisheyeModel = "calibrated, looking up (+Z), image up = -X";
+  cap.lens = l;
+  room.skies.push_back(cap);
+  room.photoSky = "noon";
+  FisheyeModel m = fisheyeFromDescription(cap.fisheyeModel, 320, 250, "x", l);
+  EXPECT_EQ(m.projection, FisheyeProjection::OpenCvFisheye);
+  EXPECT_NEAR(glm::dot(*pixelDirection(m, l.cx, l.cy - 50), glm::dvec3(-1, 0, 0)), std::sin(50 / 75.0), 0.03) << "image up is -X";
+  const SkyImage shot = render(m, 320, 250, [&](const glm::dvec3& d) {
+    return glm::dot(d, sunDir) >= std::cos(0.265 * kPi / 180) ? glm::dvec3(2e4) : glm::dvec3(0.5 + 0.5 * d.z);  // within half float
+  }, sunDir);
+  writeImage(room.baseDir + "/lens_sky.exr", shot.image);
+  const SkyImage read = readRoomSky(room, "noon");
+  EXPECT_EQ(read.model.projection, FisheyeProjection::OpenCvFisheye);
+  const SkyRadiance avg = averageSky(read, SkyRegions(64));
+  ASSERT_TRUE(avg.sun.found);
+  EXPECT_LT(std::acos(std::min(1.0, glm::dot(avg.sun.direction, sunDir))) * 180 / kPi, 0.5);
+  // A lens calibrated on other images is refused, naming the fisheye.
+  room.skies[0].lens.width = 640;
+  try {
+    readRoomSky(room, "noon");
+    ADD_FAILURE() << "a lens of another image size";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("lens_sky.exr"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("calibrated on 640x250"), std::string::npos) << e.what();
+  }
 }
 
 namespace {

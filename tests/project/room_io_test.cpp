@@ -8,6 +8,7 @@
 #include "relume/geometry/error.h"
 #include "relume/image/image.h"
 #include "relume/project/relight_store.h"
+#include "relume/project/fisheye_lens.h"
 #include "relume/project/room_io.h"
 #include "relume/project/save_hooks.h"
 #include "support/error_text.h"
@@ -449,6 +450,51 @@ TEST_F(BadInput, DaylightSkiesAreReadCheckedAndKeptInAProject) {
   EXPECT_NE(errorOf(bundle(withDaylight("sky/morning.exr", "dusk"))).find("variant 'noon': sun names sky 'dusk'"), std::string::npos);
   EXPECT_NE(errorOf(bundle(withDaylight("../sky.exr", "noon"))).find("daylight sky 'morning': fisheye '../sky.exr' leads out"),
             std::string::npos);
+}
+
+// A measured sky's calibrated lens (`relume calibrate --fisheye`), named as a file of the bundle or
+// given inline, is read and checked with the room and kept inline in a project.
+TEST_F(BadInput, ADaylightSkysCalibratedLensIsReadCheckedAndKeptInAProject) {
+  auto withLens = [](const std::string& lensField) {
+    std::string j = room();
+    j.insert(j.rfind('}'), R"(, "daylight": {"photos_sun": "morning", "sky": [
+        {"name": "morning", "fisheye": "sky/morning.exr", "fisheye_model": "180 deg, looking up, image up = +Y",
+         "fisheye_lens": )" + lensField + "}]}");
+    return j;
+  };
+  FisheyeLens lens;
+  lens.width = 64, lens.height = 48, lens.fx = 20, lens.fy = 20.5, lens.cx = 32.2, lens.cy = 24.1;
+  lens.k[0] = 0.02, lens.k[1] = -0.01, lens.k[2] = 0.001;
+  lens.circleX = 32, lens.circleY = 24, lens.circleRadius = 23.5;
+  const std::string dir = bundle(withLens("\"sky/lens.json\""));
+  writeImage(dir + "/photos/main.png", ImageRGB(64, 48));  // the camera's size
+  fs::create_directories(fs::path(dir) / "sky");
+  fs::copy_file(kSample + "/photos/main.exr", fs::path(dir) / "sky/morning.exr");
+  writeFisheyeLens(lens, dir + "/sky/lens.json");
+  const Scene s = loadRoom(dir);
+  ASSERT_EQ(s.skies.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.skies[0].lens.fy, 20.5);
+  EXPECT_DOUBLE_EQ(s.skies[0].lens.k[1], -0.01);
+  EXPECT_DOUBLE_EQ(s.skies[0].lens.circleRadius, 23.5);
+  const std::string proj = (tmp.path / "lens.relume").string();
+  saveProject(s, proj);
+  EXPECT_NE(text(fs::path(proj) / "project.json").find("OPENCV_FISHEYE"), std::string::npos) << "kept inline";
+  const Scene p = loadRoom(proj);
+  ASSERT_EQ(p.skies.size(), 1u);
+  EXPECT_DOUBLE_EQ(p.skies[0].lens.fx, 20);
+  EXPECT_DOUBLE_EQ(p.skies[0].lens.cy, 24.1);
+  EXPECT_DOUBLE_EQ(p.skies[0].lens.k[2], 0.001);
+  EXPECT_DOUBLE_EQ(p.skies[0].lens.circleX, 32);
+  // A lens file of another model, one outside the bundle, and an inline lens with no focal length.
+  write(fs::path(dir) / "sky/lens.json", R"({"model": "OPENCV", "width": 64, "height": 48, "fx": 20, "fy": 20, "cx": 32, "cy": 24})");
+  const std::string other = errorOf(dir);
+  EXPECT_NE(other.find("sky/lens.json"), std::string::npos) << other;
+  EXPECT_NE(other.find("OPENCV_FISHEYE"), std::string::npos) << other;
+  EXPECT_NE(errorOf(bundle(withLens("\"../lens.json\""))).find("fisheye_lens '../lens.json' leads out"), std::string::npos)
+      << errorOf(bundle(withLens("\"../lens.json\"")));
+  const std::string inlineBad = errorOf(bundle(withLens(R"({"model": "OPENCV_FISHEYE", "width": 64, "height": 48, "fx": 0, "fy": 20, "cx": 32, "cy": 24})")));
+  EXPECT_NE(inlineBad.find("scene.json"), std::string::npos) << inlineBad;
+  EXPECT_NE(inlineBad.find("must be positive"), std::string::npos) << inlineBad;
 }
 
 // A lamp's photometric file (IES or EULUMDAT) is read with the room, confined to its folder,

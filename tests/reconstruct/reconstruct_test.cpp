@@ -15,6 +15,7 @@
 #include "relume/reconstruct/colmap_driver.h"
 #include "relume/reconstruct/colmap_model.h"
 #include "relume/reconstruct/multiview.h"
+#include "relume/project/fisheye_lens.h"
 #include "relume/reconstruct/photos.h"
 #include "relume/reconstruct/polygon_fit.h"
 #include "support/error_text.h"
@@ -654,10 +655,11 @@ TEST(Calibration, FisheyeCheckerboardPhotosGiveTheLensAnglesBack) {
     writeImage8(file, test::renderFisheyeCheckerboard(cam, f, cx, cy, k, cols, rows, sq));
     files.push_back(file);
   }
-  const FisheyeIntrinsics in = calibrateFisheyeCheckerboard(files, cols, rows, sq, silentProgress());
+  const FisheyeCalibration cal = calibrateFisheyeCheckerboard(files, cols, rows, sq, silentProgress());
+  const FisheyeLens& in = cal.lens;
   std::printf("fisheye calibration: fx %.2f fy %.2f cx %.2f cy %.2f k %.4f %.4f %.4f %.4f rms %.3f px, %zu of %zu photos\n",
-              in.fx, in.fy, in.cx, in.cy, in.k[0], in.k[1], in.k[2], in.k[3], in.rms, in.used.size(), files.size());
-  ASSERT_GE(in.used.size(), 8u) << "the board must be found in most photos";
+              in.fx, in.fy, in.cx, in.cy, in.k[0], in.k[1], in.k[2], in.k[3], in.rms, cal.used.size(), files.size());
+  ASSERT_GE(cal.used.size(), 8u) << "the board must be found in most photos";
   EXPECT_LT(in.rms, 0.3);
   EXPECT_NEAR(in.cx, cx, 1.5);
   EXPECT_NEAR(in.cy, cy, 1.5);
@@ -679,10 +681,10 @@ TEST(Calibration, FisheyeCheckerboardPhotosGiveTheLensAnglesBack) {
   EXPECT_LT(worst * 180 / M_PI, 0.2);
   // Kept as JSON and read back (the lens `relume sky --lens` reads).
   const std::string json = (d / "lens.json").string();
-  FisheyeIntrinsics withCircle = in;
+  FisheyeLens withCircle = in;
   withCircle.circleX = 320, withCircle.circleY = 240, withCircle.circleRadius = 231.5;
-  writeFisheyeIntrinsics(withCircle, json);
-  const FisheyeIntrinsics back = readFisheyeIntrinsics(json);
+  writeFisheyeLens(withCircle, json);
+  const FisheyeLens back = readFisheyeLens(json);
   EXPECT_DOUBLE_EQ(back.fx, in.fx);
   EXPECT_DOUBLE_EQ(back.k[3], in.k[3]);
   EXPECT_DOUBLE_EQ(back.circleRadius, 231.5);
@@ -690,7 +692,7 @@ TEST(Calibration, FisheyeCheckerboardPhotosGiveTheLensAnglesBack) {
   Intrinsics pin;
   pin.width = 640, pin.height = 480, pin.fx = pin.fy = 500, pin.cx = 320, pin.cy = 240;
   writeIntrinsics(pin, json);
-  const std::string e = errorText([&] { readFisheyeIntrinsics(json); });
+  const std::string e = errorText([&] { readFisheyeLens(json); });
   EXPECT_NE(e.find("lens.json"), std::string::npos) << e;
   EXPECT_NE(e.find("OPENCV_FISHEYE"), std::string::npos) << e;
 }

@@ -75,21 +75,20 @@ double fisheyeTheta(const FisheyeModel& m, double thetaD) {
   return t;
 }
 
-FisheyeModel fisheyeCalibrated(const glm::dvec2& focal, const glm::dvec2& principal, const double (&k)[4], double fovDeg,
-                               const glm::dvec2& circleCentre, double circleRadius, const std::string& file) {
-  if (!(focal.x > 0 && focal.y > 0 && std::isfinite(focal.x) && std::isfinite(focal.y)))
+FisheyeModel fisheyeCalibrated(const FisheyeLens& lens, double fovDeg, const std::string& file) {
+  if (!(lens.fx > 0 && lens.fy > 0 && std::isfinite(lens.fx) && std::isfinite(lens.fy)))
     throw Error(file, "fisheye lens", "its focal lengths must be positive numbers of pixels");
   if (!(fovDeg > 0 && fovDeg <= 360)) throw Error(file, "fisheye lens", "its field of view must lie in (0, 360] degrees");
-  for (double v : {principal.x, principal.y, k[0], k[1], k[2], k[3], circleCentre.x, circleCentre.y, circleRadius})
+  for (double v : {lens.cx, lens.cy, lens.k[0], lens.k[1], lens.k[2], lens.k[3], lens.circleX, lens.circleY, lens.circleRadius})
     if (!std::isfinite(v)) throw Error(file, "fisheye lens", "its principal point, distortion and circle must be numbers");
   FisheyeModel m;
   m.projection = FisheyeProjection::OpenCvFisheye;
   m.fovDeg = fovDeg;
-  m.centre = principal;
-  m.focal = focal;
-  for (int i = 0; i < 4; ++i) m.k[i] = k[i];
-  m.circleCentre = circleCentre;
-  m.radius = std::max(0.0, circleRadius);
+  m.centre = {lens.cx, lens.cy};
+  m.focal = {lens.fx, lens.fy};
+  for (int i = 0; i < 4; ++i) m.k[i] = lens.k[i];
+  m.circleCentre = {lens.circleX, lens.circleY};
+  m.radius = std::max(0.0, lens.circleRadius);
   m.axes = glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1));
   // The mapping must rise with the angle over the whole view (steps of 0.1 degree), or one pixel
   // would see two directions.
@@ -280,12 +279,18 @@ FisheyeModel fisheyeLookingUp(int width, int height, FisheyeProjection projectio
   return m;
 }
 
-FisheyeModel fisheyeFromDescription(const std::string& text, int width, int height, const std::string& file) {
+FisheyeModel fisheyeFromDescription(const std::string& text, int width, int height, const std::string& file,
+                                    const FisheyeLens& lens) {
   std::string t;
   for (char c : text) t += char(std::tolower((unsigned char)c));
   const std::string where = "fisheye model '" + text + "'";
+  const bool calibrated = lens.fx > 0;
   const bool eqd = t.find("equidistant") != std::string::npos, eqs = t.find("equisolid") != std::string::npos;
-  if (eqd == eqs) throw Error(file, where, "must name its projection: equidistant or equisolid");
+  if (calibrated && (lens.width != width || lens.height != height))
+    throw Error(file, "fisheye lens",
+                "the lens was calibrated on " + std::to_string(lens.width) + "x" + std::to_string(lens.height) +
+                    " images, the fisheye is " + std::to_string(width) + "x" + std::to_string(height));
+  if (!calibrated && eqd == eqs) throw Error(file, where, "must name its projection: equidistant or equisolid");
   const size_t deg = t.find("deg");
   double fov = 0;
   if (deg != std::string::npos) {
@@ -293,6 +298,7 @@ FisheyeModel fisheyeFromDescription(const std::string& text, int width, int heig
     while (start > 0 && (std::isdigit((unsigned char)t[start - 1]) || t[start - 1] == '.' || t[start - 1] == ' ')) --start;
     if (std::sscanf(t.c_str() + start, "%lf", &fov) != 1) fov = 0;
   }
+  if (calibrated && deg == std::string::npos) fov = 180;
   if (!(fov > 0 && fov <= 360))
     throw Error(file, where, "must give its field of view, e.g. '180 deg'");
   if (t.find("looking up") == std::string::npos)
@@ -310,7 +316,8 @@ FisheyeModel fisheyeFromDescription(const std::string& text, int width, int heig
     else if (axis == "-y") u = {0, -1, 0};
   }
   if (glm::length(u) == 0) throw Error(file, where, "must say which room axis is the image's up, e.g. 'image up = +Y'");
-  FisheyeModel m = fisheyeLookingUp(width, height, eqd ? FisheyeProjection::Equidistant : FisheyeProjection::Equisolid, fov);
+  FisheyeModel m = calibrated ? fisheyeCalibrated(lens, fov, file)
+                              : fisheyeLookingUp(width, height, eqd ? FisheyeProjection::Equidistant : FisheyeProjection::Equisolid, fov);
   const glm::dvec3 a(0, 0, 1);
   m.axes = glm::dmat3(glm::cross(a, u), u, a);  // a camera's x = y x z, with y = -up
   return m;
@@ -460,10 +467,11 @@ void checkSkyImage(const SkyImage& sky) {
   if (!above) throw Error(sky.file, "fisheye", "the image sees only what lies below the horizon: it cannot give the sky");
 }
 
-SkyImage readFisheyeLookingUp(const std::string& path) {
+SkyImage readFisheyeLookingUp(const std::string& path, const FisheyeLens& lens) {
   int w = 0, h = 0;
   imageSize(path, w, h);
-  return readSkyImage(path, fisheyeLookingUp(w, h));
+  return readSkyImage(path, lens.fx > 0 ? fisheyeFromDescription("180 deg, looking up, image up = +Y", w, h, path, lens)
+                                        : fisheyeLookingUp(w, h));
 }
 
 SkyImage readRoomSky(const Scene& room, const std::string& name) {
@@ -474,7 +482,7 @@ SkyImage readRoomSky(const Scene& room, const std::string& name) {
   const std::string file = cap->fisheye.front() == '/' ? cap->fisheye : room.baseDir + "/" + cap->fisheye;
   int w = 0, h = 0;
   imageSize(file, w, h);
-  return readSkyImage(file, fisheyeFromDescription(cap->fisheyeModel, w, h, file));
+  return readSkyImage(file, fisheyeFromDescription(cap->fisheyeModel, w, h, file, cap->lens));
 }
 
 SkyImage readSkyImage(const std::string& path, const FisheyeModel& model) {

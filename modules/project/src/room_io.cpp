@@ -1,4 +1,5 @@
 #include "relume/project/room_io.h"
+#include "relume/project/fisheye_lens.h"
 #include "relume/project/save_hooks.h"
 
 #include <fcntl.h>
@@ -420,6 +421,15 @@ static void readDaylight(const QJsonValue& v, const JsonReader& jr, Scene& scene
     if (!so["fisheye_model"].isString()) jr.fail(where, "fisheye_model must describe the lens in words");
     c.fisheyeModel = str(so["fisheye_model"].toString());
     if (so.contains("fisheye_position")) c.fisheyePosition = jr.vec3(so["fisheye_position"], where, "fisheye_position");
+    // A calibrated lens (`relume calibrate --fisheye`): its JSON inline, or the name of its file.
+    if (so["fisheye_lens"].isObject()) {
+      c.lens = parseFisheyeLens(QJsonDocument(so["fisheye_lens"].toObject()).toJson().toStdString(),
+                                jr.file + " (" + where + ", fisheye_lens)");
+    } else if (so.contains("fisheye_lens")) {
+      const std::string rel = jr.path(so["fisheye_lens"], where, "fisheye_lens");
+      if (rel.empty()) jr.fail(where, "fisheye_lens must name the lens's JSON file or hold it");
+      c.lens = parseFisheyeLens(jr.files(rel), rel);
+    }
     c.panorama = jr.path(so["panorama"], where, "panorama");
     if (so.contains("panorama_position")) c.panoramaPosition = jr.vec3(so["panorama_position"], where, "panorama_position");
     scene.skies.push_back(c);
@@ -984,6 +994,7 @@ void saveProject(const Scene& scene, const std::string& folder, Progress& progre
           o[key] = name;
         }
         if (!c.panorama.empty()) o["panorama_position"] = toJson(c.panoramaPosition);
+        if (c.lens.fx > 0) o["fisheye_lens"] = QJsonDocument::fromJson(QByteArray::fromStdString(fisheyeLensJson(c.lens))).object();
         skies.append(o);
       }
       root["daylight"] = QJsonObject{{"photos_sun", QString::fromStdString(scene.photoSky)}, {"sky", skies}};

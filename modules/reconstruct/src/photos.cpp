@@ -368,15 +368,16 @@ Intrinsics calibrateCheckerboard(const std::vector<std::string>& files, int cols
   return in;
 }
 
-FisheyeIntrinsics calibrateFisheyeCheckerboard(const std::vector<std::string>& files, int cols, int rows, double square,
-                                               Progress& progress) {
+FisheyeCalibration calibrateFisheyeCheckerboard(const std::vector<std::string>& files, int cols, int rows, double square,
+                                                Progress& progress) {
   BoardViews v = findBoards(files, cols, rows, square, progress);
-  FisheyeIntrinsics in;
+  FisheyeCalibration out;
+  FisheyeLens& in = out.lens;
   in.width = v.width;
   in.height = v.height;
-  in.used = std::move(v.used);
-  in.rejected = std::move(v.rejected);
-  // OpenCV's fisheye fit wants the corners relative to its own pixel convention and double points.
+  out.used = std::move(v.used);
+  out.rejected = std::move(v.rejected);
+  // OpenCV's fisheye fit takes double points, pixel centres at integers.
   std::vector<std::vector<cv::Point3d>> object;
   std::vector<std::vector<cv::Point2d>> image;
   for (size_t i = 0; i < v.image.size(); ++i) {
@@ -404,57 +405,7 @@ FisheyeIntrinsics calibrateFisheyeCheckerboard(const std::vector<std::string>& f
   if (!(in.fx > 0 && in.fy > 0) || !std::isfinite(in.rms))
     throw Error(fs::path(files[0]).parent_path().string(), "fisheye calibration", "the fit gave no lens (focal lengths not positive)");
   progress.report(1, "calibrated");
-  return in;
-}
-
-void writeFisheyeIntrinsics(const FisheyeIntrinsics& in, const std::string& path) {
-  QJsonObject o{{"width", in.width}, {"height", in.height}, {"model", "OPENCV_FISHEYE"},
-                {"fx", in.fx}, {"fy", in.fy}, {"cx", in.cx}, {"cy", in.cy},
-                {"k1", in.k[0]}, {"k2", in.k[1]}, {"k3", in.k[2]}, {"k4", in.k[3]}, {"rms_pixels", in.rms}};
-  if (in.circleRadius > 0) o["circle"] = QJsonObject{{"cx", in.circleX}, {"cy", in.circleY}, {"radius", in.circleRadius}};
-  writeJson(o, path);
-}
-
-FisheyeIntrinsics readFisheyeIntrinsics(const std::string& path) {
-  QFile f(QString::fromStdString(path));
-  if (!f.open(QIODevice::ReadOnly)) throw Error(path, "", "cannot open the file");
-  QJsonParseError err;
-  const QJsonDocument doc = QJsonDocument::fromJson(f.readAll(), &err);
-  if (doc.isNull() || !doc.isObject()) throw Error(path, "", "is not JSON: " + err.errorString().toStdString());
-  const QJsonObject o = doc.object();
-  if (o["model"].toString() != "OPENCV_FISHEYE")
-    throw Error(path, "model", "must be OPENCV_FISHEYE (as `relume calibrate --fisheye` writes it), not '" +
-                                   o["model"].toString().toStdString() + "'");
-  auto number = [&](const QJsonObject& in, const char* key, bool required) {
-    const QJsonValue v = in[key];
-    if (v.isUndefined() && !required) return 0.0;
-    if (!v.isDouble() || !std::isfinite(v.toDouble()))
-      throw Error(path, key, "must be a number (as `relume calibrate --fisheye` writes it)");
-    return v.toDouble();
-  };
-  FisheyeIntrinsics in;
-  for (auto [key, out] : {std::pair{"width", &in.width}, {"height", &in.height}}) {
-    const double x = number(o, key, true);
-    if (!(x >= 1 && x <= (1 << 20)) || x != std::floor(x)) throw Error(path, key, "must be a whole number of pixels from 1 to 1048576");
-    *out = int(x);
-  }
-  in.fx = number(o, "fx", true);
-  in.fy = number(o, "fy", true);
-  in.cx = number(o, "cx", true);
-  in.cy = number(o, "cy", true);
-  const char* ks[4] = {"k1", "k2", "k3", "k4"};
-  for (int i = 0; i < 4; ++i) in.k[i] = number(o, ks[i], false);
-  in.rms = number(o, "rms_pixels", false);
-  if (!(in.fx > 0) || !(in.fy > 0)) throw Error(path, "fx, fy", "must be positive (pixels)");
-  if (o.contains("circle")) {
-    if (!o["circle"].isObject()) throw Error(path, "circle", "must be an object with cx, cy and radius (pixels)");
-    const QJsonObject c = o["circle"].toObject();
-    in.circleX = number(c, "cx", true);
-    in.circleY = number(c, "cy", true);
-    in.circleRadius = number(c, "radius", true);
-    if (!(in.circleRadius > 0)) throw Error(path, "circle", "its radius must be positive (pixels)");
-  }
-  return in;
+  return out;
 }
 
 void writeIntrinsics(const Intrinsics& in, const std::string& path) {

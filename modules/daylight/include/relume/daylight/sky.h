@@ -15,9 +15,7 @@
 
 #include "relume/image/image.h"
 
-namespace relume {
-struct Scene;
-}
+#include "relume/geometry/scene.h"
 
 namespace relume::daylight {
 
@@ -60,12 +58,11 @@ struct FisheyeModel {
 };
 
 // A calibrated fisheye (FisheyeProjection::OpenCvFisheye) looking up with image up = +Y (as
-// fisheyeLookingUp), limited to `fovDeg` and, when `circleRadius` > 0, to that image circle.
-// Throws relume::Error naming `file` when the focal lengths are not positive or the distortion
-// does not map angles to radii monotonically up to fovDeg / 2 (no lens does: it would fold the
-// image over itself).
-FisheyeModel fisheyeCalibrated(const glm::dvec2& focal, const glm::dvec2& principal, const double (&k)[4], double fovDeg,
-                               const glm::dvec2& circleCentre, double circleRadius, const std::string& file);
+// fisheyeLookingUp), limited to `fovDeg` and to the lens's image circle when it has one. Throws
+// relume::Error naming `file` when the focal lengths are not positive or the distortion does not
+// map angles to radii monotonically up to fovDeg / 2 (no lens does: it would fold the image over
+// itself).
+FisheyeModel fisheyeCalibrated(const FisheyeLens& lens, double fovDeg, const std::string& file);
 // The angle from the axis (radians) of a calibrated fisheye at distorted radius theta_d (focal
 // units), and the distorted radius of an angle: the model's own mapping (Newton's method back).
 double fisheyeTheta(const FisheyeModel& m, double thetaD);
@@ -96,8 +93,12 @@ FisheyeModel fisheyeLookingUp(int width, int height, FisheyeProjection projectio
 // A fisheye described in words, as daylight bundles do ("equidistant, 180 deg, looking up (+Z),
 // image up = +Y"): the projection (equidistant or equisolid), the field of view in degrees, looking
 // up, and which room axis is the image's up (+X, -X, +Y or -Y); the circle fills the
-// width x height image. Throws relume::Error naming `file` and what is missing or not understood.
-FisheyeModel fisheyeFromDescription(const std::string& text, int width, int height, const std::string& file);
+// width x height image. With a calibrated `lens` (fx > 0) the lens is the projection (the words
+// need name none; the field of view is 180 degrees unless they give one) and must have been
+// calibrated on width x height images. Throws relume::Error naming `file` and what is missing or
+// not understood.
+FisheyeModel fisheyeFromDescription(const std::string& text, int width, int height, const std::string& file,
+                                    const FisheyeLens& lens = {});
 
 // The direction seen at image point (px, py), or nothing outside the image circle.
 std::optional<glm::dvec3> pixelDirection(const FisheyeModel& m, double px, double py);
@@ -120,8 +121,10 @@ SkyImage readSkyImage(const std::string& path, const FisheyeModel& model);
 // naming the room's file or the image and what is wrong.
 SkyImage readRoomSky(const Scene& room, const std::string& name);
 // An HDR fisheye file in the common convention (fisheyeLookingUp: equidistant, 180 degrees,
-// looking up, image up = +Y, the circle filling the image), read and checked.
-SkyImage readFisheyeLookingUp(const std::string& path);
+// looking up, image up = +Y, the circle filling the image), read and checked; through a calibrated
+// `lens` (fx > 0) instead of the ideal equidistant projection when one is given (it must have been
+// calibrated on images of the file's size).
+SkyImage readFisheyeLookingUp(const std::string& path, const FisheyeLens& lens = {});
 void checkSkyImage(const SkyImage& sky);
 
 // The upper hemisphere cut into bands of equal elevation width, each band into cells whose

@@ -61,11 +61,25 @@ struct Variant {
 };
 
 // A measured sky (daylight rooms): an HDR fisheye taken outside, and optionally a panorama.
+// A calibrated fisheye: OpenCV's fisheye model (Kannala-Brandt; COLMAP's OPENCV_FISHEYE) as
+// `relume calibrate --fisheye` measures it. A point at angle theta from the axis lies at theta_d =
+// theta (1 + k1 theta^2 + k2 theta^4 + k3 theta^6 + k4 theta^8) focal lengths from the principal
+// point (cx, cy); pixel centres at +0.5. The image circle (where the lens's light ends on the
+// sensor) beside it when it was measured (circleRadius 0: not). fx == 0: no lens.
+struct FisheyeLens {
+  int width = 0, height = 0;  // the images it was calibrated on
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  double k[4] = {0, 0, 0, 0};
+  double rms = 0;  // the calibration's reprojection error, pixels
+  double circleX = 0, circleY = 0, circleRadius = 0;
+};
+
 struct SkyCapture {
   std::string name;
   std::string fisheye;       // relative path of the HDR fisheye
   std::string fisheyeModel;  // its lens and orientation in words, e.g. "equidistant, 180 deg,
                              // looking up (+Z), image up = +Y" (relume::daylight parses it)
+  FisheyeLens lens;          // a calibrated lens (fx > 0): the projection, the words the orientation
   glm::dvec3 fisheyePosition{0.0};
   std::string panorama;      // relative path of an equirectangular HDR, or empty
   glm::dvec3 panoramaPosition{0.0};

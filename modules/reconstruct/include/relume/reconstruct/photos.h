@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "relume/geometry/progress.h"
+#include "relume/geometry/scene.h"
 #include "relume/image/image.h"
 
 namespace relume::recon {
@@ -73,29 +74,17 @@ Intrinsics readIntrinsics(const std::string& jsonPath);
 // The same from the JSON's bytes (`name` for the messages).
 Intrinsics parseIntrinsics(const std::string& bytes, const std::string& name);
 
-// A fisheye lens (OpenCV's fisheye model, Kannala-Brandt; COLMAP's OPENCV_FISHEYE): a point at
-// angle theta from the axis lies at theta_d = theta (1 + k1 theta^2 + k2 theta^4 + k3 theta^6 +
-// k4 theta^8) focal lengths from the principal point. Pixel centres at +0.5, as everywhere in
-// Relume. The image circle (where the lens's light ends on the sensor) is kept beside it when it
-// was measured (radius 0: not measured).
-struct FisheyeIntrinsics {
-  int width = 0, height = 0;
-  double fx = 0, fy = 0, cx = 0, cy = 0;
-  double k[4] = {0, 0, 0, 0};
-  double rms = 0;  // reprojection error of the calibration, pixels
-  std::vector<std::string> used, rejected;
-  double circleX = 0, circleY = 0, circleRadius = 0;
+// A fisheye lens (relume::FisheyeLens, OpenCV's fisheye model) from photos of a checkerboard
+// taken through it (cv::fisheye::calibrate): the board's corners found as for
+// calibrateCheckerboard, so the board must be whole in each photo used. Throws relume::Error as
+// calibrateCheckerboard does, and when OpenCV's fit fails (the views do not determine the lens:
+// more views, the board nearer the image's edges). Kept with relume::writeFisheyeLens.
+struct FisheyeCalibration {
+  FisheyeLens lens;
+  std::vector<std::string> used, rejected;  // photos where the pattern was / was not found
 };
-// The same from photos of a checkerboard taken through the fisheye (cv::fisheye::calibrate):
-// the board's corners found as for calibrateCheckerboard, so the board must be whole in each
-// photo used. Throws relume::Error as calibrateCheckerboard does, and when OpenCV's fit fails
-// (the views do not determine the lens: more views, the board nearer the image's edges).
-FisheyeIntrinsics calibrateFisheyeCheckerboard(const std::vector<std::string>& files, int cols, int rows, double square,
-                                               Progress& progress);
-void writeFisheyeIntrinsics(const FisheyeIntrinsics& in, const std::string& jsonPath);
-// Throws relume::Error naming the file and the field when it is not such a JSON (model
-// OPENCV_FISHEYE, positive focal lengths, numbers throughout).
-FisheyeIntrinsics readFisheyeIntrinsics(const std::string& jsonPath);
+FisheyeCalibration calibrateFisheyeCheckerboard(const std::vector<std::string>& files, int cols, int rows, double square,
+                                                Progress& progress);
 
 // The exposure, focal and camera fields of `exif` that are set, as metadata to write with a photo.
 ImageMetadata exifMetadata(const PhotoInfo& exif);
