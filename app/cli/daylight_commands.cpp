@@ -292,7 +292,11 @@ int skyCommand(const QStringList& args, Progress& progress) {
     throw Error("", "--lens", "a calibrated lens is its own projection: give --lens or --projection / --panorama, not both");
   std::string file = p.positionalArguments()[0].toStdString();
   std::string description;  // the lens in words, when a room's daylight section gives it
+  FisheyeLens roomLens;     // and its calibrated lens, when it names one
   if (!isRadianceFile(file)) {
+    if (p.isSet("lens"))
+      throw Error(p.value("lens").toStdString(), "--lens",
+                  "is for a fisheye image; a room's sky names its own lens (fisheye_lens in its daylight section)");
     const Scene room = openRoom(p.positionalArguments()[0]);
     if (room.skies.empty()) throw Error(room.sourceFile, "daylight", "the room lists no measured sky");
     const std::string want = p.isSet("sky") ? p.value("sky").toStdString() : room.photoSky.empty() ? room.skies.front().name : room.photoSky;
@@ -300,6 +304,7 @@ int skyCommand(const QStringList& args, Progress& progress) {
     if (!cap) throw Error(room.sourceFile, "--sky", "the room has no sky named '" + want + "'");
     file = room.baseDir + "/" + cap->fisheye;
     description = cap->fisheyeModel;
+    roomLens = cap->lens;
     if (p.isSet("panorama")) {
       if (cap->panorama.empty()) throw Error(room.sourceFile, "--panorama", "the sky '" + want + "' has no panorama");
       file = room.baseDir + "/" + cap->panorama;
@@ -332,7 +337,7 @@ int skyCommand(const QStringList& args, Progress& progress) {
     model = proj == "equirectangular" ? dl::equirectangular(w, h)
             : description.empty()
                 ? dl::fisheyeLookingUp(w, h, proj == "equisolid" ? dl::FisheyeProjection::Equisolid : dl::FisheyeProjection::Equidistant, fov)
-                : dl::fisheyeFromDescription(description, w, h, file);
+                : dl::fisheyeFromDescription(description, w, h, file, roomLens);
   }
   if (p.isSet("circle") && proj == "equirectangular") throw Error("", "--circle", "a panorama has no image circle");
   if (p.isSet("circle")) {

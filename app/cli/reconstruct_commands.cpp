@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 #include <random>
 
 #include "commands.h"
@@ -327,35 +328,50 @@ int calibrateCommand(const QStringList& args, Progress& progress) {
   for (const auto& f : listPhotos(dir))
     if (!isRadianceFile(f)) files.push_back(f);
   if (p.isSet("fisheye")) {
+    // The image circle first (a photo of another size, or one whose circle cannot be found, is
+    // refused before the calibration runs).
+    std::optional<daylight::ImageCircle> circle;
+    if (p.isSet("circle-from")) {
+      const std::string image = str(p.value("circle-from"));
+      const ImageRGB im = readImageLinear(image);
+      if (!files.empty()) {
+        int w = 0, h = 0;
+        imageSize(files.front(), w, h);
+        if (im.width != w || im.height != h)
+          throw Error(image, "--circle-from",
+                      "is " + std::to_string(im.width) + "x" + std::to_string(im.height) + ", the checkerboard photos " +
+                          std::to_string(w) + "x" + std::to_string(h) + ": not the same camera setting");
+      }
+      circle = daylight::findImageCircle(im, image);
+    }
     FisheyeCalibration cal = calibrateFisheyeCheckerboard(files, cols, rows, square, progress);
     FisheyeLens& in = cal.lens;
     for (const auto& r : cal.rejected) std::fprintf(stderr, "warning: no checkerboard found in %s\n", r.c_str());
     std::printf("fx %.2f fy %.2f cx %.2f cy %.2f k1 %.5f k2 %.5f k3 %.5f k4 %.5f, rms %.3f px, %zu photos\n", in.fx, in.fy, in.cx,
                 in.cy, in.k[0], in.k[1], in.k[2], in.k[3], in.rms, cal.used.size());
-    if (p.isSet("circle-from")) {
-      const std::string image = str(p.value("circle-from"));
-      const ImageRGB im = readImageLinear(image);
-      if (im.width != in.width || im.height != in.height)
-        throw Error(image, "--circle-from",
-                    "is " + std::to_string(im.width) + "x" + std::to_string(im.height) + ", the checkerboard photos " +
-                        std::to_string(in.width) + "x" + std::to_string(in.height) + ": not the same camera setting");
-      const daylight::ImageCircle c = daylight::findImageCircle(im, image);
+    if (circle) {
+      const daylight::ImageCircle& c = *circle;
       in.circleX = c.centre.x, in.circleY = c.centre.y, in.circleRadius = c.radius;
       // How far from its axis the calibrated lens sees at the circle's edge (the least over the
-      // edge): what the lens's light reaches, as the calibration extrapolates it.
+      // edge): the view the lens really has, as far as the calibration's distortion reaches.
       try {
         FisheyeLens bare = in;
         bare.circleRadius = 0;
-        const daylight::FisheyeModel m = daylight::fisheyeCalibrated(bare, 200, image);
+        const daylight::FisheyeModel m = daylight::fisheyeCalibrated(bare, 200, str(p.value("circle-from")));
         double least = 1e9;
         for (int a = 0; a < 360; ++a) {
           const double ang = a * std::numbers::pi / 180;
           const double x = (c.centre.x + c.radius * std::cos(ang) - in.cx) / in.fx, y = (c.centre.y + c.radius * std::sin(ang) - in.cy) / in.fy;
           least = std::min(least, daylight::fisheyeTheta(m, std::hypot(x, y)));
         }
-        std::printf("image circle: centre %.2f, %.2f, radius %.2f px; the lens sees %.1f degrees from its axis there (a %.1f-degree view)\n",
-                    c.centre.x, c.centre.y, c.radius, least * 180 / std::numbers::pi, 2 * least * 180 / std::numbers::pi);
+        if (std::isfinite(least))
+          std::printf("image circle: centre %.2f, %.2f, radius %.2f px; the lens sees %.1f degrees from its axis there (a %.1f-degree view)\n",
+                      c.centre.x, c.centre.y, c.radius, least * 180 / std::numbers::pi, 2 * least * 180 / std::numbers::pi);
+        else
+          std::printf("image circle: centre %.2f, %.2f, radius %.2f px; beyond 100 degrees from the lens's axis\n", c.centre.x,
+                      c.centre.y, c.radius);
       } catch (const Error&) {
+        std::printf("image circle: centre %.2f, %.2f, radius %.2f px\n", c.centre.x, c.centre.y, c.radius);
         std::fprintf(stderr, "warning: the calibrated distortion folds back before 100 degrees from the axis: the photos did not "
                              "reach the image's edge; take some with the board nearer it\n");
       }

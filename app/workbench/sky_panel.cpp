@@ -9,10 +9,12 @@
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QListWidget>
+#include <QMenu>
 #include <QOffscreenSurface>
 #include <QOpenGLContext>
 #include <QSurfaceFormat>
 #include <QPushButton>
+#include <QToolButton>
 #include <QTimer>
 #include <QVBoxLayout>
 #include <algorithm>
@@ -33,6 +35,7 @@
 #include "relume/geometry/scene.h"
 #include "relume/ibr/relit_objects.h"
 #include "relume/image/image.h"
+#include "relume/project/fisheye_lens.h"
 #include "relume/project/room_io.h"
 #include "relume/raytrace/ray_scene.h"
 #include "relume/relight/relighter.h"
@@ -236,8 +239,25 @@ SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jo
   skyFile_->setToolTip(tr("An HDR fisheye taken outside looking up (equidistant, 180°, image up = +Y)"));
   skyFolder_ = new QPushButton(tr("Folder…"), this);
   skyFolder_->setToolTip(tr("A folder of HDR fisheyes: a time-varying sky, played back in name order"));
+  lens_ = new QToolButton(this);
+  lens_->setPopupMode(QToolButton::InstantPopup);
+  lens_->setToolTip(tr("The lens the fisheye images and folders you add are read through: the ideal one (equidistant, "
+                       "180°, the circle filling the image) or your sky camera's, calibrated with `relume calibrate "
+                       "--fisheye`"));
+  {
+    auto* menu = new QMenu(lens_);
+    menu->addAction(tr("Calibrated lens…"), this, [this] {
+      const QString f = QFileDialog::getOpenFileName(this, tr("Calibrated fisheye lens"), QString(), tr("JSON (*.json)"));
+      if (!f.isEmpty()) setSkyLens(f);
+    });
+    menu->addAction(tr("Ideal lens (equidistant, 180°)"), this, [this] { setSkyLens(QString()); });
+    lens_->setMenu(menu);
+  }
+  lensModel_ = std::make_unique<FisheyeLens>();
+  setSkyLens(QString());
   skyRow->addWidget(skyFile_);
   skyRow->addWidget(skyFolder_);
+  skyRow->addWidget(lens_);
   layout->addLayout(skyRow);
   auto* methodRow = new QHBoxLayout;
   methodRow->addWidget(new QLabel(tr("Method"), this));
@@ -563,10 +583,26 @@ bool SkyPanel::openRoom(const Scene& scene, const QString& path) {
   });
 }
 
+bool SkyPanel::setSkyLens(const QString& file) {
+  if (file.isEmpty()) {
+    *lensModel_ = FisheyeLens{};
+  } else {
+    try {
+      *lensModel_ = readFisheyeLens(file.toStdString());
+    } catch (const std::exception& e) {
+      emit message(QString::fromUtf8(e.what()));
+      return false;
+    }
+  }
+  lensFile_ = file;
+  lens_->setText(file.isEmpty() ? tr("Lens: ideal") : tr("Lens: %1").arg(QFileInfo(file).fileName()));
+  return true;
+}
+
 bool SkyPanel::addSkyFile(const QString& file) {
   if (!isOpen()) return false;
   try {
-    const auto sky = daylight::averageSky(daylight::readFisheyeLookingUp(file.toStdString()), s_->cells);
+    const auto sky = daylight::averageSky(daylight::readFisheyeLookingUp(file.toStdString(), *lensModel_), s_->cells);
     s_->skies.push_back({QFileInfo(file).completeBaseName(), {sky}, {QFileInfo(file).completeBaseName()}});
     if (const QString note = clippedNote(sky, QFileInfo(file).fileName()); !note.isEmpty()) emit message(note);
   } catch (const std::exception& e) {
@@ -591,7 +627,7 @@ bool SkyPanel::addSkyFolder(const QString& folder) {
   try {
     for (const QString& n : names) {
       const std::string file = QDir(folder).filePath(n).toStdString();
-      entry.frames.push_back(daylight::averageSky(daylight::readFisheyeLookingUp(file), s_->cells));
+      entry.frames.push_back(daylight::averageSky(daylight::readFisheyeLookingUp(file, *lensModel_), s_->cells));
       entry.names.push_back(QFileInfo(n).completeBaseName());
       if (const QString note = clippedNote(entry.frames.back(), n); !note.isEmpty()) notes << note;
     }

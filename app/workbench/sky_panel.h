@@ -19,6 +19,7 @@ class QComboBox;
 class QLabel;
 class QListWidget;
 class QPushButton;
+class QToolButton;
 
 namespace relume {
 
@@ -27,6 +28,7 @@ class JobRunner;
 class Progress;
 struct Scene;
 struct ImageRGB;
+struct FisheyeLens;
 // A daylight room made ready off the UI thread (reflectances, basis solutions): see prepare().
 struct PreparedDaylight;
 
@@ -55,6 +57,14 @@ class SkyPanel : public QWidget {
   // folder's frames as one entry, played back). False (and a message) when nothing was added.
   bool addSkyFile(const QString& file);
   bool addSkyFolder(const QString& folder);
+  // The lens the fisheye files and folders added from now on are read through: a calibrated lens
+  // (the JSON of `relume calibrate --fisheye`), or with an empty name the ideal one (equidistant,
+  // 180 degrees, the circle filling the image). The user's camera, not the room's: it stays when
+  // another room opens. False (and a message naming the file) when the file is no lens; the lens
+  // chosen before stays. The room's own skies keep the lens their room gives them.
+  bool setSkyLens(const QString& file);
+  QString skyLens() const { return lensFile_; }
+  QToolButton* lensButton() const { return lens_; }
   void setPlaying(bool on);
   bool playing() const;
   // Virtual objects and lamps from a JSON file (virtual_objects and/or virtual_lights, as
@@ -121,6 +131,9 @@ class SkyPanel : public QWidget {
   QListWidget* lamps_;
   QLabel* lampsLabel_;
   QPushButton *skyFile_, *skyFolder_, *objectsFile_, *play_;
+  QToolButton* lens_;
+  QString lensFile_;  // empty: the ideal lens
+  std::unique_ptr<FisheyeLens> lensModel_;
   QCheckBox* showPhoto_;
   QCheckBox* gpu_;
   QLabel* frame_;

@@ -188,6 +188,26 @@ python3 -c "import json, math; json.dump({'model': 'OPENCV_FISHEYE', 'width': 25
 check "a fisheye read through a calibrated lens equal to the ideal projection relights the room alike (PSNR over 50 dB)" \
   "[ -s '$tmp/lens_sun1.exr' ] && \"$relume\" compare '$tmp/lens_sun1.exr' '$tmp/ideal_sun1.exr' 2>/dev/null | python3 -c \"import re,sys; t=sys.stdin.read(); \
 m=re.search(r'([0-9.]+) dB', t); assert m and float(m.group(1)) > 50, t\""
+"$relume" sky "$room/sky/fisheye_sun0.exr" --lens "$tmp/ideal_lens.json" >"$tmp/lenssky.out" 2>/dev/null
+check "sky FISHEYE --lens (the ideal projection as a calibrated lens) finds the sun where the ideal lens does" \
+  "python3 -c \"import re; e=[float(re.search(r'sun: elevation ([0-9.]+)', open(f).read()).group(1)) for f in ('$tmp/lenssky.out', '$tmp/nocircle.out')]; \
+assert abs(e[0] - e[1]) < 0.05, e\""
+# A room whose sky names its calibrated lens (inline; the words give only the orientation).
+mkdir -p "$tmp/lensroom" && cp -r "$room/." "$tmp/lensroom/"
+python3 - "$tmp/lensroom/scene.json" "$tmp/ideal_lens.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1])); lens = json.load(open(sys.argv[2]))
+for c in s["daylight"]["sky"]:
+    c["fisheye_lens"] = lens
+    c["fisheye_model"] = "looking up (+Z), image up = +Y"
+json.dump(s, open(sys.argv[1], "w"))
+PY
+"$relume" sky "$tmp/lensroom" >"$tmp/lensroom.out" 2>"$tmp/lensroom.err"
+check "sky ROOM reads the room's sky through the lens it names (the sun as through the ideal lens)" \
+  "[ $? -eq 0 ] && python3 -c \"import re; e=[float(re.search(r'sun: elevation ([0-9.]+)', open(f).read()).group(1)) for f in ('$tmp/lensroom.out', '$tmp/nocircle.out')]; \
+assert abs(e[0] - e[1]) < 0.05, e\""
+"$relume" sky "$tmp/lensroom" --lens "$tmp/ideal_lens.json" 2>"$tmp/lensroom2.err"
+check "sky ROOM --lens is refused: a room's sky names its own lens" "[ $? -eq 1 ] && grep -q 'names its own lens' '$tmp/lensroom2.err'"
 "$relume" sky "$room/sky/fisheye_sun0.exr" --lens "$tmp/lens.json" 2>"$tmp/lens.err"
 check "a calibrated lens of another image size is refused, naming the lens file" \
   "[ $? -eq 1 ] && grep -q 'lens.json' '$tmp/lens.err' && grep -q '640x480' '$tmp/lens.err'"

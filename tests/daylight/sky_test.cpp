@@ -344,14 +344,23 @@ TEST(Sky, ASkySeenThroughACalibratedLensGivesWhatTheSkyHolds) {
   auto skyL = [](const glm::dvec3& d) { return glm::dvec3(0.5 + 0.5 * d.z, 0.6 + 0.5 * d.z, 0.9 + 0.5 * d.z); };
   const double k[4] = {0.03, -0.012, 0.004, -0.0006};
   FisheyeLens l;
-  l.width = 640, l.height = 490, l.fx = 150, l.fy = 153, l.cx = 321.3, l.cy = 242.8;
+  l.width = 640, l.height = 520, l.fx = 150, l.fy = 153, l.cx = 321.3, l.cy = 262.8;
   for (int i = 0; i < 4; ++i) l.k[i] = k[i];
-  l.circleX = 321.0, l.circleY = 243.0, l.circleRadius = 236;
+  l.circleX = 321.0, l.circleY = 263.0, l.circleRadius = 252;  // the horizon 250 px out along y
   const FisheyeModel lens = fisheyeCalibrated(l, 180, "lens.json");
-  const SkyImage s = render(lens, 640, 490, [&](const glm::dvec3& d) {
+  const SkyImage s = render(lens, 640, 520, [&](const glm::dvec3& d) {
     return glm::dot(d, sunDir) >= std::cos(sunRadius) ? glm::dvec3(sunL) : skyL(d);
   }, sunDir);
   checkSkyImage(s);
+  // An image circle that cuts the horizon off (236 px) leaves part of the sky unseen: refused.
+  SkyImage cut = s;
+  cut.model.radius = 236;
+  try {
+    checkSkyImage(cut);
+    ADD_FAILURE() << "a circle short of the horizon";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("outside its image circle"), std::string::npos) << e.what();
+  }
   const SkyRegions regions(64);
   const SkyRadiance avg = averageSky(s, regions);
   ASSERT_TRUE(avg.sun.found);

@@ -13,6 +13,8 @@
 #include <QSlider>
 #include <QJsonArray>
 #include <QJsonDocument>
+#include <QToolButton>
+#include <QMenu>
 #include <QJsonObject>
 #include <QListWidget>
 #include <QDateTime>
@@ -2482,6 +2484,68 @@ class WorkbenchTest : public QObject {
     qInfo("the box dragged 0.6 m on the OpenGL path: %.1f dB against before", psnr8(moved, gpu));
     QVERIFY(psnr8(moved, gpu) < 35);  // the box and its shadow went elsewhere
     saveShot(&w, "sky_panel_opengl_dragged");
+  }
+
+  void daylightSkyThroughACalibratedLensInTheSkyPanel() {
+    // The user's sky camera: a fisheye image added through a calibrated lens (the JSON of
+    // `relume calibrate --fisheye`), chosen from the lens button's menu. A lens that is the ideal
+    // projection relights as the ideal lens does; a distorted one reads the sky otherwise (the
+    // sun lands elsewhere); a lens of another image size and a file that is no lens are refused,
+    // naming the file, with nothing added and the lens kept.
+    const QString room = RELUME_SOURCE_DIR "/resources/daylight_room";
+    MainWindow w;
+    QVERIFY2(openDaylightRoom(w, room), qPrintable(w.lastError()));
+    SkyPanel* sky = w.skyPanel();
+    auto settle = [&](int timeoutMs) { return jobsSettled(w, timeoutMs); };
+    QCOMPARE(sky->lensButton()->text(), QString("Lens: ideal"));
+    QCOMPARE(sky->lensButton()->menu()->actions().size(), 2);
+    auto lensFile = [&](const QString& name, int size, double k1) {
+      const QString f = tmp_.path() + "/" + name;
+      QFile out(f);
+      if (!out.open(QIODevice::WriteOnly)) return QString();
+      const double focal = size / std::numbers::pi;  // 90 degrees at the image's edge: the ideal 180-degree lens
+      out.write(QJsonDocument(QJsonObject{{"model", "OPENCV_FISHEYE"}, {"width", size}, {"height", size}, {"fx", focal},
+                                          {"fy", focal}, {"cx", size / 2.0}, {"cy", size / 2.0}, {"k1", k1}})
+                    .toJson());
+      return f;
+    };
+    const QString fisheye = room + "/sky/fisheye_sun1.exr";
+    QVERIFY(sky->addSkyFile(fisheye));  // through the ideal lens
+    QVERIFY(settle(120000));
+    const QImage ideal = sky->shown();
+    QVERIFY(sky->setSkyLens(lensFile("ideal_lens.json", 256, 0.0)));
+    QCOMPARE(sky->lensButton()->text(), QString("Lens: ideal_lens.json"));
+    QVERIFY(sky->addSkyFile(fisheye));
+    QVERIFY(settle(120000));
+    QCOMPARE(sky->skyBox()->count(), 5);
+    const QImage calibrated = sky->shown();
+    qInfo("the ideal lens as a calibrated one: %.1f dB against the ideal lens", psnr8(calibrated, ideal));
+    QVERIFY(psnr8(calibrated, ideal) > 45);
+    saveShot(&w, "sky_panel_lens");
+    // A lens that bends the view (k1 = -0.1: the horizon 96 px from the centre, not 128): the same
+    // pixels are other directions, the sun another one, the sunlit patch elsewhere.
+    QVERIFY(sky->setSkyLens(lensFile("bent_lens.json", 256, -0.1)));
+    QVERIFY(sky->addSkyFile(fisheye));
+    QVERIFY(settle(120000));
+    qInfo("a bent lens: %.1f dB against the ideal lens", psnr8(sky->shown(), ideal));
+    QVERIFY(psnr8(sky->shown(), ideal) < 35);
+    // Refusals: a lens of other images, and a file that is no lens.
+    QSignalSpy said(sky, &SkyPanel::message);
+    QVERIFY(sky->setSkyLens(lensFile("other_lens.json", 512, 0.0)));
+    QVERIFY(!sky->addSkyFile(fisheye));
+    QCOMPARE(sky->skyBox()->count(), 6);
+    QVERIFY(!said.isEmpty() && said.last().first().toString().contains("fisheye_sun1.exr") &&
+            said.last().first().toString().contains("512x512"));
+    const QString notLens = tmp_.path() + "/not_a_lens.json";
+    {
+      QFile f(notLens);
+      QVERIFY(f.open(QIODevice::WriteOnly));
+      f.write("{\"model\": \"OPENCV\"}");
+    }
+    QVERIFY(!sky->setSkyLens(notLens));
+    QVERIFY(said.last().first().toString().contains("not_a_lens.json"));
+    QCOMPARE(sky->skyLens(), tmp_.path() + "/other_lens.json");  // the lens chosen before stays
+    QCOMPARE(sky->lensButton()->text(), QString("Lens: other_lens.json"));
   }
 
   void daylightWithALampInTheSkyPanel() {

@@ -661,6 +661,8 @@ TEST(Calibration, FisheyeCheckerboardPhotosGiveTheLensAnglesBack) {
               in.fx, in.fy, in.cx, in.cy, in.k[0], in.k[1], in.k[2], in.k[3], in.rms, cal.used.size(), files.size());
   ASSERT_GE(cal.used.size(), 8u) << "the board must be found in most photos";
   EXPECT_LT(in.rms, 0.3);
+  EXPECT_NEAR(in.fx, f, 0.01 * f);
+  EXPECT_NEAR(in.fy, f, 0.01 * f);
   EXPECT_NEAR(in.cx, cx, 1.5);
   EXPECT_NEAR(in.cy, cy, 1.5);
   // The angle at each image radius out to 60 degrees from the axis.

@@ -9,6 +9,7 @@
 #include <glm/matrix.hpp>
 #include <limits>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "relume/geometry/error.h"
@@ -20,6 +21,13 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 double thetaMax(const FisheyeModel& m) { return m.fovDeg * kPi / 360.0; }
+
+// An angle in degrees for a message: "180", "187.5".
+std::string degrees(double d) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", d);
+  return buf;
+}
 
 // Angle from the optical axis at normalised radius s = r / R, and back.
 double thetaOf(const FisheyeModel& m, double s) {
@@ -56,11 +64,11 @@ double fisheyeThetaD(const FisheyeModel& m, double theta) {
 
 double fisheyeTheta(const FisheyeModel& m, double thetaD) {
   // theta_d(theta) rises monotonically up to the field of view's edge (fisheyeCalibrated checks):
-  // Newton's method from theta = theta_d, kept within [0, the edge + 10 %], then bisection should
-  // a step leave the bracket.
-  const double hi = thetaMax(m) * 1.1;
+  // Newton's method from theta = theta_d, kept within [0, the edge], with bisection should a step
+  // leave the bracket. Beyond the edge's theta_d: infinity (outside the view).
+  const double hi = thetaMax(m);
   if (!(thetaD > 0)) return 0;
-  if (fisheyeThetaD(m, hi) < thetaD) return hi * 2;  // beyond the calibrated range: outside
+  if (fisheyeThetaD(m, hi) < thetaD) return std::numeric_limits<double>::infinity();
   double lo = 0, up = hi, t = std::min(thetaD, hi);
   for (int i = 0; i < 60; ++i) {
     const double f = fisheyeThetaD(m, t) - thetaD;
@@ -94,11 +102,12 @@ FisheyeModel fisheyeCalibrated(const FisheyeLens& lens, double fovDeg, const std
   // would see two directions.
   double last = 0;
   for (int i = 1; i <= 1000; ++i) {
-    const double td = fisheyeThetaD(m, thetaMax(m) * 1.1 * i / 1000);
+    const double td = fisheyeThetaD(m, thetaMax(m) * i / 1000);
     if (!(td > last))
       throw Error(file, "fisheye lens",
-                  "its distortion (k1..k4) folds the image back on itself before the edge of its " + std::to_string(fovDeg) +
-                      "-degree view: not a lens (calibrate it again, or give a smaller field of view)");
+                  "its distortion (k1..k4) folds the image back on itself before the edge of its " + degrees(fovDeg) +
+                      "-degree view: not a lens there (calibrate it again with the board nearer the image's edge, or "
+                      "give a smaller field of view)");
     last = td;
   }
   return m;
@@ -245,7 +254,7 @@ ImageCircle findImageCircle(const ImageRGB& im, const std::string& file) {
     pts = std::move(near);
     c = fitCircle(pts);
   }
-  for (int round = 0; round < 3; ++round) {
+  for (int round = 0; round < 3; ++round) {  // (three rounds at most; the first usually settles it)
     std::vector<double> dev;
     for (const auto& p : pts) dev.push_back(std::abs(glm::length(p - c.centre) - c.radius));
     const double keep = std::max(0.25, 3 * 1.4826 * medianOf(dev));
@@ -288,8 +297,9 @@ FisheyeModel fisheyeFromDescription(const std::string& text, int width, int heig
   const bool eqd = t.find("equidistant") != std::string::npos, eqs = t.find("equisolid") != std::string::npos;
   if (calibrated && (lens.width != width || lens.height != height))
     throw Error(file, "fisheye lens",
-                "the lens was calibrated on " + std::to_string(lens.width) + "x" + std::to_string(lens.height) +
-                    " images, the fisheye is " + std::to_string(width) + "x" + std::to_string(height));
+                "the calibrated lens given for it (a room's fisheye_lens, or --lens) was calibrated on " +
+                    std::to_string(lens.width) + "x" + std::to_string(lens.height) + " images, the fisheye is " +
+                    std::to_string(width) + "x" + std::to_string(height));
   if (!calibrated && eqd == eqs) throw Error(file, where, "must name its projection: equidistant or equisolid");
   const size_t deg = t.find("deg");
   double fov = 0;
@@ -386,21 +396,20 @@ double pixelSolidAngle(const FisheyeModel& m, int x, int y) {
   }
   constexpr int kSub = 4;
   if (m.projection == FisheyeProjection::OpenCvFisheye) {
-    // Numerically, over 4 x 4 sub-pixels: the area the sub-pixel's directions cover on the unit
-    // sphere, |dd/dx x dd/dy| dx dy (central differences; the focal lengths may differ per axis).
+    // Over 4 x 4 sub-pixels: in the focal-length units (a, b) = ((x - cx) / fx, (y - cy) / fy),
+    // with theta_d = |(a, b)| and phi its angle, da db = theta_d dtheta_d dphi and dtheta_d =
+    // theta_d'(theta) dtheta, so dOmega = sin(theta) dtheta dphi = sin(theta) / (theta_d
+    // theta_d'(theta)) da db, and da db = dx dy / (fx fy).
     double sum = 0;
-    const double h = 1e-3;
     for (int j = 0; j < kSub; ++j)
       for (int i = 0; i < kSub; ++i) {
         const double px = x + (i + 0.5) / kSub, py = y + (j + 0.5) / kSub;
-        if (!calibratedPoint(m, px, py)) continue;
-        auto dir = [&](double u, double v) {
-          const double a = (u - m.centre.x) / m.focal.x, b = (v - m.centre.y) / m.focal.y, td = std::hypot(a, b);
-          const double t = fisheyeTheta(m, td);
-          return td > 0 ? glm::dvec3(std::sin(t) * a / td, std::sin(t) * b / td, std::cos(t)) : glm::dvec3(0, 0, 1);
-        };
-        const glm::dvec3 du = (dir(px + h, py) - dir(px - h, py)) / (2 * h), dv = (dir(px, py + h) - dir(px, py - h)) / (2 * h);
-        sum += glm::length(glm::cross(du, dv)) / (kSub * kSub);
+        const auto p = calibratedPoint(m, px, py);
+        if (!p) continue;
+        const double td = std::hypot((px - m.centre.x) / m.focal.x, (py - m.centre.y) / m.focal.y), t = p->theta, t2 = t * t;
+        const double slope = 1 + t2 * (3 * m.k[0] + t2 * (5 * m.k[1] + t2 * (7 * m.k[2] + t2 * 9 * m.k[3])));
+        const double perArea = td > 1e-12 ? std::sin(t) / (td * slope) : 1.0;
+        sum += perArea / (m.focal.x * m.focal.y) / (kSub * kSub);
       }
     return sum;
   }
@@ -434,16 +443,23 @@ void checkSkyImage(const SkyImage& sky) {
   } else if (!(m.fovDeg > 0 && m.fovDeg <= 360)) {
     throw Error(sky.file, "fisheye", "its field of view must lie in (0, 360] degrees");
   } else if (m.projection == FisheyeProjection::OpenCvFisheye) {
-    // The view (its circle, or the field of view's edge through the lens) inside the image.
-    const double td = fisheyeThetaD(m, thetaMax(m));
-    const glm::dvec2 c = m.radius > 0 ? m.circleCentre : m.centre,
-                     r = m.radius > 0 ? glm::dvec2(m.radius) : glm::dvec2(m.focal.x * td, m.focal.y * td);
-    if (c.x - r.x < -0.5 || c.y - r.y < -0.5 || c.x + r.x > im.width + 0.5 || c.y + r.y > im.height + 0.5)
-      throw Error(sky.file, "fisheye",
-                  "the calibrated lens's view (centre " + std::to_string(c.x) + ", " + std::to_string(c.y) + ", reaching " +
-                      std::to_string(r.x) + " x " + std::to_string(r.y) + " px) does not lie inside the " +
-                      std::to_string(im.width) + "x" + std::to_string(im.height) +
-                      " image: part of the sky would be missing (give the image circle, or a smaller field of view)");
+    // The sky the lens is to see (out to the horizon, or to the edge of a smaller field of view)
+    // must fall inside the image and inside its image circle, all round: else part of the sky would
+    // be missing and its regions left dark.
+    const double need = std::min(thetaMax(m), kPi / 2) - 1e-6;
+    for (int a = 0; a < 720; ++a) {
+      const double az = a * kPi / 360;
+      const glm::dvec3 local(std::sin(need) * std::cos(az), std::sin(need) * std::sin(az), std::cos(need));
+      const auto p = directionPixel(m, m.axes * local);
+      if (!p || p->x < 0 || p->y < 0 || p->x > im.width || p->y > im.height)
+        throw Error(sky.file, "fisheye",
+                    "through the calibrated lens, the sky " + degrees(need * 180 / kPi) + " degrees from its axis (the " +
+                        (need < kPi / 2 - 1e-3 ? std::string("edge of its field of view") : std::string("horizon")) +
+                        ") falls " + (p ? "outside the " + std::to_string(im.width) + "x" + std::to_string(im.height) + " image"
+                                        : std::string("outside its image circle")) +
+                        ": part of the sky would be missing (a fisheye for the sky must see it all round; give a smaller "
+                        "field of view if the lens sees less)");
+    }
   } else if (!(m.radius > 0) || m.centre.x - m.radius < -0.5 || m.centre.y - m.radius < -0.5 ||
       m.centre.x + m.radius > im.width + 0.5 || m.centre.y + m.radius > im.height + 0.5)
     throw Error(sky.file, "fisheye",

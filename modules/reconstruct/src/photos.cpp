@@ -336,13 +336,6 @@ BoardViews findBoards(const std::vector<std::string>& files, int cols, int rows,
   progress.report(0.85, "calibrating from " + std::to_string(v.image.size()) + " photos");
   return v;
 }
-
-// The calibration's JSON written atomically.
-void writeJson(const QJsonObject& o, const std::string& path) {
-  QSaveFile f(QString::fromStdString(path));
-  if (!f.open(QIODevice::WriteOnly) || f.write(QJsonDocument(o).toJson()) < 0 || !f.commit())
-    throw Error(path, "", "cannot write the file");
-}
 }  // namespace
 
 Intrinsics calibrateCheckerboard(const std::vector<std::string>& files, int cols, int rows, double square,
@@ -402,17 +395,23 @@ FisheyeCalibration calibrateFisheyeCheckerboard(const std::vector<std::string>& 
   in.cx = K(0, 2) + 0.5;
   in.cy = K(1, 2) + 0.5;
   for (int i = 0; i < 4; ++i) in.k[i] = D[i];
-  if (!(in.fx > 0 && in.fy > 0) || !std::isfinite(in.rms))
-    throw Error(fs::path(files[0]).parent_path().string(), "fisheye calibration", "the fit gave no lens (focal lengths not positive)");
+  bool finite = std::isfinite(in.rms) && std::isfinite(in.cx) && std::isfinite(in.cy);
+  for (double k : in.k) finite = finite && std::isfinite(k);
+  if (!(in.fx > 0 && in.fy > 0 && std::isfinite(in.fx) && std::isfinite(in.fy)) || !finite)
+    throw Error(fs::path(files[0]).parent_path().string(), "fisheye calibration",
+                "the fit gave no lens (its focal lengths, principal point or distortion are no finite numbers): take more "
+                "photos, with the board nearer the image's edges too");
   progress.report(1, "calibrated");
   return out;
 }
 
 void writeIntrinsics(const Intrinsics& in, const std::string& path) {
-  writeJson(QJsonObject{{"width", in.width}, {"height", in.height}, {"model", "OPENCV"},
-                        {"fx", in.fx}, {"fy", in.fy}, {"cx", in.cx}, {"cy", in.cy},
-                        {"k1", in.k1}, {"k2", in.k2}, {"p1", in.p1}, {"p2", in.p2}, {"rms_pixels", in.rms}},
-            path);
+  QJsonObject o{{"width", in.width}, {"height", in.height}, {"model", "OPENCV"},
+                {"fx", in.fx}, {"fy", in.fy}, {"cx", in.cx}, {"cy", in.cy},
+                {"k1", in.k1}, {"k2", in.k2}, {"p1", in.p1}, {"p2", in.p2}, {"rms_pixels", in.rms}};
+  QSaveFile f(QString::fromStdString(path));
+  if (!f.open(QIODevice::WriteOnly) || f.write(QJsonDocument(o).toJson()) < 0 || !f.commit())
+    throw Error(path, "", "cannot write the file");
 }
 
 Intrinsics parseIntrinsics(const std::string& bytes, const std::string& name) {

@@ -71,7 +71,8 @@ double fisheyeThetaD(const FisheyeModel& m, double theta);
 // The image circle of a fisheye photo: the edge between the lit disc and the dark border around
 // it, found along 720 rays from the image's centre (sub-pixel, where the luminance crosses a level
 // between the border's and the disc's) and fitted by a circle (least squares, points more than
-// three robust deviations off dropped). `rms` is the fitted points' distance from it (pixels).
+// three robust deviations off dropped, in up to three rounds). `rms` is the fitted points'
+// distance from it (pixels).
 // Throws relume::Error naming `file` when there is no dark border (the circle fills or overflows
 // the image), when the edge is found over too little of the circle, or when it is no circle.
 struct ImageCircle {

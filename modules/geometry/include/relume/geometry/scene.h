@@ -60,7 +60,6 @@ struct Variant {
   std::string file, hdr;  // truth images, relative
 };
 
-// A measured sky (daylight rooms): an HDR fisheye taken outside, and optionally a panorama.
 // A calibrated fisheye: OpenCV's fisheye model (Kannala-Brandt; COLMAP's OPENCV_FISHEYE) as
 // `relume calibrate --fisheye` measures it. A point at angle theta from the axis lies at theta_d =
 // theta (1 + k1 theta^2 + k2 theta^4 + k3 theta^6 + k4 theta^8) focal lengths from the principal
@@ -74,6 +73,7 @@ struct FisheyeLens {
   double circleX = 0, circleY = 0, circleRadius = 0;
 };
 
+// A measured sky (daylight rooms): an HDR fisheye taken outside, and optionally a panorama.
 struct SkyCapture {
   std::string name;
   std::string fisheye;       // relative path of the HDR fisheye
