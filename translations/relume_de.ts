@@ -2009,6 +2009,30 @@ Kein Schachbrett gefunden in: %1</translation>
         <source>%1: the sun&apos;s pixels are clipped (at 65504, half float&apos;s largest value, or saturated): its light is understated (its colour is taken from its pixels that did not clip).</source>
         <translation>%1: die Pixel der Sonne sind abgeschnitten (bei 65504, dem größten Half-Float-Wert, oder gesättigt): ihr Licht wird unterschätzt (ihre Farbe stammt aus ihren nicht abgeschnittenen Pixeln).</translation>
     </message>
+    <message>
+        <source>The lens the fisheye images and folders you add are read through: the ideal one (equidistant, 180°, the circle filling the image) or your sky camera&apos;s, calibrated with `relume calibrate --fisheye`</source>
+        <translation>Das Objektiv, durch das hinzugefügte Fisheye-Bilder und -Ordner gelesen werden: das ideale (äquidistant, 180°, der Bildkreis füllt das Bild) oder das Ihrer Himmelskamera, kalibriert mit `relume calibrate --fisheye`</translation>
+    </message>
+    <message>
+        <source>Calibrated lens…</source>
+        <translation>Kalibriertes Objektiv…</translation>
+    </message>
+    <message>
+        <source>Calibrated fisheye lens</source>
+        <translation>Kalibriertes Fisheye-Objektiv</translation>
+    </message>
+    <message>
+        <source>Ideal lens (equidistant, 180°)</source>
+        <translation>Ideales Objektiv (äquidistant, 180°)</translation>
+    </message>
+    <message>
+        <source>Lens: ideal</source>
+        <translation>Objektiv: ideal</translation>
+    </message>
+    <message>
+        <source>Lens: %1</source>
+        <translation>Objektiv: %1</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

@@ -2009,6 +2009,30 @@ Aucun damier trouvé dans : %1</translation>
         <source>%1: the sun&apos;s pixels are clipped (at 65504, half float&apos;s largest value, or saturated): its light is understated (its colour is taken from its pixels that did not clip).</source>
         <translation>%1 : les pixels du soleil sont écrêtés (à 65504, la plus grande valeur du demi-flottant, ou saturés) : sa lumière est sous-estimée (sa couleur est prise de ses pixels non écrêtés).</translation>
     </message>
+    <message>
+        <source>The lens the fisheye images and folders you add are read through: the ideal one (equidistant, 180°, the circle filling the image) or your sky camera&apos;s, calibrated with `relume calibrate --fisheye`</source>
+        <translation>L&apos;objectif à travers lequel sont lues les images fisheye et les dossiers que vous ajoutez : l&apos;objectif idéal (équidistant, 180°, le cercle remplissant l&apos;image) ou celui de votre caméra de ciel, étalonné avec `relume calibrate --fisheye`</translation>
+    </message>
+    <message>
+        <source>Calibrated lens…</source>
+        <translation>Objectif étalonné…</translation>
+    </message>
+    <message>
+        <source>Calibrated fisheye lens</source>
+        <translation>Objectif fisheye étalonné</translation>
+    </message>
+    <message>
+        <source>Ideal lens (equidistant, 180°)</source>
+        <translation>Objectif idéal (équidistant, 180°)</translation>
+    </message>
+    <message>
+        <source>Lens: ideal</source>
+        <translation>Objectif : idéal</translation>
+    </message>
+    <message>
+        <source>Lens: %1</source>
+        <translation>Objectif : %1</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>
