@@ -2033,6 +2033,10 @@ Kein Schachbrett gefunden in: %1</translation>
         <source>Lens: %1</source>
         <translation>Objektiv: %1</translation>
     </message>
+    <message>
+        <source>%1 (read through the lens %2)</source>
+        <translation>%1 (gelesen durch das Objektiv %2)</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

@@ -2033,6 +2033,10 @@ Aucun damier trouvé dans : %1</translation>
         <source>Lens: %1</source>
         <translation>Objectif : %1</translation>
     </message>
+    <message>
+        <source>%1 (read through the lens %2)</source>
+        <translation>%1 (lu à travers l&apos;objectif %2)</translation>
+    </message>
 </context>
 <context>
     <name>relume::ViewportWidget</name>

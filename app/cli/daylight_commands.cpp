@@ -296,7 +296,8 @@ int skyCommand(const QStringList& args, Progress& progress) {
   if (!isRadianceFile(file)) {
     if (p.isSet("lens"))
       throw Error(p.value("lens").toStdString(), "--lens",
-                  "is for a fisheye image; a room's sky names its own lens (fisheye_lens in its daylight section)");
+                  "is for a fisheye image; a room's sky takes the lens its daylight section names (fisheye_lens), or "
+                  "the one its words describe");
     const Scene room = openRoom(p.positionalArguments()[0]);
     if (room.skies.empty()) throw Error(room.sourceFile, "daylight", "the room lists no measured sky");
     const std::string want = p.isSet("sky") ? p.value("sky").toStdString() : room.photoSky.empty() ? room.skies.front().name : room.photoSky;

@@ -599,6 +599,10 @@ bool SkyPanel::setSkyLens(const QString& file) {
   return true;
 }
 
+QString SkyPanel::withLens(const QString& why) const {
+  return lensFile_.isEmpty() ? why : tr("%1 (read through the lens %2)").arg(why, QFileInfo(lensFile_).fileName());
+}
+
 bool SkyPanel::addSkyFile(const QString& file) {
   if (!isOpen()) return false;
   try {
@@ -606,7 +610,7 @@ bool SkyPanel::addSkyFile(const QString& file) {
     s_->skies.push_back({QFileInfo(file).completeBaseName(), {sky}, {QFileInfo(file).completeBaseName()}});
     if (const QString note = clippedNote(sky, QFileInfo(file).fileName()); !note.isEmpty()) emit message(note);
   } catch (const std::exception& e) {
-    emit message(QString::fromUtf8(e.what()));
+    emit message(withLens(QString::fromUtf8(e.what())));
     return false;
   }
   rebuild();
@@ -633,7 +637,7 @@ bool SkyPanel::addSkyFolder(const QString& folder) {
     }
   } catch (const std::exception& e) {
     QApplication::restoreOverrideCursor();
-    emit message(QString::fromUtf8(e.what()));  // names the file and the problem; nothing added
+    emit message(withLens(QString::fromUtf8(e.what())));  // names the file and the problem; nothing added
     return false;
   }
   QApplication::restoreOverrideCursor();

@@ -133,6 +133,7 @@ class SkyPanel : public QWidget {
   QPushButton *skyFile_, *skyFolder_, *objectsFile_, *play_;
   QToolButton* lens_;
   QString lensFile_;  // empty: the ideal lens
+  QString withLens(const QString& why) const;  // a sky file's refusal, naming the lens it was read through
   std::unique_ptr<FisheyeLens> lensModel_;
   QCheckBox* showPhoto_;
   QCheckBox* gpu_;

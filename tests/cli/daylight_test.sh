@@ -207,7 +207,7 @@ check "sky ROOM reads the room's sky through the lens it names (the sun as throu
   "[ $? -eq 0 ] && python3 -c \"import re; e=[float(re.search(r'sun: elevation ([0-9.]+)', open(f).read()).group(1)) for f in ('$tmp/lensroom.out', '$tmp/nocircle.out')]; \
 assert abs(e[0] - e[1]) < 0.05, e\""
 "$relume" sky "$tmp/lensroom" --lens "$tmp/ideal_lens.json" 2>"$tmp/lensroom2.err"
-check "sky ROOM --lens is refused: a room's sky names its own lens" "[ $? -eq 1 ] && grep -q 'names its own lens' '$tmp/lensroom2.err'"
+check "sky ROOM --lens is refused: a room's sky takes the lens its daylight section names" "[ $? -eq 1 ] && grep -q 'takes the lens its daylight section names' '$tmp/lensroom2.err'"
 "$relume" sky "$room/sky/fisheye_sun0.exr" --lens "$tmp/lens.json" 2>"$tmp/lens.err"
 check "a calibrated lens of another image size is refused, naming the lens file" \
   "[ $? -eq 1 ] && grep -q 'lens.json' '$tmp/lens.err' && grep -q '640x480' '$tmp/lens.err'"

@@ -2535,7 +2535,7 @@ class WorkbenchTest : public QObject {
     QVERIFY(!sky->addSkyFile(fisheye));
     QCOMPARE(sky->skyBox()->count(), 6);
     QVERIFY(!said.isEmpty() && said.last().first().toString().contains("fisheye_sun1.exr") &&
-            said.last().first().toString().contains("512x512"));
+            said.last().first().toString().contains("512x512") && said.last().first().toString().contains("other_lens.json"));
     const QString notLens = tmp_.path() + "/not_a_lens.json";
     {
       QFile f(notLens);

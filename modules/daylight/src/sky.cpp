@@ -297,7 +297,7 @@ FisheyeModel fisheyeFromDescription(const std::string& text, int width, int heig
   const bool eqd = t.find("equidistant") != std::string::npos, eqs = t.find("equisolid") != std::string::npos;
   if (calibrated && (lens.width != width || lens.height != height))
     throw Error(file, "fisheye lens",
-                "the calibrated lens given for it (a room's fisheye_lens, or --lens) was calibrated on " +
+                "the calibrated lens it is read through was calibrated on " +
                     std::to_string(lens.width) + "x" + std::to_string(lens.height) + " images, the fisheye is " +
                     std::to_string(width) + "x" + std::to_string(height));
   if (!calibrated && eqd == eqs) throw Error(file, where, "must name its projection: equidistant or equisolid");
@@ -408,6 +408,7 @@ double pixelSolidAngle(const FisheyeModel& m, int x, int y) {
         if (!p) continue;
         const double td = std::hypot((px - m.centre.x) / m.focal.x, (py - m.centre.y) / m.focal.y), t = p->theta, t2 = t * t;
         const double slope = 1 + t2 * (3 * m.k[0] + t2 * (5 * m.k[1] + t2 * (7 * m.k[2] + t2 * 9 * m.k[3])));
+        if (!(slope > 0)) continue;  // (the fold check samples every 0.1 degree: never here in practice)
         const double perArea = td > 1e-12 ? std::sin(t) / (td * slope) : 1.0;
         sum += perArea / (m.focal.x * m.focal.y) / (kSub * kSub);
       }
@@ -445,13 +446,17 @@ void checkSkyImage(const SkyImage& sky) {
   } else if (m.projection == FisheyeProjection::OpenCvFisheye) {
     // The sky the lens is to see (out to the horizon, or to the edge of a smaller field of view)
     // must fall inside the image and inside its image circle, all round: else part of the sky would
-    // be missing and its regions left dark.
+    // be missing and its regions left dark. Within half a pixel, as for the ideal lenses: a
+    // calibration's principal point and a fitted circle are that uncertain.
     const double need = std::min(thetaMax(m), kPi / 2) - 1e-6;
+    FisheyeModel open = m;
+    open.radius = 0;  // the pixel of each direction, the circle tested here with its slack
     for (int a = 0; a < 720; ++a) {
       const double az = a * kPi / 360;
       const glm::dvec3 local(std::sin(need) * std::cos(az), std::sin(need) * std::sin(az), std::cos(need));
-      const auto p = directionPixel(m, m.axes * local);
-      if (!p || p->x < 0 || p->y < 0 || p->x > im.width || p->y > im.height)
+      auto p = directionPixel(open, m.axes * local);
+      if (p && m.radius > 0 && glm::length(*p - m.circleCentre) > m.radius + 0.5) p.reset();
+      if (!p || p->x < -0.5 || p->y < -0.5 || p->x > im.width + 0.5 || p->y > im.height + 0.5)
         throw Error(sky.file, "fisheye",
                     "through the calibrated lens, the sky " + degrees(need * 180 / kPi) + " degrees from its axis (the " +
                         (need < kPi / 2 - 1e-3 ? std::string("edge of its field of view") : std::string("horizon")) +
