@@ -121,6 +121,12 @@ def rooms():
     write("intrinsics", "calibrated", compact({"width": 640, "height": 480, "model": "OPENCV", "fx": 512.3, "fy": 511.9,
                                                "cx": 320.4, "cy": 239.8, "k1": -0.12, "k2": 0.03, "p1": 0.001,
                                                "p2": -0.0005, "rms_pixels": 0.21}))
+    write("fisheye_lens", "calibrated", compact({"width": 640, "height": 480, "model": "OPENCV_FISHEYE", "fx": 190.05,
+                                                 "fy": 190.05, "cx": 322.33, "cy": 238.11, "k1": 0.0193, "k2": -0.0158,
+                                                 "k3": 0.0058, "k4": -0.0017, "rms_pixels": 0.112,
+                                                 "circle": {"cx": 320.0, "cy": 240.0, "radius": 231.5}}))
+    write("fisheye_lens", "ideal", compact({"width": 256, "height": 256, "model": "OPENCV_FISHEYE", "fx": 81.487,
+                                            "fy": 81.487, "cx": 128, "cy": 128}))
     write("sky_description", "day101", b"\xff\xff" + b"equidistant, 180 deg, looking up (+Z), image up = +Y")
     write("sky_description", "equisolid", b"\x63\x4f" + b"Equisolid 150 deg, looking up, image up = -X")
     write("workspace", "reconstructed", compact({"photos": "/home/user/room/photos", "registered": ["main", "view0"],
