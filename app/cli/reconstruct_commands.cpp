@@ -10,8 +10,10 @@
 #include <QTemporaryDir>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <random>
@@ -358,11 +360,11 @@ int calibrateCommand(const QStringList& args, Progress& progress) {
         FisheyeLens bare = in;
         bare.circleRadius = 0;
         const daylight::FisheyeModel m = daylight::fisheyeCalibrated(bare, 200, str(p.value("circle-from")));
-        double least = 1e9;
+        double least = std::numeric_limits<double>::infinity();  // stays so when every point lies beyond the model's view
         for (int a = 0; a < 360; ++a) {
           const double ang = a * std::numbers::pi / 180;
-          const double x = (c.centre.x + c.radius * std::cos(ang) - in.cx) / in.fx, y = (c.centre.y + c.radius * std::sin(ang) - in.cy) / in.fy;
-          least = std::min(least, daylight::fisheyeTheta(m, std::hypot(x, y)));
+          if (const auto d = daylight::pixelDirection(m, c.centre.x + c.radius * std::cos(ang), c.centre.y + c.radius * std::sin(ang)))
+            least = std::min(least, std::acos(std::clamp(glm::dot(*d, m.axes[2]), -1.0, 1.0)));
         }
         if (std::isfinite(least))
           std::printf("image circle: centre %.2f, %.2f, radius %.2f px; the lens sees %.1f degrees from its axis there (a %.1f-degree view)\n",

@@ -55,6 +55,12 @@ std::optional<LensPoint> calibratedPoint(const FisheyeModel& m, double px, doubl
   return LensPoint{theta, td > 0 ? x / td : 1.0, td > 0 ? -y / td : 0.0};
 }
 
+// d theta_d / d theta of a calibrated fisheye at angle t.
+double thetaDSlope(const FisheyeModel& m, double t) {
+  const double t2 = t * t;
+  return 1 + t2 * (3 * m.k[0] + t2 * (5 * m.k[1] + t2 * (7 * m.k[2] + t2 * 9 * m.k[3])));
+}
+
 }  // namespace
 
 double fisheyeThetaD(const FisheyeModel& m, double theta) {
@@ -74,8 +80,7 @@ double fisheyeTheta(const FisheyeModel& m, double thetaD) {
     const double f = fisheyeThetaD(m, t) - thetaD;
     if (std::abs(f) < 1e-14) break;
     (f > 0 ? up : lo) = t;
-    const double t2 = t * t;
-    const double d = 1 + t2 * (3 * m.k[0] + t2 * (5 * m.k[1] + t2 * (7 * m.k[2] + t2 * 9 * m.k[3])));
+    const double d = thetaDSlope(m, t);
     double next = d > 0 ? t - f / d : 0.5 * (lo + up);
     if (!(next > lo && next < up)) next = 0.5 * (lo + up);
     t = next;
@@ -406,8 +411,8 @@ double pixelSolidAngle(const FisheyeModel& m, int x, int y) {
         const double px = x + (i + 0.5) / kSub, py = y + (j + 0.5) / kSub;
         const auto p = calibratedPoint(m, px, py);
         if (!p) continue;
-        const double td = std::hypot((px - m.centre.x) / m.focal.x, (py - m.centre.y) / m.focal.y), t = p->theta, t2 = t * t;
-        const double slope = 1 + t2 * (3 * m.k[0] + t2 * (5 * m.k[1] + t2 * (7 * m.k[2] + t2 * 9 * m.k[3])));
+        const double td = std::hypot((px - m.centre.x) / m.focal.x, (py - m.centre.y) / m.focal.y), t = p->theta;
+        const double slope = thetaDSlope(m, t);
         if (!(slope > 0)) continue;  // (the fold check samples every 0.1 degree: never here in practice)
         const double perArea = td > 1e-12 ? std::sin(t) / (td * slope) : 1.0;
         sum += perArea / (m.focal.x * m.focal.y) / (kSub * kSub);
