@@ -8,28 +8,13 @@
 // its shadow map: red the nearest room surface, green the nearest object surface along the line.
 // A sample lights a point when the room lets it through (the point is the nearest room surface,
 // within a bias) and no object lies before it. (The renderer prepends "#version 330 core",
-// OBJECT, OUTPUT and display.glsl.)
+// OBJECT, OUTPUT, display.glsl and daylight_maps.glsl.)
 in vec3 vWorld;
 flat in vec3 vNormal;
 in vec3 vFrontE;
 in vec3 vBackE;
 flat in vec3 vAlbedo;
-uniform sampler2D maps;        // per window sample's map (a tile of the atlas): room distance, object distance
-uniform ivec2 mapGrid;         // the atlas's columns and rows of tiles
-uniform float mapTexels;       // a tile's side in texels
-uniform sampler2D sunAtlas;    // the same per direction of the sun's disc
-uniform ivec2 sunGrid;
-uniform float sunTexels;
-// Per map seven vectors: its matrix (0-3), origin + a texel's width (per metre of distance, or
-// metres), the window's normal or the light's direction + the sample's area, and the reach test
-// (a cone's axis + cos of its half-angle, or a cylinder's radius). MAX_MAPS: the renderer's, as
-// the context's largest uniform block holds (a uniform costs llvmpipe far less than a fetch).
-layout(std140) uniform MapBlock {
-  vec4 mapData[MAX_MAPS * 7];
-};
 uniform sampler2D skyRadiance; // equirectangular, +Z up (the library's InteractiveSky::radiance)
-uniform int windowSamples;     // maps 0 .. windowSamples - 1; then the sun's four
-uniform int sunMaps;           // 4 with a sun, else 0
 uniform vec3 sunQuarter;       // a quarter of the sun's irradiance
 uniform vec3 eye;
 #if OBJECT == 0
@@ -66,33 +51,6 @@ bool inMap(int m, vec3 p, vec3 origin) {
   return dot(across, across) <= k.w * k.w;
 }
 
-// Map i's point ndc (both within (-1, 1)) in its atlas: tile i, row by row from the bottom, kept
-// within the tile's outer texels' centres (rounding must not read the next map's border).
-// (In floats: llvmpipe divides integers one lane at a time.)
-vec2 atlasAt(int i, ivec2 grid, float texels, vec2 ndc) {
-  vec2 g = vec2(grid);
-  float row = floor((float(i) + 0.5) / g.x);
-  vec2 inTile = clamp(0.5 * ndc + 0.5, vec2(0.5 / texels), vec2(1.0 - 0.5 / texels));
-  return (vec2(float(i) - row * g.x, row) + inTile) / g;
-}
-
-// 0: the sample does not light p; 1: it lights p; 2: the room lets it through but an object blocks it.
-int sampleState(int m, vec3 p, vec3 n, float cosine, float dist) {
-  mat4 clip = mat4(mapData[m * 7 + 0], mapData[m * 7 + 1],
-                   mapData[m * 7 + 2], mapData[m * 7 + 3]);
-  vec4 c = clip * vec4(p, 1.0);
-  float footprint = mapData[m * 7 + 4].w;
-  if (m < windowSamples) footprint *= dist;  // perspective: a texel's width grows with distance
-  float bias = 1.5 * footprint / max(cosine, 0.15) + 0.003;
-  if (c.w <= 0.0) return 1;
-  vec2 ndc = c.xy / c.w;
-  if (abs(ndc.x) >= 1.0 || abs(ndc.y) >= 1.0) return 1;  // outside the map: no object there
-  vec2 t = m < windowSamples ? texture(maps, atlasAt(m, mapGrid, mapTexels, ndc)).rg
-                             : texture(sunAtlas, atlasAt(m - windowSamples, sunGrid, sunTexels, ndc)).rg;
-  if (dist > t.r + bias) return 0;
-  return t.g < dist - bias ? 2 : 1;
-}
-
 #if OBJECT == 1
 // The direct light on an object's point: every sample the room lets through and no object blocks.
 // (Outside its map, a sample is taken as let through: the maps cover the objects' sphere.)
@@ -105,7 +63,7 @@ vec3 direct(vec3 p, vec3 n) {
     vec3 dir = d / r;
     float cx = dot(n, dir), cw = -dot(w.xyz, dir);
     if (cx <= 0.0 || cw <= 0.0) continue;
-    if (sampleState(m, p, n, cx, r) != 1) continue;
+    if (sampleState(m, p, cx, r, false) != 1) continue;
     e += skyAlong(dir) * (cx * cw * w.w / r2);
   }
   for (int j = 0; j < sunMaps; ++j) {
@@ -113,7 +71,7 @@ vec3 direct(vec3 p, vec3 n) {
     vec4 o = mapData[m * 7 + 4], w = mapData[m * 7 + 5];
     float c = -dot(n, w.xyz);
     if (c <= 0.0) continue;
-    if (sampleState(m, p, n, c, dot(p - o.xyz, w.xyz)) != 1) continue;
+    if (sampleState(m, p, c, dot(p - o.xyz, w.xyz), false) != 1) continue;
     e += sunQuarter * c;
   }
   return e;
@@ -138,7 +96,7 @@ vec3 blocked(vec3 p, vec3 n, ivec2 tile, vec3 ex, vec3 ey, vec3 sunHere) {
         vec3 dir = d / r;
         float cx = dot(n, dir), cw = -dot(w.xyz, dir);
         if (cx <= 0.0 || cw <= 0.0) continue;
-        if (sampleState(m, p, n, cx, r) == 2) e += skyAlong(dir) * (cx * cw * w.w / r2);
+        if (sampleState(m, p, cx, r, true) == 2) e += skyAlong(dir) * (cx * cw * w.w / r2);
       } else if (sunMaps > 0) {
         // The sun over the pixel's footprint, as the library's room light takes it (4 x 4 points
         // over 1.5 photo pixels, each towards one of the disc's directions): where the room's
@@ -157,7 +115,7 @@ vec3 blocked(vec3 p, vec3 n, ivec2 tile, vec3 ex, vec3 ey, vec3 sunHere) {
             int k16 = f * sunMaps + j;
             vec2 at = ((vec2(k16 % 4, k16 / 4) + 0.5) / 4.0 - 0.5) * 1.5;
             vec3 q = p + at.x * ex + at.y * ey;
-            if (sampleState(s, q, n, c, dot(q - o.xyz, w.xyz)) == 2) es += sunQuarter * (c * float(sunMaps) / 16.0);
+            if (sampleState(s, q, c, dot(q - o.xyz, w.xyz), true) == 2) es += sunQuarter * (c * float(sunMaps) / 16.0);
           }
         }
       }

@@ -1,10 +1,11 @@
-// (The renderer prepends "#version 330 core", OUTPUT and display.glsl.)
+// (The renderer prepends "#version 330 core", OUTPUT, MAX_LAMPS, DAYLIGHT and display.glsl; with
+// DAYLIGHT also MAX_MAPS and daylight_maps.glsl.)
 // An image-based object (Dinh, Metoyer, Turk §3), drawn as the CPU renderer draws it
 // (ibr::drawObject): the fragment's ray from the eye, in the fan's object frame, is marched
 // through the depth of the fan image nearest the viewer (then the next nearest, and the nearest on
 // another ring, where the one before did not see the surface), so the fan's pixels stand where
 // the object's surface is; the pixel met is shaded by the tables of the 225 normal codes (computed by the library from the lights:
-// row 0 the indirect light, then per lamp 4 x 4 cells, bilinear), each lamp's entry divided by
+// first the indirect light, one row or one per cell, then per lamp 4 x 4 cells, bilinear), each lamp's entry divided by
 // the squared distance from this point to the lamp and weighted by the object's own shadow (the
 // fan image nearest the lamp's direction as a shadow map, 3 x 3 percentage-closer), averaged over
 // the pixel's footprint in the fan; its depth written for the room's depth test.
@@ -20,13 +21,29 @@ uniform usampler2DArray fanData;   // per layer (one fan view): code, depth (0..
 uniform sampler2DArray fanAlbedo;  // its albedo (sRGB texels, decoded by the sampler)
 uniform sampler2D tables;          // kNormalCodes x rows, RGB; the drawn views' rows one after the other
 uniform int rowsPerView;
+uniform int indirectRows;          // 1, or one per cell (the light taken at each cell's point)
 uniform int viewCount;             // 1 to 3: the nearest, the next, the nearest on another ring
 uniform int viewLayer[3];
 uniform vec3 viewAxes[9];          // right, up, towards the camera of each drawn view (object frame)
-uniform int lampCount;             // at most 8
-uniform vec3 lampPosition[8];      // world
-uniform int lampLayer[8];          // the lamp's own-shadow view
-uniform vec3 lampAxes[24];
+uniform int lampCount;             // at most MAX_LAMPS, those sharing an own-shadow view one after the other
+uniform vec3 lampPosition[MAX_LAMPS];  // world
+uniform int lampLayer[MAX_LAMPS];      // the lamp's own-shadow view
+uniform vec3 lampAxes[3 * MAX_LAMPS];
+#if DAYLIGHT
+// The lamp seen past the room per point (the sun): through the sun's shadow maps, the room and the
+// boxes and meshes in them (as the CPU path asks the room's rays per point).
+uniform int lampPerPoint[MAX_LAMPS];
+float sunThrough(vec3 p, vec3 n) {
+  if (sunMaps == 0) return 1.0;
+  float lit = 0.0;
+  for (int j = 0; j < sunMaps; ++j) {
+    int m = windowSamples + j;
+    vec3 o = mapData[m * 7 + 4].xyz, w = mapData[m * 7 + 5].xyz;
+    if (sampleState(m, p, max(-dot(n, w), 0.0), dot(p - o, w), false) == 1) lit += 1.0;
+  }
+  return lit / float(sunMaps);
+}
+#endif
 uniform int footprint;             // fan pixels across a screen pixel (1..4)
 out vec4 colour;
 
@@ -153,12 +170,19 @@ void main() {
   if (hit.b == 0u || hit.r == 255u) discard;
   vec3 pWorld = eye + tHit * r;
   vec3 pObj = eyeObject + tHit * dObj;
-  float falloff[8];
+  float falloff[MAX_LAMPS];
   vec3 nc = codeNormal(hit.r);
   vec3 nObj = nc.x * viewAxes[3 * j] + nc.y * viewAxes[3 * j + 1] + nc.z * viewAxes[3 * j + 2];
+  vec3 nWorld = normalize(transpose(worldToObject) * nObj);  // (the object frame's normal, turned back)
+  float shadow = 1.0;
   for (int l = 0; l < lampCount; ++l) {
     vec3 dl = lampPosition[l] - pWorld;
-    falloff[l] = selfShadow(l, pObj, dot(nObj, lampAxes[3 * l + 2])) / max(dot(dl, dl), 1e-8);
+    // (Lamps sharing a view share its shadow: one look-up for the lot.)
+    if (l == 0 || lampLayer[l] != lampLayer[l - 1]) shadow = selfShadow(l, pObj, dot(nObj, lampAxes[3 * l + 2]));
+    falloff[l] = shadow / max(dot(dl, dl), 1e-8);
+#if DAYLIGHT
+    if (lampPerPoint[l] != 0 && falloff[l] > 0.0) falloff[l] *= sunThrough(pWorld, nWorld);
+#endif
   }
   int S = fanSize;
   float gx = clamp((float(texel.x) + 0.5) * float(CELLS) / float(S) - 0.5, 0.0, float(CELLS - 1));
@@ -177,9 +201,11 @@ void main() {
       if (t.x < 0 || t.y < 0 || t.x >= S || t.y >= S) continue;
       uvec4 v = texelFetch(fanData, ivec3(t, layer), 0);
       if (v.b == 0u || v.r == 255u) continue;
-      vec3 e = entry(j, 0, v.r);
+      vec3 e = indirectRows == 1 ? entry(j, 0, v.r)
+                                 : w.x * entry(j, cell.x, v.r) + w.y * entry(j, cell.y, v.r) +
+                                       w.z * entry(j, cell.z, v.r) + w.w * entry(j, cell.w, v.r);
       for (int l = 0; l < lampCount; ++l) {
-        int base = 1 + l * CELLS * CELLS;
+        int base = indirectRows + l * CELLS * CELLS;
         vec3 lampEntry = w.x * entry(j, base + cell.x, v.r) + w.y * entry(j, base + cell.y, v.r) +
                          w.z * entry(j, base + cell.z, v.r) + w.w * entry(j, base + cell.w, v.r);
         e += lampEntry * falloff[l];

@@ -193,6 +193,11 @@ struct SkyPanel::GpuFrame {
   daylight::ShadowReach reach;
   std::vector<std::vector<glm::dvec3>> room;
   Camera camera;
+  // Image-based objects with their daylight and their drawn views' tables (made by the library
+  // while its irradiance volume holds this sky).
+  std::vector<ibr::ImageObject> images;
+  std::vector<ibr::ObjectLighting> imageLights;
+  std::vector<ibr::DrawnTables> imageTables;
 };
 
 struct SkyPanel::Gpu {
@@ -320,11 +325,7 @@ SkyPanel::SkyPanel(JobRunner* jobs, QWidget* parent) : QWidget(parent), jobs_(jo
   connect(showPhoto_, &QCheckBox::toggled, this, &SkyPanel::show);
   connect(gpu_, &QCheckBox::toggled, this, [this] { requestRender(); });
   connect(method_, qOverload<int>(&QComboBox::currentIndexChanged), this,
-          [this](int m) {
-            // (The OpenGL path does not draw image-based objects: an entry with some renders on the CPU.)
-            const bool images = isOpen() && hasImages(entryAt(s_->objects, objects_->currentIndex()));
-            gpu_->setEnabled(m == 1 && !images && !(gpuState_ && gpuState_->failed));
-          });
+          [this](int m) { gpu_->setEnabled(m == 1 && !(gpuState_ && gpuState_->failed)); });
   connect(objects_, qOverload<int>(&QComboBox::currentIndexChanged), this, &SkyPanel::updateHandles);
   connect(view_, &ClickPhotoView::markerClicked, this, [this] { s_->refused = s_->dragMoved = false; });
   connect(view_, &ClickPhotoView::markerMoved, this, [this](const QString& n, QPointF px) { moveObject(n, px, false); });
@@ -397,6 +398,7 @@ bool SkyPanel::drawOnGpu(const GpuFrame& frame, ImageRGB& out) {
     } else if (g.lightVersion != frame.lightVersion) {
       throw Error("", "daylight view", "a frame came without the sky's light");
     }
+    g.renderer->setImageObjects(frame.images, frame.imageLights, frame.imageTables);
     g.renderer->setObjects(frame.objects, frame.indirect, frame.reach);
     out = g.renderer->renderLinear();
     g.mapMs = g.renderer->lastMapMilliseconds();
@@ -777,8 +779,8 @@ void SkyPanel::startRender() {
   // Virtual lamps are lit near-field only (the interactive path lights by daylight alone).
   std::vector<daylight::BasisLamp> virtualLamps;
   if (method == daylight::DaylightMethod::NearField && chosen.images.empty()) virtualLamps = chosen.lamps;
-  // Image-based objects: drawn after the room's render by the CPU path (the OpenGL path does not
-  // draw them), by the near-field and interactive methods.
+  // Image-based objects: drawn by the near-field and interactive methods (on the CPU path after
+  // the room's render).
   std::vector<ibr::ImageObject> images;
   if (method != daylight::DaylightMethod::Distant) images = chosen.images;
   const QString name = entry.names.empty() ? entry.label : entry.names[f];
@@ -786,8 +788,8 @@ void SkyPanel::startRender() {
   const double exposure = s_->exposure;
   auto relit = s_->relit;
   s_->pending = false;
-  gpu_->setEnabled(method == daylight::DaylightMethod::Volume && chosen.images.empty() && !(gpuState_ && gpuState_->failed));
-  const bool gpu = gpu_->isEnabled() && gpu_->isChecked() && chosen.images.empty();
+  gpu_->setEnabled(method == daylight::DaylightMethod::Volume && !(gpuState_ && gpuState_->failed));
+  const bool gpu = gpu_->isEnabled() && gpu_->isChecked();
   const bool heldRoom = gpuState_ && gpuState_->renderer && gpuState_->generation == generation_;
   const unsigned heldLight = heldRoom ? gpuState_->lightVersion : ~0u;
   s_->rendering = jobs_->start(tr("Relighting under %1").arg(name), [=, this](Progress& p) {
@@ -798,6 +800,28 @@ void SkyPanel::startRender() {
       // The sky's light and the room go along only when the renderer does not hold them yet (a
       // drag asks for a frame at every move, under the same sky).
       auto frame = std::make_shared<GpuFrame>();
+      if (!images.empty()) {
+        // Their light, as the CPU path's (ibr::drawImageObjectsInDaylight) takes it: the boxes
+        // and meshes hide the window samples and the sun from them.
+        Progress built(p, 0.0, 0.5);
+        relit->volume(built);
+        std::vector<std::vector<glm::dvec3>> faces;
+        for (const Polygon& o : objects) faces.push_back(o.vertices);
+        const std::unique_ptr<RayScene> occluders = faces.empty() ? nullptr : std::make_unique<RayScene>(faces);
+        for (const auto& im : images) {
+          const ibr::ImageFan& fan = *im.fan;
+          ibr::ObjectLighting l = ibr::daylightAt(*relit, sky, im.place.toWorld(fan, fan.centre), fan.radius * im.place.scale,
+                                                  occluders.get());
+          ibr::keepDisplayLamps(l, fan, im.place, size_t(GlDaylightRenderer::imageLamps()));
+          frame->imageTables.push_back(ibr::drawnTables(fan, im.place, l, relit->camera().center()));
+          // (What looks up the session or the occluders stays here: the tables hold its light.)
+          l.indirectAt = nullptr;
+          l.roomLets = nullptr;
+          l.occluders = nullptr;
+          frame->imageLights.push_back(std::move(l));
+        }
+        frame->images = images;
+      }
       const daylight::InteractiveSky& light = relit->interactiveSky(sky, p);
       frame->lightVersion = relit->roomVersion();
       frame->hasLight = frame->lightVersion != heldLight;
@@ -805,10 +829,15 @@ void SkyPanel::startRender() {
       frame->objects = objects;
       if (!heldRoom) frame->room = relit->roomPolygons();
       frame->camera = relit->camera();
-      if (!objects.empty()) {
+      if (!objects.empty() || !images.empty()) {
         glm::dvec3 lo(1e300), hi(-1e300);
         for (const auto& o : objects)
           for (const auto& v : o.vertices) lo = glm::min(lo, v), hi = glm::max(hi, v);
+        for (const auto& im : images) {
+          const glm::dvec3 c = im.place.toWorld(*im.fan, im.fan->centre);
+          const double r = im.fan->radius * im.place.scale;
+          lo = glm::min(lo, c - r), hi = glm::max(hi, c + r);
+        }
         frame->indirect = relit->objectIndirect(sky, objects);
         frame->reach = relit->shadowReach(light, 0.5 * (lo + hi), 0.5 * glm::length(hi - lo));
       }

@@ -13,6 +13,9 @@
 #include "../daylight/window_room.h"
 #include "relume/daylight/relight.h"
 #include "relume/geometry/error.h"
+#include "relume/ibr/fan.h"
+#include "relume/ibr/mesh.h"
+#include "relume/ibr/relit_objects.h"
 #include "relume/radiosity/hierarchy.h"
 #include "relume/raytrace/ray_scene.h"
 #include "relume/relight/relighter.h"
@@ -54,8 +57,16 @@ class DaylightViewTest : public QObject {
   // A 4 cm post in the box's sun shadow casts its own: where the room already shadows the floor,
   // the box takes nothing more away (only new shadows), as on the CPU path.
   void whereTheRoomAlreadyShadowsTheFloorTheBoxTakesNothingMore() { compareWithTheCpuPath(true); }
+  // An image-based object (Dinh, Metoyer, Turk) in the sun's patch: the view draws it and its
+  // shadows as the CPU path does (ibr::drawImageObjectsInDaylight): its pixels lit alike by the
+  // sun, the window samples and the irradiance volume, its shadows from the same silhouettes.
+  void theViewDrawsAnImageBasedObjectAndItsShadowsAsTheCpuPathDoes() { compareImageObject(false); }
+  // The same across the patch's edge: its points see the sun or not, each on its own (the CPU
+  // path asks five rays towards the sun's disc, the view its four maps: they differ along the edge).
+  void anImageBasedObjectAcrossTheSunsEdgeIsLitPointByPoint() { compareImageObject(true); }
 
  private:
+  void compareImageObject(bool acrossTheEdge);
   void compareWithTheCpuPath(bool post) {
     // The sun through the window and a sky of 16 regions; a box where the sun's patch falls.
     Scene room = windowRoom(0.5, 0.6, 0.7);
@@ -194,6 +205,123 @@ class DaylightViewTest : public QObject {
     QVERIFY(differ < size_t(cam.width) * size_t(cam.height) / 100);
   }
 };
+
+void DaylightViewTest::compareImageObject(bool acrossTheEdge) {
+  const Scene room = windowRoom(0.5, 0.6, 0.7);
+  const double xc = W - 0.5 * (Z0 + Z1) / std::tan(kElev), yc = 0.5 * (Y0 + Y1);
+  SkyRadiance sky;
+  sky.region.resize(16);
+  for (size_t k = 0; k < sky.region.size(); ++k) sky.region[k] = glm::dvec3(0.3 + 0.05 * double(k % 4), 0.35, 0.45);
+  sky.sun.found = true;
+  sky.sun.direction = glm::dvec3(std::cos(kElev), 0.0, std::sin(kElev));
+  sky.sun.irradiance = glm::dvec3(2.0, 1.9, 1.7);
+  const Camera cam = Camera::lookAt({0.4, 0.6, 2.3}, {xc, yc, 0.0}, 320, 240, 220);
+  ImageRGB photo(cam.width, cam.height);
+  for (auto& v : photo.pixels) v = 0.25f;
+  BasisOptions options;
+  options.regions = 16;
+  options.groundReflectance = 0;
+  auto engine = std::make_shared<radiosity::Options>();
+  engine->epsilon = 0.03;
+  engine->minArea = 0.02;
+  options.engine = engine;
+  DaylightRelighting relit(room, photo, cam, sky, options);
+  relit.setInteractive({{6, 512}, 64});
+
+  // A slightly bumpy ball, 40 cm across standing in the sun's patch, or 60 cm across its edge.
+  ibr::Mesh ball = ibr::bumpyBall(96, 48, acrossTheEdge ? 0.3 : 0.2, 0.04);
+  ball.triangleAlbedo.assign(ball.triangles.size(), glm::vec3(0.8f, 0.45f, 0.15f));
+  ibr::FanOptions fo;
+  fo.viewsPerRing = 48;
+  fo.size = 128;
+  ibr::ImageObject ob;
+  ob.name = "ball";
+  ob.fan = ibr::buildFan(ball, fo);
+  ob.fanFile = "ball.fan";
+  ob.place.position = glm::dvec3(xc, acrossTheEdge ? Y0 + 0.05 : yc, 0.0);
+  ob.place.yaw = 0.3;
+
+  const ImageRGB cpuRoom = relit.render(sky, {}, DaylightMethod::Volume);
+  ImageRGB cpu = cpuRoom;
+  std::vector<uint8_t> mask(size_t(cam.width) * size_t(cam.height), 0);
+  ibr::drawImageObjectsInDaylight(relit, sky, {ob}, cpu, &mask);
+
+  GlDaylightRenderer gl;
+  gl.initialize();
+  gl.setRoom(relit.roomPolygons(), relit.camera());
+  const InteractiveSky light = relit.interactiveSky(sky);
+  gl.setSky(light);
+  const ibr::ImageFan& fan = *ob.fan;
+  const glm::dvec3 c = ob.place.toWorld(fan, fan.centre);
+  const double r = fan.radius * ob.place.scale;
+  ibr::ObjectLighting l = ibr::daylightAt(relit, sky, c, r);
+  ibr::keepDisplayLamps(l, fan, ob.place, size_t(GlDaylightRenderer::imageLamps()));
+  ibr::DrawnTables tables = ibr::drawnTables(fan, ob.place, l, cam.center());
+  l.indirectAt = nullptr;  // (the renderer must not need the session: the tables hold the light)
+  l.roomLets = nullptr;
+  gl.setImageObjects({ob}, {l}, {tables});
+  gl.setObjects({}, relit.objectIndirect(sky, {}), relit.shadowReach(light, c, r));
+  const ImageRGB view = gl.renderLinear();
+  if (qEnvironmentVariableIsSet("RELUME_DEBUG_DIR")) {
+    const std::string dir = qEnvironmentVariable("RELUME_DEBUG_DIR").toStdString();
+    const std::string tag = acrossTheEdge ? "_edge" : "";
+    writeImage(dir + "/gl_fan" + tag + ".exr", view);
+    writeImage(dir + "/cpu_fan" + tag + ".exr", cpu);
+  }
+  // The object's pixels (covered on the CPU path), and the shadows (room pixels darker than the
+  // room without the object by 5 % or more).
+  size_t objectPixels = 0, glCovered = 0, cpuShadow = 0, glShadow = 0, both = 0, either = 0, overDark = 0;
+  double objCpu = 0, objGl = 0, err2 = 0, peak = 0, takenCpu = 0, takenGl = 0;
+  std::vector<char> shadowed(mask.size());
+  for (size_t i = 0; i < mask.size(); ++i) shadowed[i] = luminance(cpu, i) < 0.95 * luminance(cpuRoom, i);
+  // (A pixel on the CPU shadow's outline, a neighbour in and one out: the two may put a sharp sun
+  // edge half a pixel apart.)
+  auto outline = [&](size_t i) {
+    const int x = int(i % size_t(cam.width)), y = int(i / size_t(cam.width));
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int xx = std::clamp(x + dx, 0, cam.width - 1), yy = std::clamp(y + dy, 0, cam.height - 1);
+        if (shadowed[size_t(yy) * size_t(cam.width) + size_t(xx)] != shadowed[i]) return true;
+      }
+    return false;
+  };
+  for (size_t i = 0; i < size_t(cam.width) * size_t(cam.height); ++i) {
+    const double a = luminance(view, i), b = luminance(cpu, i), room0 = luminance(cpuRoom, i);
+    if (mask[i] == 255) {
+      ++objectPixels;
+      objCpu += b;
+      objGl += a;
+      err2 += (a - b) * (a - b);
+      peak = std::max(peak, b);
+      glCovered += std::abs(a - room0) > 0.02 * room0;
+      continue;
+    }
+    if (mask[i] > 0) continue;  // (the outline, blended: neither)
+    const bool cs = b < 0.95 * room0, gs = a < 0.95 * room0;
+    cpuShadow += cs;
+    glShadow += gs;
+    both += cs && gs;
+    either += cs || gs;
+    overDark += a < b - 0.25 * room0 && !outline(i);
+    takenCpu += room0 - b;
+    takenGl += room0 - a;
+  }
+  const double psnr = 10 * std::log10(peak * peak / std::max(err2 / double(std::max<size_t>(objectPixels, 1)), 1e-30));
+  const double iou = either ? double(both) / double(either) : 0;
+  qInfo("object: %zu pixels (GL draws %zu of them), mean luminance GL %.4f, CPU %.4f, %.2f dB; shadows: GL %zu pixels, "
+        "CPU %zu, intersection over union %.3f; light taken away %.2f (GL), %.2f (CPU); %zu pixels off the shadow's outline "
+        "darker than the CPU's by a quarter of the room's light",
+        objectPixels, glCovered, objGl / double(std::max<size_t>(objectPixels, 1)), objCpu / double(std::max<size_t>(objectPixels, 1)),
+        psnr, glShadow, cpuShadow, iou, takenGl, takenCpu, overDark);
+  QVERIFY(objectPixels > 500);
+  QVERIFY(cpuShadow > 500);
+  QVERIFY(glCovered > objectPixels * 99 / 100);
+  QVERIFY(std::abs(objGl / objCpu - 1) < 0.03);
+  QVERIFY(psnr > (acrossTheEdge ? 28 : 45));
+  QVERIFY(iou > 0.9);
+  QVERIFY(std::abs(takenGl / takenCpu - 1) < 0.1);
+  QVERIFY(overDark < cpuShadow / 50);
+}
 
 QTEST_MAIN(DaylightViewTest)
 #include "daylight_view_test.moc"

@@ -201,11 +201,44 @@ int lampView(const ImageFan& fan, const Placement& place, const glm::dvec3& lamp
 std::vector<glm::vec3> viewTables(const ImageFan& fan, int view, const Placement& place, const ObjectLighting& light) {
   std::vector<glm::vec3> rows;
   rows.reserve(size_t(kNormalCodes) * (1 + light.lamps.size() * kTableCells * kTableCells));
-  const LightTable ind = indirectTable(fan, view, place, light.indirect);
-  rows.insert(rows.end(), ind.begin(), ind.end());
+  const std::vector<LightTable> ind = light.indirectAt ? indirectTables(fan, view, place, light.indirectAt)
+                                                      : std::vector<LightTable>{indirectTable(fan, view, place, light.indirect)};
+  for (const auto& t : ind) rows.insert(rows.end(), t.begin(), t.end());
   for (const auto& lamp : light.lamps)
     for (const auto& t : lampTables(fan, view, place, lamp).table) rows.insert(rows.end(), t.begin(), t.end());
   return rows;
+}
+
+void keepDisplayLamps(ObjectLighting& light, const ImageFan& fan, const Placement& place, size_t most) {
+  auto& lamps = light.lamps;
+  const glm::dvec3 c = place.toWorld(fan, fan.centre);
+  auto strength = [&](const ObjectLamp& l) {
+    const glm::dvec3 d = l.position - c;
+    return (l.intensity.x + l.intensity.y + l.intensity.z) / std::max(glm::dot(d, d), 1e-12);
+  };
+  std::erase_if(lamps, [&](const ObjectLamp& l) { return !(strength(l) > 0); });
+  std::stable_sort(lamps.begin(), lamps.end(), [&](const ObjectLamp& a, const ObjectLamp& b) { return strength(a) > strength(b); });
+  if (lamps.size() > most) lamps.resize(most);
+  std::vector<std::pair<int, size_t>> byView;
+  for (size_t l = 0; l < lamps.size(); ++l) byView.emplace_back(lampView(fan, place, lamps[l].position), l);
+  std::stable_sort(byView.begin(), byView.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<ObjectLamp> ordered;
+  ordered.reserve(lamps.size());
+  for (const auto& [view, l] : byView) ordered.push_back(std::move(lamps[l]));
+  lamps = std::move(ordered);
+}
+
+DrawnTables drawnTables(const ImageFan& fan, const Placement& place, const ObjectLighting& light, const glm::dvec3& eye) {
+  DrawnTables out;
+  out.views = viewsToward(fan, place, eye);
+  out.indirectRows = indirectRows(light);
+  int n = 0;
+  for (int j = 0; j < kDrawnViews && out.views[size_t(j)] >= 0; ++j, ++n) {
+    const auto t = viewTables(fan, out.views[size_t(j)], place, light);
+    out.rows.insert(out.rows.end(), t.begin(), t.end());
+  }
+  out.rowsPerView = n ? int(out.rows.size() / size_t(kNormalCodes) / size_t(n)) : 0;
+  return out;
 }
 
 std::vector<ShadowCaster> shadowCasters(const ImageFan& fan, const Placement& place, const ObjectLighting& light) {

@@ -18,9 +18,11 @@
 #include <map>
 
 #include "gl_common.h"
+#include "gl_fans.h"
 #include "relume/daylight/relight.h"
 #include "relume/geometry/error.h"
 #include "relume/geometry/polygon.h"
+#include "relume/ibr/relit_objects.h"
 
 static void initDaylightShaderResources() { Q_INIT_RESOURCE(shaders); }
 
@@ -30,6 +32,9 @@ namespace {
 
 // Vertex layout of the view pass: position, face normal, front and back indirect light, albedo.
 constexpr int kFloats = 15;
+// Lamps an image-based object is lit by in daylight (ibr::daylightAt: a lamp per window sample it
+// sees, and the sun): the strongest this many.
+constexpr int kImageLamps = 128;
 
 void fanTriangles(const std::vector<glm::dvec3>& v, const std::function<void(size_t)>& corner) {
   for (size_t t = 1; t + 1 < v.size(); ++t) {
@@ -113,10 +118,13 @@ MapCamera sunMap(const glm::dvec3& toSun, const glm::dvec3& centre, double radiu
 
 struct GlDaylightRenderer::Impl {
   QOpenGLFunctions_3_3_Core* gl = nullptr;
-  QByteArray displaySource, viewVertex, viewFragment, mapVertex, mapFragment, atlasVertex, atlasFragment;
+  QByteArray displaySource, mapsSource, viewVertex, viewFragment, mapVertex, mapFragment, atlasVertex, atlasFragment;
   std::map<int, std::unique_ptr<QOpenGLShaderProgram>> viewPrograms;  // by OBJECT * 4 + OUTPUT
   std::unique_ptr<QOpenGLShaderProgram> mapProgram;    // depth and stencil through one camera
   std::unique_ptr<QOpenGLShaderProgram> atlasProgram;  // the shadow maps, all of an atlas in one draw
+  std::unique_ptr<QOpenGLShaderProgram> imageAtlasProgram;  // an image-based object's silhouette in one map
+  gl::FanObjects images{kImageLamps, true};
+  glm::dvec3 boxLo{0.0}, boxHi{0.0};  // the boxes' and meshes' bounds (when haveObjects)
   std::map<int, std::unique_ptr<QOpenGLShaderProgram>> compositePrograms;  // by OUTPUT
   QByteArray compositeVertex, compositeFragment;
   GLuint roomVao = 0, roomVbo = 0, objectVao = 0, objectVbo = 0, backgroundVao = 0, backgroundVbo = 0, tileVao = 0, tileVbo = 0;
@@ -141,7 +149,8 @@ struct GlDaylightRenderer::Impl {
   std::vector<glm::dvec3> sunDirections;
   glm::dvec3 centre{0.0};
   double radius = 0;
-  bool haveObjects = false;
+  bool haveObjects = false;  // boxes or meshes
+  bool anyObjects() const { return haveObjects || !images.empty(); }
   int reachWords = 0;
   gl::FloatTarget readback, photoTarget;  // (photoTarget: the room at the photo's pixels)
   double lastMs = 0, lastMapMs = 0;
@@ -164,7 +173,7 @@ struct GlDaylightRenderer::Impl {
       const QByteArray defines = "#version 330 core\n#define OBJECT " + QByteArray::number(object ? 1 : 0) +
                                  "\n#define OUTPUT " + QByteArray::number(int(output)) + "\n#define MAX_MAPS " +
                                  QByteArray::number(maxMaps) + "\n";
-      p = compile(defines + viewVertex, defines + displaySource + viewFragment, ":/shaders/daylight.frag");
+      p = compile(defines + viewVertex, defines + displaySource + mapsSource + viewFragment, ":/shaders/daylight.frag");
       bindMapBlock(*p);
     }
     return *p;
@@ -239,7 +248,7 @@ struct GlDaylightRenderer::Impl {
       if (a.texture) gl->glDeleteTextures(1, &a.texture);
       gl->glGenTextures(1, &a.texture);
       gl->glBindTexture(GL_TEXTURE_2D, a.texture);
-      gl->glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, columns * size, rows * size, 0, GL_RG, GL_FLOAT, nullptr);
+      gl->glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, columns * size, rows * size, 0, GL_RGBA, GL_FLOAT, nullptr);
       gl->glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
       gl->glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
       gl->glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -275,7 +284,7 @@ struct GlDaylightRenderer::Impl {
     gl->glEnable(GL_BLEND);
     gl->glBlendEquation(GL_MIN);
     gl->glBlendFunc(GL_ONE, GL_ONE);
-    gl->glClearColor(1e30f, 1e30f, 0.f, 1.f);
+    gl->glClearColor(1e30f, 1e30f, 1e30f, 1e30f);
     atlasProgram->bind();
     gl->glBindBufferBase(GL_UNIFORM_BUFFER, 0, mapBuffer);
     for (int set = 0; set < 2; ++set) {
@@ -283,7 +292,7 @@ struct GlDaylightRenderer::Impl {
       const int first = set == 0 ? 0 : int(window.size()), count = set == 0 ? int(window.size()) : (sun ? int(sunDirections.size()) : 0);
       gl->glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, a.texture, 0);
       if (gl->glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-        throw Error("", "OpenGL", "cannot draw into a two-channel float shadow map atlas of " + std::to_string(a.columns * a.size) +
+        throw Error("", "OpenGL", "cannot draw into a float shadow map atlas of " + std::to_string(a.columns * a.size) +
                                       "x" + std::to_string(a.rows * a.size));
       gl->glViewport(0, 0, a.columns * a.size, a.rows * a.size);
       gl->glClear(GL_COLOR_BUFFER_BIT);
@@ -299,11 +308,89 @@ struct GlDaylightRenderer::Impl {
         gl->glBindVertexArray(objectVao);
         gl->glDrawArraysInstanced(GL_TRIANGLES, 0, objectVertices, count);
       }
+      if (!images.empty()) {
+        drawSilhouettes(first, count, a, set == 1);
+        atlasProgram->bind();
+      }
     }
     gl->glBindVertexArray(0);
     mapsStale = false;
     gl->glFinish();
     lastMapMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  }
+
+  // The image-based objects' silhouettes into channel 2 of maps first .. first + count - 1 (of
+  // atlas `a`): per map and object the fan view nearest the map's light (a window sample's point,
+  // or far along one of the sun's directions), as the library's shadows read it.
+  void drawSilhouettes(int first, int count, const Atlas& a, bool ortho) {
+    const std::vector<MapCamera> cams = mapCameras();
+    QOpenGLShaderProgram& p = *imageAtlasProgram;
+    p.bind();
+    p.setUniformValue("ortho", ortho ? 1 : 0);
+    p.setUniformValue("channel", 2);
+    gl->glUniform2i(p.uniformLocation("grid"), a.columns, a.rows);
+    p.setUniformValue("fanData", 0);
+    gl->glBindVertexArray(backgroundVao);  // (the square is made from gl_VertexID)
+    gl->glActiveTexture(GL_TEXTURE0);
+    for (size_t i = 0; i < images.size(); ++i) {
+      const ibr::ImageFan& fan = images.fan(i);
+      const ibr::Placement& place = images.place(i);
+      const glm::dvec3 cw = place.toWorld(fan, fan.centre);
+      p.setUniformValue("fanSize", fan.size);
+      p.setUniformValue("fanHalf", float(fan.radius * place.scale));
+      p.setUniformValue("fanCentre", float(cw.x), float(cw.y), float(cw.z));
+      for (int k = 0; k < count; ++k) {
+        const MapCamera& m = cams[size_t(first + k)];
+        const glm::dvec3 light = ortho ? cw - 2000.0 * glm::dvec3(m.direction) : glm::dvec3(m.origin);
+        const int view = ibr::lampView(fan, place, light);
+        const int layer = images.layerFor(i, view);
+        const glm::vec3 r(place.toWorldDirection(fan.right(view))), u(place.toWorldDirection(fan.up(view))),
+            t(place.toWorldDirection(fan.toCamera(view)));
+        p.setUniformValue("firstMap", first + k);
+        p.setUniformValue("tile", k);
+        p.setUniformValue("fanLayer", layer);
+        p.setUniformValue("fanRight", r.x, r.y, r.z);
+        p.setUniformValue("fanUp", u.x, u.y, u.z);
+        p.setUniformValue("fanToCamera", t.x, t.y, t.z);
+        gl->glBindTexture(GL_TEXTURE_2D_ARRAY, images.dataTexture(i));
+        gl->glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+      }
+    }
+  }
+
+  // The maps as daylight_maps.glsl reads them: the window samples' atlas on texture unit
+  // `mapUnit`, the sun's on `sunUnit`, their cameras in the uniform block.
+  void bindMaps(QOpenGLShaderProgram& p, int mapUnit, int sunUnit) {
+    p.setUniformValue("windowSamples", anyObjects() ? int(window.size()) : 0);
+    p.setUniformValue("sunMaps", anyObjects() && sun ? int(sunDirections.size()) : 0);
+    gl->glActiveTexture(GLenum(GL_TEXTURE0 + mapUnit));
+    gl->glBindTexture(GL_TEXTURE_2D, windowMaps.texture);
+    p.setUniformValue("maps", mapUnit);
+    gl->glUniform2i(p.uniformLocation("mapGrid"), windowMaps.columns, windowMaps.rows);
+    p.setUniformValue("mapTexels", float(std::max(windowMaps.size, 1)));
+    gl->glActiveTexture(GLenum(GL_TEXTURE0 + sunUnit));
+    gl->glBindTexture(GL_TEXTURE_2D, sunMaps.texture);
+    p.setUniformValue("sunAtlas", sunUnit);
+    gl->glUniform2i(p.uniformLocation("sunGrid"), sunMaps.columns, sunMaps.rows);
+    p.setUniformValue("sunTexels", float(std::max(sunMaps.size, 1)));
+    bindMapBlock(p);
+    gl->glBindBufferBase(GL_UNIFORM_BUFFER, 0, mapBuffer);
+  }
+
+  // The maps' sphere: around the boxes' bounds and the image-based objects' spheres.
+  void fitMaps() {
+    glm::dvec3 lo = haveObjects ? boxLo : glm::dvec3(1e300), hi = haveObjects ? boxHi : glm::dvec3(-1e300);
+    for (size_t i = 0; i < images.size(); ++i) {
+      const ibr::ImageFan& f = images.fan(i);
+      const glm::dvec3 c = images.place(i).toWorld(f, f.centre);
+      const double r = f.radius * images.place(i).scale;
+      lo = glm::min(lo, c - r);
+      hi = glm::max(hi, c + r);
+    }
+    if (!anyObjects()) return;
+    centre = 0.5 * (lo + hi);
+    radius = 0.5 * glm::length(hi - lo);
+    mapsStale = true;
   }
 
   // The uniforms and textures every pass of the view program reads.
@@ -317,21 +404,9 @@ struct GlDaylightRenderer::Impl {
     p.setUniformValue("falseMin", float(s.falseMin));
     p.setUniformValue("falseMax", float(s.falseMax));
     p.setUniformValue("eye", float(eye.x), float(eye.y), float(eye.z));
-    p.setUniformValue("windowSamples", haveObjects ? int(window.size()) : 0);
-    p.setUniformValue("sunMaps", haveObjects && sun ? int(sunDirections.size()) : 0);
     const glm::vec3 q(sunIrradiance / double(std::max<size_t>(sunDirections.size(), 1)));
     p.setUniformValue("sunQuarter", q.x, q.y, q.z);
-    gl->glActiveTexture(GL_TEXTURE0);
-    gl->glBindTexture(GL_TEXTURE_2D, windowMaps.texture);
-    p.setUniformValue("maps", 0);
-    gl->glUniform2i(p.uniformLocation("mapGrid"), windowMaps.columns, windowMaps.rows);
-    p.setUniformValue("mapTexels", float(std::max(windowMaps.size, 1)));
-    gl->glActiveTexture(GL_TEXTURE7);
-    gl->glBindTexture(GL_TEXTURE_2D, sunMaps.texture);
-    p.setUniformValue("sunAtlas", 7);
-    gl->glUniform2i(p.uniformLocation("sunGrid"), sunMaps.columns, sunMaps.rows);
-    p.setUniformValue("sunTexels", float(std::max(sunMaps.size, 1)));
-    gl->glBindBufferBase(GL_UNIFORM_BUFFER, 0, mapBuffer);
+    bindMaps(p, 0, 7);
     gl->glActiveTexture(GL_TEXTURE2);
     gl->glBindTexture(GL_TEXTURE_2D, skyTexture);
     p.setUniformValue("skyRadiance", 2);
@@ -348,7 +423,7 @@ struct GlDaylightRenderer::Impl {
       gl->glActiveTexture(GL_TEXTURE6);
       gl->glBindTexture(GL_TEXTURE_2D, sunTexture);
       p.setUniformValue("sunLight", 6);
-      p.setUniformValue("reachWords", haveObjects ? reachWords : 0);
+      p.setUniformValue("reachWords", anyObjects() ? reachWords : 0);
       p.setUniformValue("viewOrigin", float(rect.x), float(rect.y));
       p.setUniformValue("viewSize", float(rect.width), float(rect.height));
       p.setUniformValue("photoSize", float(camera.width), float(camera.height));
@@ -393,7 +468,7 @@ struct GlDaylightRenderer::Impl {
   }
 
   void drawView(const DisplaySettings& s, GLuint target, const ViewRect& rect) {
-    if (haveObjects && mapsStale) makeMaps();
+    if (anyObjects() && mapsStale) makeMaps();
     else lastMapMs = 0;
     gl->glDisable(GL_SCISSOR_TEST);
     gl->glDisable(GL_BLEND);
@@ -421,15 +496,15 @@ struct GlDaylightRenderer::Impl {
     // The library's room under the sky everywhere (the sky through a window included), and the
     // depth of the room and of the objects...
     composite(linearSettings(), roomTexture, true, {0, 0, w, h});
-    if (haveObjects) {
-      // (A room pixel an object covers is then not shaded, nor an object's face behind another:
-      // each pixel is shaded once below, as llvmpipe shades every fragment that passes the tests.)
+    if (anyObjects()) {
+      // (A room pixel a box covers is then not shaded, nor a box's face behind another: each
+      // pixel is shaded once below, as llvmpipe shades every fragment that passes the tests.)
       depthOnly(roomVao, roomVertices, clip);
-      depthOnly(objectVao, objectVertices, clip);
+      if (haveObjects) depthOnly(objectVao, objectVertices, clip);
     }
     // ... and where an object's shadow may fall (its tiles marked in the stencil), the room's
     // polygons shaded with what the objects take away.
-    if (haveObjects && tileVertices > 0) {
+    if (anyObjects() && tileVertices > 0) {
       gl->glDisable(GL_DEPTH_TEST);
       gl->glEnable(GL_STENCIL_TEST);
       gl->glStencilFunc(GL_ALWAYS, 1, 0xFF);
@@ -452,6 +527,12 @@ struct GlDaylightRenderer::Impl {
       gl->glBindVertexArray(objectVao);
       gl->glDrawArrays(GL_TRIANGLES, 0, objectVertices);
       gl->glDepthFunc(GL_LESS);
+    }
+    // The image-based objects, depth-tested against the room and the boxes (ibr_object.frag: the
+    // library's tables, the sun seen per point through its maps).
+    if (!images.empty()) {
+      images.draw(camera, clip, linearSettings(), [this](QOpenGLShaderProgram& p) { bindMaps(p, 3, 4); });
+      gl->glEnable(GL_DEPTH_TEST);
     }
     // 2. The view: that image with the display transform.
     gl->glBindFramebuffer(GL_FRAMEBUFFER, target);
@@ -481,6 +562,7 @@ GlDaylightRenderer::~GlDaylightRenderer() {
   if (im.mapFbo) im.gl->glDeleteFramebuffers(1, &im.mapFbo);
   im.readback.release(*im.gl);
   im.photoTarget.release(*im.gl);
+  im.images.release();
 }
 
 void GlDaylightRenderer::initialize() {
@@ -489,6 +571,7 @@ void GlDaylightRenderer::initialize() {
   im.gl = gl::currentFunctions();
   auto read = [](const char* name) { return gl::shaderSource(name); };
   im.displaySource = read(":/shaders/display.glsl");
+  im.mapsSource = read(":/shaders/daylight_maps.glsl");
   im.viewVertex = read(":/shaders/daylight.vert");
   im.viewFragment = read(":/shaders/daylight.frag");
   im.mapVertex = read(":/shaders/daylight_map.vert");
@@ -507,8 +590,12 @@ void GlDaylightRenderer::initialize() {
   im.mapProgram = im.compile(version + im.mapVertex, version + im.mapFragment, ":/shaders/daylight_map.frag");
   {
     const QByteArray defines = version + "#define MAX_MAPS " + QByteArray::number(im.maxMaps) + "\n";
-    im.atlasProgram = im.compile(defines + im.atlasVertex, defines + im.atlasFragment, ":/shaders/daylight_atlas.vert");
+    const QByteArray rooms = defines + "#define IMAGE 0\n", images = defines + "#define IMAGE 1\n";
+    im.atlasProgram = im.compile(rooms + im.atlasVertex, rooms + im.atlasFragment, ":/shaders/daylight_atlas.vert");
     im.bindMapBlock(*im.atlasProgram);
+    im.imageAtlasProgram = im.compile(images + im.atlasVertex, images + im.atlasFragment, ":/shaders/daylight_atlas.frag");
+    im.bindMapBlock(*im.imageAtlasProgram);
+    im.images.initialize(im.gl, im.displaySource + im.mapsSource, "#define MAX_MAPS " + QByteArray::number(im.maxMaps) + "\n");
   }
   im.viewPrograms.clear();
   im.viewProgram(false, DisplayOutput::Exposed);  // errors show now
@@ -631,10 +718,9 @@ void GlDaylightRenderer::setObjects(const std::vector<Polygon>& objects, const d
   im.upload(im.objectVao, im.objectVbo, data);
   im.objectVertices = GLsizei(data.size() / kFloats);
   im.haveObjects = im.objectVertices > 0;
-  if (im.haveObjects) {
-    im.centre = 0.5 * (lo + hi);
-    im.radius = 0.5 * glm::length(hi - lo);
-  }
+  im.boxLo = lo;
+  im.boxHi = hi;
+  im.fitMaps();
   // The tiles' samples, as the shader reads them: (tile x * words + word, tile y).
   im.reachWords = std::max(reach.words, 1);
   const int w = std::max(reach.tilesX, 1) * im.reachWords, h = std::max(reach.tilesY, 1);
@@ -675,6 +761,15 @@ void GlDaylightRenderer::setObjects(const std::vector<Polygon>& objects, const d
   im.mapsStale = true;
 }
 
+void GlDaylightRenderer::setImageObjects(const std::vector<ibr::ImageObject>& objects,
+                                         const std::vector<ibr::ObjectLighting>& lights,
+                                         std::vector<ibr::DrawnTables> tables) {
+  auto& im = *impl_;
+  im.images.set(objects, lights, std::move(tables));
+  im.fitMaps();
+  im.mapsStale = true;
+}
+
 void GlDaylightRenderer::setMapSize(int size) {
   impl_->mapSize = std::clamp(size, 16, 4096);
   impl_->mapsStale = true;
@@ -683,6 +778,7 @@ void GlDaylightRenderer::setSunMapSize(int size) {
   impl_->sunMapSize = std::clamp(size, 16, 4096);
   impl_->mapsStale = true;
 }
+int GlDaylightRenderer::imageLamps() { return kImageLamps; }
 int GlDaylightRenderer::mapSize() const { return impl_->mapSize; }
 int GlDaylightRenderer::sunMapSize() const { return impl_->sunMapSize; }
 int GlDaylightRenderer::mapCount() const { return impl_->layersNeeded(); }

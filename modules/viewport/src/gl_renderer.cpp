@@ -5,6 +5,7 @@
 #include "relume/viewport/gl_renderer.h"
 
 #include "gl_common.h"
+#include "gl_fans.h"
 
 #include <QFile>
 #include <QOpenGLContext>
@@ -33,36 +34,8 @@ namespace relume {
 namespace {
 
 constexpr int kMaxLamps = 32;
-// Image-based objects: lamps an object is lit by (their tables, own shadows), as the shader declares them.
+// Image-based objects: lamps an object is lit by (their tables, own shadows), as many as the shader takes.
 constexpr int kObjectLamps = 8;
-constexpr int kObjectLayers = 16;  // fan views kept on the GPU per object (3 drawn + its lamps' + spare)
-
-// A fan view as the shaders read it: code, depth, coverage (16-bit integers) and albedo (sRGB).
-void fanTexels(const ibr::FanView& v, int size, std::vector<uint16_t>& data, std::vector<uint8_t>* albedo) {
-  const size_t n = size_t(size) * size;
-  data.assign(n * 4, 0);
-  for (size_t i = 0; i < n; ++i) {
-    data[4 * i] = v.code[i];
-    data[4 * i + 1] = v.depth[i];
-    data[4 * i + 2] = v.alpha[i];
-  }
-  if (!albedo) return;
-  albedo->assign(n * 4, 0);
-  for (size_t i = 0; i < n; ++i) {
-    for (int c = 0; c < 3; ++c) (*albedo)[4 * i + c] = v.colour[3 * i + c];
-    (*albedo)[4 * i + 3] = v.alpha[i];
-  }
-}
-
-GLuint textureArray(QOpenGLFunctions_3_3_Core& gl, GLenum internal, GLenum format, GLenum type, int size, int layers) {
-  GLuint id = 0;
-  gl.glGenTextures(1, &id);
-  gl.glBindTexture(GL_TEXTURE_2D_ARRAY, id);
-  gl.glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GLint(internal), size, size, layers, 0, format, type, nullptr);
-  gl.glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  gl.glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  return id;
-}
 
 struct SurfaceTextures {
   GLuint original = 0, unoccluded = 0;
@@ -106,7 +79,7 @@ bool sameCamera(const Camera& a, const Camera& b) {
 
 struct GlRelightRenderer::Impl {
   QOpenGLFunctions_3_3_Core* gl = nullptr;
-  QByteArray vertexSource, fragmentSource;
+  QByteArray vertexSource, fragmentSource, displaySource;
   std::map<int, std::unique_ptr<QOpenGLShaderProgram>> programs;  // by variant
   GLuint vao = 0, vbo = 0, ebo = 0, lightVbo = 0;
   GLuint cornerBuffer = 0, cornerTexture = 0, rectBuffer = 0, rectTexture = 0;
@@ -123,21 +96,7 @@ struct GlRelightRenderer::Impl {
   double lastMs = 0;
 
   // --- image-based objects ---
-  struct ObjectGpu {
-    std::shared_ptr<const ibr::ImageFan> fan;
-    ibr::Placement place;
-    std::vector<ibr::ObjectLamp> lamps;  // the first kObjectLamps of its lighting
-    std::vector<glm::vec3> tables;       // (kept for the drawn views)
-    GLuint data = 0, albedo = 0, tableTexture = 0;
-    std::vector<int> layerView;          // the fan view in each layer (-1: free)
-    std::vector<uint64_t> layerUsed;     // the frame that last needed it
-    std::array<int, ibr::kDrawnViews> tableViews{-2, -2, -2};
-    int rowsPerView = 0;
-    ibr::ObjectLighting light;
-  };
-  std::vector<ObjectGpu> objects;
-  uint64_t frame = 0;
-  GLuint objectVao = 0;
+  gl::FanObjects fans{kObjectLamps, false};
   struct ShadowMap {  // the objects' shadows over one surface (ibr::shadowMaps)
     GLuint texture = 0;
     glm::vec4 frame{0.f};  // origin u, v; 1 / width, 1 / height (metres)
@@ -153,14 +112,8 @@ struct GlRelightRenderer::Impl {
   };
   std::vector<ObjectShadowMaps> shadowCache;
   uint64_t lightVersion = 1;
-  std::map<int, std::unique_ptr<QOpenGLShaderProgram>> objectPrograms;  // by output
-  QByteArray displaySource, objectVertexSource, objectFragmentSource;
-
   void releaseObjects() {
-    for (auto& o : objects)
-      for (GLuint* t : {&o.data, &o.albedo, &o.tableTexture})
-        if (*t) gl->glDeleteTextures(1, t);
-    objects.clear();
+    fans.release();
     releaseShadowMaps();
   }
 
@@ -178,143 +131,6 @@ struct GlRelightRenderer::Impl {
         !q->addShaderFromSourceCode(QOpenGLShader::Fragment, defines + displaySource + fragment) || !q->link())
       throw Error(name, "shader", q->log().toStdString());
     return q;
-  }
-
-  QOpenGLShaderProgram& objectProgram(DisplayOutput output) {
-    auto& p = objectPrograms[int(output)];
-    if (!p) {
-      const QByteArray defines = "#version 330 core\n#define OUTPUT " + QByteArray::number(int(output)) + "\n";
-      p = compile(defines, objectVertexSource, objectFragmentSource, ":/shaders/ibr_object.frag");
-    }
-    return *p;
-  }
-
-  // The layer holding `view` of object o, uploaded if it is not there (the least recently needed
-  // layer makes room).
-  int layerFor(ObjectGpu& o, int view) {
-    for (size_t i = 0; i < o.layerView.size(); ++i)
-      if (o.layerView[i] == view) {
-        o.layerUsed[i] = frame;
-        return int(i);
-      }
-    size_t best = 0;
-    for (size_t i = 1; i < o.layerView.size(); ++i)
-      if (o.layerUsed[i] < o.layerUsed[best]) best = i;
-    const int S = o.fan->size;
-    std::vector<uint16_t> data;
-    std::vector<uint8_t> albedo;
-    fanTexels(o.fan->view(view), S, data, &albedo);
-    gl->glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    gl->glBindTexture(GL_TEXTURE_2D_ARRAY, o.data);
-    gl->glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, GLint(best), S, S, 1, GL_RGBA_INTEGER, GL_UNSIGNED_SHORT, data.data());
-    gl->glBindTexture(GL_TEXTURE_2D_ARRAY, o.albedo);
-    gl->glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, GLint(best), S, S, 1, GL_RGBA, GL_UNSIGNED_BYTE, albedo.data());
-    o.layerView[best] = view;
-    o.layerUsed[best] = frame;
-    return int(best);
-  }
-
-  void drawObjects(const Camera& camera, const glm::mat4& clip, const DisplaySettings& s) {
-    if (objects.empty()) return;
-    ++frame;
-    const glm::dvec3 eye = camera.center();
-    std::vector<size_t> order(objects.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    auto dist = [&](size_t i) { return glm::length(objects[i].place.toWorld(*objects[i].fan, objects[i].fan->centre) - eye); };
-    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return dist(a) > dist(b); });
-    auto& prog = objectProgram(s.output);
-    prog.bind();
-    prog.setUniformValue("worldToClip", QMatrix4x4(&glm::transpose(clip)[0][0]));
-    prog.setUniformValue("eye", QVector3D(float(eye.x), float(eye.y), float(eye.z)));
-    prog.setUniformValue("exposure", float(s.exposure));
-    prog.setUniformValue("falseMin", float(s.falseMin));
-    prog.setUniformValue("falseMax", float(s.falseMax));
-    prog.setUniformValue("fanData", 0);
-    prog.setUniformValue("fanAlbedo", 1);
-    prog.setUniformValue("tables", 2);
-    gl->glEnable(GL_DEPTH_TEST);
-    gl->glDepthFunc(GL_LESS);
-    gl->glEnable(GL_BLEND);
-    // Colour blended by coverage; the target's alpha stays 1 (a frame with see-through edges is
-    // composed over whatever lies behind the window: pale fringes).
-    gl->glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
-    gl->glBindVertexArray(objectVao);
-    for (size_t i : order) {
-      ObjectGpu& o = objects[i];
-      const ibr::ImageFan& fan = *o.fan;
-      const std::array<int, ibr::kDrawnViews> views = ibr::viewsToward(fan, o.place, eye);
-      if (views[0] < 0) continue;  // the eye is inside the object
-      int nViews = 1;
-      while (nViews < ibr::kDrawnViews && views[size_t(nViews)] >= 0) ++nViews;
-      if (views != o.tableViews) {  // the tables of the views now drawn (the light's own change resets them)
-        std::vector<glm::vec3> rows;
-        for (int j = 0; j < nViews; ++j) {
-          const auto t = ibr::viewTables(fan, views[size_t(j)], o.place, o.light);
-          rows.insert(rows.end(), t.begin(), t.end());
-        }
-        o.rowsPerView = int(rows.size() / size_t(ibr::kNormalCodes) / size_t(nViews));
-        gl->glBindTexture(GL_TEXTURE_2D, o.tableTexture);
-        gl->glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-        gl->glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, ibr::kNormalCodes, o.rowsPerView * nViews, 0, GL_RGB, GL_FLOAT, rows.data());
-        o.tableViews = views;
-      }
-      GLint layers[ibr::kDrawnViews] = {0, 0, 0};
-      for (int j = 0; j < nViews; ++j) layers[j] = layerFor(o, views[size_t(j)]);
-      const int lampCount = int(std::min<size_t>(o.light.lamps.size(), kObjectLamps));
-      std::vector<GLint> lampLayers(kObjectLamps, 0);
-      std::vector<glm::vec3> lampPositions(kObjectLamps, glm::vec3(0.f)), lampAxes(3 * kObjectLamps, glm::vec3(0.f));
-      for (int l = 0; l < lampCount; ++l) {
-        const auto& lamp = o.light.lamps[size_t(l)];
-        const int k = ibr::lampView(fan, o.place, lamp.position);
-        lampLayers[size_t(l)] = layerFor(o, k);
-        lampPositions[size_t(l)] = glm::vec3(lamp.position);
-        const auto ax = fan.axes(k);
-        lampAxes[3 * size_t(l)] = glm::vec3(ax.right);
-        lampAxes[3 * size_t(l) + 1] = glm::vec3(ax.up);
-        lampAxes[3 * size_t(l) + 2] = glm::vec3(ax.toCamera);
-      }
-      std::vector<glm::vec3> viewAxes(3 * ibr::kDrawnViews, glm::vec3(0.f));
-      for (int j = 0; j < nViews; ++j) {
-        const auto ax = fan.axes(views[size_t(j)]);
-        viewAxes[3 * size_t(j)] = glm::vec3(ax.right);
-        viewAxes[3 * size_t(j) + 1] = glm::vec3(ax.up);
-        viewAxes[3 * size_t(j) + 2] = glm::vec3(ax.toCamera);
-      }
-      const glm::dvec3 cw = o.place.toWorld(fan, fan.centre);
-      const double rs = fan.radius * o.place.scale;
-      const glm::dvec3 eyeObj = o.place.toObject(fan, eye);
-      // A world direction into the object frame: turned back by the yaw, divided by the scale.
-      const float c = float(std::cos(o.place.yaw) / o.place.scale), sn = float(std::sin(o.place.yaw) / o.place.scale);
-      const GLfloat toObject[9] = {c, -sn, 0.f, sn, c, 0.f, 0.f, 0.f, float(1.0 / o.place.scale)};  // columns
-      const double texel = 2.0 * rs / fan.size, pixel = glm::length(cw - eye) / std::max(camera.fx(), 1e-9);
-      prog.setUniformValue("sphere", QVector4D(float(cw.x), float(cw.y), float(cw.z), float(rs)));
-      prog.setUniformValue("eyeObject", QVector3D(float(eyeObj.x), float(eyeObj.y), float(eyeObj.z)));
-      gl->glUniformMatrix3fv(prog.uniformLocation("worldToObject"), 1, GL_FALSE, toObject);
-      prog.setUniformValue("fanCentre", QVector3D(float(fan.centre.x), float(fan.centre.y), float(fan.centre.z)));
-      prog.setUniformValue("fanRadius", float(fan.radius));
-      prog.setUniformValue("fanSize", fan.size);
-      prog.setUniformValue("rowsPerView", o.rowsPerView);
-      prog.setUniformValue("viewCount", nViews);
-      gl->glUniform1iv(prog.uniformLocation("viewLayer"), ibr::kDrawnViews, layers);
-      prog.setUniformValueArray("viewAxes", &viewAxes[0].x, 3 * ibr::kDrawnViews, 3);
-      prog.setUniformValue("lampCount", lampCount);
-      prog.setUniformValueArray("lampPosition", &lampPositions[0].x, kObjectLamps, 3);
-      gl->glUniform1iv(prog.uniformLocation("lampLayer"), kObjectLamps, lampLayers.data());
-      prog.setUniformValueArray("lampAxes", &lampAxes[0].x, 3 * kObjectLamps, 3);
-      prog.setUniformValue("footprint", std::clamp(int(std::lround(pixel / texel)), 1, 4));
-      gl->glActiveTexture(GL_TEXTURE0);
-      gl->glBindTexture(GL_TEXTURE_2D_ARRAY, o.data);
-      gl->glActiveTexture(GL_TEXTURE1);
-      gl->glBindTexture(GL_TEXTURE_2D_ARRAY, o.albedo);
-      gl->glActiveTexture(GL_TEXTURE2);
-      gl->glBindTexture(GL_TEXTURE_2D, o.tableTexture);
-      gl->glDrawArrays(GL_TRIANGLE_FAN, 0, 8);  // the octagon around the sphere's outline (ibr_object.vert)
-    }
-    gl->glBindVertexArray(0);
-    gl->glDisable(GL_CULL_FACE);
-    gl->glDisable(GL_BLEND);
-    gl->glActiveTexture(GL_TEXTURE0);
-    prog.release();
   }
 
   void releaseRoom() {
@@ -365,12 +181,11 @@ struct GlRelightRenderer::Impl {
       const glm::dvec3 p((k & 1) ? boundsHi.x : boundsLo.x, (k & 2) ? boundsHi.y : boundsLo.y, (k & 4) ? boundsHi.z : boundsLo.z);
       farZ = std::max(farZ, glm::length(p - eye));
     }
-    for (const auto& o : objects)  // an object's octagon may reach beyond the room's walls
-      farZ = std::max(farZ, glm::length(o.place.toWorld(*o.fan, o.fan->centre) - eye) + 1.8 * o.fan->radius * o.place.scale);
+    farZ = std::max(farZ, fans.reach(eye));
     farZ = farZ * 1.05 + 0.1;
     const double nearZ = std::clamp(farZ * 1e-3, 0.005, 0.05);
     const bool glowOn = hasGlow && sameCamera(camera, photoCamera);
-    const bool objectsShown = !objects.empty() && (mode == ViewMode::Relit || mode == ViewMode::RatioOnly);
+    const bool objectsShown = !fans.empty() && (mode == ViewMode::Relit || mode == ViewMode::RatioOnly);
     const bool shadows = objectsShown && !shadowMaps.empty();
     // Only the surfaces a shadow reaches take the shadow-map fetch: a texture fetch costs every
     // fragment of a surface on llvmpipe (a branch on a uniform does not skip it), and the floor's
@@ -448,7 +263,7 @@ struct GlRelightRenderer::Impl {
     bound->release();
     if (objectsShown) {
       try {
-        drawObjects(camera, clip, s);
+        fans.draw(camera, clip, s);
       } catch (...) {  // (a fan view that cannot be read): the state the room's pass expects, then the error
         gl->glBindVertexArray(0);
         gl->glDisable(GL_CULL_FACE);
@@ -472,7 +287,6 @@ GlRelightRenderer::~GlRelightRenderer() {
   im.releaseRoom();
   im.releaseObjects();
   im.readback.release(*im.gl);
-  if (im.objectVao) im.gl->glDeleteVertexArrays(1, &im.objectVao);
   for (GLuint* b : {&im.vbo, &im.ebo, &im.lightVbo, &im.cornerBuffer, &im.rectBuffer})
     if (*b) im.gl->glDeleteBuffers(1, b);
   for (GLuint* t : {&im.cornerTexture, &im.rectTexture})
@@ -488,10 +302,7 @@ void GlRelightRenderer::initialize() {
   im.vertexSource = read(":/shaders/relight.vert");
   im.fragmentSource = read(":/shaders/relight.frag");
   im.displaySource = read(":/shaders/display.glsl");
-  im.objectVertexSource = read(":/shaders/ibr_object.vert");
-  im.objectFragmentSource = read(":/shaders/ibr_object.frag");
   im.programs.clear();
-  im.objectPrograms.clear();
   im.program(ViewMode::Relit, DisplayOutput::Exposed, true, false);  // the usual view: errors show now
   auto& gl = *im.gl;
   gl.glGenVertexArrays(1, &im.vao);
@@ -519,10 +330,7 @@ void GlRelightRenderer::initialize() {
   }
   gl.glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, im.ebo);  // part of the vertex array's state
   gl.glBindVertexArray(0);
-  // Image-based objects' octagons are made in their vertex shader from gl_VertexID: an empty
-  // vertex array (the core profile draws with one bound).
-  gl.glGenVertexArrays(1, &im.objectVao);
-  im.objectProgram(DisplayOutput::Exposed);  // errors show now
+  im.fans.initialize(im.gl, im.displaySource);
 }
 
 void GlRelightRenderer::setRoom(const Scene& scene, const RelightData& data) {
@@ -657,51 +465,7 @@ void GlRelightRenderer::setImageObjects(const std::vector<ibr::ImageObject>& obj
                                         const radiosity::HierarchicalRadiosity& engine) {
   auto& im = *impl_;
   auto& gl = *im.gl;
-  // Objects whose fan is already up keep their layers (a move or a new light needs no upload).
-  std::vector<Impl::ObjectGpu> before = std::move(im.objects);
-  im.objects.clear();
-  for (size_t i = 0; i < objects.size() && i < lights.size(); ++i) {
-    Impl::ObjectGpu o;
-    for (auto& b : before)
-      if (b.fan == objects[i].fan && b.data) {
-        o = std::move(b);
-        b.data = b.albedo = b.tableTexture = 0;
-        break;
-      }
-    o.fan = objects[i].fan;
-    o.place = objects[i].place;
-    o.light = lights[i];
-    // The shader takes kObjectLamps lamps: those that reach the object, the strongest there first
-    // (the tables are built in this order). Beyond that many the weakest are left out.
-    {
-      auto& lamps = o.light.lamps;
-      const glm::dvec3 c = o.place.toWorld(*o.fan, o.fan->centre);
-      auto strength = [&](const ibr::ObjectLamp& l) {
-        const glm::dvec3 d = l.position - c;
-        return (l.intensity.x + l.intensity.y + l.intensity.z) / std::max(glm::dot(d, d), 1e-12);
-      };
-      std::erase_if(lamps, [&](const ibr::ObjectLamp& l) { return !(strength(l) > 0); });
-      std::stable_sort(lamps.begin(), lamps.end(),
-                       [&](const ibr::ObjectLamp& a, const ibr::ObjectLamp& b) { return strength(a) > strength(b); });
-      if (lamps.size() > size_t(kObjectLamps)) lamps.resize(kObjectLamps);
-    }
-    o.tableViews = {-2, -2, -2};
-    if (!o.data) {
-      const int S = o.fan->size;
-      o.data = textureArray(gl, GL_RGBA16UI, GL_RGBA_INTEGER, GL_UNSIGNED_SHORT, S, kObjectLayers);
-      o.albedo = textureArray(gl, GL_SRGB8_ALPHA8, GL_RGBA, GL_UNSIGNED_BYTE, S, kObjectLayers);
-      gl.glGenTextures(1, &o.tableTexture);
-      gl.glBindTexture(GL_TEXTURE_2D, o.tableTexture);
-      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-      gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-      o.layerView.assign(kObjectLayers, -1);
-      o.layerUsed.assign(kObjectLayers, 0);
-    }
-    im.objects.push_back(std::move(o));
-  }
-  for (auto& b : before)
-    for (GLuint* t : {&b.data, &b.albedo, &b.tableTexture})
-      if (*t) gl.glDeleteTextures(1, t);
+  im.fans.set(objects, lights);
   // Their shadows on the room, as maps over the surfaces (the library's light).
   im.releaseShadowMaps();
   std::vector<Impl::ObjectShadowMaps> cache;
@@ -742,6 +506,6 @@ void GlRelightRenderer::setImageObjects(const std::vector<ibr::ImageObject>& obj
   }
 }
 
-size_t GlRelightRenderer::imageObjectCount() const { return impl_->objects.size(); }
+size_t GlRelightRenderer::imageObjectCount() const { return impl_->fans.size(); }
 
 }  // namespace relume

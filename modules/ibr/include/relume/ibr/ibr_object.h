@@ -111,11 +111,30 @@ std::array<int, kDrawnViews> viewsToward(const ImageFan& fan, const Placement& p
 // The fan image nearest a lamp's direction: the object's own shadow map for that lamp.
 int lampView(const ImageFan& fan, const Placement& place, const glm::dvec3& lampPosition);
 
-// Everything that lights one drawn fan image, as the tables a display looks up: row 0 the
-// indirect table, then for each lamp of `light` in order its kTableCells^2 cell tables (row-major
-// cells); each row kNormalCodes RGB entries. (What drawObject computes per frame; a GPU display
-// uploads it as a texture.)
+// Everything that lights one drawn fan image, as the tables a display looks up: first the
+// indirect light's indirectRows(light) rows (one table, or with ObjectLighting::indirectAt one per
+// table cell, row-major cells, as drawObject takes it), then for each lamp of `light` in order its
+// kTableCells^2 cell tables (row-major cells); each row kNormalCodes RGB entries. (What drawObject
+// computes per frame; a GPU display uploads it as a texture.)
 std::vector<glm::vec3> viewTables(const ImageFan& fan, int view, const Placement& place, const ObjectLighting& light);
+inline int indirectRows(const ObjectLighting& light) { return light.indirectAt ? kTableCells * kTableCells : 1; }
+
+// The lamps a display that takes at most `most` per object keeps of `light`: those whose light
+// reaches the object's centre, the strongest there first (beyond `most` the weakest are left out),
+// then ordered by the fan image each one's own shadow is read from (lampView), so that lamps
+// sharing one follow each other.
+void keepDisplayLamps(ObjectLighting& light, const ImageFan& fan, const Placement& place, size_t most);
+
+// The tables of the fan images a viewer at `eye` is drawn from (viewsToward), made while `light`
+// can still be asked (ObjectLighting::indirectAt may look up a volume that changes later): a
+// display whose viewer stays where it is needs no other.
+struct DrawnTables {
+  std::array<int, kDrawnViews> views{-1, -1, -1};
+  int rowsPerView = 0;
+  int indirectRows = 1;
+  std::vector<glm::vec3> rows;  // the views' viewTables, one after the other
+};
+DrawnTables drawnTables(const ImageFan& fan, const Placement& place, const ObjectLighting& light, const glm::dvec3& eye);
 
 // One lamp's silhouette of the object, what its shadows on the room are made from: the fan image
 // nearest the lamp's direction, its axes in the world, and points spread over the lamp.

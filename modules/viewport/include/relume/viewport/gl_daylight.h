@@ -29,6 +29,11 @@
 namespace relume {
 
 struct Polygon;
+namespace ibr {
+struct ImageObject;
+struct ObjectLighting;
+struct DrawnTables;
+}  // namespace ibr
 namespace daylight {
 struct InteractiveSky;
 struct ShadowReach;
@@ -49,8 +54,17 @@ class GlDaylightRenderer {
   // The virtual objects (faces with their albedos), their indirect light
   // (DaylightRelighting::objectIndirect) and the tiles their shadows may reach
   // (DaylightRelighting::shadowReach for their bounding sphere): the shadow maps are made again.
+  // `reach` is for the sphere around the boxes and the image-based objects both.
   void setObjects(const std::vector<Polygon>& objects, const daylight::ObjectIndirect& indirect,
                   const daylight::ShadowReach& reach);
+  // Image-based objects (Dinh, Metoyer, Turk) lit by daylight: each with its light
+  // (ibr::daylightAt) and the tables of the views the photo's camera draws it from, made with it
+  // (ibr::drawnTables, after ibr::keepDisplayLamps(light, fan, place, imageLamps())), as the CPU
+  // path (ibr::drawImageObjectsInDaylight) draws them; their silhouettes go into the shadow maps
+  // (made again at the next draw), so their shadows fall on the room as the boxes' do.
+  void setImageObjects(const std::vector<ibr::ImageObject>& objects, const std::vector<ibr::ObjectLighting>& lights,
+                       std::vector<ibr::DrawnTables> tables);
+  static int imageLamps();
   // The window samples' shadow maps, size x size texels (default 128: their shadows are soft, each
   // one of many), and the sun's (default 256: its shadow is sharp); made again at the next draw.
   void setMapSize(int size);
