@@ -5,9 +5,11 @@
 // direct light). Direct light and blocking both come from the same samples: the window samples
 // (each radiance x cos x cos x area / r^2, the radiance of the sky region its direction looks
 // into) and the sun's four directions (each a quarter of the sun's irradiance x cos), each with
-// its shadow map: red the nearest room surface, green the nearest object surface along the line.
-// A sample lights a point when the room lets it through (the point is the nearest room surface,
-// within a bias) and no object lies before it. (The renderer prepends "#version 330 core",
+// its shadow map: red the nearest room surface, green the nearest box or mesh face, blue the
+// nearest image-based object's silhouette along the line. A sample lights a point when the room
+// lets it through (the point is the nearest room surface, within a bias) and no object lies
+// before it; a box's face takes no shadow of an image-based object (as on the CPU path), the
+// room does. (The renderer prepends "#version 330 core",
 // OBJECT, OUTPUT, display.glsl and daylight_maps.glsl.)
 in vec3 vWorld;
 flat in vec3 vNormal;

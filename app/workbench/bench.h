@@ -13,7 +13,8 @@ namespace relume {
 // in the daylight viewport's renderer (GlDaylightRenderer) at 1280 x 960: the frame time against
 // the number of shadow maps (window samples 16, 64, 256, and the sun's four at 256^2) and the window
 // maps' size (64, 128, 256), a frame with the variant's box moved (its maps made again) and one without; and the
-// library's light for a moved box (its indirect light per vertex and the shadows' tiles).
+// library's light for a moved box (its indirect light per vertex and the shadows' tiles); then an
+// image-based object moved instead (the library's light and the frame, against the CPU path's).
 // Returns the process exit code.
 int runWorkbenchBench(const QString& out, const QStringList& rooms, int runs, int photos, QSize photoSize,
                       const QStringList& daylightRooms = {});

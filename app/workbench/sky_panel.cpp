@@ -75,8 +75,8 @@ struct ObjectsEntry {
   // An entry from a file: the file's variant, its files named absolutely (a save makes it a
   // variant of the project, as moved, so that what the user placed and dragged is kept).
   std::optional<Variant> fromFile;
-  // Its image-based objects (fan entries), lit by daylight only and drawn by the CPU path after
-  // the room's render (ibr::drawImageObjectsInDaylight, as relume relight --sky draws them).
+  // Its image-based objects (fan entries), lit by daylight only and drawn after the room's render
+  // (ibr::drawImageObjectsInDaylight, as relume relight --sky draws them) or by the OpenGL view.
   std::vector<ibr::ImageObject> images;
 };
 

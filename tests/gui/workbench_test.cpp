@@ -2873,8 +2873,8 @@ class WorkbenchTest : public QObject {
   void daylightImageBasedObjectInTheSkyPanel() {
     // An image-based object from a file in the Sky panel (as `relume relight --sky` draws it): the
     // example vase standing in sun0's sunlit patch. What a user sees: the vase where it stands,
-    // its sun shadow on the floor away from the sun, the interactive method drawing it too (by the
-    // CPU path: the OpenGL box greyed out), dragged by its cross and saved where it was dragged,
+    // its sun shadow on the floor away from the sun, the interactive method drawing it too (with
+    // OpenGL, as the CPU path does), dragged by its cross and saved where it was dragged,
     // and the distant method leaving it out, said.
     writeExampleVaseFan(tmp_.path() + "/sky_vase.fan");
     const QString file = tmp_.path() + "/sky_vase.json";
@@ -2916,15 +2916,28 @@ class WorkbenchTest : public QObject {
     QVERIFY(shade.green() < 0.67 * lit.green());
     QVERIFY(std::abs(sunSide.green() - sunSideOff.green()) <= 3);
     saveShot(&w, "sky_panel_image_object");
-    // The interactive method draws it as well, by the CPU path.
+    // The interactive method draws it as well, with OpenGL (its silhouettes in the shadow maps, its
+    // pixels by the library's tables), and the CPU path the same picture.
     sky->methodBox()->setCurrentIndex(1);
     QVERIFY(settle(180000));
-    QVERIFY(!sky->gpuToggle()->isEnabled());
+    QVERIFY(sky->gpuToggle()->isEnabled() && sky->gpuToggle()->isChecked());
     const QImage interactive = sky->shown().convertToFormat(QImage::Format_RGB888);
     const QColor body2 = at(interactive, {2.5, 2.0, 0.25}), shade2 = at(interactive, glm::dvec3(2.5, 2.0, 0.001) + 0.4 * away);
-    qInfo("interactive: vase body %d %d %d, its shadow %d", body2.red(), body2.green(), body2.blue(), shade2.green());
+    qInfo("interactive (OpenGL): vase body %d %d %d, its shadow %d", body2.red(), body2.green(), body2.blue(), shade2.green());
     QVERIFY(body2.red() > 1.6 * body2.green());
     QVERIFY(shade2.green() < 0.67 * lit.green());
+    saveShot(&w, "sky_panel_image_object_opengl");
+    sky->gpuToggle()->setChecked(false);
+    QVERIFY(settle(180000));
+    const QImage interactiveCpu = sky->shown().convertToFormat(QImage::Format_RGB888);
+    const QColor body3 = at(interactiveCpu, {2.5, 2.0, 0.25}), shade3 = at(interactiveCpu, glm::dvec3(2.5, 2.0, 0.001) + 0.4 * away);
+    qInfo("interactive, OpenGL against the CPU path: %.1f dB; vase body %d %d %d, its shadow %d on the CPU path",
+          psnr8(interactive, interactiveCpu), body3.red(), body3.green(), body3.blue(), shade3.green());
+    QVERIFY(psnr8(interactive, interactiveCpu) > 35);
+    QVERIFY(std::abs(body2.red() - body3.red()) <= 4 && std::abs(body2.green() - body3.green()) <= 4);
+    QVERIFY(std::abs(shade2.green() - shade3.green()) <= 4);
+    sky->gpuToggle()->setChecked(true);
+    QVERIFY(settle(180000));
     // Dragged by its cross as a box is, 60 cm along the floor: drawn where it now stands, the floor
     // where it stood; saved, the project's variant has it there.
     ClickPhotoView* view = sky->view();
