@@ -765,7 +765,16 @@ void GlDaylightRenderer::setImageObjects(const std::vector<ibr::ImageObject>& ob
                                          const std::vector<ibr::ObjectLighting>& lights,
                                          std::vector<ibr::DrawnTables> tables) {
   auto& im = *impl_;
-  im.images.set(objects, lights, std::move(tables));
+  // The fan views the maps read (one per window sample and direction of the sun's disc), kept in
+  // the objects' layers beside the drawn and lit ones.
+  std::vector<std::vector<int>> mapViews;
+  for (const auto& o : objects) {
+    std::vector<int>& v = mapViews.emplace_back();
+    const glm::dvec3 cw = o.place.toWorld(*o.fan, o.fan->centre);
+    for (const auto& w : im.window) v.push_back(ibr::lampView(*o.fan, o.place, w.point));
+    for (const auto& d : im.sunDirections) v.push_back(ibr::lampView(*o.fan, o.place, cw + 2000.0 * d));
+  }
+  im.images.set(objects, lights, std::move(tables), mapViews);
   im.fitMaps();
   im.mapsStale = true;
 }

@@ -98,7 +98,7 @@ QOpenGLShaderProgram& FanObjects::program(DisplayOutput output) {
 }
 
 void FanObjects::set(const std::vector<ibr::ImageObject>& objects, const std::vector<ibr::ObjectLighting>& lights,
-                     std::vector<ibr::DrawnTables> tables) {
+                     std::vector<ibr::DrawnTables> tables, const std::vector<std::vector<int>>& moreViews) {
   auto& gl = *gl_;
   GLint maxLayers = 256;
   gl.glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
@@ -114,6 +114,7 @@ void FanObjects::set(const std::vector<ibr::ImageObject>& objects, const std::ve
     if (i < tables.size()) o.made = std::move(tables[i]);
     std::set<int> views;
     for (const auto& l : o.light.lamps) views.insert(ibr::lampView(*o.fan, o.place, l.position));
+    if (i < moreViews.size()) views.insert(moreViews[i].begin(), moreViews[i].end());
     const int layers = std::clamp(int(views.size()) + ibr::kDrawnViews + 2, kMinLayers, std::max(kMinLayers, int(maxLayers)));
     for (auto& b : before)
       if (b.fan == o.fan && b.data && b.layers >= layers) {

@@ -37,8 +37,10 @@ class FanObjects {
   // The objects and their light (one each). `tables`, when given (one each), are their drawn
   // views' tables made by the library (ibr::drawnTables, after the same keepDisplayLamps(maxLamps));
   // a view they do not cover gets its tables from the light.
+  // `moreViews` (per object, when given): fan views also needed at every frame (the daylight
+  // view's shadow maps'), so that the layers hold them all without uploading them again.
   void set(const std::vector<ibr::ImageObject>& objects, const std::vector<ibr::ObjectLighting>& lights,
-           std::vector<ibr::DrawnTables> tables = {});
+           std::vector<ibr::DrawnTables> tables = {}, const std::vector<std::vector<int>>& moreViews = {});
   bool empty() const { return objects_.empty(); }
   size_t size() const { return objects_.size(); }
   const ibr::ImageFan& fan(size_t i) const { return *objects_[i].fan; }
