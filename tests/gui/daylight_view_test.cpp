@@ -34,6 +34,39 @@ double luminance(const ImageRGB& im, size_t i) {
   return 0.2126 * im.pixels[3 * i] + 0.7152 * im.pixels[3 * i + 1] + 0.0722 * im.pixels[3 * i + 2];
 }
 
+// Where the sun's patch falls on the floor (its middle), the sun through the window and a sky of
+// 16 regions, the camera looking at the patch, and a session on a coarse hierarchy (both renderers
+// read the same session, and it is solved several times over).
+const double kPatchX = W - 0.5 * (Z0 + Z1) / std::tan(kElev), kPatchY = 0.5 * (Y0 + Y1);
+
+SkyRadiance testSky() {
+  SkyRadiance sky;
+  sky.region.resize(16);
+  for (size_t k = 0; k < sky.region.size(); ++k) sky.region[k] = glm::dvec3(0.3 + 0.05 * double(k % 4), 0.35, 0.45);
+  sky.sun.found = true;
+  sky.sun.direction = glm::dvec3(std::cos(kElev), 0.0, std::sin(kElev));
+  sky.sun.irradiance = glm::dvec3(2.0, 1.9, 1.7);
+  return sky;
+}
+
+Camera testCamera() { return Camera::lookAt({0.4, 0.6, 2.3}, {kPatchX, kPatchY, 0.0}, 320, 240, 220); }
+
+std::unique_ptr<DaylightRelighting> testSession(const Scene& room, const SkyRadiance& sky) {
+  const Camera cam = testCamera();
+  ImageRGB photo(cam.width, cam.height);
+  for (auto& v : photo.pixels) v = 0.25f;
+  BasisOptions options;
+  options.regions = 16;
+  options.groundReflectance = 0;
+  auto engine = std::make_shared<radiosity::Options>();
+  engine->epsilon = 0.03;
+  engine->minArea = 0.02;
+  options.engine = engine;
+  auto relit = std::make_unique<DaylightRelighting>(room, photo, cam, sky, options);
+  relit->setInteractive({{6, 512}, 64});
+  return relit;
+}
+
 }  // namespace
 
 class DaylightViewTest : public QObject {
@@ -70,7 +103,7 @@ class DaylightViewTest : public QObject {
   void compareWithTheCpuPath(bool post) {
     // The sun through the window and a sky of 16 regions; a box where the sun's patch falls.
     Scene room = windowRoom(0.5, 0.6, 0.7);
-    const double xc = W - 0.5 * (Z0 + Z1) / std::tan(kElev), yc = 0.5 * (Y0 + Y1), h = 0.2;
+    const double xc = kPatchX, yc = kPatchY, h = 0.2;
     if (post) {
       const double x0 = xc - 0.55, y0 = yc - 0.02, s = 0.04, z = 0.7;
       room.polygons.push_back(poly("post_px", facingPlusX(x0 + s, y0, y0 + s, 0, z), 0.5));
@@ -79,28 +112,12 @@ class DaylightViewTest : public QObject {
       room.polygons.push_back(poly("post_my", {{x0 + s, y0, 0}, {x0, y0, 0}, {x0, y0, z}, {x0 + s, y0, z}}, 0.5));
       room.polygons.push_back(poly("post_top", {{x0, y0, z}, {x0 + s, y0, z}, {x0 + s, y0 + s, z}, {x0, y0 + s, z}}, 0.5));
     }
-    SkyRadiance sky;
-    sky.region.resize(16);
-    for (size_t k = 0; k < sky.region.size(); ++k) sky.region[k] = glm::dvec3(0.3 + 0.05 * double(k % 4), 0.35, 0.45);
-    sky.sun.found = true;
-    sky.sun.direction = glm::dvec3(std::cos(kElev), 0.0, std::sin(kElev));
-    sky.sun.irradiance = glm::dvec3(2.0, 1.9, 1.7);
+    const SkyRadiance sky = testSky();
     const glm::dvec3 lo(xc - h, yc - h, 0.0), hi(xc + h, yc + h, 2 * h);
     const glm::dvec3 albedo(0.8, 0.4, 0.1);
-    const Camera cam = Camera::lookAt({0.4, 0.6, 2.3}, {xc, yc, 0.0}, 320, 240, 220);
-    ImageRGB photo(cam.width, cam.height);
-    for (auto& v : photo.pixels) v = 0.25f;
-    BasisOptions options;
-    options.regions = 16;
-    options.groundReflectance = 0;
-    // A coarse hierarchy: both renderers read the same session, and it is solved four times over.
-    auto engine = std::make_shared<radiosity::Options>();
-    engine->epsilon = 0.03;
-    engine->minArea = 0.02;
-    options.engine = engine;
-    DaylightRelighting relit(room, photo, cam, sky, options);
-
-    relit.setInteractive({{6, 512}, 64});
+    const Camera cam = testCamera();
+    auto session = testSession(room, sky);
+    DaylightRelighting& relit = *session;
     std::vector<Polygon> faces;
     for (const auto& f : boxObject("box", lo, hi, albedo).polygons) {
       Polygon p = poly("box", f, 0.0);
@@ -208,25 +225,11 @@ class DaylightViewTest : public QObject {
 
 void DaylightViewTest::compareImageObject(bool acrossTheEdge) {
   const Scene room = windowRoom(0.5, 0.6, 0.7);
-  const double xc = W - 0.5 * (Z0 + Z1) / std::tan(kElev), yc = 0.5 * (Y0 + Y1);
-  SkyRadiance sky;
-  sky.region.resize(16);
-  for (size_t k = 0; k < sky.region.size(); ++k) sky.region[k] = glm::dvec3(0.3 + 0.05 * double(k % 4), 0.35, 0.45);
-  sky.sun.found = true;
-  sky.sun.direction = glm::dvec3(std::cos(kElev), 0.0, std::sin(kElev));
-  sky.sun.irradiance = glm::dvec3(2.0, 1.9, 1.7);
-  const Camera cam = Camera::lookAt({0.4, 0.6, 2.3}, {xc, yc, 0.0}, 320, 240, 220);
-  ImageRGB photo(cam.width, cam.height);
-  for (auto& v : photo.pixels) v = 0.25f;
-  BasisOptions options;
-  options.regions = 16;
-  options.groundReflectance = 0;
-  auto engine = std::make_shared<radiosity::Options>();
-  engine->epsilon = 0.03;
-  engine->minArea = 0.02;
-  options.engine = engine;
-  DaylightRelighting relit(room, photo, cam, sky, options);
-  relit.setInteractive({{6, 512}, 64});
+  const double xc = kPatchX, yc = kPatchY;
+  const SkyRadiance sky = testSky();
+  const Camera cam = testCamera();
+  auto session = testSession(room, sky);
+  DaylightRelighting& relit = *session;
 
   // A slightly bumpy ball, 40 cm across standing in the sun's patch, or 60 cm across its edge.
   ibr::Mesh ball = ibr::bumpyBall(96, 48, acrossTheEdge ? 0.3 : 0.2, 0.04);
