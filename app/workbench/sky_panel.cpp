@@ -803,8 +803,9 @@ void SkyPanel::startRender() {
       if (!images.empty()) {
         // Their light, as the CPU path's (ibr::drawImageObjectsInDaylight) takes it: the boxes
         // and meshes hide the window samples and the sun from them.
-        Progress built(p, 0.0, 0.5);
+        Progress built(p, 0.0, 0.4), windows(p, 0.4, 0.9);
         relit->volume(built);
+        relit->interactiveSky(sky, windows);  // (made once per sky; daylightAt and the frame below read it)
         std::vector<std::vector<glm::dvec3>> faces;
         for (const Polygon& o : objects) faces.push_back(o.vertices);
         const std::unique_ptr<RayScene> occluders = faces.empty() ? nullptr : std::make_unique<RayScene>(faces);

@@ -3029,6 +3029,29 @@ class WorkbenchTest : public QObject {
     // in the vase's shadow alone, not darker (the sun is not taken twice).
     QVERIFY(bothShadows.green() >= 0.8 * vaseShadow.green());
     QVERIFY(bothShadows.green() > 10);
+    // The interactive method draws both with OpenGL as its CPU path does: the box before the vase,
+    // the vase's shadow from the shadow maps, where the box's already lies taking no more.
+    {
+      const int method = sky->methodBox()->currentIndex();
+      sky->methodBox()->setCurrentIndex(1);
+      QVERIFY(settle(180000));
+      QVERIFY(sky->gpuToggle()->isEnabled() && sky->gpuToggle()->isChecked());
+      const QImage gl = sky->shown().convertToFormat(QImage::Format_RGB888);
+      sky->gpuToggle()->setChecked(false);
+      QVERIFY(settle(180000));
+      const QImage cpu = sky->shown().convertToFormat(QImage::Format_RGB888);
+      sky->gpuToggle()->setChecked(true);
+      const QColor glBox = at(gl, {2.825, 1.8, 0.3}), glVase = at(gl, {2.5, 2.0, 0.2}), glShadows = at(gl, behind);
+      const QColor cpuBox = at(cpu, {2.825, 1.8, 0.3}), cpuVase = at(cpu, {2.5, 2.0, 0.2}), cpuShadows = at(cpu, behind);
+      qInfo("interactive, box and vase: OpenGL against the CPU path %.1f dB; box face %d / %d, vase body %d / %d, the floor in "
+            "both shadows %d / %d (green, OpenGL / CPU)",
+            psnr8(gl, cpu), glBox.green(), cpuBox.green(), glVase.green(), cpuVase.green(), glShadows.green(), cpuShadows.green());
+      QVERIFY(psnr8(gl, cpu) > 35);
+      QVERIFY(std::abs(glBox.blue() - cpuBox.blue()) <= 4 && std::abs(glVase.red() - cpuVase.red()) <= 4);
+      QVERIFY(std::abs(glShadows.green() - cpuShadows.green()) <= 4);
+      sky->methodBox()->setCurrentIndex(method);
+      QVERIFY(settle(180000));
+    }
     // Two crosses, one per object; the vase's dragged 60 cm along the floor, the box's left alone.
     ClickPhotoView* view = sky->view();
     QCOMPARE(view->markers().size(), size_t(2));

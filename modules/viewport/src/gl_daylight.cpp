@@ -330,7 +330,7 @@ struct GlDaylightRenderer::Impl {
     p.setUniformValue("channel", 2);
     gl->glUniform2i(p.uniformLocation("grid"), a.columns, a.rows);
     p.setUniformValue("fanData", 0);
-    gl->glBindVertexArray(backgroundVao);  // (the square is made from gl_VertexID)
+    gl->glBindVertexArray(images.emptyVertexArray());  // (the square is made from gl_VertexID)
     gl->glActiveTexture(GL_TEXTURE0);
     for (size_t i = 0; i < images.size(); ++i) {
       const ibr::ImageFan& fan = images.fan(i);
@@ -595,7 +595,10 @@ void GlDaylightRenderer::initialize() {
     im.bindMapBlock(*im.atlasProgram);
     im.imageAtlasProgram = im.compile(images + im.atlasVertex, images + im.atlasFragment, ":/shaders/daylight_atlas.frag");
     im.bindMapBlock(*im.imageAtlasProgram);
-    im.images.initialize(im.gl, im.displaySource + im.mapsSource, "#define MAX_MAPS " + QByteArray::number(im.maxMaps) + "\n");
+    // (Compiled at the first draw with image-based objects: a display whose limits its 128 lamps
+    // exceed still draws the rest.)
+    im.images.initialize(im.gl, im.displaySource + im.mapsSource, "#define MAX_MAPS " + QByteArray::number(im.maxMaps) + "\n",
+                         false);
   }
   im.viewPrograms.clear();
   im.viewProgram(false, DisplayOutput::Exposed);  // errors show now

@@ -56,7 +56,8 @@ FanObjects::FanObjects(int maxLamps, bool daylight) : maxLamps_(maxLamps), dayli
 
 FanObjects::~FanObjects() = default;  // (the owner calls release() with its context current)
 
-void FanObjects::initialize(QOpenGLFunctions_3_3_Core* gl, const QByteArray& fragmentPrefix, const QByteArray& defines) {
+void FanObjects::initialize(QOpenGLFunctions_3_3_Core* gl, const QByteArray& fragmentPrefix, const QByteArray& defines,
+                            bool compileNow) {
   gl_ = gl;
   prefix_ = fragmentPrefix;
   defines_ = defines;
@@ -64,7 +65,7 @@ void FanObjects::initialize(QOpenGLFunctions_3_3_Core* gl, const QByteArray& fra
   fragment_ = shaderSource(":/shaders/ibr_object.frag");
   programs_.clear();
   if (!vao_) gl_->glGenVertexArrays(1, &vao_);  // (the octagons are made from gl_VertexID: an empty array)
-  program(DisplayOutput::Exposed);  // errors show now
+  if (compileNow) program(DisplayOutput::Exposed);  // errors show now
 }
 
 void FanObjects::release() {
@@ -155,9 +156,10 @@ int FanObjects::layerFor(size_t i, int view) {
       o.layerUsed[l] = frame_;
       return int(l);
     }
+  // A free layer, else the least recently needed.
   size_t best = 0;
   for (size_t l = 1; l < o.layerView.size(); ++l)
-    if (o.layerUsed[l] < o.layerUsed[best]) best = l;
+    if ((o.layerView[l] < 0) != (o.layerView[best] < 0) ? o.layerView[l] < 0 : o.layerUsed[l] < o.layerUsed[best]) best = l;
   const int S = o.fan->size;
   std::vector<uint16_t> data;
   std::vector<uint8_t> albedo;
@@ -213,18 +215,21 @@ void FanObjects::draw(const Camera& camera, const glm::mat4& clip, const Display
     int nViews = 1;
     while (nViews < ibr::kDrawnViews && views[size_t(nViews)] >= 0) ++nViews;
     if (views != o.tableViews) {  // the tables of the views now drawn: handed over, or from the light
-      std::vector<glm::vec3> rows;
-      if (!o.made.rows.empty() && o.made.views == views) {
-        rows = o.made.rows;
-        o.indirectRows = o.made.indirectRows;
-      } else {
+      std::vector<glm::vec3> own;
+      const bool made = !o.made.rows.empty() && o.made.views == views;
+      if (!made)
         for (int j = 0; j < nViews; ++j) {
           const auto t = ibr::viewTables(fan, views[size_t(j)], o.place, o.light);
-          rows.insert(rows.end(), t.begin(), t.end());
+          own.insert(own.end(), t.begin(), t.end());
         }
-        o.indirectRows = ibr::indirectRows(o.light);
-      }
+      const std::vector<glm::vec3>& rows = made ? o.made.rows : own;
+      o.indirectRows = made ? o.made.indirectRows : ibr::indirectRows(o.light);
       o.rowsPerView = int(rows.size() / size_t(ibr::kNormalCodes) / size_t(nViews));
+      GLint largest = 0;
+      gl->glGetIntegerv(GL_MAX_TEXTURE_SIZE, &largest);
+      if (o.rowsPerView * nViews > largest)
+        throw Error("", "OpenGL", "an image-based object's tables (" + std::to_string(o.rowsPerView * nViews) +
+                                      " rows) do not fit a texture of this display (" + std::to_string(largest) + ")");
       gl->glBindTexture(GL_TEXTURE_2D, o.tableTexture);
       gl->glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
       gl->glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, ibr::kNormalCodes, o.rowsPerView * nViews, 0, GL_RGB, GL_FLOAT, rows.data());

@@ -32,7 +32,10 @@ class FanObjects {
   ~FanObjects();
   // `fragmentPrefix`: what the fragment shader is given before its own source (display.glsl, and
   // for daylight the maps' declarations); `defines` after the version line in both shaders.
-  void initialize(QOpenGLFunctions_3_3_Core* gl, const QByteArray& fragmentPrefix, const QByteArray& defines = {});
+  // `compileNow`: the shader is compiled here (its errors show at once), else at the first draw
+  // with objects (a display that may never draw any does not depend on it).
+  void initialize(QOpenGLFunctions_3_3_Core* gl, const QByteArray& fragmentPrefix, const QByteArray& defines = {},
+                  bool compileNow = true);
   void release();
   // The objects and their light (one each). `tables`, when given (one each), are their drawn
   // views' tables made by the library (ibr::drawnTables, after the same keepDisplayLamps(maxLamps));
@@ -55,6 +58,8 @@ class FanObjects {
   // the array (code, depth, coverage as 16-bit integers): for the daylight view's shadow maps.
   int layerFor(size_t i, int view);
   unsigned dataTexture(size_t i) const { return objects_[i].data; }
+  // A vertex array with no attributes (for draws whose vertices come from gl_VertexID).
+  unsigned emptyVertexArray() const { return vao_; }
 
  private:
   struct Object {
