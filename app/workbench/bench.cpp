@@ -544,16 +544,12 @@ QJsonObject benchDaylightView(const QString& roomPath, int runs) {
       c.start();
       const daylight::InteractiveSky& light = session->interactiveSky(sky);
       if (r == 0) gl.setSky(light);
-      const glm::dvec3 centre = ball.place.toWorld(fan, fan.centre);
-      const double radius = fan.radius * ball.place.scale;
-      ibr::ObjectLighting l = ibr::daylightAt(*session, sky, centre, radius);
-      ibr::keepDisplayLamps(l, fan, ball.place, size_t(GlDaylightRenderer::imageLamps()));
-      ibr::DrawnTables tables = ibr::drawnTables(fan, ball.place, l, session->camera().center());
-      const daylight::ShadowReach reach = session->shadowReach(light, centre, radius);
+      ibr::DisplayDaylight d = ibr::daylightForDisplay(*session, sky, ball, session->camera().center(),
+                                                       size_t(GlDaylightRenderer::imageLamps()));
+      const daylight::ShadowReach reach =
+          session->shadowReach(light, ball.place.toWorld(fan, fan.centre), fan.radius * ball.place.scale);
       const double libraryMs = double(c.nsecsElapsed()) / 1e6;
-      l.indirectAt = nullptr;
-      l.roomLets = nullptr;
-      gl.setImageObjects({ball}, {l}, {tables});
+      gl.setImageObjects({ball}, {d.light}, {d.tables});
       gl.setObjects({}, {}, reach);
       gl.draw(display, target.handle(), {0, 0, 1280, 960});
       const double movedMs = gl.lastDrawMilliseconds(), mapMs = gl.lastMapMilliseconds();

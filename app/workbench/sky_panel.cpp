@@ -810,16 +810,10 @@ void SkyPanel::startRender() {
         for (const Polygon& o : objects) faces.push_back(o.vertices);
         const std::unique_ptr<RayScene> occluders = faces.empty() ? nullptr : std::make_unique<RayScene>(faces);
         for (const auto& im : images) {
-          const ibr::ImageFan& fan = *im.fan;
-          ibr::ObjectLighting l = ibr::daylightAt(*relit, sky, im.place.toWorld(fan, fan.centre), fan.radius * im.place.scale,
-                                                  occluders.get());
-          ibr::keepDisplayLamps(l, fan, im.place, size_t(GlDaylightRenderer::imageLamps()));
-          frame->imageTables.push_back(ibr::drawnTables(fan, im.place, l, relit->camera().center()));
-          // (What looks up the session or the occluders stays here: the tables hold its light.)
-          l.indirectAt = nullptr;
-          l.roomLets = nullptr;
-          l.occluders = nullptr;
-          frame->imageLights.push_back(std::move(l));
+          ibr::DisplayDaylight d = ibr::daylightForDisplay(*relit, sky, im, relit->camera().center(),
+                                                           size_t(GlDaylightRenderer::imageLamps()), occluders.get());
+          frame->imageLights.push_back(std::move(d.light));
+          frame->imageTables.push_back(std::move(d.tables));
         }
         frame->images = images;
       }

@@ -257,12 +257,8 @@ void DaylightViewTest::compareImageObject(bool acrossTheEdge) {
   const ibr::ImageFan& fan = *ob.fan;
   const glm::dvec3 c = ob.place.toWorld(fan, fan.centre);
   const double r = fan.radius * ob.place.scale;
-  ibr::ObjectLighting l = ibr::daylightAt(relit, sky, c, r);
-  ibr::keepDisplayLamps(l, fan, ob.place, size_t(GlDaylightRenderer::imageLamps()));
-  ibr::DrawnTables tables = ibr::drawnTables(fan, ob.place, l, cam.center());
-  l.indirectAt = nullptr;  // (the renderer must not need the session: the tables hold the light)
-  l.roomLets = nullptr;
-  gl.setImageObjects({ob}, {l}, {tables});
+  ibr::DisplayDaylight d = ibr::daylightForDisplay(relit, sky, ob, cam.center(), size_t(GlDaylightRenderer::imageLamps()));
+  gl.setImageObjects({ob}, {d.light}, {d.tables});
   gl.setObjects({}, relit.objectIndirect(sky, {}), relit.shadowReach(light, c, r));
   const ImageRGB view = gl.renderLinear();
   if (qEnvironmentVariableIsSet("RELUME_DEBUG_DIR")) {

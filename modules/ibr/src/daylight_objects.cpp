@@ -112,6 +112,19 @@ ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight:
   return out;
 }
 
+DisplayDaylight daylightForDisplay(daylight::DaylightRelighting& session, const daylight::SkyRadiance& sky,
+                                   const ImageObject& object, const glm::dvec3& eye, size_t most, const RayScene* occluders) {
+  const ImageFan& fan = *object.fan;
+  DisplayDaylight out;
+  out.light = daylightAt(session, sky, object.place.toWorld(fan, fan.centre), fan.radius * object.place.scale, occluders);
+  keepDisplayLamps(out.light, fan, object.place, most);
+  out.tables = drawnTables(fan, object.place, out.light, eye);
+  out.light.indirectAt = nullptr;
+  out.light.roomLets = nullptr;
+  out.light.occluders = nullptr;
+  return out;
+}
+
 std::vector<DrawStats> drawImageObjectsInDaylight(daylight::DaylightRelighting& session, const daylight::SkyRadiance& sky,
                                                   const std::vector<ImageObject>& objects, ImageRGB& image,
                                                   std::vector<uint8_t>* mask, Progress& progress,

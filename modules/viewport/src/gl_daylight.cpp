@@ -319,11 +319,27 @@ struct GlDaylightRenderer::Impl {
     lastMapMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   }
 
+  // Per map (in layer order: the window samples, then the sun's directions) the fan view of
+  // `object` nearest the map's light, a window sample's point or far along the sun's direction
+  // (as the library's lamps for the object stand: ibr::daylightAt).
+  std::vector<int> mapViews(const ibr::ImageFan& fan, const ibr::Placement& place) const {
+    const glm::dvec3 cw = place.toWorld(fan, fan.centre);
+    std::vector<int> v;
+    for (const auto& w : window) v.push_back(ibr::lampView(fan, place, w.point));
+    if (sun)
+      for (const auto& d : sunDirections) v.push_back(ibr::lampView(fan, place, cw + 2000.0 * d));
+    return v;
+  }
+  std::vector<std::vector<int>> imageMapViews;  // per image-based object (setImageObjects, setSky)
+  void findImageMapViews() {
+    imageMapViews.clear();
+    for (size_t i = 0; i < images.size(); ++i) imageMapViews.push_back(mapViews(images.fan(i), images.place(i)));
+  }
+
   // The image-based objects' silhouettes into channel 2 of maps first .. first + count - 1 (of
   // atlas `a`): per map and object the fan view nearest the map's light (a window sample's point,
   // or far along one of the sun's directions), as the library's shadows read it.
   void drawSilhouettes(int first, int count, const Atlas& a, bool ortho) {
-    const std::vector<MapCamera> cams = mapCameras();
     QOpenGLShaderProgram& p = *imageAtlasProgram;
     p.bind();
     p.setUniformValue("ortho", ortho ? 1 : 0);
@@ -340,9 +356,7 @@ struct GlDaylightRenderer::Impl {
       p.setUniformValue("fanHalf", float(fan.radius * place.scale));
       p.setUniformValue("fanCentre", float(cw.x), float(cw.y), float(cw.z));
       for (int k = 0; k < count; ++k) {
-        const MapCamera& m = cams[size_t(first + k)];
-        const glm::dvec3 light = ortho ? cw - 2000.0 * glm::dvec3(m.direction) : glm::dvec3(m.origin);
-        const int view = ibr::lampView(fan, place, light);
+        const int view = imageMapViews[i][size_t(first + k)];
         const int layer = images.layerFor(i, view);
         const glm::vec3 r(place.toWorldDirection(fan.right(view))), u(place.toWorldDirection(fan.up(view))),
             t(place.toWorldDirection(fan.toCamera(view)));
@@ -691,6 +705,7 @@ void GlDaylightRenderer::setSky(const daylight::InteractiveSky& sky) {
   im.sunIrradiance = sky.sunIrradiance;
   im.sunDirections = sky.sun ? sky.sunDirections : std::vector<glm::dvec3>{};
   im.haveSky = true;
+  im.findImageMapViews();  // (the maps' lights have changed)
   im.mapsStale = true;
 }
 
@@ -770,14 +785,10 @@ void GlDaylightRenderer::setImageObjects(const std::vector<ibr::ImageObject>& ob
   auto& im = *impl_;
   // The fan views the maps read (one per window sample and direction of the sun's disc), kept in
   // the objects' layers beside the drawn and lit ones.
-  std::vector<std::vector<int>> mapViews;
-  for (const auto& o : objects) {
-    std::vector<int>& v = mapViews.emplace_back();
-    const glm::dvec3 cw = o.place.toWorld(*o.fan, o.fan->centre);
-    for (const auto& w : im.window) v.push_back(ibr::lampView(*o.fan, o.place, w.point));
-    for (const auto& d : im.sunDirections) v.push_back(ibr::lampView(*o.fan, o.place, cw + 2000.0 * d));
-  }
-  im.images.set(objects, lights, std::move(tables), mapViews);
+  std::vector<std::vector<int>> views;
+  for (const auto& o : objects) views.push_back(im.mapViews(*o.fan, o.place));
+  im.images.set(objects, lights, std::move(tables), views);
+  im.findImageMapViews();
   im.fitMaps();
   im.mapsStale = true;
 }

@@ -80,6 +80,18 @@ std::vector<DrawStats> drawImageObjects(const radiosity::HierarchicalRadiosity& 
 // window samples and the sun as the room does (ObjectLighting::occluders); not owned.
 ObjectLighting daylightAt(daylight::DaylightRelighting& session, const daylight::SkyRadiance& sky, const glm::dvec3& centre,
                           double radius, const RayScene* occluders = nullptr);
+// An image-based object's daylight for a display that draws it apart from the session (the OpenGL
+// daylight view): daylightAt at its centre, the strongest `most` lamps kept (keepDisplayLamps) and
+// the tables of the views a viewer at `eye` draws it from (drawnTables), made now; the light
+// returned no longer looks up the session or `occluders` (its indirectAt, roomLets and occluders
+// cleared: the tables hold what they gave).
+struct DisplayDaylight {
+  ObjectLighting light;
+  DrawnTables tables;
+};
+DisplayDaylight daylightForDisplay(daylight::DaylightRelighting& session, const daylight::SkyRadiance& sky,
+                                   const ImageObject& object, const glm::dvec3& eye, size_t most,
+                                   const RayScene* occluders = nullptr);
 // Draws image-based objects lit by daylight into `image`, the session's last render() under the
 // same `sky` (through the session's camera): their shadows on the room's pixels, each lamp's
 // share of the irradiance that render showed there (DaylightRelighting::lastIrradiance) taken
