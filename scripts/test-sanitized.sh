@@ -6,13 +6,20 @@
 # each preprocess the sample room, 15-60 s apiece under the sanitizers, and run in the normal
 # build only (scripts/test.sh); so do daylight_tests' slowest tests (listed below). The GUI and
 # end-to-end tests run in the normal build only. Then
-# the fuzzing corpora and regression inputs replay through the harnesses (tests/fuzz).
+# the fuzzing corpora and regression inputs replay through the harnesses (tests/fuzz), built in
+# the same tree from the same sanitized modules. Each phase's wall time is printed at the end.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/phase.sh
 targets=(geometry_tests raytrace_tests project_tests radiosity_tests reconstruct_tests relight_tests
          daylight_tests ibr_tests)
-cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRELUME_SANITIZE=ON ${RELUME_CMAKE_ARGS:-}
-cmake --build build-asan -j "$(nproc)" --target "${targets[@]}"
+source tests/fuzz/harnesses.sh
+for h in "${relume_fuzz_harnesses[@]}"; do targets+=("fuzz_$h"); done
+sanitized_build() {
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRELUME_SANITIZE=ON ${RELUME_CMAKE_ARGS:-}
+  cmake --build build-asan -j "$(nproc)" --target "${targets[@]}"
+}
+phase "sanitized build" sanitized_build
 export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1"
 export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
@@ -41,28 +48,38 @@ slow_daylight+="DaylightBasis.RegionsCombinedMatchTheExactSky*:DaylightRelight.A
 queue=("daylight_tests -$slow_daylight" "ibr_tests *" "relight_tests $quick_relight"
        "radiosity_tests *" "reconstruct_tests *" "project_tests *" "geometry_tests *"
        "raytrace_tests *")
-status=0
-running=0
-for job in "${queue[@]}"; do
-  if [ "$running" -ge 2 ]; then wait -n || status=1; running=$((running - 1)); fi
-  run ${job%% *} "${job#* }" & running=$((running + 1))
-done
-while [ "$running" -gt 0 ]; do wait -n || status=1; running=$((running - 1)); done
+sanitized_run() {
+  local status=0 running=0
+  for job in "${queue[@]}"; do
+    if [ "$running" -ge 2 ]; then wait -n || status=1; running=$((running - 1)); fi
+    run ${job%% *} "${job#* }" & running=$((running + 1))
+  done
+  while [ "$running" -gt 0 ]; do wait -n || status=1; running=$((running - 1)); done
+  return $status
+}
 # The fuzzing corpora and every crash input found (tests/fuzz/regressions), replayed through the
 # parsers' harnesses under the same sanitizers (g++; libFuzzer's engine is not needed to replay).
-cmake -S tests/fuzz -B build-asan/fuzz-replay -G Ninja -DRELUME_FUZZ_REPLAY=ON > /dev/null
-cmake --build build-asan/fuzz-replay -j "$(nproc)"
-for h in tests/fuzz/*.cpp; do
-  name=$(basename "$h" .cpp)
-  [ "$name" = replay_main ] && continue
-  inputs=(tests/fuzz/corpus/"$name")
-  [ -d tests/fuzz/regressions/"$name" ] && inputs+=(tests/fuzz/regressions/"$name")
-  if out=$(build-asan/fuzz-replay/fuzz_"$name" "${inputs[@]}" 2>&1); then
-    echo "sanitized fuzz replay $name: $out"
-  else
-    echo "sanitized fuzz replay $name: FAILED"
-    echo "$out" | tail -40
-    status=1
-  fi
-done
+fuzz_replay() {
+  local status=0
+  for h in tests/fuzz/*.cpp; do  # a harness left out of the list would never be replayed
+    name=$(basename "$h" .cpp)
+    [ "$name" = replay_main ] || [[ " ${relume_fuzz_harnesses[*]} " == *" $name "* ]] ||
+      { echo "sanitized fuzz replay: $h is not in tests/fuzz/harnesses.cmake"; status=1; }
+  done
+  for name in "${relume_fuzz_harnesses[@]}"; do
+    inputs=(tests/fuzz/corpus/"$name")
+    [ -d tests/fuzz/regressions/"$name" ] && inputs+=(tests/fuzz/regressions/"$name")
+    if out=$(build-asan/tests/fuzz_"$name" "${inputs[@]}" 2>&1); then
+      echo "sanitized fuzz replay $name: $out"
+    else
+      echo "sanitized fuzz replay $name: FAILED"
+      echo "$out" | tail -40
+      status=1
+    fi
+  done
+  return $status
+}
+status=0
+phase "sanitized unit tests" sanitized_run || status=1
+phase "sanitized fuzz replays" fuzz_replay || status=1
 exit $status

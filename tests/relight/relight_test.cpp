@@ -5,6 +5,7 @@
 #include <QTemporaryDir>
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <map>
@@ -34,13 +35,23 @@ struct SampleRoom {
 
 // Preprocessed once for the whole suite (a few seconds), from what a photographer has: photos,
 // cameras, geometry and which polygons are lamps — the albedos and lamp strengths are wiped.
+// Under ctest, where each test is a process of its own, the room comes preprocessed from the
+// fixture sample_room_project (`relume preprocess` of the same bundle, which reads neither the
+// albedos nor the lamp strengths; RELUME_TEST_PROJECT names it) and is read back as a user's
+// project is; run by hand or under the sanitizers, the binary preprocesses it itself, once.
 const SampleRoom& room() {
   static std::unique_ptr<SampleRoom> r = [] {
     auto s = std::make_unique<SampleRoom>();
-    s->scene = readBundle(kRoom);
-    for (auto& p : s->scene.polygons) p.albedo = glm::dvec3(0.5);
-    for (auto& l : s->scene.lamps) l.radiance = glm::dvec3(0.0);
-    s->data = preprocessRoom(s->scene, RelightOptions{});
+    const char* fixture = std::getenv("RELUME_TEST_PROJECT");
+    if (fixture && *fixture) {
+      s->scene = readProject(fixture);
+      s->data = readRelightData(s->scene);
+    } else {
+      s->scene = readBundle(kRoom);
+      for (auto& p : s->scene.polygons) p.albedo = glm::dvec3(0.5);
+      for (auto& l : s->scene.lamps) l.radiance = glm::dvec3(0.0);
+      s->data = preprocessRoom(s->scene, RelightOptions{});
+    }
     s->photo = readImageLinear(kRoom + "/photos/main.exr");
     s->unoccludedTruth = readImageLinear(kRoom + "/truth/unoccluded.exr");
     s->aOffTruth = readImageLinear(kRoom + "/truth/A_off.exr");
