@@ -1,12 +1,13 @@
 # Sourced by the test scripts: `phase NAME COMMAND...` runs a command and records its wall time,
 # printed when the script ends (and appended to $RELUME_PHASE_LOG where .ci/run set it).
 relume_phases=()
-phase() {
-  local name=$1 t=$SECONDS rc=0
+phase() {  # (its locals are named apart: bash's functions see their callers' locals)
+  local phase_name_=$1 phase_start_=$SECONDS phase_rc_=0
   shift
-  "$@" || rc=$?
-  relume_phases+=("$(printf '  %-26s %6d s%s' "$name" $((SECONDS - t)) "$([ $rc -eq 0 ] || echo " (failed, exit $rc)")")")
-  return $rc
+  "$@" || phase_rc_=$?
+  relume_phases+=("$(printf '  %-26s %6d s%s' "$phase_name_" $((SECONDS - phase_start_)) \
+                    "$([ $phase_rc_ -eq 0 ] || echo " (failed, exit $phase_rc_)")")")
+  return $phase_rc_
 }
 relume_phase_report() {
   [ ${#relume_phases[@]} -gt 0 ] || return 0

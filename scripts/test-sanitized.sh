@@ -60,7 +60,7 @@ sanitized_run() {
 # The fuzzing corpora and every crash input found (tests/fuzz/regressions), replayed through the
 # parsers' harnesses under the same sanitizers (g++; libFuzzer's engine is not needed to replay).
 fuzz_replay() {
-  local status=0
+  local status=0 h name out inputs
   for h in tests/fuzz/*.cpp; do  # a harness left out of the list would never be replayed
     name=$(basename "$h" .cpp)
     [ "$name" = replay_main ] || [[ " ${relume_fuzz_harnesses[*]} " == *" $name "* ]] ||

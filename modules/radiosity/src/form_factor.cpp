@@ -10,28 +10,70 @@
 
 namespace relume::radiosity {
 
-double pointToPolygonFormFactor(const glm::dvec3& p, const glm::dvec3& n,
-                                const std::vector<glm::dvec3>& poly) {
-  if (poly.size() < 3) return 0.0;
+namespace {
+
+// The polygons below are read through (pointer, count): the pieces an opening is cut into live in
+// one scratch buffer per thread (no allocation per piece: the distant-light factors run per link
+// and per pixel, and cut each opening into tens of pieces). Same arithmetic as the std::vector
+// helpers of relume/geometry/polygon.h.
+glm::dvec3 areaVectorOf(const glm::dvec3* v, size_t k) {
+  glm::dvec3 a(0.0);
+  for (size_t i = 0; i < k; ++i) a += glm::cross(v[i], v[(i + 1) % k]);
+  return 0.5 * a;
+}
+
+glm::dvec3 centroidOf(const glm::dvec3* v, size_t k) {
+  glm::dvec3 c(0.0);
+  double total = 0;
+  for (size_t i = 1; i + 1 < k; ++i) {
+    const double a = glm::length(glm::cross(v[i] - v[0], v[i + 1] - v[0]));
+    c += a * (v[0] + v[i] + v[i + 1]) / 3.0;
+    total += a;
+  }
+  if (total <= 0) {
+    for (size_t i = 0; i < k; ++i) c += v[i];
+    return k == 0 ? c : c / double(k);
+  }
+  return c / total;
+}
+
+// The part of (v, k) in the half-space dot(n, x - p) >= 0, written to out (room for k + 1
+// points); returns its count.
+size_t clipInto(const glm::dvec3* v, size_t k, const glm::dvec3& p, const glm::dvec3& n, glm::dvec3* out) {
+  size_t m = 0;
+  for (size_t i = 0; i < k; ++i) {
+    const auto& a = v[i];
+    const auto& b = v[(i + 1) % k];
+    const double da = glm::dot(n, a - p), db = glm::dot(n, b - p);
+    if (da >= 0) out[m++] = a;
+    if ((da >= 0) != (db >= 0)) out[m++] = a + (da / (da - db)) * (b - a);
+  }
+  return m;
+}
+
+double formFactorOf(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3* poly, size_t count) {
+  if (count < 3) return 0.0;
   // A polygon whose front does not face p sends nothing towards it.
-  const glm::dvec3 an = areaVector(poly);
+  const glm::dvec3 an = areaVectorOf(poly, count);
   if (glm::dot(an, p - poly[0]) <= 0.0) return 0.0;
   // Keep the part above p's tangent plane (a tiny lift avoids the singular contour). Usually the
   // whole polygon lies above it: then it is used as it is (no copy; this runs per pixel and per
   // link).
   const glm::dvec3 lifted = p + n * 1e-12;
   bool whole = true;
-  for (const auto& v : poly) whole = whole && glm::dot(n, v - lifted) >= 0;
+  for (size_t i = 0; i < count; ++i) whole = whole && glm::dot(n, poly[i] - lifted) >= 0;
   std::vector<glm::dvec3> clippedStore;
+  const glm::dvec3* clipped = poly;
+  size_t k = count;
   if (!whole) {
-    clippedStore = clipToHalfSpace(poly, lifted, n);
-    if (clippedStore.size() < 3) return 0.0;
+    clippedStore.resize(count + 1);
+    k = clipInto(poly, count, lifted, n, clippedStore.data());
+    if (k < 3) return 0.0;
+    clipped = clippedStore.data();
   }
-  const std::vector<glm::dvec3>& clipped = whole ? poly : clippedStore;
   // Lambert's contour integral: F = 1/(2 pi) sum_i gamma_i * n . (R_i x R_{i+1}) / |R_i x R_{i+1}|,
   // gamma_i the angle between R_i and R_{i+1}: atan2(|R_i x R_{i+1}|, R_i . R_{i+1}).
   double sum = 0.0;
-  const size_t k = clipped.size();
   for (size_t i = 0; i < k; ++i) {
     const glm::dvec3 r0 = clipped[i] - p;
     const glm::dvec3 r1 = clipped[(i + 1) % k] - p;
@@ -45,19 +87,31 @@ double pointToPolygonFormFactor(const glm::dvec3& p, const glm::dvec3& n,
   return std::abs(sum) / (2.0 * std::numbers::pi);
 }
 
+}  // namespace
+
+double pointToPolygonFormFactor(const glm::dvec3& p, const glm::dvec3& n,
+                                const std::vector<glm::dvec3>& poly) {
+  return formFactorOf(p, n, poly.data(), poly.size());
+}
+
 namespace {
 
-// Cuts the convex polygon `poly` into pieces that p sees no wider than `maxAngle` (radians) and
-// sums visit(piece, centroid direction) over them; pieces whose cone `light.mayShine` rules out
-// are skipped whole.
+constexpr int kMaxPieceDepth = 14;
+
+// Cuts the convex polygon (poly, count) into pieces that p sees no wider than `maxAngle` (radians)
+// and sums visit(piece, piece count, centroid direction) over them; pieces whose cone
+// `light.mayShine` rules out are skipped whole. A piece at depth d lives in scratch's level d
+// (`room` points each): each cut adds at most one point, and the two halves of a piece are made
+// and summed one after the other, so one level per depth suffices (nothing it calls runs TBB work,
+// so no other call of it can interleave on the thread).
 template <class Visit>
-double overPieces(const glm::dvec3& p, const std::vector<glm::dvec3>& poly, const DistantLight& light,
-                  double maxAngle, int depth, Visit&& visit) {
-  if (poly.size() < 3) return 0.0;
-  const glm::dvec3 c = polygonCentroid(poly);
+double overPieces(const glm::dvec3& p, const glm::dvec3* poly, size_t count, const DistantLight& light,
+                  double maxAngle, int depth, glm::dvec3* scratch, size_t room, Visit&& visit) {
+  if (count < 3) return 0.0;
+  const glm::dvec3 c = centroidOf(poly, count);
   double radius = 0;
   size_t far = 0;
-  for (size_t i = 0; i < poly.size(); ++i) {
+  for (size_t i = 0; i < count; ++i) {
     const double r = glm::length(poly[i] - c);
     if (r > radius) {
       radius = r;
@@ -71,11 +125,12 @@ double overPieces(const glm::dvec3& p, const std::vector<glm::dvec3>& poly, cons
     const double half = radius >= dist ? std::numbers::pi : std::asin(radius / dist);
     if (!light.mayShine(axis, half)) return 0.0;
   }
-  if (2.0 * radius <= maxAngle * dist || depth >= 14) return visit(poly, axis);
+  if (2.0 * radius <= maxAngle * dist || depth >= kMaxPieceDepth) return visit(poly, count, axis);
   // Halve across the longest extent (through the centroid).
   const glm::dvec3 cut = glm::normalize(poly[far] - c);
-  return overPieces(p, clipToHalfSpace(poly, c, cut), light, maxAngle, depth + 1, visit) +
-         overPieces(p, clipToHalfSpace(poly, c, -cut), light, maxAngle, depth + 1, visit);
+  glm::dvec3* half = scratch + size_t(depth) * room;
+  const double a = overPieces(p, half, clipInto(poly, count, c, cut, half), light, maxAngle, depth + 1, scratch, room, visit);
+  return a + overPieces(p, half, clipInto(poly, count, c, -cut, half), light, maxAngle, depth + 1, scratch, room, visit);
 }
 
 // Beams through the opening towards p: sum of irradiance x cosine(n) / pi (n null: cosine 1).
@@ -100,10 +155,14 @@ double distantFactor(const glm::dvec3& p, const glm::dvec3* n, const std::vector
   double f = withBeams ? beamsThrough(p, n, poly, nPoly, light) : 0.0;
   if (light.radiance) {
     const double maxAngle = std::max(1e-3, light.pieceDeg * std::numbers::pi / 180.0);
-    f += overPieces(p, poly, light, maxAngle, 0, [&](const std::vector<glm::dvec3>& piece, const glm::dvec3& d) {
-      const double l = light.radiance(d);
-      return l > 0 ? l * pointToPolygonFormFactor(p, n ? *n : d, piece) : 0.0;
-    });
+    thread_local std::vector<glm::dvec3> scratch;
+    const size_t room = poly.size() + kMaxPieceDepth + 1;
+    if (scratch.size() < room * kMaxPieceDepth) scratch.resize(room * kMaxPieceDepth);
+    f += overPieces(p, poly.data(), poly.size(), light, maxAngle, 0, scratch.data(), room,
+                    [&](const glm::dvec3* piece, size_t k, const glm::dvec3& d) {
+                      const double l = light.radiance(d);
+                      return l > 0 ? l * formFactorOf(p, n ? *n : d, piece, k) : 0.0;
+                    });
   }
   return f;
 }
