@@ -16,8 +16,8 @@ targets=(geometry_tests raytrace_tests project_tests radiosity_tests reconstruct
 source tests/fuzz/harnesses.sh
 for h in "${relume_fuzz_harnesses[@]}"; do targets+=("fuzz_$h"); done
 sanitized_build() {
-  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRELUME_SANITIZE=ON ${RELUME_CMAKE_ARGS:-}
-  cmake --build build-asan -j "$(nproc)" --target "${targets[@]}"
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRELUME_SANITIZE=ON ${RELUME_CMAKE_ARGS:-} &&
+    cmake --build build-asan -j "$(nproc)" --target "${targets[@]}"
 }
 phase "sanitized build" sanitized_build
 export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1"

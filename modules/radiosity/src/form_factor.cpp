@@ -13,9 +13,9 @@ namespace relume::radiosity {
 namespace {
 
 // The polygons below are read through (pointer, count): the pieces an opening is cut into live in
-// one scratch buffer per thread (no allocation per piece: the distant-light factors run per link
-// and per pixel, and cut each opening into tens of pieces). Same arithmetic as the std::vector
-// helpers of relume/geometry/polygon.h.
+// buffers kept per thread (no allocation per piece: the distant-light factors run per link and per
+// pixel, and cut each opening into tens of pieces). Same arithmetic as the std::vector helpers of
+// relume/geometry/polygon.h.
 glm::dvec3 areaVectorOf(const glm::dvec3* v, size_t k) {
   glm::dvec3 a(0.0);
   for (size_t i = 0; i < k; ++i) a += glm::cross(v[i], v[(i + 1) % k]);
@@ -37,18 +37,17 @@ glm::dvec3 centroidOf(const glm::dvec3* v, size_t k) {
   return c / total;
 }
 
-// The part of (v, k) in the half-space dot(n, x - p) >= 0, written to out (room for k + 1
-// points); returns its count.
-size_t clipInto(const glm::dvec3* v, size_t k, const glm::dvec3& p, const glm::dvec3& n, glm::dvec3* out) {
-  size_t m = 0;
+// The part of (v, k) in the half-space dot(n, x - p) >= 0, written to out (cleared first; its
+// capacity is kept, so a buffer used again allocates nothing).
+void clipInto(const glm::dvec3* v, size_t k, const glm::dvec3& p, const glm::dvec3& n, std::vector<glm::dvec3>& out) {
+  out.clear();
   for (size_t i = 0; i < k; ++i) {
     const auto& a = v[i];
     const auto& b = v[(i + 1) % k];
     const double da = glm::dot(n, a - p), db = glm::dot(n, b - p);
-    if (da >= 0) out[m++] = a;
-    if ((da >= 0) != (db >= 0)) out[m++] = a + (da / (da - db)) * (b - a);
+    if (da >= 0) out.push_back(a);
+    if ((da >= 0) != (db >= 0)) out.push_back(a + (da / (da - db)) * (b - a));
   }
-  return m;
 }
 
 double formFactorOf(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3* poly, size_t count) {
@@ -66,8 +65,8 @@ double formFactorOf(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3* 
   const glm::dvec3* clipped = poly;
   size_t k = count;
   if (!whole) {
-    clippedStore.resize(count + 1);
-    k = clipInto(poly, count, lifted, n, clippedStore.data());
+    clipInto(poly, count, lifted, n, clippedStore);
+    k = clippedStore.size();
     if (k < 3) return 0.0;
     clipped = clippedStore.data();
   }
@@ -100,13 +99,14 @@ constexpr int kMaxPieceDepth = 14;
 
 // Cuts the convex polygon (poly, count) into pieces that p sees no wider than `maxAngle` (radians)
 // and sums visit(piece, piece count, centroid direction) over them; pieces whose cone
-// `light.mayShine` rules out are skipped whole. A piece at depth d lives in scratch's level d
-// (`room` points each): each cut adds at most one point, and the two halves of a piece are made
-// and summed one after the other, so one level per depth suffices (nothing it calls runs TBB work,
-// so no other call of it can interleave on the thread).
+// `light.mayShine` rules out are skipped whole. The two halves of a piece of depth d are made in
+// levels[d] (a piece of depth d + 1 lives there), one after the other: each is summed whole before
+// the next is cut, and the piece they are cut from stays in levels[d - 1]. The levels are reused
+// from call to call, so no piece allocates (nothing this calls runs TBB work, so no other call
+// can interleave on the thread).
 template <class Visit>
 double overPieces(const glm::dvec3& p, const glm::dvec3* poly, size_t count, const DistantLight& light,
-                  double maxAngle, int depth, glm::dvec3* scratch, size_t room, Visit&& visit) {
+                  double maxAngle, int depth, std::vector<std::vector<glm::dvec3>>& levels, Visit&& visit) {
   if (count < 3) return 0.0;
   const glm::dvec3 c = centroidOf(poly, count);
   double radius = 0;
@@ -128,9 +128,11 @@ double overPieces(const glm::dvec3& p, const glm::dvec3* poly, size_t count, con
   if (2.0 * radius <= maxAngle * dist || depth >= kMaxPieceDepth) return visit(poly, count, axis);
   // Halve across the longest extent (through the centroid).
   const glm::dvec3 cut = glm::normalize(poly[far] - c);
-  glm::dvec3* half = scratch + size_t(depth) * room;
-  const double a = overPieces(p, half, clipInto(poly, count, c, cut, half), light, maxAngle, depth + 1, scratch, room, visit);
-  return a + overPieces(p, half, clipInto(poly, count, c, -cut, half), light, maxAngle, depth + 1, scratch, room, visit);
+  std::vector<glm::dvec3>& half = levels[size_t(depth)];
+  clipInto(poly, count, c, cut, half);
+  const double a = overPieces(p, half.data(), half.size(), light, maxAngle, depth + 1, levels, visit);
+  clipInto(poly, count, c, -cut, half);
+  return a + overPieces(p, half.data(), half.size(), light, maxAngle, depth + 1, levels, visit);
 }
 
 // Beams through the opening towards p: sum of irradiance x cosine(n) / pi (n null: cosine 1).
@@ -155,10 +157,8 @@ double distantFactor(const glm::dvec3& p, const glm::dvec3* n, const std::vector
   double f = withBeams ? beamsThrough(p, n, poly, nPoly, light) : 0.0;
   if (light.radiance) {
     const double maxAngle = std::max(1e-3, light.pieceDeg * std::numbers::pi / 180.0);
-    thread_local std::vector<glm::dvec3> scratch;
-    const size_t room = poly.size() + kMaxPieceDepth + 1;
-    if (scratch.size() < room * kMaxPieceDepth) scratch.resize(room * kMaxPieceDepth);
-    f += overPieces(p, poly.data(), poly.size(), light, maxAngle, 0, scratch.data(), room,
+    thread_local std::vector<std::vector<glm::dvec3>> levels(kMaxPieceDepth);
+    f += overPieces(p, poly.data(), poly.size(), light, maxAngle, 0, levels,
                     [&](const glm::dvec3* piece, size_t k, const glm::dvec3& d) {
                       const double l = light.radiance(d);
                       return l > 0 ? l * formFactorOf(p, n ? *n : d, piece, k) : 0.0;
