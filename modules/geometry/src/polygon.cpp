@@ -4,7 +4,7 @@
 
 namespace relume {
 
-glm::dvec3 areaVector(const std::vector<glm::dvec3>& v) {
+glm::dvec3 areaVector(std::span<const glm::dvec3> v) {
   glm::dvec3 n(0.0);
   const size_t k = v.size();
   for (size_t i = 0; i < k; ++i) n += glm::cross(v[i], v[(i + 1) % k]);
@@ -19,7 +19,7 @@ glm::dvec3 polygonNormal(const std::vector<glm::dvec3>& v) {
   return l > 0 ? a / l : glm::dvec3(0, 0, 1);
 }
 
-glm::dvec3 polygonCentroid(const std::vector<glm::dvec3>& v) {
+glm::dvec3 polygonCentroid(std::span<const glm::dvec3> v) {
   // Area-weighted centroid of the triangle fan (exact for planar polygons).
   glm::dvec3 c(0.0);
   double total = 0;
@@ -120,10 +120,9 @@ std::vector<glm::dvec2> clipToRect(const std::vector<glm::dvec2>& poly, glm::dve
   return p;
 }
 
-std::vector<glm::dvec3> clipToHalfSpace(const std::vector<glm::dvec3>& poly, const glm::dvec3& p,
-                                        const glm::dvec3& n) {
-  std::vector<glm::dvec3> out;
-  out.reserve(poly.size() + 1);
+void clipToHalfSpace(std::span<const glm::dvec3> poly, const glm::dvec3& p, const glm::dvec3& n,
+                     std::vector<glm::dvec3>& out) {
+  out.clear();
   for (size_t i = 0, k = poly.size(); i < k; ++i) {
     const auto& a = poly[i];
     const auto& b = poly[(i + 1) % k];
@@ -131,6 +130,12 @@ std::vector<glm::dvec3> clipToHalfSpace(const std::vector<glm::dvec3>& poly, con
     if (da >= 0) out.push_back(a);
     if ((da >= 0) != (db >= 0)) out.push_back(a + (da / (da - db)) * (b - a));
   }
+}
+
+std::vector<glm::dvec3> clipToHalfSpace(std::span<const glm::dvec3> poly, const glm::dvec3& p, const glm::dvec3& n) {
+  std::vector<glm::dvec3> out;
+  out.reserve(poly.size() + 1);
+  clipToHalfSpace(poly, p, n, out);
   return out;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <numbers>
+#include <span>
 #include <stdexcept>
 
 #include "relume/geometry/polygon.h"
@@ -12,48 +13,14 @@ namespace relume::radiosity {
 
 namespace {
 
-// The polygons below are read through (pointer, count): the pieces an opening is cut into live in
-// buffers kept per thread (no allocation per piece: the distant-light factors run per link and per
-// pixel, and cut each opening into tens of pieces). Same arithmetic as the std::vector helpers of
-// relume/geometry/polygon.h.
-glm::dvec3 areaVectorOf(const glm::dvec3* v, size_t k) {
-  glm::dvec3 a(0.0);
-  for (size_t i = 0; i < k; ++i) a += glm::cross(v[i], v[(i + 1) % k]);
-  return 0.5 * a;
-}
-
-glm::dvec3 centroidOf(const glm::dvec3* v, size_t k) {
-  glm::dvec3 c(0.0);
-  double total = 0;
-  for (size_t i = 1; i + 1 < k; ++i) {
-    const double a = glm::length(glm::cross(v[i] - v[0], v[i + 1] - v[0]));
-    c += a * (v[0] + v[i] + v[i + 1]) / 3.0;
-    total += a;
-  }
-  if (total <= 0) {
-    for (size_t i = 0; i < k; ++i) c += v[i];
-    return k == 0 ? c : c / double(k);
-  }
-  return c / total;
-}
-
-// The part of (v, k) in the half-space dot(n, x - p) >= 0, written to out (cleared first; its
-// capacity is kept, so a buffer used again allocates nothing).
-void clipInto(const glm::dvec3* v, size_t k, const glm::dvec3& p, const glm::dvec3& n, std::vector<glm::dvec3>& out) {
-  out.clear();
-  for (size_t i = 0; i < k; ++i) {
-    const auto& a = v[i];
-    const auto& b = v[(i + 1) % k];
-    const double da = glm::dot(n, a - p), db = glm::dot(n, b - p);
-    if (da >= 0) out.push_back(a);
-    if ((da >= 0) != (db >= 0)) out.push_back(a + (da / (da - db)) * (b - a));
-  }
-}
-
-double formFactorOf(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3* poly, size_t count) {
+// The polygons below are spans: the pieces an opening is cut into live in buffers kept per thread
+// (no allocation per piece: the distant-light factors run per link and per pixel, and cut each
+// opening into tens of pieces).
+double formFactorOf(const glm::dvec3& p, const glm::dvec3& n, std::span<const glm::dvec3> poly) {
+  const size_t count = poly.size();
   if (count < 3) return 0.0;
   // A polygon whose front does not face p sends nothing towards it.
-  const glm::dvec3 an = areaVectorOf(poly, count);
+  const glm::dvec3 an = areaVector(poly);
   if (glm::dot(an, p - poly[0]) <= 0.0) return 0.0;
   // Keep the part above p's tangent plane (a tiny lift avoids the singular contour). Usually the
   // whole polygon lies above it: then it is used as it is (no copy; this runs per pixel and per
@@ -62,10 +29,10 @@ double formFactorOf(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3* 
   bool whole = true;
   for (size_t i = 0; i < count; ++i) whole = whole && glm::dot(n, poly[i] - lifted) >= 0;
   std::vector<glm::dvec3> clippedStore;
-  const glm::dvec3* clipped = poly;
+  const glm::dvec3* clipped = poly.data();
   size_t k = count;
   if (!whole) {
-    clipInto(poly, count, lifted, n, clippedStore);
+    clipToHalfSpace(poly, lifted, n, clippedStore);
     k = clippedStore.size();
     if (k < 3) return 0.0;
     clipped = clippedStore.data();
@@ -90,25 +57,26 @@ double formFactorOf(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3* 
 
 double pointToPolygonFormFactor(const glm::dvec3& p, const glm::dvec3& n,
                                 const std::vector<glm::dvec3>& poly) {
-  return formFactorOf(p, n, poly.data(), poly.size());
+  return formFactorOf(p, n, poly);
 }
 
 namespace {
 
 constexpr int kMaxPieceDepth = 14;
 
-// Cuts the convex polygon (poly, count) into pieces that p sees no wider than `maxAngle` (radians)
-// and sums visit(piece, piece count, centroid direction) over them; pieces whose cone
+// Cuts the convex polygon `poly` into pieces that p sees no wider than `maxAngle` (radians)
+// and sums visit(piece, centroid direction) over them; pieces whose cone
 // `light.mayShine` rules out are skipped whole. The two halves of a piece of depth d are made in
 // levels[d] (a piece of depth d + 1 lives there), one after the other: each is summed whole before
 // the next is cut, and the piece they are cut from stays in levels[d - 1]. The levels are reused
 // from call to call, so no piece allocates (nothing this calls runs TBB work, so no other call
 // can interleave on the thread).
 template <class Visit>
-double overPieces(const glm::dvec3& p, const glm::dvec3* poly, size_t count, const DistantLight& light,
+double overPieces(const glm::dvec3& p, std::span<const glm::dvec3> poly, const DistantLight& light,
                   double maxAngle, int depth, std::vector<std::vector<glm::dvec3>>& levels, Visit&& visit) {
+  const size_t count = poly.size();
   if (count < 3) return 0.0;
-  const glm::dvec3 c = centroidOf(poly, count);
+  const glm::dvec3 c = polygonCentroid(poly);
   double radius = 0;
   size_t far = 0;
   for (size_t i = 0; i < count; ++i) {
@@ -125,14 +93,14 @@ double overPieces(const glm::dvec3& p, const glm::dvec3* poly, size_t count, con
     const double half = radius >= dist ? std::numbers::pi : std::asin(radius / dist);
     if (!light.mayShine(axis, half)) return 0.0;
   }
-  if (2.0 * radius <= maxAngle * dist || depth >= kMaxPieceDepth) return visit(poly, count, axis);
+  if (2.0 * radius <= maxAngle * dist || depth >= kMaxPieceDepth) return visit(poly, axis);
   // Halve across the longest extent (through the centroid).
   const glm::dvec3 cut = glm::normalize(poly[far] - c);
   std::vector<glm::dvec3>& half = levels[size_t(depth)];
-  clipInto(poly, count, c, cut, half);
-  const double a = overPieces(p, half.data(), half.size(), light, maxAngle, depth + 1, levels, visit);
-  clipInto(poly, count, c, -cut, half);
-  return a + overPieces(p, half.data(), half.size(), light, maxAngle, depth + 1, levels, visit);
+  clipToHalfSpace(poly, c, cut, half);
+  const double a = overPieces(p, half, light, maxAngle, depth + 1, levels, visit);
+  clipToHalfSpace(poly, c, -cut, half);
+  return a + overPieces(p, half, light, maxAngle, depth + 1, levels, visit);
 }
 
 // Beams through the opening towards p: sum of irradiance x cosine(n) / pi (n null: cosine 1).
@@ -158,10 +126,9 @@ double distantFactor(const glm::dvec3& p, const glm::dvec3* n, const std::vector
   if (light.radiance) {
     const double maxAngle = std::max(1e-3, light.pieceDeg * std::numbers::pi / 180.0);
     thread_local std::vector<std::vector<glm::dvec3>> levels(kMaxPieceDepth);
-    f += overPieces(p, poly.data(), poly.size(), light, maxAngle, 0, levels,
-                    [&](const glm::dvec3* piece, size_t k, const glm::dvec3& d) {
+    f += overPieces(p, poly, light, maxAngle, 0, levels, [&](std::span<const glm::dvec3> piece, const glm::dvec3& d) {
                       const double l = light.radiance(d);
-                      return l > 0 ? l * formFactorOf(p, n ? *n : d, piece, k) : 0.0;
+                      return l > 0 ? l * formFactorOf(p, n ? *n : d, piece) : 0.0;
                     });
   }
   return f;

@@ -2,6 +2,7 @@
 // Planar convex polygons and their local (u,v) frame.
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -19,10 +20,10 @@ struct Polygon {
 };
 
 // Newell normal times the area: |areaVector| = area, direction = normal.
-glm::dvec3 areaVector(const std::vector<glm::dvec3>& verts);
+glm::dvec3 areaVector(std::span<const glm::dvec3> verts);
 double polygonArea(const std::vector<glm::dvec3>& verts);
 glm::dvec3 polygonNormal(const std::vector<glm::dvec3>& verts);
-glm::dvec3 polygonCentroid(const std::vector<glm::dvec3>& verts);
+glm::dvec3 polygonCentroid(std::span<const glm::dvec3> verts);
 
 // An orthonormal frame in the polygon's plane: origin at vertex 0, u along the first edge,
 // v = normal x u. Points map to (u,v) and back.
@@ -39,9 +40,11 @@ double polygonArea2D(const std::vector<glm::dvec2>& pts);
 glm::dvec2 polygonCentroid2D(const std::vector<glm::dvec2>& pts);
 // Clips a convex polygon to the axis-aligned rectangle [lo, hi] (Sutherland-Hodgman).
 std::vector<glm::dvec2> clipToRect(const std::vector<glm::dvec2>& poly, glm::dvec2 lo, glm::dvec2 hi);
-// Clips a 3-D polygon to the half-space dot(n, x - p) >= 0.
-std::vector<glm::dvec3> clipToHalfSpace(const std::vector<glm::dvec3>& poly, const glm::dvec3& p,
-                                        const glm::dvec3& n);
+// Clips a 3-D polygon to the half-space dot(n, x - p) >= 0; the second form writes into `out`
+// (cleared first, its capacity kept: a buffer used again allocates nothing).
+std::vector<glm::dvec3> clipToHalfSpace(std::span<const glm::dvec3> poly, const glm::dvec3& p, const glm::dvec3& n);
+void clipToHalfSpace(std::span<const glm::dvec3> poly, const glm::dvec3& p, const glm::dvec3& n,
+                     std::vector<glm::dvec3>& out);
 bool insideConvex2D(const std::vector<glm::dvec2>& poly, glm::dvec2 p, double eps = 0.0);
 
 }  // namespace relume
