@@ -14,6 +14,12 @@ Progress::Progress(Progress& parent, double lo, double hi)
     : callback_([&parent, lo, hi](double f, const std::string& text) { parent.report(lo + f * (hi - lo), text); }),
       parent_(&parent) {}
 
+bool Progress::cancelled() const {
+  for (const Progress* p = this; p; p = p->parent_)
+    if (p->cancelled_.load()) return true;
+  return false;
+}
+
 void Progress::poll() const {
   if (cancelled_.load()) throw Cancelled();
   if (parent_) parent_->poll();

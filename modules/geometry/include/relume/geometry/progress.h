@@ -21,7 +21,9 @@ class Progress {
   // nearly out of memory (relume/geometry/memory.h).
   void poll() const;
   void cancel() { cancelled_.store(true); }
-  bool cancelled() const { return cancelled_.load(); }
+  // True once this stage or any stage it belongs to was cancelled (a job's Cancel reaches the
+  // sub-stage that is waiting on a child process).
+  bool cancelled() const;
   // A flag that a signal handler may set (lock-free, async-signal-safe to store to).
   std::atomic<bool>* cancelFlag() { return &cancelled_; }
 
