@@ -205,6 +205,78 @@ TEST(DaylightBasis, ConeTestNeverRulesOutADirectionInsideTheCell) {
   }
 }
 
+TEST(DaylightBasis, ACellHoldsEveryDirectionOfAConeItIsSaidToHold) {
+  // Cones around random axes, their directions on the rim and inside: where coneInsideCell says
+  // the cone lies in the axis's region, regionOf puts every one of them there. 64 regions and 7
+  // (whose top cell is a whole cap around the zenith).
+  for (const int n : {64, 7}) {
+    const SkyRegions regions(n);
+    uint64_t s = 777 + uint64_t(n);
+    auto uni = [&] {
+      s = s * 6364136223846793005ull + 1442695040888963407ull;
+      return double(s >> 11) / 9007199254740992.0;
+    };
+    int inside = 0;
+    for (int i = 0; i < 20000; ++i) {
+      const double z = uni(), a = uni() * 2 * kPi, r = std::sqrt(1 - z * z);
+      const glm::dvec3 axis(r * std::cos(a), r * std::sin(a), z);
+      const double half = uni() * 0.4;
+      const int k = regions.regionOf(axis);
+      if (k < 0 || !coneInsideCell(axis, half, regions.cell(k))) continue;
+      ++inside;
+      const glm::dvec3 t0 = glm::normalize(glm::cross(axis, std::abs(axis.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
+      const glm::dvec3 t1 = glm::cross(axis, t0);
+      for (int j = 0; j < 64; ++j) {
+        const double phi = 2 * kPi * j / 64, ang = j % 2 ? half : uni() * half;
+        const glm::dvec3 d = std::cos(ang) * axis + std::sin(ang) * (std::cos(phi) * t0 + std::sin(phi) * t1);
+        ASSERT_EQ(regions.regionOf(d), k) << n << " regions, axis " << axis.x << " " << axis.y << " " << axis.z
+                                          << ", half-angle " << half;
+      }
+    }
+    // Not vacuous: a good share of the narrow cones fit in their cells.
+    EXPECT_GT(inside, 2000) << n << " regions";
+  }
+  // The cones that cannot fit: wider than a hemisphere's edge, or reaching below the horizon.
+  const SkyRegions one(1);
+  EXPECT_TRUE(coneInsideCell({0, 0, 1}, 1.5, one.cell(0)));
+  EXPECT_FALSE(coneInsideCell({0, 0, 1}, kPi / 2, one.cell(0)));
+  EXPECT_FALSE(coneInsideCell({1, 0, 0.05}, 0.1, one.cell(0)));
+}
+
+TEST(DaylightBasis, AWindowPieceLitAlikeIsSummedWholeAndGivesTheFactorItsPartsGive) {
+  // A sky region's light with and without `uniform`: cut to 1.5-degree pieces everywhere, or whole
+  // where the region lights the piece throughout. The cosine-weighted factor is additive over
+  // pieces, so the two agree to rounding, at points near and far from the window, facing any way.
+  const SkyRegions regions(64);
+  const std::vector<glm::dvec3> window = {{0, 0.5, 0.8}, {0, 2.0, 0.8}, {0, 2.0, 2.0}, {0, 0.5, 2.0}};
+  // The window is in the plane x = 0, its normal (+x) into the room; light arrives from -x.
+  uint64_t s = 4242;
+  auto uni = [&] {
+    s = s * 6364136223846793005ull + 1442695040888963407ull;
+    return double(s >> 11) / 9007199254740992.0;
+  };
+  double worst = 0, total = 0;
+  for (int k = 0; k < regions.size(); ++k) {
+    radiosity::DistantLight cut, whole;
+    const SkyRegions::Cell cell = regions.cell(k);
+    cut.radiance = [&regions, k](const glm::dvec3& d) { return regions.regionOf(d) == k ? 1.0 : 0.0; };
+    cut.mayShine = [cell](const glm::dvec3& axis, double half) { return coneMeetsCell(axis, half, cell); };
+    whole = cut;
+    whole.uniform = [cell](const glm::dvec3& axis, double half) { return coneInsideCell(axis, half, cell); };
+    for (int i = 0; i < 6; ++i) {
+      const glm::dvec3 p(0.2 + 3.0 * uni(), 0.2 + 2.5 * uni(), 0.1 + 2.0 * uni());
+      glm::dvec3 n(uni() * 2 - 1, uni() * 2 - 1, uni() * 2 - 1);
+      n = glm::normalize(n);
+      const double a = radiosity::distantFormFactor(p, n, window, cut, false);
+      const double b = radiosity::distantFormFactor(p, n, window, whole, false);
+      total += a;
+      worst = std::max(worst, std::abs(a - b));
+    }
+  }
+  EXPECT_GT(total, 0.1);  // the regions facing the window do light the points
+  EXPECT_LT(worst, 1e-12);
+}
+
 TEST(DaylightBasis, ALampsTermIsTheEngineSolvingThatLampAloneAndAddsToTheSky) {
   // A lamp in the daylight room (Loscos's per-lamp term beside the sky's): its solution, made on
   // the hierarchy refined for the sky and then for the lamp, against the engine solving the same

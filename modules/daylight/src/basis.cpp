@@ -37,6 +37,7 @@ std::shared_ptr<radiosity::DistantLight> regionLight(const SkyRegions& regions, 
   light->radiance = [&regions, k](const glm::dvec3& d) { return regions.regionOf(d) == k ? 1.0 : 0.0; };
   const SkyRegions::Cell cell = regions.cell(k);
   light->mayShine = [cell](const glm::dvec3& axis, double half) { return coneMeetsCell(axis, half, cell); };
+  light->uniform = [cell](const glm::dvec3& axis, double half) { return coneInsideCell(axis, half, cell); };
   return light;
 }
 
@@ -45,6 +46,10 @@ std::shared_ptr<radiosity::DistantLight> groundLight(double pieceDeg) {
   light->pieceDeg = pieceDeg;
   light->radiance = [](const glm::dvec3& d) { return d.z < 0 ? 1.0 : 0.0; };
   light->mayShine = [](const glm::dvec3& axis, double half) { return std::asin(std::clamp(axis.z, -1.0, 1.0)) - half < 0; };
+  // Below the horizon throughout (the margin as coneInsideCell's).
+  light->uniform = [](const glm::dvec3& axis, double half) {
+    return std::asin(std::clamp(axis.z, -1.0, 1.0)) + half < -1e-9;
+  };
   return light;
 }
 }  // namespace
@@ -70,6 +75,28 @@ bool coneMeetsCell(const glm::dvec3& axis, double halfAngle, const SkyRegions::C
   const double r = std::min(std::cos(e), std::cos(std::max(std::abs(cell.elev0), std::abs(cell.elev1))));
   const double chord = 2.0 * std::max(0.0, r) * std::sin(std::min(da, kPi) / 2);
   return 2.0 * std::asin(std::clamp(chord / 2, 0.0, 1.0)) <= halfAngle;
+}
+
+bool coneInsideCell(const glm::dvec3& axis, double halfAngle, const SkyRegions::Cell& cell) {
+  constexpr double kMargin = 1e-9;  // radians: regionOf's rounding at a cell's edge is far below it
+  if (!(halfAngle >= 0) || halfAngle >= kPi / 2) return false;
+  const glm::dvec3 u = glm::normalize(axis);
+  const double e = std::asin(std::clamp(u.z, -1.0, 1.0));
+  // Every direction in the cone has an elevation within halfAngle of the axis's.
+  if (e - halfAngle < cell.elev0 + kMargin) return false;
+  const bool wholeCircle = cell.azim1 - cell.azim0 >= 2 * kPi - 1e-9;
+  const bool reachesTheZenith = cell.elev1 >= kPi / 2 - 1e-12;
+  // A cell that is a whole cap around the zenith holds every direction above its lower edge.
+  if (wholeCircle && reachesTheZenith) return true;
+  if (e + halfAngle > cell.elev1 - kMargin) return false;
+  if (wholeCircle) return true;
+  // The cone clear of the zenith (e + halfAngle < pi/2, so cos e > sin halfAngle): its
+  // directions' azimuths lie within asin(sin halfAngle / cos e) of the axis's.
+  if (e + halfAngle > kPi / 2 - kMargin) return false;
+  const double spread = std::asin(std::min(1.0, std::sin(halfAngle) / std::cos(e)));
+  double a = std::atan2(u.y, u.x);
+  if (a < 0) a += 2 * kPi;
+  return a - spread > cell.azim0 + kMargin && a + spread < cell.azim1 - kMargin;
 }
 
 DaylightBasis::DaylightBasis(const Scene& scene, const SkyRadiance& refineFor, const BasisOptions& options,
@@ -165,6 +192,12 @@ void DaylightBasis::setUp(const Scene& scene, const SkyRadiance& refineFor) {
     refineLight->radiance = [lum, ground, regions, floor](const glm::dvec3& d) {
       const int k = regions->regionOf(d);
       return std::max(floor, k < 0 ? ground : lum[size_t(k)]);
+    };
+    // Alike across a piece seen within one region, or below the horizon throughout.
+    refineLight->uniform = [regions](const glm::dvec3& axis, double half) {
+      if (std::asin(std::clamp(glm::normalize(axis).z, -1.0, 1.0)) + half < -1e-9) return true;
+      const int k = regions->regionOf(axis);
+      return k >= 0 && coneInsideCell(axis, half, regions->cell(k));
     };
     if (refineFor.sun.found)
       refineLight->beams.push_back({glm::normalize(refineFor.sun.direction), luminance(refineFor.sun.irradiance)});
@@ -327,6 +360,7 @@ const std::vector<glm::vec3>& DaylightBasis::lampSolution(int lamp, Progress& pr
   auto faint = std::make_shared<radiosity::DistantLight>();
   faint->pieceDeg = options_.pieceDeg;
   faint->radiance = [](const glm::dvec3&) { return 1e-3; };
+  faint->uniform = [](const glm::dvec3&, double) { return true; };
   auto dark = std::make_shared<radiosity::DistantLight>();
   dark->radiance = [](const glm::dvec3&) { return 0.0; };
   dark->mayShine = [](const glm::dvec3&, double) { return false; };
@@ -488,6 +522,7 @@ const std::vector<glm::vec3>& DaylightBasis::sunSolution(const glm::dvec3& direc
     auto refine = std::make_shared<radiosity::DistantLight>(*light);
     refine->pieceDeg = options_.pieceDeg;
     refine->radiance = [](const glm::dvec3&) { return 1e-3; };
+    refine->uniform = [](const glm::dvec3&, double) { return true; };
     for (int w : windows_) engine_->setDistantLight(w, refine);
     Progress stage(progress, 0.0, 0.8);
     stage.report(0, "refining the links for the sun");

@@ -71,9 +71,12 @@ constexpr int kMaxPieceDepth = 14;
 // the next is cut, and the piece they are cut from stays in levels[d - 1]. The levels are reused
 // from call to call, so no piece allocates (nothing this calls runs TBB work, so no other call
 // can interleave on the thread).
+// With `wholeWhereUniform`, a piece that `light.uniform` says is lit alike across its cone is
+// visited whole (for a visit that is additive over pieces: the cosine-weighted factor).
 template <class Visit>
 double overPieces(const glm::dvec3& p, std::span<const glm::dvec3> poly, const DistantLight& light,
-                  double maxAngle, int depth, std::vector<std::vector<glm::dvec3>>& levels, Visit&& visit) {
+                  double maxAngle, bool wholeWhereUniform, int depth, std::vector<std::vector<glm::dvec3>>& levels,
+                  Visit&& visit) {
   const size_t count = poly.size();
   if (count < 3) return 0.0;
   const glm::dvec3 c = polygonCentroid(poly);
@@ -89,18 +92,20 @@ double overPieces(const glm::dvec3& p, std::span<const glm::dvec3> poly, const D
   const double dist = glm::length(c - p);
   if (!(dist > 0)) return 0.0;
   const glm::dvec3 axis = (c - p) / dist;
-  if (light.mayShine) {
+  const bool uniformCheck = wholeWhereUniform && light.uniform;
+  if (light.mayShine || uniformCheck) {
     const double half = radius >= dist ? std::numbers::pi : std::asin(radius / dist);
-    if (!light.mayShine(axis, half)) return 0.0;
+    if (light.mayShine && !light.mayShine(axis, half)) return 0.0;
+    if (uniformCheck && light.uniform(axis, half)) return visit(poly, axis);
   }
   if (2.0 * radius <= maxAngle * dist || depth >= kMaxPieceDepth) return visit(poly, axis);
   // Halve across the longest extent (through the centroid).
   const glm::dvec3 cut = glm::normalize(poly[far] - c);
   std::vector<glm::dvec3>& half = levels[size_t(depth)];
   clipToHalfSpace(poly, c, cut, half);
-  const double a = overPieces(p, half, light, maxAngle, depth + 1, levels, visit);
+  const double a = overPieces(p, half, light, maxAngle, wholeWhereUniform, depth + 1, levels, visit);
   clipToHalfSpace(poly, c, -cut, half);
-  return a + overPieces(p, half, light, maxAngle, depth + 1, levels, visit);
+  return a + overPieces(p, half, light, maxAngle, wholeWhereUniform, depth + 1, levels, visit);
 }
 
 // Beams through the opening towards p: sum of irradiance x cosine(n) / pi (n null: cosine 1).
@@ -126,7 +131,9 @@ double distantFactor(const glm::dvec3& p, const glm::dvec3* n, const std::vector
   if (light.radiance) {
     const double maxAngle = std::max(1e-3, light.pieceDeg * std::numbers::pi / 180.0);
     thread_local std::vector<std::vector<glm::dvec3>> levels(kMaxPieceDepth);
-    f += overPieces(p, poly, light, maxAngle, 0, levels, [&](std::span<const glm::dvec3> piece, const glm::dvec3& d) {
+    // Without a normal each piece is seen along its own direction, which only small pieces allow:
+    // those are cut down to pieceDeg everywhere.
+    f += overPieces(p, poly, light, maxAngle, n != nullptr, 0, levels, [&](std::span<const glm::dvec3> piece, const glm::dvec3& d) {
                       const double l = light.radiance(d);
                       return l > 0 ? l * formFactorOf(p, n ? *n : d, piece) : 0.0;
                     });

@@ -187,5 +187,8 @@ class DaylightBasis {
 // Whether a cone of directions (unit `axis`, `halfAngle` radians) can reach sky region `cell`:
 // false only when every direction in the cone lies outside it (a conservative test).
 bool coneMeetsCell(const glm::dvec3& axis, double halfAngle, const SkyRegions::Cell& cell);
+// Whether every direction in the cone lies inside sky region `cell` (SkyRegions::regionOf says so),
+// with a margin for rounding at the cell's edges: false whenever that is not certain.
+bool coneInsideCell(const glm::dvec3& axis, double halfAngle, const SkyRegions::Cell& cell);
 
 }  // namespace relume::daylight

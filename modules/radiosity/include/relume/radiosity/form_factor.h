@@ -20,6 +20,11 @@ struct DistantLight {
   // Optional: false when no direction within `halfAngle` (radians) of `axis` carries light, so
   // that the pieces of the opening seen there are skipped (a sky region's basis is dark elsewhere).
   std::function<bool(const glm::dvec3& axis, double halfAngle)> mayShine;
+  // Optional: true when radiance() is the same along every direction within `halfAngle` of
+  // `axis` (a sky region's basis inside its cell). A piece seen within such a cone is not cut
+  // further for the cosine-weighted factor: the exact factor of the whole piece is the sum of its
+  // parts', so only the pieces across a change of radiance are cut down to pieceDeg.
+  std::function<bool(const glm::dvec3& axis, double halfAngle)> uniform;
   struct Beam {
     glm::dvec3 direction{0.0, 0.0, 1.0};  // towards the source
     double irradiance = 1.0;
