@@ -8,6 +8,7 @@
 #include <QSaveFile>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <numbers>
 
@@ -558,10 +559,13 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
   opt.oracleLamps = p.isSet("oracle-lamps");
   opt.oracleAlbedos = p.isSet("oracle-albedos");
   Scene scene = openRoom(p.positionalArguments()[0]);
+  const Scene bundle = scene;
   if (!scene.skies.empty()) {  // a daylight bundle: lit through its windows by measured skies
     if (p.isSet("geometry")) throw Error(str(p.value("geometry")), "--geometry", "not yet for daylight bundles");
     return evaluateDaylight(scene, outDir, progress);
   }
+  // The truth is the bundle's: with --geometry, its lamps and polygons matched to the model's.
+  Scene truthScene;
   if (p.isSet("geometry")) {
     const Scene g = openRoom(p.value("geometry"));
     for (const auto& v : scene.variants)
@@ -576,10 +580,28 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
       if (!ph.hdr.empty()) ph.hdr = resolve(g, ph.hdr);
     }
     scene.mainPhoto = g.mainPhoto;
+    truthScene = scene;
+    const BundleMatch match = matchToBundle(g, bundle);
+    for (size_t l = 0; l < g.lamps.size(); ++l) {  // unmatched: no truth (NaN), reported as such
+      if (match.lamp[l] < 0 && opt.oracleLamps)
+        throw Error(g.sourceFile, "lamp " + g.lamps[l].name,
+                    "matches no lamp of the bundle (by name, or a lamp within 0.5 m): --oracle-lamps has no truth for it");
+      truthScene.lamps[l].radiance =
+          match.lamp[l] >= 0 ? bundle.lamps[size_t(match.lamp[l])].radiance : glm::dvec3(std::nan(""));
+    }
+    for (size_t i = 0; i < g.polygons.size(); ++i)  // unmatched: no truth (NaN), left out of the report
+      truthScene.polygons[i].albedo = match.polygon[i] >= 0 ? bundle.polygons[size_t(match.polygon[i])].albedo
+                                                            : glm::dvec3(std::nan(""));
+    // The oracles are the bundle's truths, too.
+    if (opt.oracleLamps) scene.lamps = truthScene.lamps;
+    if (opt.oracleAlbedos)
+      for (size_t i = 0; i < g.polygons.size(); ++i)
+        if (match.polygon[i] >= 0) scene.polygons[i].albedo = truthScene.polygons[i].albedo;
+  } else {
+    truthScene = scene;
   }
   // What a real user does not have is removed before anything else sees the scene (kept apart
   // to judge the estimates with).
-  const Scene truthScene = scene;
   if (!opt.oracleAlbedos)
     for (auto& poly : scene.polygons) poly.albedo = glm::dvec3(0.5);
   if (!opt.oracleLamps)
@@ -596,7 +618,7 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
       if (scene.polygons[i].kind != PolygonKind::Real || t.albedo.size() != t.source.size()) continue;
       size_t n = 0;
       const glm::dvec3 m = t.photographedMean(t.albedo, &n), truth = truthScene.polygons[i].albedo;
-      if (n == 0) continue;
+      if (n == 0 || std::isnan(truth.x)) continue;
       reflectances.append(QJsonObject{{"polygon", QString::fromStdString(scene.polygons[i].name)},
                                       {"recovered", rgbJson(m)},
                                       {"truth", rgbJson(truth)}});
@@ -607,8 +629,12 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
     for (size_t l = 0; l < scene.lamps.size(); ++l) {
       const double t = std::numbers::pi * (truthScene.lamps[l].radiance.x + truthScene.lamps[l].radiance.y + truthScene.lamps[l].radiance.z) / 3;
       const auto& u = data.lampExitance[l];
-      std::fprintf(stderr, "  lamp %-6s exitance %.1f, truth %.1f (%+.1f %%)\n", scene.lamps[l].name.c_str(), (u.x + u.y + u.z) / 3, t,
-                   100 * ((u.x + u.y + u.z) / 3 / t - 1));
+      if (std::isnan(t))
+        std::fprintf(stderr, "  lamp %-6s exitance %.1f, no lamp of the bundle matches it\n", scene.lamps[l].name.c_str(),
+                     (u.x + u.y + u.z) / 3);
+      else
+        std::fprintf(stderr, "  lamp %-6s exitance %.1f, truth %.1f (%+.1f %%)\n", scene.lamps[l].name.c_str(),
+                     (u.x + u.y + u.z) / 3, t, 100 * ((u.x + u.y + u.z) / 3 / t - 1));
     }
   }
   const Photo& main = photoNamedian(scene, data.photo);

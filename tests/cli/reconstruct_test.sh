@@ -73,7 +73,20 @@ check "a point clicked in photos from nearly one direction is flagged" "grep -q 
 "$relume" solve "$tmp/tri.relume" --json "$tmp/tri_solve.json" 2>/dev/null
 check "relume solve accepts the triangulated project" "[ $? -eq 0 ] && [ -s '$tmp/tri_solve.json' ]"
 "$relume" evaluate "$room" --out "$tmp/ev_true" >/dev/null 2>&1
-"$relume" evaluate "$room" --geometry "$tmp/tri.relume" --out "$tmp/ev_tri" >/dev/null 2>&1
+"$relume" evaluate "$room" --geometry "$tmp/tri.relume" --out "$tmp/ev_tri" >/dev/null 2>"$tmp/ev_tri.err"
+check "with --geometry the truth is the bundle's: each lamp's exitance and each polygon's albedo" \
+  "python3 -c \"
+import json, math, re
+scene = json.load(open('$room/scene.json'))
+lamps = {l['name']: math.pi * sum(l['radiance_rgb']) / 3 for l in scene['lights']}
+seen = re.findall(r'lamp (\\S+)\\s+exitance [0-9.]+, truth ([0-9.]+)', open('$tmp/ev_tri.err').read())
+print('   lamps: ' + ', '.join('%s truth %s (bundle %.1f)' % (n, t, lamps[n]) for n, t in seen))
+assert sorted(n for n, _ in seen) == sorted(lamps), seen
+assert all(abs(float(t) - lamps[n]) <= 0.05 + 1e-3 * lamps[n] for n, t in seen)
+albedo = {p['name']: p.get('albedo') for p in scene['polygons']}
+rows = json.load(open('$tmp/ev_tri/report.json'))['reflectances']
+assert rows and all(max(abs(a - b) for a, b in zip(r['truth'], albedo[r['polygon']])) < 1e-9 for r in rows), rows[:3]
+\""
 check "the triangulated room relights within 1 dB of the true geometry" \
   "python3 -c \"
 import json

@@ -5,6 +5,8 @@
 #include <glm/geometric.hpp>
 
 #include "relume/geometry/error.h"
+#include "relume/geometry/polygon.h"
+#include "relume/geometry/scene.h"
 
 namespace relume {
 
@@ -103,6 +105,57 @@ Comparison compareImages(const ImageRGB& rendering, const ImageRGB& truth, const
   const double peak = tv[k];
   c.psnr = mse > 0 ? 10 * std::log10(peak * peak / mse) : 99.0;
   return c;
+}
+
+namespace {
+// How far `c` is from polygon `b` when it lies in b's plane (normals within 15 degrees, c within
+// 5 cm of the plane): 0 inside b, else the distance to b's centre; negative when not in its plane.
+double inPlaneDistance(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b) {
+  if (a.size() < 3 || b.size() < 3) return -1;
+  const glm::dvec3 na = polygonNormal(a), nb = polygonNormal(b), c = polygonCentroid(a);
+  if (glm::dot(na, nb) < std::cos(15.0 * 3.14159265358979323846 / 180.0)) return -1;
+  if (std::abs(glm::dot(c - b[0], nb)) > 0.05) return -1;
+  bool inside = true;
+  for (size_t i = 0; i < b.size(); ++i)
+    inside = inside && glm::dot(glm::cross(b[(i + 1) % b.size()] - b[i], c - b[i]), nb) >= 0;
+  return inside ? 0.0 : glm::length(c - polygonCentroid(b));
+}
+}  // namespace
+
+BundleMatch matchToBundle(const Scene& model, const Scene& bundle) {
+  BundleMatch m;
+  auto centre = [](const Scene& s, int polygon) {
+    return polygon >= 0 && size_t(polygon) < s.polygons.size() && !s.polygons[size_t(polygon)].vertices.empty()
+               ? polygonCentroid(s.polygons[size_t(polygon)].vertices)
+               : glm::dvec3(std::nan(""));
+  };
+  for (const auto& lamp : model.lamps) {
+    int best = bundle.findLamp(lamp.name);
+    if (best < 0) {
+      double bestDist = 0.5;
+      const glm::dvec3 c = centre(model, lamp.polygon);
+      for (size_t j = 0; j < bundle.lamps.size(); ++j) {
+        const double d = glm::length(c - centre(bundle, bundle.lamps[j].polygon));
+        if (d <= bestDist) best = int(j), bestDist = d;
+      }
+    }
+    m.lamp.push_back(best);
+  }
+  for (const auto& p : model.polygons) {
+    int best = -1;
+    double bestDist = 0.5;
+    for (size_t j = 0; j < bundle.polygons.size(); ++j) {
+      const double d = inPlaneDistance(p.vertices, bundle.polygons[j].vertices);
+      if (d < 0) continue;
+      if (bundle.polygons[j].name == p.name) {
+        best = int(j);
+        break;
+      }
+      if (d <= bestDist) best = int(j), bestDist = d;
+    }
+    m.polygon.push_back(best);
+  }
+  return m;
 }
 
 }  // namespace relume

@@ -10,6 +10,8 @@
 
 namespace relume {
 
+struct Scene;
+
 struct CompareMasks {
   int width = 0, height = 0;          // downsampled size
   std::vector<uint8_t> all, shadow;   // per downsampled pixel
@@ -26,5 +28,17 @@ ImageRGB boxDownsample(const ImageRGB& img, int factor);
 CompareMasks benchmarkMasks(const ImageRGB& photo, const ImageRGB& unoccludedTruth);
 // Gain-corrected PSNR of `rendering` against `truth` (full-size linear images) over one mask.
 Comparison compareImages(const ImageRGB& rendering, const ImageRGB& truth, const std::vector<uint8_t>& mask);
+
+// Which of a bundle's lamps and polygons hold the truth for those of a room modelled apart from
+// its renders (a clicked model, `relume evaluate --geometry`). A lamp is the bundle's lamp of the
+// same name, else the one whose polygon's centre is nearest (within 0.5 m); a polygon is the
+// bundle's polygon of the same name whose plane it lies in, else the polygon in its plane (normals
+// within 15 degrees, centre within 5 cm of the plane) that holds its centre or is nearest to it
+// (within 0.5 m). -1: none.
+struct BundleMatch {
+  std::vector<int> lamp;     // per lamp of the model: a lamp of the bundle
+  std::vector<int> polygon;  // per polygon of the model: a polygon of the bundle
+};
+BundleMatch matchToBundle(const Scene& model, const Scene& bundle);
 
 }  // namespace relume
