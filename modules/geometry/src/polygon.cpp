@@ -140,11 +140,15 @@ std::vector<glm::dvec3> clipToHalfSpace(std::span<const glm::dvec3> poly, const 
 }
 
 bool insideConvex2D(const std::vector<glm::dvec2>& poly, glm::dvec2 p, double eps) {
-  for (size_t i = 0, k = poly.size(); i < k; ++i) {
+  // Runs per sample point of every link and per texel: no division for the wrap-around, and the
+  // edge's length (a square root) only for a point on the outer side of its line.
+  const size_t k = poly.size();
+  for (size_t i = 0; i < k; ++i) {
     const auto& a = poly[i];
-    const auto& b = poly[(i + 1) % k];
+    const auto& b = poly[i + 1 < k ? i + 1 : 0];
     const glm::dvec2 e = b - a, d = p - a;
-    if (e.x * d.y - e.y * d.x < -eps * glm::length(e)) return false;
+    const double c = e.x * d.y - e.y * d.x;
+    if ((c < 0 || eps < 0) && c < -eps * glm::length(e)) return false;
   }
   return true;
 }
