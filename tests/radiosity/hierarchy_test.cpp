@@ -1,6 +1,8 @@
 // Physics of the hierarchical solver: energy balance, shadows, cheap lamp edits, seams.
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -351,6 +353,108 @@ TEST(Hierarchy, LightThatATwoSidedLampSendsToTheCeilingMostlyFallsBackOnIt) {
   EXPECT_NEAR(hrOne, mcOne, 0.015);
   EXPECT_NEAR(hrTwo, mcTwo, 0.03);
   EXPECT_NEAR(hrUpper, mcUpper, 0.06);
+}
+
+namespace {
+// The regions of roomWithLampBelowCeiling that a near-field error shows in: the ceiling within
+// 0.5 m of the lamp's centre (the ring its upper face lights), the rest of the ceiling, the walls,
+// the floor.
+enum Region { kRing, kCeilingRest, kWalls, kFloor, kRegions };
+const char* const kRegionName[kRegions] = {"ceiling ring", "ceiling rest", "walls", "floor"};
+int regionOf(int surface, const glm::dvec3& p) {
+  if (surface == 0) return kFloor;
+  if (surface == 1) return glm::length(glm::dvec2(p.x - 1.225, p.y - 1.725)) < 0.5 ? kRing : kCeilingRest;
+  return kWalls;
+}
+
+// Light tracing as roomShareByLightTracing, the absorbed power tallied per region.
+std::array<double, kRegions> regionSharesByLightTracing(const std::vector<Surface>& s, int lamp, int photons) {
+  std::vector<std::vector<glm::dvec3>> polys;
+  for (const auto& x : s) polys.push_back(x.vertices);
+  const RayScene scene(polys);
+  uint64_t state = 0x2545F4914F6CDD1Dull;
+  auto uniform = [&state] {
+    state ^= state << 13;
+    state ^= state >> 7;
+    state ^= state << 17;
+    return double(state >> 11) * (1.0 / 9007199254740992.0);
+  };
+  auto cosineAbout = [&](const glm::dvec3& n) {
+    const glm::dvec3 t = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0)) : glm::cross(n, glm::dvec3(0, 1, 0)));
+    const glm::dvec3 b = glm::cross(n, t);
+    const double u1 = uniform(), phi = 2 * 3.14159265358979 * uniform(), r = std::sqrt(u1);
+    return r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(1 - u1) * n;
+  };
+  const auto& L = s[size_t(lamp)].vertices;
+  const glm::dvec3 lampNormal = glm::normalize(glm::cross(L[1] - L[0], L[3] - L[0]));
+  std::array<double, kRegions> out{};
+  for (int k = 0; k < photons; ++k) {
+    const glm::dvec3 p = L[0] + uniform() * (L[1] - L[0]) + uniform() * (L[3] - L[0]);
+    const glm::dvec3 n = (s[size_t(lamp)].twoSided && uniform() < 0.5) ? -lampNormal : lampNormal;
+    glm::dvec3 o = p + 1e-5 * n, d = cosineAbout(n);
+    for (;;) {
+      const RayHit hit = scene.intersect(Ray{glm::vec3(o), glm::vec3(d)});
+      if (hit.polygon < 0 || hit.polygon == lamp) break;
+      if (uniform() >= s[size_t(hit.polygon)].reflectance.x) {
+        out[size_t(regionOf(hit.polygon, glm::dvec3(hit.point)))] += 1.0 / photons;
+        break;
+      }
+      glm::dvec3 m = glm::normalize(glm::dvec3(hit.geometricNormal));
+      if (glm::dot(m, d) > 0) m = -m;
+      o = glm::dvec3(hit.point) + 1e-5 * m;
+      d = cosineAbout(m);
+    }
+  }
+  return out;
+}
+
+// The engine's absorbed power per region over the emitted power: each leaf's area x (1 - rho) x
+// irradiance, split over the regions by an 8 x 8 grid of points on the leaf.
+std::array<double, kRegions> regionSharesByEngine(const std::vector<Surface>& s, int lamp) {
+  HierarchicalRadiosity h(s, Options{});
+  h.solve();
+  std::array<double, kRegions> out{};
+  const auto& nodes = h.nodes();
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const auto& n = nodes[i];
+    if (n.isCluster() || !n.isLeaf() || n.surface == lamp) continue;
+    const double absorbed = (1 - s[size_t(n.surface)].reflectance.x) * h.irradiance(int(i)).x;
+    // (A leaf on a polygon's edge reaches past it, but its points all fall in one region.)
+    const glm::dvec3 a = h.toWorld(n.surface, {n.u0, n.v0}), b = h.toWorld(n.surface, {n.u1, n.v0}),
+                     c = h.toWorld(n.surface, {n.u0, n.v1});
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 8; ++x) {
+        const glm::dvec3 q = a + (x + 0.5) / 8 * (b - a) + (y + 0.5) / 8 * (c - a);
+        out[size_t(regionOf(n.surface, q))] += absorbed * n.area / 64.0;
+      }
+  }
+  const auto& l = s[size_t(lamp)];
+  for (auto& v : out) v /= polygonArea(l.vertices) * l.exitance.x * (l.twoSided ? 2 : 1);
+  return out;
+}
+}  // namespace
+
+TEST(Hierarchy, ALampCloseBelowTheCeilingLightsEachRegionAsLightTracingSays) {
+  // The two-sided lamp 2 cm below the ceiling, region by region: the ring its upper face lights,
+  // the rest of the ceiling, the walls, the floor; the one-sided lamp beside it. A near-field
+  // error (the ring's light falling back on the lamp, or leaving through the gap) shows in the ring
+  // first. Light tracing's own noise at 400 000 photons is below 0.002 per region.
+  const int lamp = 6;
+  for (const bool twoSided : {false, true}) {
+    const auto room = roomWithLampBelowCeiling(twoSided);
+    const auto mc = regionSharesByLightTracing(room, lamp, 400000);
+    const auto hr = regionSharesByEngine(room, lamp);
+    for (int r = 0; r < kRegions; ++r) {
+      std::printf("%s lamp, %-12s absorbed share: engine %.4f, light tracing %.4f (%+.1f %%)\n", twoSided ? "two-sided" : "one-sided",
+                  kRegionName[r], hr[size_t(r)], mc[size_t(r)], 100 * (hr[size_t(r)] / mc[size_t(r)] - 1));
+      // Measured 2026-12-07: every region within 0.5 % but the two-sided lamp's walls (+2.2 %) and
+      // floor (+3.3 %), whose light from the ring the lamp should stop more of (issue 51, item 3:
+      // the ring's own share is right, so the error is the ring's light passing the lamp). The
+      // bound holds that, and fails if the near field gets worse.
+      EXPECT_NEAR(hr[size_t(r)], mc[size_t(r)], 0.04 * mc[size_t(r)] + 0.001)
+          << (twoSided ? "two-sided" : "one-sided") << " lamp, " << kRegionName[r];
+    }
+  }
 }
 
 TEST(Hierarchy, ASavedStateComesBackExactlyAfterSurfacesWereAddedRefinedAndSolved) {
