@@ -447,8 +447,9 @@ TEST(Hierarchy, ALampCloseBelowTheCeilingLightsEachRegionAsLightTracingSays) {
     for (int r = 0; r < kRegions; ++r) {
       std::printf("%s lamp, %-12s absorbed share: engine %.4f, light tracing %.4f (%+.1f %%)\n", twoSided ? "two-sided" : "one-sided",
                   kRegionName[r], hr[size_t(r)], mc[size_t(r)], 100 * (hr[size_t(r)] / mc[size_t(r)] - 1));
-      // Measured 2026-12-07: every region within 0.5 % but the two-sided lamp's walls (+2.2 %) and
-      // floor (+3.3 %), whose light from the ring the lamp should stop more of (issue 51, item 3:
+      // Measured 2026-12-07: every region within 1.5 % (the one-sided lamp's ring, a share of 0.004,
+      // -3.8 % against light tracing's own 2.6 % noise there) but the two-sided lamp's walls (+2.2 %)
+      // and floor (+3.3 %), whose light from the ring the lamp should stop more of (issue 51, item 3:
       // the ring's own share is right, so the error is the ring's light passing the lamp). The
       // bound holds that, and fails if the near field gets worse.
       EXPECT_NEAR(hr[size_t(r)], mc[size_t(r)], 0.04 * mc[size_t(r)] + 0.001)
