@@ -559,7 +559,6 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
   opt.oracleLamps = p.isSet("oracle-lamps");
   opt.oracleAlbedos = p.isSet("oracle-albedos");
   Scene scene = openRoom(p.positionalArguments()[0]);
-  const Scene bundle = scene;
   if (!scene.skies.empty()) {  // a daylight bundle: lit through its windows by measured skies
     if (p.isSet("geometry")) throw Error(str(p.value("geometry")), "--geometry", "not yet for daylight bundles");
     return evaluateDaylight(scene, outDir, progress);
@@ -567,6 +566,7 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
   // The truth is the bundle's: with --geometry, its lamps and polygons matched to the model's.
   Scene truthScene;
   if (p.isSet("geometry")) {
+    const Scene bundle = scene;
     const Scene g = openRoom(p.value("geometry"));
     for (const auto& v : scene.variants)
       for (const auto& [lamp, scale] : v.lampScale)

@@ -61,16 +61,41 @@ TEST(BundleMatch, LampsByNameOrPlacePolygonsByTheirPlane) {
 }
 
 TEST(BundleMatch, ThePolygonOfTheSameNameWinsInTheSamePlane) {
-  // Two bundle polygons in one plane, side by side: the model's "right" half is matched by name
-  // even where its centre is nearer the other's; a same-named polygon in another plane is not.
+  // Two bundle polygons in one plane, side by side: the model's "right" is matched by name even
+  // though its centre lies in the other; a same-named polygon in another plane is not.
   Scene bundle;
-  bundle.polygons.push_back(quad("left", {0, 0, 0}, {2, 0, 0}, {0, 2, 0}));
-  bundle.polygons.push_back(quad("right", {2, 0, 0}, {2, 0, 0}, {0, 2, 0}));
-  bundle.polygons.push_back(quad("up", {0, 0, 1}, {2, 0, 0}, {0, 2, 0}));
+  bundle.polygons.push_back(quad("left", {0, 0, 0}, {0.6, 0, 0}, {0, 1, 0}));
+  bundle.polygons.push_back(quad("right", {0.6, 0, 0}, {0.6, 0, 0}, {0, 1, 0}));
+  bundle.polygons.push_back(quad("up", {0, 0, 1}, {1.2, 0, 0}, {0, 1, 0}));
   Scene model;
-  model.polygons.push_back(quad("right", {1.5, 0, 0}, {1.0, 0, 0}, {0, 2, 0}));
-  model.polygons.push_back(quad("up", {0, 0, 0.3}, {2, 0, 0}, {0, 2, 0}));
+  model.polygons.push_back(quad("right", {0.4, 0, 0}, {0.36, 0, 0}, {0, 1, 0}));  // its centre in "left"
+  model.polygons.push_back(quad("up", {0, 0, 0.3}, {1.2, 0, 0}, {0, 1, 0}));
   const BundleMatch m = matchToBundle(model, bundle);
   EXPECT_EQ(m.polygon[0], 1);
   EXPECT_EQ(m.polygon[1], -1);
+}
+
+TEST(BundleMatch, APanelOrAPosterInAWallsPlaneIsNotTheWall) {
+  // A ceiling with a lamp's panel flush in it, a back wall with a poster on it, an L-shaped wall:
+  // the model's ceiling (its centre under the panel) is the ceiling, its wall (its centre on the
+  // poster) the wall, its poster the poster, and the L's short arm the L.
+  Scene bundle;
+  bundle.polygons.push_back(quad("ceiling", {0, 0, 2.5}, {0, 3, 0}, {4, 0, 0}));  // normal -z
+  bundle.polygons.push_back(quad("wall_back", {0, 3, 0}, {4, 0, 0}, {0, 0, 2.5}));
+  bundle.polygons.push_back(quad("poster", {1.5, 2.99, 1.0}, {1, 0, 0}, {0, 0, 0.7}));
+  Polygon l;
+  l.name = "wall_l";
+  l.vertices = {{0, 0, 0}, {0, 3, 0}, {0, 3, 0.6}, {0, 1, 0.6}, {0, 1, 2.5}, {0, 0, 2.5}};  // normal +x, an L
+  bundle.polygons.push_back(l);
+  bundle.polygons.push_back(quad("panel", {1.8, 1.3, 2.5}, {0, 0.4, 0}, {0.4, 0, 0}, PolygonKind::Light));
+  Scene model;
+  model.polygons.push_back(quad("a", {0, 0, 2.49}, {0, 3, 0}, {4, 0, 0}));           // centre (2, 1.5): under the panel
+  model.polygons.push_back(quad("b", {0, 2.995, 0}, {4, 0, 0}, {0, 0, 2.7}));         // centre (2, 1.35): on the poster
+  model.polygons.push_back(quad("c", {1.5, 2.985, 1.0}, {1, 0, 0}, {0, 0, 0.7}));     // the poster
+  model.polygons.push_back(quad("d", {0.005, 1.5, 0}, {0, 1.5, 0}, {0, 0, 0.6}));     // the L's low arm
+  const BundleMatch m = matchToBundle(model, bundle);
+  EXPECT_EQ(m.polygon[0], 0);
+  EXPECT_EQ(m.polygon[1], 1);
+  EXPECT_EQ(m.polygon[2], 2);
+  EXPECT_EQ(m.polygon[3], 3);
 }

@@ -82,6 +82,7 @@ bool coneInsideCell(const glm::dvec3& axis, double halfAngle, const SkyRegions::
   if (!(halfAngle >= 0) || halfAngle >= kPi / 2) return false;
   const glm::dvec3 u = glm::normalize(axis);
   const double e = std::asin(std::clamp(u.z, -1.0, 1.0));
+  if (!std::isfinite(e)) return false;
   // Every direction in the cone has an elevation within halfAngle of the axis's.
   if (e - halfAngle < cell.elev0 + kMargin) return false;
   const bool wholeCircle = cell.azim1 - cell.azim0 >= 2 * kPi - 1e-9;

@@ -108,17 +108,29 @@ Comparison compareImages(const ImageRGB& rendering, const ImageRGB& truth, const
 }
 
 namespace {
-// How far `c` is from polygon `b` when it lies in b's plane (normals within 15 degrees, c within
-// 5 cm of the plane): 0 inside b, else the distance to b's centre; negative when not in its plane.
+// Whether `c` (in b's plane) lies inside polygon `b` (any simple polygon: crossings in the plane).
+bool insidePolygon(const glm::dvec3& c, const std::vector<glm::dvec3>& b, const glm::dvec3& nb) {
+  const glm::dvec3 t = glm::normalize(std::abs(nb.x) < 0.9 ? glm::cross(nb, glm::dvec3(1, 0, 0)) : glm::cross(nb, glm::dvec3(0, 1, 0)));
+  const glm::dvec3 u = glm::cross(nb, t);
+  auto uv = [&](const glm::dvec3& x) { return glm::dvec2(glm::dot(x - b[0], t), glm::dot(x - b[0], u)); };
+  const glm::dvec2 q = uv(c);
+  bool inside = false;
+  for (size_t i = 0, j = b.size() - 1; i < b.size(); j = i++) {
+    const glm::dvec2 pi = uv(b[i]), pj = uv(b[j]);
+    if ((pi.y > q.y) != (pj.y > q.y) && q.x < pj.x + (q.y - pj.y) * (pi.x - pj.x) / (pi.y - pj.y)) inside = !inside;
+  }
+  return inside;
+}
+
+// How far polygon `a`'s centre is from polygon `b` when a lies in b's plane (normals within 15
+// degrees, the centre within 5 cm of the plane): 0 inside b, else the distance to b's centre;
+// negative when not in its plane.
 double inPlaneDistance(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b) {
   if (a.size() < 3 || b.size() < 3) return -1;
   const glm::dvec3 na = polygonNormal(a), nb = polygonNormal(b), c = polygonCentroid(a);
-  if (glm::dot(na, nb) < std::cos(15.0 * 3.14159265358979323846 / 180.0)) return -1;
-  if (std::abs(glm::dot(c - b[0], nb)) > 0.05) return -1;
-  bool inside = true;
-  for (size_t i = 0; i < b.size(); ++i)
-    inside = inside && glm::dot(glm::cross(b[(i + 1) % b.size()] - b[i], c - b[i]), nb) >= 0;
-  return inside ? 0.0 : glm::length(c - polygonCentroid(b));
+  if (!(glm::dot(na, nb) >= std::cos(15.0 * 3.14159265358979323846 / 180.0))) return -1;
+  if (!(std::abs(glm::dot(c - b[0], nb)) <= 0.05)) return -1;
+  return insidePolygon(c, b, nb) ? 0.0 : glm::length(c - polygonCentroid(b));
 }
 }  // namespace
 
@@ -141,19 +153,23 @@ BundleMatch matchToBundle(const Scene& model, const Scene& bundle) {
     }
     m.lamp.push_back(best);
   }
+  // A polygon of the same kind in its plane: the one of the same name, else of those that hold its
+  // centre the one nearest its size (a poster on a wall holds a wall's centre too), else the
+  // nearest, all within 0.5 m.
   for (const auto& p : model.polygons) {
-    int best = -1;
-    double bestDist = 0.5;
+    int named = -1, best = -1;
+    double bestDist = 0.5, bestSize = 0;
+    const double area = polygonArea(p.vertices);
     for (size_t j = 0; j < bundle.polygons.size(); ++j) {
-      const double d = inPlaneDistance(p.vertices, bundle.polygons[j].vertices);
-      if (d < 0) continue;
-      if (bundle.polygons[j].name == p.name) {
-        best = int(j);
-        break;
-      }
-      if (d <= bestDist) best = int(j), bestDist = d;
+      const Polygon& b = bundle.polygons[j];
+      if (b.kind != p.kind) continue;
+      const double d = inPlaneDistance(p.vertices, b.vertices);
+      if (d < 0 || d > 0.5) continue;
+      if (b.name == p.name && named < 0) named = int(j);
+      const double size = std::abs(std::log(std::max(1e-12, polygonArea(b.vertices)) / std::max(1e-12, area)));
+      if (best < 0 || d < bestDist || (d == bestDist && size < bestSize)) best = int(j), bestDist = d, bestSize = size;
     }
-    m.polygon.push_back(best);
+    m.polygon.push_back(named >= 0 ? named : best);
   }
   return m;
 }

@@ -31,10 +31,10 @@ Comparison compareImages(const ImageRGB& rendering, const ImageRGB& truth, const
 
 // Which of a bundle's lamps and polygons hold the truth for those of a room modelled apart from
 // its renders (a clicked model, `relume evaluate --geometry`). A lamp is the bundle's lamp of the
-// same name, else the one whose polygon's centre is nearest (within 0.5 m); a polygon is the
-// bundle's polygon of the same name whose plane it lies in, else the polygon in its plane (normals
-// within 15 degrees, centre within 5 cm of the plane) that holds its centre or is nearest to it
-// (within 0.5 m). -1: none.
+// same name, else the one whose polygon's centre is nearest (within 0.5 m). A polygon is one of
+// the bundle's of the same kind in its plane (normals within 15 degrees, its centre within 5 cm of
+// the plane) and within 0.5 m: the one of the same name, else of those that hold its centre the
+// one nearest its size, else the nearest. -1: none.
 struct BundleMatch {
   std::vector<int> lamp;     // per lamp of the model: a lamp of the bundle
   std::vector<int> polygon;  // per polygon of the model: a polygon of the bundle
