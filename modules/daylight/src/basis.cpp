@@ -30,6 +30,11 @@ double seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// Every direction within `half` of `axis` below the horizon (the margin as coneInsideCell's).
+bool coneBelowHorizon(const glm::dvec3& axis, double half) {
+  return std::asin(std::clamp(glm::normalize(axis).z, -1.0, 1.0)) + half < -1e-9;
+}
+
 // Region k of the sky at unit radiance.
 std::shared_ptr<radiosity::DistantLight> regionLight(const SkyRegions& regions, int k, double pieceDeg) {
   auto light = std::make_shared<radiosity::DistantLight>();
@@ -46,10 +51,7 @@ std::shared_ptr<radiosity::DistantLight> groundLight(double pieceDeg) {
   light->pieceDeg = pieceDeg;
   light->radiance = [](const glm::dvec3& d) { return d.z < 0 ? 1.0 : 0.0; };
   light->mayShine = [](const glm::dvec3& axis, double half) { return std::asin(std::clamp(axis.z, -1.0, 1.0)) - half < 0; };
-  // Below the horizon throughout (the margin as coneInsideCell's).
-  light->uniform = [](const glm::dvec3& axis, double half) {
-    return std::asin(std::clamp(axis.z, -1.0, 1.0)) + half < -1e-9;
-  };
+  light->uniform = coneBelowHorizon;
   return light;
 }
 }  // namespace
@@ -196,7 +198,7 @@ void DaylightBasis::setUp(const Scene& scene, const SkyRadiance& refineFor) {
     };
     // Alike across a piece seen within one region, or below the horizon throughout.
     refineLight->uniform = [regions](const glm::dvec3& axis, double half) {
-      if (std::asin(std::clamp(glm::normalize(axis).z, -1.0, 1.0)) + half < -1e-9) return true;
+      if (coneBelowHorizon(axis, half)) return true;
       const int k = regions->regionOf(axis);
       return k >= 0 && coneInsideCell(axis, half, regions->cell(k));
     };

@@ -101,16 +101,10 @@ glm::dvec3 firstEdge(const std::vector<glm::dvec3>& v) {
 // x (in the plane of the convex or concave polygon v) if it lies inside v, else the nearest point
 // of v's outline moved 1 % of the way towards v's centroid.
 glm::dvec3 ontoFace(const std::vector<glm::dvec3>& v, const glm::dvec3& x) {
-  const glm::dvec3 n = polygonNormal(v);
-  bool inside = false;  // crossings of a ray in the plane, counted in the polygon's own 2D frame
-  const glm::dvec3 t = firstEdge(v), u = glm::cross(n, t);
-  auto flat = [&](const glm::dvec3& q) { return glm::dvec2(glm::dot(q - v[0], t), glm::dot(q - v[0], u)); };
-  const glm::dvec2 p = flat(x);
+  if (insidePolygon(v, x)) return x;
   glm::dvec3 best = v[0], centroid(0.0);
   double bestD = 1e300;
   for (size_t i = 0, j = v.size() - 1; i < v.size(); j = i++) {
-    const glm::dvec2 a = flat(v[i]), b = flat(v[j]);
-    if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x) inside = !inside;
     const glm::dvec3 e = v[j] - v[i];
     const double s = std::clamp(glm::dot(x - v[i], e) / std::max(glm::dot(e, e), 1e-300), 0.0, 1.0);
     const glm::dvec3 q = v[i] + s * e;
@@ -120,7 +114,7 @@ glm::dvec3 ontoFace(const std::vector<glm::dvec3>& v, const glm::dvec3& x) {
     }
     centroid += v[i] / double(v.size());
   }
-  return inside ? x : best + 0.01 * (centroid - best);
+  return best + 0.01 * (centroid - best);
 }
 
 }  // namespace

@@ -153,4 +153,26 @@ bool insideConvex2D(const std::vector<glm::dvec2>& poly, glm::dvec2 p, double ep
   return true;
 }
 
+bool insidePolygon(const std::vector<glm::dvec3>& verts, const glm::dvec3& x) {
+  if (verts.size() < 3) return false;
+  // The frame from the first edge of any length (a repeated vertex has none).
+  const glm::dvec3 n = polygonNormal(verts);
+  glm::dvec3 t(0.0);
+  for (size_t i = 0; i < verts.size() && glm::dot(t, t) <= 1e-24; ++i) {
+    t = verts[(i + 1) % verts.size()] - verts[i];
+    t -= n * glm::dot(t, n);
+  }
+  if (glm::dot(t, t) <= 1e-24) return false;
+  t = glm::normalize(t);
+  const glm::dvec3 u = glm::cross(n, t);
+  auto flat = [&](const glm::dvec3& q) { return glm::dvec2(glm::dot(q - verts[0], t), glm::dot(q - verts[0], u)); };
+  const glm::dvec2 p = flat(x);
+  bool inside = false;
+  for (size_t i = 0, j = verts.size() - 1; i < verts.size(); j = i++) {
+    const glm::dvec2 a = flat(verts[i]), b = flat(verts[j]);
+    if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x) inside = !inside;
+  }
+  return inside;
+}
+
 }  // namespace relume

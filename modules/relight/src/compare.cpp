@@ -108,20 +108,6 @@ Comparison compareImages(const ImageRGB& rendering, const ImageRGB& truth, const
 }
 
 namespace {
-// Whether `c` (in b's plane) lies inside polygon `b` (any simple polygon: crossings in the plane).
-bool insidePolygon(const glm::dvec3& c, const std::vector<glm::dvec3>& b, const glm::dvec3& nb) {
-  const glm::dvec3 t = glm::normalize(std::abs(nb.x) < 0.9 ? glm::cross(nb, glm::dvec3(1, 0, 0)) : glm::cross(nb, glm::dvec3(0, 1, 0)));
-  const glm::dvec3 u = glm::cross(nb, t);
-  auto uv = [&](const glm::dvec3& x) { return glm::dvec2(glm::dot(x - b[0], t), glm::dot(x - b[0], u)); };
-  const glm::dvec2 q = uv(c);
-  bool inside = false;
-  for (size_t i = 0, j = b.size() - 1; i < b.size(); j = i++) {
-    const glm::dvec2 pi = uv(b[i]), pj = uv(b[j]);
-    if ((pi.y > q.y) != (pj.y > q.y) && q.x < pj.x + (q.y - pj.y) * (pi.x - pj.x) / (pi.y - pj.y)) inside = !inside;
-  }
-  return inside;
-}
-
 // How far polygon `a`'s centre is from polygon `b` when a lies in b's plane (normals within 15
 // degrees, the centre within 5 cm of the plane): 0 inside b, else the distance to b's centre;
 // negative when not in its plane.
@@ -130,7 +116,7 @@ double inPlaneDistance(const std::vector<glm::dvec3>& a, const std::vector<glm::
   const glm::dvec3 na = polygonNormal(a), nb = polygonNormal(b), c = polygonCentroid(a);
   if (!(glm::dot(na, nb) >= std::cos(15.0 * 3.14159265358979323846 / 180.0))) return -1;
   if (!(std::abs(glm::dot(c - b[0], nb)) <= 0.05)) return -1;
-  return insidePolygon(c, b, nb) ? 0.0 : glm::length(c - polygonCentroid(b));
+  return insidePolygon(b, c) ? 0.0 : glm::length(c - polygonCentroid(b));
 }
 }  // namespace
 

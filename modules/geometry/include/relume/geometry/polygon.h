@@ -46,5 +46,9 @@ std::vector<glm::dvec3> clipToHalfSpace(std::span<const glm::dvec3> poly, const 
 void clipToHalfSpace(std::span<const glm::dvec3> poly, const glm::dvec3& p, const glm::dvec3& n,
                      std::vector<glm::dvec3>& out);
 bool insideConvex2D(const std::vector<glm::dvec2>& poly, glm::dvec2 p, double eps = 0.0);
+// Whether x, a point in the plane of the simple (convex or concave) polygon `verts`, lies inside
+// it: the crossings of a ray in the polygon's own plane frame (a point on the outline may go
+// either way).
+bool insidePolygon(const std::vector<glm::dvec3>& verts, const glm::dvec3& x);
 
 }  // namespace relume
