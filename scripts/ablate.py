@@ -4,7 +4,8 @@ switched off in turn, so that the causes of an error can be told apart.
 
     python3 scripts/ablate.py BUNDLE [--out DIR] [--relume build/app/cli/relume]
 
-Rows: as shipped; the paper's estimate (no inverse global illumination); no shared materials
+Rows: as shipped; the engine's BF oracle instead of BFV (links refined by the kernel's spread
+alone, blind to what hides part of them); the paper's estimate (no inverse global illumination); no shared materials
 for unseen polygons; every lamp taken as one-sided (a copy of the bundle without `two_sided`,
 when it has two-sided lamps); the bundle's true lamps instead of the estimates; and the scene
 oracle (true lamps and true polygon albedos as the engine's reflectances: what is left is
@@ -78,6 +79,7 @@ def main():
     truth = lamp_truth(scene)
     off = lamp_off_variants(scene)
     rows = [("as shipped", bundle, []),
+            ("BF oracle (refinement blind to visibility)", bundle, ["--oracle", "bf"]),
             ("paper's estimate (no inverse GI)", bundle, ["--no-inverse-gi"]),
             ("no shared materials", bundle, ["--no-shared-materials"])]
     tmp = None

@@ -73,6 +73,7 @@ void addRelightOptions(QCommandLineParser& p) {
                "The photos are photometrically calibrated (linear values in cd/m^2): lamps with a photometric file are "
                "taken at the file's flux instead of being estimated."});
   p.addOption({"eps", "Radiosity refinement threshold.", "X"});
+  p.addOption({"oracle", "Radiosity refinement oracle: bf (the kernel's spread) or bfv (weighted by visibility, partly hidden links whole).", "NAME"});
   p.addOption({"reference-patch", "POLYGON=U,V: the polygon's default reference patch (plane coordinates, metres).", "P=U,V"});
   p.addOption({"reference-region",
                "POLYGON=U,V@U1,V1,R1[@U2,V2,R2...]: the occluded elements of POLYGON inside the discs (centre, radius; "
@@ -94,6 +95,12 @@ RelightOptions relightOptions(const QCommandLineParser& p) {
   number("colour-threshold", o.colourThreshold, 0, 1000);
   number("visibility-threshold", o.visibilityThreshold, 0, 1);
   number("eps", o.engine.epsilon, 0, 1e6);
+  if (p.isSet("oracle")) {
+    const QString v = p.value("oracle").toLower();
+    if (v == "bf") o.engine.oracle = radiosity::Oracle::BF;
+    else if (v == "bfv") o.engine.oracle = radiosity::Oracle::BFV;
+    else throw Error("", "--oracle", "must be bf or bfv, not '" + str(v) + "'");
+  }
   o.blockedIndirect = p.isSet("blocked-indirect");
   if (p.isSet("reference")) {
     const QString r = p.value("reference");

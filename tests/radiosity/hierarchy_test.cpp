@@ -245,31 +245,36 @@ TEST(Hierarchy, ATwoSidedLampLightsBothHalfSpacesByTheAnalyticFormFactor) {
 }
 
 TEST(Hierarchy, ATwoSidedLampIsItsTwoFacesBackToBack) {
-  // Hung 0.4 m below the ceiling of a closed room: a two-sided lamp gives what a lamp facing down
-  // plus one facing up give (superposition; its own back face blocks none of its light), and the
-  // room absorbs both faces' power. The room's own ceiling lamp is off (it absorbs what reaches
-  // its front, as a lamp polygon does).
+  // Hung 0.4 m below the ceiling of a closed room: a two-sided lamp gives the room what a lamp
+  // facing down plus one facing up give (superposition; its own back face blocks none of its
+  // light), and everything, the lamp's two faces included, absorbs both faces' power. The room's
+  // own ceiling lamp is off (it absorbs what reaches its front, as a lamp polygon does).
   const double ls = 0.3;
-  auto solve = [&](bool twoSided, bool up, double& absorbed) {
+  auto solve = [&](bool twoSided, bool up, double& room, double& all) {
     auto surfaces = test::furnishedRoom(3.0, 3.5, 2.5, glm::dvec3(0.0));
     auto q = quad({0.5, 2.5, 2.1}, {0, ls, 0}, {ls, 0, 0});  // facing down
     if (up) q = std::vector<glm::dvec3>(q.rbegin(), q.rend());
     surfaces.push_back({"lamp2", q, glm::dvec3(0.0), glm::dvec3(50.0), twoSided});
     auto h = std::make_unique<HierarchicalRadiosity>(surfaces, Options{});
     h->solve();
-    absorbed = 0;
-    for (size_t i = 0; i < surfaces.size(); ++i)
-      absorbed += polygonArea(surfaces[i].vertices) * (1.0 - surfaces[i].reflectance.x) * h->surfaceIrradiance(int(i)).x;
+    room = all = 0;
+    for (size_t i = 0; i < surfaces.size(); ++i) {
+      const double a = polygonArea(surfaces[i].vertices) * (1.0 - surfaces[i].reflectance.x) * h->surfaceIrradiance(int(i)).x;
+      all += a;
+      if (i + 1 < surfaces.size()) room += a;
+    }
     return h;
   };
-  double both = 0, down = 0, up = 0;
-  const auto h = solve(true, false, both);
-  solve(false, false, down);
-  solve(false, true, up);
+  double both = 0, down = 0, up = 0, bothAll = 0, unused = 0;
+  const auto h = solve(true, false, both, bothAll);
+  solve(false, false, down, unused);
+  solve(false, true, up, unused);
+  std::printf("room's absorbed power: two-sided %.4f, down + up %.4f; with the lamp's own %.4f of %.4f emitted\n", both,
+              down + up, bothAll, 2 * ls * ls * 50.0);
   EXPECT_NEAR(both, down + up, 0.01 * both);
-  // Energy: within 5 % (the up-facing face alone, 0.4 m from the ceiling, is 4.7 % short on the
-  // default mesh; the down-facing one within 2 %, as in ClosedRoomAbsorbsWhatItEmits).
-  EXPECT_NEAR(both, 2 * ls * ls * 50.0, 0.05 * 2 * ls * ls * 50.0);
+  // Energy: within 2 % (the lamp receives on both faces; a one-sided lamp's back receives
+  // nothing, and the up-facing face alone, 0.4 m from the ceiling, is 4.7 % short so).
+  EXPECT_NEAR(bothAll, 2 * ls * ls * 50.0, 0.02 * 2 * ls * ls * 50.0);
   // The ceiling right above it is lit directly (and at least by that).
   const int ceiling = 1;
   EXPECT_GT(h->irradiance(h->findLeaf(ceiling, h->toUV(ceiling, {0.65, 2.65, 2.5})))[0],
@@ -446,14 +451,39 @@ TEST(Hierarchy, ALampCloseBelowTheCeilingLightsEachRegionAsLightTracingSays) {
     for (int r = 0; r < kRegions; ++r) {
       std::printf("%s lamp, %-12s absorbed share: engine %.4f, light tracing %.4f (%+.1f %%)\n", twoSided ? "two-sided" : "one-sided",
                   kRegionName[r], hr[size_t(r)], mc[size_t(r)], 100 * (hr[size_t(r)] / mc[size_t(r)] - 1));
-      // Measured 2026-12-07: every region within 1.5 % (the one-sided lamp's ring, a share of 0.004,
-      // -3.8 % against light tracing's own 2.6 % noise there) but the two-sided lamp's walls (+2.2 %)
-      // and floor (+3.3 %), whose light from the ring the lamp should stop more of (issue 51, item 3:
-      // the ring's own share is right, so the error is the ring's light passing the lamp). The
-      // bound holds that, and fails if the near field gets worse.
-      EXPECT_NEAR(hr[size_t(r)], mc[size_t(r)], 0.04 * mc[size_t(r)] + 0.001)
+      // Before the BFV oracle and the near field's finer elements the two-sided lamp's walls were
+      // +2.2 % and its floor +3.3 %: the ring's own share was right, but more of its light passed
+      // the lamp than does (a partly hidden link kept its unoccluded factor x its mean visibility,
+      // and elements wider than the 2 cm gap carried the bright patch past the lamp's outline).
+      // Now every region within 1.5 % (the one-sided lamp's ring, a share of 0.004, is within the
+      // absolute term: light tracing's own noise there is 2.6 %).
+      EXPECT_NEAR(hr[size_t(r)], mc[size_t(r)], 0.015 * mc[size_t(r)] + 0.0005)
           << (twoSided ? "two-sided" : "one-sided") << " lamp, " << kRegionName[r];
     }
+  }
+}
+
+TEST(Hierarchy, ATwoSidedLampReceivesOnBothFacesSoTheRoomsEnergyCloses) {
+  // The lamp 2 cm below the ceiling lights the ceiling above it, and most of that light falls back
+  // on the lamp's upper face: the lamp absorbs it there (it reflects nothing). Every surface's
+  // absorbed power, the lamp's both faces included, adds up to the power emitted.
+  for (const bool twoSided : {false, true}) {
+    const auto room = roomWithLampBelowCeiling(twoSided);
+    HierarchicalRadiosity h(room, Options{});
+    h.solve();
+    double absorbed = 0, onLamp = 0;
+    for (size_t i = 0; i < room.size(); ++i) {
+      const double a = polygonArea(room[i].vertices) * (1 - room[i].reflectance.x) * h.surfaceIrradiance(int(i)).x;
+      absorbed += a;
+      if (i == 6) onLamp = a;
+    }
+    const auto& l = room[6];
+    const double emitted = polygonArea(l.vertices) * l.exitance.x * (l.twoSided ? 2 : 1);
+    std::printf("%s lamp: absorbed %.4f of the emitted power, %.4f of it by the lamp\n", twoSided ? "two-sided" : "one-sided",
+                absorbed / emitted, onLamp / emitted);
+    EXPECT_NEAR(absorbed, emitted, 0.015 * emitted) << (twoSided ? "two-sided" : "one-sided");
+    // (Light tracing's share that falls back on the lamp: 0.0017 one-sided, 0.315 two-sided.)
+    if (twoSided) EXPECT_GT(onLamp, 0.25 * emitted);
   }
 }
 

@@ -220,7 +220,11 @@ void DaylightBasis::setUp(const Scene& scene, const SkyRadiance& refineFor) {
     surfaces[size_t(w)].distant = refineLight;
   }
   refineLight_ = refineLight;
-  const radiosity::Options engineOptions = options.engine ? *options.engine : radiosity::Options{};
+  const radiosity::Options engineOptions = [&] {
+    radiosity::Options o = options.engine ? *options.engine : radiosity::Options{};
+    o.oracle = radiosity::Oracle::BF;  // (see BasisOptions::engine)
+    return o;
+  }();
   engine_ = std::make_unique<radiosity::HierarchicalRadiosity>(std::move(surfaces), engineOptions);
   engine_->removeSurfaces(outside_);
   sceneSurfaces_ = engine_->surfaces().size();

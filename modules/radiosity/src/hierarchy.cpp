@@ -685,7 +685,11 @@ struct Kernel {
       const PlaneFrame& fr = im.frames[R.surface];
       const PlaneFrame& fs = im.frames[S.surface];
       const EmitterShape& shape = im.shapes[S.surface];
-      if (behind(S, fr.toWorld({R.u0, R.v0}), fr.normal) ||
+      // A panel that emits from both faces (a two-sided lamp) hangs in the room and receives on
+      // both: what reaches its back is absorbed there (or reflected, with a housing's reflectance).
+      const bool twoFaced = im.shapes[R.surface].emitsBehind();
+      const glm::dvec3 r0 = fr.toWorld({R.u0, R.v0});
+      if ((behind(S, r0, fr.normal) && (!twoFaced || behind(S, r0, -fr.normal))) ||
           (behind(R, fs.toWorld({S.u0, S.v0}), fs.normal) &&
            (!shape.emitsBehind() || behind(R, fs.toWorld({S.u0, S.v0}), -fs.normal))))
         return 0.0;
@@ -694,9 +698,11 @@ struct Kernel {
       std::vector<double> wts;
       quadrature(r, pts, wts, s);
       double f = 0, fmin = 1e300, fmax = 0;
+      auto pointFactor = [&](const glm::dvec3& x, const glm::dvec3& n) {
+        return shape.distant ? radiosity::distantFormFactor(x, n, src, *shape.distant, false) : emitterFormFactor(x, n, src, shape);
+      };
       for (size_t i = 0; i < pts.size(); ++i) {
-        const double fi = shape.distant ? radiosity::distantFormFactor(pts[i], fr.normal, src, *shape.distant, false)
-                                        : emitterFormFactor(pts[i], fr.normal, src, shape);
+        const double fi = pointFactor(pts[i], fr.normal) + (twoFaced ? pointFactor(pts[i], -fr.normal) : 0.0);
         f += wts[i] * fi;
         fmin = std::min(fmin, fi);
         fmax = std::max(fmax, fi);
@@ -718,11 +724,12 @@ struct Kernel {
       // Where the outline crosses the element, the beam's whole kernel is the oracle's error.
       if (shape.distant)
         for (const auto& beam : shape.distant->beams) {
-          const double c = glm::dot(fr.normal, beam.direction);
+          const double c = twoFaced ? std::abs(glm::dot(fr.normal, beam.direction)) : glm::dot(fr.normal, beam.direction);
           if (!(c > 0) || !(beam.irradiance > 0) || glm::dot(beam.direction, fs.normal) >= 0) continue;
           const glm::dvec3 o = fr.toWorld({R.u0, R.v0});
           std::vector<glm::dvec2> cast;
-          for (const auto& v : src) cast.push_back(fr.toUV(v - beam.direction * (glm::dot(fr.normal, v - o) / c)));
+          const double cn = glm::dot(fr.normal, beam.direction);  // (signed: the cast along the beam onto the plane)
+          for (const auto& v : src) cast.push_back(fr.toUV(v - beam.direction * (glm::dot(fr.normal, v - o) / cn)));
           if (polygonArea2D(cast) < 0) std::reverse(cast.begin(), cast.end());
           cast = clipToRect(cast, {R.u0, R.v0}, {R.u1, R.v1});
           cast = clipConvex2D(cast, im.uvPolys[R.surface]);
@@ -738,14 +745,15 @@ struct Kernel {
     double f = 0, bound = 0;
     if (!R.isCluster()) {  // element <- cluster (isotropic source: intensity = power / 4 pi)
       const PlaneFrame& fr = im.frames[R.surface];
-      if (behind(S, glm::dvec3(R.center), fr.normal)) return 0.0;
+      const bool twoFaced = im.shapes[R.surface].emitsBehind();
+      if (!twoFaced && behind(S, glm::dvec3(R.center), fr.normal)) return 0.0;
       std::vector<glm::dvec3> pts;
       std::vector<double> wts;
       quadrature(r, pts, wts);
       for (size_t i = 0; i < pts.size(); ++i) {
         const glm::dvec3 d = glm::dvec3(S.center) - pts[i];
         const double d2 = glm::dot(d, d);
-        const double cr = std::max(0.0, glm::dot(d, fr.normal) / std::sqrt(d2));
+        const double cos = glm::dot(d, fr.normal) / std::sqrt(d2), cr = twoFaced ? std::abs(cos) : std::max(0.0, cos);
         f += wts[i] * S.area * cr / (4.0 * kPi * d2);
         bound = std::max(bound, S.area / (kPi * d2));
       }
@@ -887,11 +895,17 @@ struct Kernel {
     if (!S.isCluster() && im.shapes[S.surface].distant && !im.shapes[S.surface].distant->radiance &&
         im.shapes[S.surface].distant->beams.size() == 1)
       return beamVisibility(r, s, rays, rng);
-    samplePoints(r, rays, rng, a, na);
+    thread_local std::vector<int> sa;
+    samplePoints(r, rays, rng, a, na, &sa);
     samplePoints(s, rays, rng, b, nb, &sb);
     fa.clear();
     fb.clear();
     for (size_t i = 0; i < a.size(); ++i) {
+      // A two-faced receiver's point with the source behind it: its back face's point.
+      if (sa[i] >= 0 && im.shapes[sa[i]].emitsBehind() && glm::dot(b[i] - a[i], na[i]) <= 0.f) {
+        a[i] -= 2.f * kNormalOffset * na[i];
+        na[i] = -na[i];
+      }
       // A two-sided emitter's point seen from behind: its back face's point (lifted the other way).
       if (sb[i] >= 0 && im.shapes[sb[i]].emitsBehind() && glm::dot(b[i] - a[i], nb[i]) >= 0.f) {
         b[i] -= 2.f * kNormalOffset * nb[i];
@@ -969,6 +983,17 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
     if (N.isLeaf() && !N.isCluster()) reflMax[n] = std::max(reflMax[n], maxc(glm::max(h.B_[n] - im.emit[n], glm::vec3(0.f))));
     if (N.parent >= 0) reflMax[size_t(N.parent)] = std::max(reflMax[size_t(N.parent)], reflMax[n]);
   }
+  // The smallest element a link may cut its receiver into. Within a lamp's near field (a ceiling
+  // 2 cm above a two-sided lamp) the light it receives falls from the lamp's full exitance to a
+  // fraction across a few times that distance at the lamp's outline; an element wider than that
+  // carries its mean past the outline, where the light it sends on is not stopped by the lamp. So
+  // near an emitter an element may be cut down to the square of its distance from the emitter's
+  // plane (no finer than a sixteenth of minArea).
+  auto receiverMinArea = [&](const HierarchicalRadiosity::Node& R, const HierarchicalRadiosity::Node& S) {
+    if (R.isCluster() || S.isCluster() || !h.isEmitter(S.surface) || im.shapes[S.surface].distant) return opt.minArea;
+    const double d = std::abs(glm::dot(glm::dvec3(R.center - S.center), im.frames[S.surface].normal));
+    return std::clamp(d * d, opt.minArea / 16, opt.minArea);
+  };
   bool changed = false;
   std::vector<HierarchicalRadiosity::Link> frontier, next, finals;
   const size_t keep = std::min(ctx.keep, h.links_.size());
@@ -1025,9 +1050,13 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
         // light gets through is unknown at this level, so the whole factor bounds the error.
         const bool hotSource = !S.isLeaf() && bPeak > 1.5 * bMean && !S.isCluster();
         if (hotSource) kernelError = std::max(kernelError, double(l.formFactor));
-        const double err = double(im.rhoMax[l.receiver]) * bPeak * kernelError;
+        // A two-faced lamp reflects nothing, but what it receives is what it absorbs (the light
+        // falling back on it from the ceiling 2 cm above): its links are refined as a white
+        // receiver's, so that the room's energy closes.
+        const bool absorber = !R.isCluster() && im.shapes[R.surface].emitsBehind();
+        const double err = double(absorber ? 1.f : im.rhoMax[l.receiver]) * bPeak * kernelError;
         if (overlap || err > threshold) {
-          const bool rOk = canSubdivide(R, opt.minArea), sOk = canSubdivide(S, opt.minArea);
+          const bool rOk = canSubdivide(R, receiverMinArea(R, S)), sOk = canSubdivide(S, opt.minArea);
           // A cluster end is opened first: its isotropic estimate is the error being bounded, and
           // splitting the other end instead would only spread that error over many small links.
           // Between two elements (or two clusters) the larger is subdivided.

@@ -58,6 +58,10 @@ struct BasisOptions {
   // Pieces of a window that a receiving point sees no wider than this take one direction's radiance.
   double pieceDeg = 1.5;
   // Engine options (refinement threshold, smallest element, rays); null: the engine's defaults.
+  // The oracle is BF whatever these say: the sky's links are refined by their own rules (the sun patch's outline,
+  // the region cones, the hot-source rule); BFV on top of them was measured worse, not better:
+  // the daylight sample room's unseen ceiling estimated 12 % high (BF: within 10 %), a box's sun
+  // shadow with 5x the jumps between neighbouring pixels, and the daylight tests 25-40 % slower.
   std::shared_ptr<const radiosity::Options> engine;
 };
 

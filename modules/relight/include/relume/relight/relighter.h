@@ -77,7 +77,7 @@ struct RelightOptions {
   int textureRefineLevels = 4;       // passes of Fig. 12
   double textureMinArea = 4e-4;      // m^2: texture-based refinement stops there
   double occludedFraction = 0.02;    // an element is occluded when more of its direct light is blocked
-  radiosity::Options engine;         // the radiosity solution (BF oracle by default)
+  radiosity::Options engine;         // the radiosity solution (BFV oracle by default)
   double interactiveEpsilon = 0.02;  // refinement threshold of §4.4's coarser interactive (BFV) mesh
   // Default reference patch per polygon name, chosen by the user (plane coordinates u, v of the
   // polygon's frame, PlaneFrame::of its vertices); polygons not named get one chosen automatically.
