@@ -89,7 +89,7 @@ RelightData parseRelightJson(const std::string& bytes, const Scene& scene, const
   op.engine.epsilon = o["epsilon"].toDouble(op.engine.epsilon);
   op.interactiveEpsilon = o["interactive_epsilon"].toDouble(op.interactiveEpsilon);
   op.engine.minArea = o["min_area"].toDouble(op.engine.minArea);
-  op.engine.oracle = o["oracle"].toString() == "bfv" ? radiosity::Oracle::BFV : radiosity::Oracle::BF;
+  if (o.contains("oracle")) op.engine.oracle = o["oracle"].toString() == "bfv" ? radiosity::Oracle::BFV : radiosity::Oracle::BF;
   op.engine.visibilityRays = o["visibility_rays"].toInt(op.engine.visibilityRays);
   // Options a damaged or hand-edited file could make unusable (a solve that never ends).
   if (!(op.engine.visibilityRays >= 1 && op.engine.visibilityRays <= 4096))

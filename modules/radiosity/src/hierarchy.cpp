@@ -686,7 +686,8 @@ struct Kernel {
       const PlaneFrame& fs = im.frames[S.surface];
       const EmitterShape& shape = im.shapes[S.surface];
       // A panel that emits from both faces (a two-sided lamp) hangs in the room and receives on
-      // both: what reaches its back is absorbed there (or reflected, with a housing's reflectance).
+      // both: what reaches its back is absorbed there (lamps reflect nothing; a reflectance would
+      // send the two faces' light out of both).
       const bool twoFaced = im.shapes[R.surface].emitsBehind();
       const glm::dvec3 r0 = fr.toWorld({R.u0, R.v0});
       if ((behind(S, r0, fr.normal) && (!twoFaced || behind(S, r0, -fr.normal))) ||
@@ -862,7 +863,8 @@ struct Kernel {
   // whose ray towards the source crosses s, that nothing blocks on the way to it.
   float beamVisibility(int r, int s, int rays, Rng& rng) const {
     thread_local std::vector<glm::vec3> a, na, fa, fb;
-    samplePoints(r, rays, rng, a, na);
+    thread_local std::vector<int> sa;
+    samplePoints(r, rays, rng, a, na, &sa);
     const auto& S = nodes[s];
     const glm::dvec3 d = im.shapes[S.surface].distant->beams[0].direction;
     const PlaneFrame& f = im.frames[S.surface];
@@ -870,6 +872,10 @@ struct Kernel {
     fa.clear();
     fb.clear();
     for (size_t i = 0; i < a.size(); ++i) {
+      if (sa[i] >= 0 && im.shapes[sa[i]].emitsBehind() && glm::dot(glm::dvec3(na[i]), d) <= 0.0) {  // a two-faced receiver's back
+        a[i] -= 2.f * kNormalOffset * na[i];
+        na[i] = -na[i];
+      }
       const glm::dvec3 p(a[i]);
       if (glm::dot(glm::dvec3(na[i]), d) <= 0.0 || glm::dot(d, f.normal) >= 0.0) continue;
       const double t = glm::dot(f.normal, f.toWorld({S.u0, S.v0}) - p) / glm::dot(d, f.normal);
@@ -987,12 +993,13 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
   // 2 cm above a two-sided lamp) the light it receives falls from the lamp's full exitance to a
   // fraction across a few times that distance at the lamp's outline; an element wider than that
   // carries its mean past the outline, where the light it sends on is not stopped by the lamp. So
-  // near an emitter an element may be cut down to the square of its distance from the emitter's
-  // plane (no finer than a sixteenth of minArea).
+  // near an emitter an element may be cut down to the square of its centre's distance from the
+  // emitter element's bounding box (no finer than a sixteenth of minArea).
   auto receiverMinArea = [&](const HierarchicalRadiosity::Node& R, const HierarchicalRadiosity::Node& S) {
     if (R.isCluster() || S.isCluster() || !h.isEmitter(S.surface) || im.shapes[S.surface].distant) return opt.minArea;
-    const double d = std::abs(glm::dot(glm::dvec3(R.center - S.center), im.frames[S.surface].normal));
-    return std::clamp(d * d, opt.minArea / 16, opt.minArea);
+    const glm::dvec3 c(R.center), gap = glm::max(glm::dvec3(S.bmin) - c, glm::max(c - glm::dvec3(S.bmax), glm::dvec3(0.0)));
+    const double d2 = glm::dot(gap, gap);  // from R's centre to S's bounding box
+    return std::clamp(d2, opt.minArea / 16, opt.minArea);
   };
   bool changed = false;
   std::vector<HierarchicalRadiosity::Link> frontier, next, finals;
@@ -1051,9 +1058,10 @@ bool refineLinks(RefineContext& ctx, Progress& progress) {
         const bool hotSource = !S.isLeaf() && bPeak > 1.5 * bMean && !S.isCluster();
         if (hotSource) kernelError = std::max(kernelError, double(l.formFactor));
         // A two-faced lamp reflects nothing, but what it receives is what it absorbs (the light
-        // falling back on it from the ceiling 2 cm above): its links are refined as a white
-        // receiver's, so that the room's energy closes.
-        const bool absorber = !R.isCluster() && im.shapes[R.surface].emitsBehind();
+        // falling back on it from the ceiling 2 cm above): while it shines, its links are refined
+        // as a white receiver's, so that the room's energy closes (a dark one, as the daylight
+        // basis keeps its lamps, is not worth the links).
+        const bool absorber = !R.isCluster() && im.shapes[R.surface].emitsBehind() && h.isEmitter(R.surface);
         const double err = double(absorber ? 1.f : im.rhoMax[l.receiver]) * bPeak * kernelError;
         if (overlap || err > threshold) {
           const bool rOk = canSubdivide(R, receiverMinArea(R, S)), sOk = canSubdivide(S, opt.minArea);
@@ -1205,7 +1213,7 @@ SolveStats HierarchicalRadiosity::iterate(Progress& progress) {
   auto& last = im.lastStep;
   last.assign(nn, glm::vec3(0.f));
   glm::dvec3 lastRate(-1.0);
-  int plainSteps = 0;  // sweeps since the start or the last extrapolation
+  glm::ivec3 plainSteps(0);  // per channel: sweeps since the start or its last extrapolation
   for (int it = 0; it < options_.maxIterations; ++it) {
     before = B_;
     // Gather: E_r = sum over links of F V B_s.
@@ -1221,7 +1229,8 @@ SolveStats HierarchicalRadiosity::iterate(Progress& progress) {
     });
     st.residual = pushPull();
     st.iterations = it + 1;
-    if (st.residual <= options_.tolerance) break;
+    if (st.residual <= options_.tolerance || it + 1 == options_.maxIterations) break;  // (never on a jump)
+    if ((it & 7) == 7) progress.poll();  // (a Cancel leaves a plain sweep's state)
     // This sweep's step against the last one's, per channel.
     glm::dvec3 dot(0.0), now(0.0), prev(0.0);
     for (size_t n = 0; n < nn; ++n) {
@@ -1231,25 +1240,28 @@ SolveStats HierarchicalRadiosity::iterate(Progress& progress) {
       prev += p * p;
       last[n] = glm::vec3(d);
     }
-    ++plainSteps;
-    glm::dvec3 rate(-1.0), gain(0.0);
-    bool steady = plainSteps >= 3;
+    // Each channel on its own (their rates differ with the albedos' colour). The rate must hold
+    // to a tenth of the gain's sensitivity: d(gain) / gain = d(rate) / (rate (1 - rate)).
+    glm::vec3 gain(0.f);
+    bool any = false;
     for (int c = 0; c < 3; ++c) {
-      if (now[c] <= 0.0) continue;  // (a channel already still: nothing to add)
-      rate[c] = prev[c] > 0 ? dot[c] / prev[c] : -1.0;
-      const double cosine = dot[c] / std::sqrt(now[c] * prev[c] + 1e-300);
-      steady = steady && cosine > 0.999 && rate[c] > 0.5 && rate[c] < 0.99 &&
-               std::abs(rate[c] - lastRate[c]) <= 0.01 * rate[c];
-      gain[c] = rate[c] / (1.0 - rate[c]);
+      ++plainSteps[c];
+      if (!(now[c] > 0.0) || !(prev[c] > 0.0)) {  // (a channel already still: nothing to add)
+        lastRate[c] = -1.0;
+        continue;
+      }
+      const double rate = dot[c] / prev[c], cosine = dot[c] / std::sqrt(now[c] * prev[c]);
+      const bool steady = plainSteps[c] >= 3 && cosine > 0.999 && rate > 0.5 && rate < 0.99 &&
+                          std::abs(rate - lastRate[c]) <= 0.1 * rate * (1.0 - rate);
+      lastRate[c] = rate;
+      if (!steady) continue;
+      gain[c] = float(rate / (1.0 - rate));
+      plainSteps[c] = 0;
+      lastRate[c] = -1.0;
+      any = true;
     }
-    lastRate = rate;
-    if (steady) {
-      const glm::vec3 g(gain);
-      for (size_t n = 0; n < nn; ++n) B_[n] += g * last[n];
-      plainSteps = 0;
-      lastRate = glm::dvec3(-1.0);
-    }
-    if ((it & 7) == 7) progress.poll();
+    if (any)
+      for (size_t n = 0; n < nn; ++n) B_[n] += gain * last[n];
   }
   im.lastIterations = st.iterations;
   im.lastSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
