@@ -513,8 +513,8 @@ void Preprocessor::Impl::run(Progress& progress) {
   // answer from round to round; so a step (in log space) that reverses the element's previous
   // step goes only half way (to the geometric mean), while an element lit directly still gets its
   // answer in one step. On the synthetic room of inverse_gi_test every photographed polygon came
-  // out 6-9 % high after four plain rounds, within 3.3 % with the swings halved; room1's ceiling
-  // 0.63 against 0.79 before, 0.82 after.
+  // out 6-9 % high after four plain rounds, within 3.3 % with the swings halved. (The benchmark's
+  // room1 as re-rendered on 2026-12-07: its ceiling 0.794 against the truth's 0.793.)
   auto radiometricReflectances = [&](const std::vector<glm::dvec3>& exitance, int rounds) {
     for (size_t l = 0; l < nlamps; ++l) h.setExitance(lampSurfaces[l], exitance[l]);
     std::vector<glm::dvec3> lastStep(leaves.size(), glm::dvec3(0.0));
