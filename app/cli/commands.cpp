@@ -78,18 +78,21 @@ rad::Options engineOptions(const QCommandLineParser& p) {
   double rays = o.visibilityRays;
   number("rays", rays);
   o.visibilityRays = std::max(1, int(rays));
-  if (p.isSet("oracle")) {
-    const QString v = p.value("oracle").toLower();
-    if (v == "bf") o.oracle = rad::Oracle::BF;
-    else if (v == "bfv") o.oracle = rad::Oracle::BFV;
-    else throw Error("", "--oracle", "must be bf or bfv, not '" + str(v) + "'");
-  }
+  readOracle(p, o.oracle);
   return o;
 }
 
 QJsonArray rgb(const glm::dvec3& v) { return QJsonArray{v.x, v.y, v.z}; }
 
 }  // namespace
+
+void readOracle(const QCommandLineParser& p, rad::Oracle& target) {
+  if (!p.isSet("oracle")) return;
+  const QString v = p.value("oracle").toLower();
+  if (v == "bf") target = rad::Oracle::BF;
+  else if (v == "bfv") target = rad::Oracle::BFV;
+  else throw Error("", "--oracle", "must be bf or bfv, not '" + str(v) + "'");
+}
 
 void writeJsonAtomically(const QString& path, const QJsonObject& obj) {
   QSaveFile f(path);

@@ -13,6 +13,9 @@
 #include "relume/image/image.h"
 
 class QCommandLineParser;
+namespace relume::radiosity {
+enum class Oracle;
+}
 
 
 namespace relume::cli {
@@ -24,6 +27,9 @@ double seconds(std::chrono::steady_clock::time_point since);
 
 // The same camera seeing the same view at another resolution (focal length and principal point scaled).
 Camera resized(const Camera& camera, int width, int height);
+
+// --oracle bf|bfv into `target` when given (relume::Error for another value).
+void readOracle(const QCommandLineParser& p, radiosity::Oracle& target);
 
 // Parses `args` (help printed on --help); throws relume::Error unless `positional` arguments remain.
 void parseOrThrow(QCommandLineParser& p, const QStringList& args, int positional, const char* usage);

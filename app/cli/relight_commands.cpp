@@ -95,12 +95,7 @@ RelightOptions relightOptions(const QCommandLineParser& p) {
   number("colour-threshold", o.colourThreshold, 0, 1000);
   number("visibility-threshold", o.visibilityThreshold, 0, 1);
   number("eps", o.engine.epsilon, 0, 1e6);
-  if (p.isSet("oracle")) {
-    const QString v = p.value("oracle").toLower();
-    if (v == "bf") o.engine.oracle = radiosity::Oracle::BF;
-    else if (v == "bfv") o.engine.oracle = radiosity::Oracle::BFV;
-    else throw Error("", "--oracle", "must be bf or bfv, not '" + str(v) + "'");
-  }
+  readOracle(p, o.engine.oracle);
   o.blockedIndirect = p.isSet("blocked-indirect");
   if (p.isSet("reference")) {
     const QString r = p.value("reference");

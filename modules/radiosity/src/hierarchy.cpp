@@ -139,7 +139,6 @@ struct HierarchicalRadiosity::Impl {
   // from bytes has its openings' lights set afresh, and must still know how their V was taken.
   std::vector<uint8_t> beamVisibility;
   std::vector<float> pullAccumulator;  // scratch of pushPull()
-  std::vector<glm::vec3> sweepBefore, lastStep;  // scratch of iterate(): B before a sweep, its last change
   uint64_t raysAtStart = 0;
   double lastSeconds = 0;
   int lastIterations = 0;
@@ -859,6 +858,14 @@ struct Kernel {
     return glm::vec3(p + im.frames[s].normal * double(kNormalOffset));
   }
 
+  // A sample point on a surface that receives or emits on both faces (a two-sided lamp), moved to
+  // its back face when `towards` (the other end's direction) lies behind its front.
+  void toFacingSide(int surface, const glm::vec3& towards, glm::vec3& p, glm::vec3& n) const {
+    if (surface < 0 || !im.shapes[size_t(surface)].emitsBehind() || glm::dot(towards, n) > 0.f) return;
+    p -= 2.f * kNormalOffset * n;
+    n = -n;
+  }
+
   // A parallel beam through an opening's element s: the fraction of r's sample points, among those
   // whose ray towards the source crosses s, that nothing blocks on the way to it.
   float beamVisibility(int r, int s, int rays, Rng& rng) const {
@@ -872,10 +879,7 @@ struct Kernel {
     fa.clear();
     fb.clear();
     for (size_t i = 0; i < a.size(); ++i) {
-      if (sa[i] >= 0 && im.shapes[sa[i]].emitsBehind() && glm::dot(glm::dvec3(na[i]), d) <= 0.0) {  // a two-faced receiver's back
-        a[i] -= 2.f * kNormalOffset * na[i];
-        na[i] = -na[i];
-      }
+      toFacingSide(sa[i], glm::vec3(d), a[i], na[i]);  // (a two-faced receiver's back towards the beam)
       const glm::dvec3 p(a[i]);
       if (glm::dot(glm::dvec3(na[i]), d) <= 0.0 || glm::dot(d, f.normal) >= 0.0) continue;
       const double t = glm::dot(f.normal, f.toWorld({S.u0, S.v0}) - p) / glm::dot(d, f.normal);
@@ -907,16 +911,9 @@ struct Kernel {
     fa.clear();
     fb.clear();
     for (size_t i = 0; i < a.size(); ++i) {
-      // A two-faced receiver's point with the source behind it: its back face's point.
-      if (sa[i] >= 0 && im.shapes[sa[i]].emitsBehind() && glm::dot(b[i] - a[i], na[i]) <= 0.f) {
-        a[i] -= 2.f * kNormalOffset * na[i];
-        na[i] = -na[i];
-      }
-      // A two-sided emitter's point seen from behind: its back face's point (lifted the other way).
-      if (sb[i] >= 0 && im.shapes[sb[i]].emitsBehind() && glm::dot(b[i] - a[i], nb[i]) >= 0.f) {
-        b[i] -= 2.f * kNormalOffset * nb[i];
-        nb[i] = -nb[i];
-      }
+      // Either end on a two-faced surface with the other end behind it: its back face's point.
+      toFacingSide(sa[i], b[i] - a[i], a[i], na[i]);
+      toFacingSide(sb[i], a[i] - b[i], b[i], nb[i]);
       const glm::vec3 d = b[i] - a[i];
       if (glm::dot(d, na[i]) > 0.f && glm::dot(d, nb[i]) < 0.f) {
         fa.push_back(a[i]);
@@ -1209,9 +1206,7 @@ SolveStats HierarchicalRadiosity::iterate(Progress& progress) {
   // (1 - lambda). Once the last steps are parallel (one mode left) and shrink at a steady rate,
   // that remainder is added at once (Lyusternik's extrapolation); the sweeps after it go on from
   // there, and a stop is decided only on a plain sweep's step.
-  auto& before = im.sweepBefore;
-  auto& last = im.lastStep;
-  last.assign(nn, glm::vec3(0.f));
+  std::vector<glm::vec3> before(nn), last(nn, glm::vec3(0.f));  // B before a sweep; the last sweep's change
   glm::dvec3 lastRate(-1.0);
   glm::ivec3 plainSteps(0);  // per channel: sweeps since the start or its last extrapolation
   for (int it = 0; it < options_.maxIterations; ++it) {

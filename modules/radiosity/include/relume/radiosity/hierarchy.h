@@ -40,7 +40,7 @@ struct Options {
   // partly hidden link keeps its unoccluded factor times its mean visibility, which is too much
   // light where the hidden part is the one the kernel favours (the ceiling above a two-sided lamp
   // seen from the floor past the lamp: +3 % on the floor against light tracing, +0.5 % with BFV).
-  // Elements near an emitter's plane may also be cut below minArea (see refineLinks).
+  // Elements near an emitter may also be cut below minArea (see refineLinks).
   double epsilon = 0.003;
   double minArea = 2e-3;     // m^2: elements are not subdivided below this area (near an emitter: down to 1/16 of it)
   int visibilityRays = 16;   // stratified, jittered ray pairs per link
