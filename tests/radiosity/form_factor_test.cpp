@@ -56,6 +56,25 @@ TEST(FormFactor, PointToPolygonMatchesTheDiskFormula) {
   EXPECT_EQ(pointToPolygonFormFactor({0, 0, 2 * h}, {0, 0, -1}, disk), 0.0);
 }
 
+TEST(FormFactor, PointToARectangleAtAnyOffsetIsTheCornerSum) {
+  // A point facing up under a parallel rectangle [x0, x1] x [y0, y1] at height c, with the point's
+  // foot inside: the sum of the four corner rectangles' closed forms (Howell B-3). Feet near an edge
+  // and low heights make edges subtend nearly pi, wide ones nearly 0: every branch of the angle.
+  auto corner = [](double a, double b, double c) {
+    const double A = a / c, B = b / c, sa = std::sqrt(1 + A * A), sb = std::sqrt(1 + B * B);
+    return (A / sa * std::atan(B / sa) + B / sb * std::atan(A / sb)) / (2 * std::numbers::pi);
+  };
+  const double cases[][5] = {{-1, 1, -1, 1, 1},        {-0.001, 5, -3, 0.002, 0.01}, {-2, 0.3, -0.5, 4, 0.05},
+                             {-1e-4, 1e-4, -2, 2, 0.3}, {-7, 2, -1, 9, 3.5},          {-0.4, 0.25, -0.1, 0.6, 1e-3}};
+  for (const auto& k : cases) {
+    const double x0 = k[0], x1 = k[1], y0 = k[2], y1 = k[3], c = k[4];
+    const std::vector<glm::dvec3> rect{{x0, y0, c}, {x0, y1, c}, {x1, y1, c}, {x1, y0, c}};  // facing down
+    const double exact = corner(-x0, -y0, c) + corner(x1, -y0, c) + corner(-x0, y1, c) + corner(x1, y1, c);
+    EXPECT_NEAR(pointToPolygonFormFactor({0, 0, 0}, {0, 0, 1}, rect), exact, 1e-13)
+        << x0 << " " << x1 << " " << y0 << " " << y1 << " at " << c;
+  }
+}
+
 TEST(FormFactor, ParallelUnitSquaresWithinOnePercent) {
   const auto a = quad({0, 0, 0}, {1, 0, 0}, {0, 1, 0});       // facing up
   const auto b = quad({0, 0, 1}, {0, 1, 0}, {1, 0, 0});       // facing down

@@ -793,14 +793,17 @@ struct Kernel {
     const auto& n = nodes[id];
     const int g = std::max(1, int(std::ceil(std::sqrt(double(count)))));
     // Strata visited in a random order so that the pairing of two nodes' points decorrelates.
-    std::vector<int> strata(size_t(g) * g);
+    thread_local std::vector<int> strata;
+    strata.resize(size_t(g) * g);
     std::iota(strata.begin(), strata.end(), 0);
     for (size_t i = strata.size(); i > 1; --i) std::swap(strata[i - 1], strata[rng.next() % i]);
+    // An element whose rectangle lies inside its (convex) polygon needs no test per point.
+    const bool wholeRect = !n.isCluster() && rectInsidePolygon(n);
     for (int k = 0; k < count; ++k) {
       const int st = strata[k % strata.size()];
       const double a = (st % g + rng.uniform()) / g, b = (st / g + rng.uniform()) / g;
       if (!n.isCluster()) {
-        out.push_back(pointOnElement(id, a, b, rng));
+        out.push_back(pointOnElement(id, a, b, rng, wholeRect));
         normals.push_back(glm::vec3(im.frames[n.surface].normal));
         if (surfaces) surfaces->push_back(n.surface);
       } else {
@@ -831,13 +834,23 @@ struct Kernel {
     }
   }
 
-  glm::vec3 pointOnElement(int id, double a, double b, Rng& rng) const {
+  bool rectInsidePolygon(const HierarchicalRadiosity::Node& n) const {
+    const auto& uvp = im.uvPolys[n.surface];
+    return insideConvex2D(uvp, {n.u0, n.v0}, 1e-9) && insideConvex2D(uvp, {n.u1, n.v0}, 1e-9) &&
+           insideConvex2D(uvp, {n.u1, n.v1}, 1e-9) && insideConvex2D(uvp, {n.u0, n.v1}, 1e-9);
+  }
+
+  // `wholeRect`: the element's rectangle lies inside its polygon (rectInsidePolygon).
+  glm::vec3 pointOnElement(int id, double a, double b, Rng& rng, bool wholeRect) const {
     const auto& n = nodes[id];
     const auto& uvp = im.uvPolys[n.surface];
     glm::dvec2 uv(n.u0 + a * (n.u1 - n.u0), n.v0 + b * (n.v1 - n.v0));
-    for (int tries = 0; tries < 8 && !insideConvex2D(uvp, uv, 1e-9); ++tries)
+    bool inside = wholeRect || insideConvex2D(uvp, uv, 1e-9);
+    for (int tries = 0; tries < 8 && !inside; ++tries) {
       uv = {n.u0 + rng.uniform() * (n.u1 - n.u0), n.v0 + rng.uniform() * (n.v1 - n.v0)};
-    if (!insideConvex2D(uvp, uv, 1e-9)) uv = im.frames[n.surface].toUV(glm::dvec3(n.center));
+      inside = insideConvex2D(uvp, uv, 1e-9);
+    }
+    if (!inside) uv = im.frames[n.surface].toUV(glm::dvec3(n.center));
     const PlaneFrame& f = im.frames[n.surface];
     return glm::vec3(f.toWorld(uv) + f.normal * double(kNormalOffset));
   }

@@ -35,24 +35,35 @@ std::vector<int> polygonIds(const Camera& cam, const RayScene& rays) {
 // How far (pixels) a lamp's glow reaches into what surrounds its image: a fraction of the frame.
 int glowRadius(int width) { return std::max(2, int(std::lround(0.025 * width))); }
 
+// Which pixels have a marked pixel within the square of `radius` around them (the square clipped
+// to the image), `marked` included: a row pass and a column pass of running counts, so that the
+// cost does not grow with the radius (a per-pixel search of the square was a third of a
+// preprocess at 640 x 480).
+std::vector<uint8_t> nearMarked(const std::vector<uint8_t>& marked, int width, int height, int radius) {
+  std::vector<uint8_t> rows(marked.size(), 0), out(marked.size(), 0);
+  std::vector<int> prefix(size_t(std::max(width, height)) + 1);
+  for (int y = 0; y < height; ++y) {
+    const uint8_t* m = &marked[size_t(y) * width];
+    for (int x = 0; x < width; ++x) prefix[size_t(x) + 1] = prefix[size_t(x)] + (m[x] ? 1 : 0);
+    for (int x = 0; x < width; ++x)
+      rows[size_t(y) * width + x] = prefix[size_t(std::min(x + radius, width - 1)) + 1] > prefix[size_t(std::max(x - radius, 0))];
+  }
+  for (int x = 0; x < width; ++x) {
+    for (int y = 0; y < height; ++y) prefix[size_t(y) + 1] = prefix[size_t(y)] + rows[size_t(y) * width + x];
+    for (int y = 0; y < height; ++y)
+      out[size_t(y) * width + x] = prefix[size_t(std::min(y + radius, height - 1)) + 1] > prefix[size_t(std::max(y - radius, 0))];
+  }
+  return out;
+}
+
 // Pixels next to a lamp's image mix its glow into whatever else they show (antialiasing, lens
 // bloom): they are given to nobody but the lamp.
 void isolateLamps(std::vector<int>& ids, int width, int height, const std::vector<uint8_t>& isLamp, int radius) {
-  const std::vector<int> orig = ids;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const int id = orig[size_t(y) * width + x];
-      if (id >= 0 && isLamp[id]) continue;
-      bool near = false;
-      for (int dy = -radius; dy <= radius && !near; ++dy)
-        for (int dx = -radius; dx <= radius && !near; ++dx) {
-          const int xx = x + dx, yy = y + dy;
-          if (xx < 0 || yy < 0 || xx >= width || yy >= height) continue;
-          const int o = orig[size_t(yy) * width + xx];
-          near = o >= 0 && isLamp[o];
-        }
-      if (near) ids[size_t(y) * width + x] = -2;
-    }
+  std::vector<uint8_t> lamp(ids.size(), 0);
+  for (size_t i = 0; i < ids.size(); ++i) lamp[i] = ids[i] >= 0 && isLamp[size_t(ids[i])];
+  const std::vector<uint8_t> near = nearMarked(lamp, width, height, radius);
+  for (size_t i = 0; i < ids.size(); ++i)
+    if (near[i] && !lamp[i]) ids[i] = -2;
 }
 
 // Bilinear sample using only the pixels that see `polygon`, so that no colour bleeds in from a
@@ -368,25 +379,31 @@ std::vector<PolygonTexture> dewarpPhotos(const Scene& scene, const RayScene& ray
 
 std::vector<int> lampGlowRing(const Scene& scene, const RayScene& rays, const Camera& cam) {
   const std::vector<int> ids = polygonIds(cam, rays);
-  std::vector<int> ring(ids.size(), -1);
+  std::vector<int> lampOf(scene.polygons.size(), -1);
+  for (size_t p = 0; p < lampOf.size(); ++p) lampOf[p] = scene.lampOfPolygon(int(p));
+  auto lampAt = [&](size_t i) { return ids[i] >= 0 ? lampOf[size_t(ids[i])] : -1; };
+  std::vector<uint8_t> lamp(ids.size(), 0);
+  for (size_t i = 0; i < ids.size(); ++i) lamp[i] = lampAt(i) >= 0;
   const int radius = glowRadius(cam.width);
+  // Only pixels with a lamp's pixel in their square search it for the nearest.
+  const std::vector<uint8_t> near = nearMarked(lamp, cam.width, cam.height, radius);
+  std::vector<int> ring(ids.size(), -1);
   for (int y = 0; y < cam.height; ++y)
     for (int x = 0; x < cam.width; ++x) {
-      const int id = ids[size_t(y) * cam.width + x];
-      if (id >= 0 && scene.lampOfPolygon(id) >= 0) continue;
+      const size_t i = size_t(y) * cam.width + x;
+      if (lamp[i] || !near[i]) continue;
       int best = -1, bestD = 1 << 30;
       for (int dy = -radius; dy <= radius; ++dy)
         for (int dx = -radius; dx <= radius; ++dx) {
           const int xx = x + dx, yy = y + dy;
           if (xx < 0 || yy < 0 || xx >= cam.width || yy >= cam.height) continue;
-          const int o = ids[size_t(yy) * cam.width + xx];
-          const int lamp = o >= 0 ? scene.lampOfPolygon(o) : -1;
-          if (lamp >= 0 && dx * dx + dy * dy < bestD) {
+          const int l = lampAt(size_t(yy) * cam.width + xx);
+          if (l >= 0 && dx * dx + dy * dy < bestD) {
             bestD = dx * dx + dy * dy;
-            best = lamp;
+            best = l;
           }
         }
-      ring[size_t(y) * cam.width + x] = best;
+      ring[i] = best;
     }
   return ring;
 }
