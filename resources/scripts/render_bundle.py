@@ -11,7 +11,7 @@ starts from that description can match them.
 
     blender -b --python resources/scripts/render_bundle.py -- BUNDLE OUT.exr
         [--camera main] [--variant NAME] [--samples 64] [--percent 50]
-        [--diffuse-bounces 12] [--clamp-indirect 0] [--no-shadow GROUP,...]
+        [--diffuse-bounces 12] [--clamp-indirect 0] [--no-shadow GROUP,...] [--seed 0]
 
 A variant's multipliers, new lamps (virtual_lights) and new boxes (virtual_objects) are rendered
 with it.
@@ -36,6 +36,7 @@ def parse():
     ap.add_argument("--percent", type=int, default=50, help="resolution, percent of the photo's")
     ap.add_argument("--diffuse-bounces", type=int, default=12)
     ap.add_argument("--clamp-indirect", type=float, default=0.0, help="Cycles' indirect clamp (0: none)")
+    ap.add_argument("--seed", type=int, default=0, help="Cycles' sampling seed (two seeds: the render's own noise)")
     ap.add_argument("--no-shadow", default="", help="groups whose polygons cast no shadows, comma-separated "
                     "(truth/unoccluded: --no-shadow table,crate)")
     return ap.parse_args(argv)
@@ -70,6 +71,7 @@ def main():
     sc.render.engine = "CYCLES"
     sc.cycles.device = "CPU"
     sc.cycles.samples = a.samples
+    sc.cycles.seed = a.seed
     sc.cycles.use_denoising = False
     sc.cycles.max_bounces = max(12, a.diffuse_bounces)
     sc.cycles.diffuse_bounces = a.diffuse_bounces

@@ -6,11 +6,17 @@ judged against physics alone; on the original, also against whatever the bundle'
 that its description does not say.
 
     python3 resources/scripts/rerender_bundle.py BUNDLE OUT [--samples 96] [--no-shadow table,crate]
-        [--blender blender]
+        [--blender blender] [--half]
 
 OUT gets a copy of BUNDLE with photos/NAME.exr and .png and truth/VARIANT.exr and .png replaced
 (PNG: sRGB 8-bit of the EXR, exposure 0, as the bundles' png_encoding says). Takes about half a
-minute per image at 640 x 480 on two cores.
+minute per image at 640 x 480 on two cores. With --half the EXR files are stored as half floats
+(zip), a third of the size (the renders' noise is far above half's precision).
+
+resources/sample_room_flat was made so:
+
+    python3 resources/scripts/rerender_bundle.py resources/sample_room resources/sample_room_flat \
+        --samples 128 --no-shadow table,box --half
 """
 import argparse
 import json
@@ -36,6 +42,15 @@ def to_png(exr, png):
         sys.exit("rerender_bundle.py: oiiotool could not write %s: %s" % (png, r.stdout))
 
 
+def to_half(exr):
+    tmp = exr + ".half.exr"
+    r = subprocess.run(["oiiotool", exr, "--ch", "R,G,B", "-d", "half", "--compression", "zip", "-o", tmp],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if r.returncode != 0:
+        sys.exit("rerender_bundle.py: oiiotool could not convert %s: %s" % (exr, r.stdout))
+    os.replace(tmp, exr)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("bundle")
@@ -43,6 +58,7 @@ def main():
     ap.add_argument("--samples", type=int, default=96)
     ap.add_argument("--no-shadow", default="table,crate", help="groups casting no shadow in truth/unoccluded")
     ap.add_argument("--blender", default="blender")
+    ap.add_argument("--half", action="store_true", help="store the EXR files as half floats")
     a = ap.parse_args()
     with open(os.path.join(a.bundle, "scene.json")) as f:
         desc = json.load(f)
@@ -65,6 +81,8 @@ def main():
         print("rerender_bundle.py: [%d/%d] %s" % (i + 1, len(jobs), hdr), file=sys.stderr, flush=True)
         exr = os.path.join(a.out, hdr)
         render(a.blender, a.out, exr, samples + extra)
+        if a.half:
+            to_half(exr)
         to_png(exr, os.path.join(a.out, png))
     seed7 = os.path.join(a.out, "photos", "main_seed7.exr")
     if os.path.exists(seed7):

@@ -71,3 +71,47 @@ TEST(Textures, TexelsFromAnotherPhotoTakeThatPhotosExposureIntoAccount) {
     }
   EXPECT_LT(diff / sum, 0.01);
 }
+
+TEST(Textures, TexelsPhotographedAtAPolygonsOutlineAreMarkedSoAndLeftOutOfItsMean) {
+  // Cycles' pixel filter mixes the neighbours into a pixel at a polygon's outline in the photo. On
+  // the flat-albedo sample room the table top's 4 cm side strip is mostly outline, the floor
+  // hardly; a polygon's photographed mean is taken over the texels away from its outline.
+  const Scene scene = readBundle(RELUME_SOURCE_DIR "/resources/sample_room_flat");
+  DewarpStats stats;
+  const auto tex = texturesOf(scene, stats);
+  struct Count {
+    size_t photographed = 0, outline = 0;
+    glm::dvec3 insideMean{0.0};
+  };
+  auto count = [&](const std::string& name) {
+    Count c;
+    for (size_t p = 0; p < scene.polygons.size(); ++p) {
+      if (scene.polygons[p].name != name) continue;
+      const auto& t = tex[p];
+      for (size_t i = 0; i < t.source.size(); ++i) {
+        if (!fromPhoto(t.source[i])) continue;
+        ++c.photographed;
+        if (photographedInside(t.source[i]))
+          c.insideMean += glm::dvec3(t.original[i]);
+        else
+          ++c.outline;
+      }
+      if (c.photographed > c.outline) c.insideMean /= double(c.photographed - c.outline);
+      std::printf("  %s: %zu photographed texels, %.1f %% on its outline\n", name.c_str(), c.photographed,
+                  100.0 * double(c.outline) / double(std::max<size_t>(1, c.photographed)));
+    }
+    return c;
+  };
+  const Count floor = count("floor"), strip = count("table_top_left");
+  ASSERT_GT(floor.photographed, 10000u);
+  ASSERT_GT(strip.photographed, 0u);
+  EXPECT_LT(double(floor.outline), 0.1 * double(floor.photographed));  // (its outline runs round the table legs and the box too)
+  EXPECT_GT(double(strip.outline), 0.5 * double(strip.photographed));
+  for (size_t p = 0; p < scene.polygons.size(); ++p)
+    if (scene.polygons[p].name == "floor") {
+      size_t n = 0;
+      const glm::dvec3 m = tex[p].photographedMean(tex[p].original, &n);
+      EXPECT_EQ(n, floor.photographed - floor.outline);
+      EXPECT_NEAR(m.y, floor.insideMean.y, 1e-9 + 1e-9 * floor.insideMean.y);
+    }
+}

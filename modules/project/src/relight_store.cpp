@@ -201,7 +201,7 @@ RelightData readRelightData(const Scene& scene) {
     t.albedo = load("albedo");
     const auto src = load("source");
     t.source.resize(src.size());
-    for (size_t k = 0; k < src.size(); ++k) t.source[k] = TexelSource(std::clamp(int(std::lround(src[k].x)), 0, 3));
+    for (size_t k = 0; k < src.size(); ++k) t.source[k] = TexelSource(std::clamp(int(std::lround(src[k].x)), 0, 5));
   }
   if (QFileInfo::exists(dir.filePath("relight/glow.exr"))) {
     d.glow = readImageLinear(fileInFolder(scene.baseDir, "relight/glow.exr", path, "glow"));

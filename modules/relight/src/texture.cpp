@@ -66,15 +66,29 @@ void isolateLamps(std::vector<int>& ids, int width, int height, const std::vecto
     if (near[i] && !lamp[i]) ids[i] = -2;
 }
 
+// Do the pixel and its eight neighbours all see `polygon`?
+bool awayFromOutline(const std::vector<int>& ids, int width, int height, int polygon, int x, int y) {
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int xx = std::clamp(x + dx, 0, width - 1), yy = std::clamp(y + dy, 0, height - 1);
+      if (ids[size_t(yy) * width + xx] != polygon) return false;
+    }
+  return true;
+}
+
 // Bilinear sample using only the pixels that see `polygon`, so that no colour bleeds in from a
 // neighbouring polygon (a lamp's glow onto the ceiling around it, a wall into the floor's edge).
-bool sampleOwnPixels(const ImageRGB& img, const std::vector<int>& ids, int polygon, double x, double y, glm::vec3& out) {
+// `inside`: every pixel used lies away from the polygon's outline (awayFromOutline), so that the
+// camera's pixel filter mixed nothing else into it.
+bool sampleOwnPixels(const ImageRGB& img, const std::vector<int>& ids, int polygon, double x, double y, glm::vec3& out,
+                     bool& inside) {
   x -= 0.5;
   y -= 0.5;
   const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
   const float fx = float(x - x0), fy = float(y - y0);
   glm::vec3 sum(0.f);
   float wsum = 0.f;
+  inside = true;
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) {
       const int xx = std::clamp(x0 + i, 0, img.width - 1), yy = std::clamp(y0 + j, 0, img.height - 1);
@@ -82,6 +96,7 @@ bool sampleOwnPixels(const ImageRGB& img, const std::vector<int>& ids, int polyg
       const float w = (i ? fx : 1 - fx) * (j ? fy : 1 - fy) + 1e-4f;
       sum += w * img.at(xx, yy);
       wsum += w;
+      inside = inside && awayFromOutline(ids, img.width, img.height, polygon, xx, yy);
     }
   if (wsum <= 0.f) return false;
   out = sum / wsum;
@@ -132,9 +147,11 @@ size_t sampleFromPhoto(PolygonTexture& t, const Camera& cam, const ImageRGB& img
   std::vector<uint8_t> blocked(segs.size(), 0);
   rays.occluded(segs, blocked, 2e-4f);
   size_t n = 0;
+  const TexelSource outline = mark == TexelSource::MainPhoto ? TexelSource::MainPhotoOutline : TexelSource::OtherPhotoOutline;
   for (size_t k = 0; k < segs.size(); ++k) {
-    if (blocked[k] || !sampleOwnPixels(img, ids, t.polygon, px[k].x, px[k].y, t.original[idx[k]])) continue;
-    t.source[idx[k]] = mark;
+    bool inside = true;
+    if (blocked[k] || !sampleOwnPixels(img, ids, t.polygon, px[k].x, px[k].y, t.original[idx[k]], inside)) continue;
+    t.source[idx[k]] = inside ? mark : outline;
     ++n;
   }
   return n;
@@ -164,13 +181,18 @@ glm::vec3 PolygonTexture::sample(const std::vector<glm::vec3>& layer, glm::dvec2
 }
 
 glm::dvec3 PolygonTexture::photographedMean(const std::vector<glm::vec3>& layer, size_t* count) const {
-  glm::dvec3 sum(0.0);
-  size_t n = 0;
+  glm::dvec3 sum(0.0), sumInside(0.0);
+  size_t n = 0, nInside = 0;
   for (size_t k = 0; k < source.size() && k < layer.size(); ++k)
     if (fromPhoto(source[k])) {
       sum += glm::dvec3(layer[k]);
       ++n;
+      if (photographedInside(source[k])) {
+        sumInside += glm::dvec3(layer[k]);
+        ++nInside;
+      }
     }
+  if (nInside > 0) sum = sumInside, n = nInside;
   if (count) *count = n;
   return n > 0 ? sum / double(n) : glm::dvec3(0.0);
 }
@@ -188,11 +210,11 @@ glm::vec3 PolygonTexture::mean(const std::vector<glm::vec3>& layer, glm::dvec2 l
       if (source[i] == TexelSource::Outside) continue;
       sum += glm::dvec3(layer[i]);
       ++n;
-      fromMain += source[i] == TexelSource::MainPhoto;
+      fromMain += fromMainPhoto(source[i]);
     }
   if (n == 0) {
     const glm::dvec2 c = 0.5 * (lo + hi);
-    if (seen) *seen = sourceAt(c) == TexelSource::MainPhoto ? 1.0 : 0.0;
+    if (seen) *seen = fromMainPhoto(sourceAt(c)) ? 1.0 : 0.0;
     return sample(layer, c);
   }
   if (seen) *seen = double(fromMain) / double(n);
@@ -363,7 +385,7 @@ std::vector<PolygonTexture> dewarpPhotos(const Scene& scene, const RayScene& ray
       for (size_t i = 0; i < need.size(); ++i) need[i] = t.source[i] == TexelSource::Smooth;
       st.fromOther += sampleFromPhoto(t, scene.photos[q].camera, images[q], ids[q], rays, TexelSource::OtherPhoto, need);
       for (size_t i = 0; i < need.size(); ++i)  // needed texels now from a photo came from this one
-        if (need[i] && t.source[i] == TexelSource::OtherPhoto) t.original[i] *= scale;
+        if (need[i] && fromOtherPhoto(t.source[i])) t.original[i] *= scale;
     }
     images[q] = ImageRGB();  // each photo fills once: its pixels are not needed again
     ids[q].clear();

@@ -24,10 +24,19 @@ enum class TexelSource : uint8_t {
   MainPhoto = 1,  // seen by the chosen photo
   OtherPhoto = 2, // hidden from the chosen photo, seen by another one
   Smooth = 3,     // seen by no photo: filled smoothly from the texels around
+  // Seen at a pixel next to another polygon's image (or the glow kept for a lamp): the camera's
+  // pixel filter mixed the neighbour into its value, so it shows the photo but does not measure
+  // this polygon alone. A 4 cm strip of a table top seen from 3 m is all outline.
+  MainPhotoOutline = 4,
+  OtherPhotoOutline = 5,
 };
 
 // Was the texel seen by a photo (main or other), rather than filled or outside?
-inline bool fromPhoto(TexelSource s) { return s == TexelSource::MainPhoto || s == TexelSource::OtherPhoto; }
+inline bool fromPhoto(TexelSource s) { return s != TexelSource::Outside && s != TexelSource::Smooth; }
+inline bool fromMainPhoto(TexelSource s) { return s == TexelSource::MainPhoto || s == TexelSource::MainPhotoOutline; }
+inline bool fromOtherPhoto(TexelSource s) { return s == TexelSource::OtherPhoto || s == TexelSource::OtherPhotoOutline; }
+// Seen by a photo away from the polygon's outline there: the texel measures this polygon alone.
+inline bool photographedInside(TexelSource s) { return s == TexelSource::MainPhoto || s == TexelSource::OtherPhoto; }
 
 struct PolygonTexture {
   int polygon = -1;
@@ -51,8 +60,9 @@ struct PolygonTexture {
   // Mean of a layer over the texels whose centres lie in the rectangle and in the polygon (or the
   // value at its centre when none does); `seen` receives the fraction seen by the main photo.
   glm::vec3 mean(const std::vector<glm::vec3>& layer, glm::dvec2 lo, glm::dvec2 hi, double* seen = nullptr) const;
-  // Mean of a layer over the texels some photo shows (main or other); `count` gets their number
-  // (0: none, and the mean is 0).
+  // Mean of a layer over the texels some photo shows (main or other) away from the polygon's
+  // outline in it, or over all it shows when every one is on the outline; `count` gets their
+  // number (0: none, and the mean is 0).
   glm::dvec3 photographedMean(const std::vector<glm::vec3>& layer, size_t* count = nullptr) const;
 };
 
