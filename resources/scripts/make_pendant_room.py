@@ -14,8 +14,9 @@ A, other photos show B, no photo shows C (the estimate must find it from its lig
 Surfaces are Lambertian with flat albedos (scene.json's `albedo` is the whole truth), rendered by
 resources/scripts/render_bundle.py (unbiased: 12 diffuse bounces, no clamping). Besides the photos
 and the variants' truth images it renders the main photo a second time with another sampling seed
-(photos/main_seed7.exr): `relume compare BUNDLE/photos/main_seed7.exr BUNDLE --truth photo` gives
-the renders' own noise floor. EXR files are written as half floats (zip), PNGs as the bundles'
+(photos/main_seed7.exr), and the variant A_off too (truth/A_off_seed7.exr): `relume compare
+BUNDLE/photos/main_seed7.exr BUNDLE --truth photo` (and `truth/A_off_seed7.exr ... --truth A_off`)
+give the renders' own noise floor. EXR files are written as half floats (zip), PNGs as the bundles'
 png_encoding says.
 """
 import argparse
@@ -159,6 +160,7 @@ def main():
     jobs += [(v["hdr"], v["file"], ["--variant", v["name"]]) for v in desc["variants"]]
     jobs.append(("truth/unoccluded.exr", "truth/unoccluded.png", ["--no-shadow", NO_SHADOW]))
     jobs.append(("photos/main_seed7.exr", None, ["--seed", "7"]))
+    jobs.append(("truth/A_off_seed7.exr", None, ["--variant", "A_off", "--seed", "7"]))
     for i, (hdr, png, extra) in enumerate(jobs):
         print("make_pendant_room.py: [%d/%d] %s" % (i + 1, len(jobs), hdr), file=sys.stderr, flush=True)
         exr = os.path.join(a.out, hdr)
