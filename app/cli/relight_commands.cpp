@@ -614,7 +614,8 @@ int evaluateCommand(const QStringList& args, Progress& progress) {
   QJsonArray reflectances;
   {
     // Recovered reflectance per photographed polygon (mean of its reflectance map over the texels
-    // a photo shows) against the bundle's albedo, and each lamp against its true exitance.
+    // a photo shows away from the polygon's outline there: photographedMean) against the
+    // bundle's albedo, and each lamp against its true exitance.
     for (size_t i = 0; i < scene.polygons.size(); ++i) {
       const auto& t = data.textures[i];
       if (scene.polygons[i].kind != PolygonKind::Real || t.albedo.size() != t.source.size()) continue;

@@ -106,7 +106,7 @@ TEST(InverseGlobalIllumination, OnTheFlatAlbedoRoomEveryLampAndEveryWellPhotogra
               e.lamp.c_str());
   EXPECT_LE(e.worstLamp, 0.03) << e.lamp;
   // Every polygon with 1000 texels or more away from its outline in the photos (a patch of some
-  // 30 x 30 pixels) within 3 %; the table's legs and the box's sides (370-800 such texels, in the
+  // 30 x 30 pixels; photographedMean's count) within 3 %; the table's legs and the box's sides (370-800 such texels, in the
   // table top's penumbra or at grazing views) were 2-4 % low when this was written.
   EXPECT_LE(e.worstLargePolygon, 0.03) << e.largePolygon;
   EXPECT_LE(e.worstPolygon, 0.04) << e.polygon;

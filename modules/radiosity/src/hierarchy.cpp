@@ -835,9 +835,11 @@ struct Kernel {
   }
 
   bool rectInsidePolygon(const HierarchicalRadiosity::Node& n) const {
+    // The far corners as pointOnElement reaches them (u0 + the float width), which may round past u1.
     const auto& uvp = im.uvPolys[n.surface];
-    return insideConvex2D(uvp, {n.u0, n.v0}, 1e-9) && insideConvex2D(uvp, {n.u1, n.v0}, 1e-9) &&
-           insideConvex2D(uvp, {n.u1, n.v1}, 1e-9) && insideConvex2D(uvp, {n.u0, n.v1}, 1e-9);
+    const double u0 = n.u0, v0 = n.v0, u1 = u0 + double(n.u1 - n.u0), v1 = v0 + double(n.v1 - n.v0);
+    return insideConvex2D(uvp, {u0, v0}, 1e-9) && insideConvex2D(uvp, {u1, v0}, 1e-9) &&
+           insideConvex2D(uvp, {u1, v1}, 1e-9) && insideConvex2D(uvp, {u0, v1}, 1e-9);
   }
 
   // `wholeRect`: the element's rectangle lies inside its polygon (rectInsidePolygon).

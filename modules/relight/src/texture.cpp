@@ -40,6 +40,7 @@ int glowRadius(int width) { return std::max(2, int(std::lround(0.025 * width)));
 // cost does not grow with the radius (a per-pixel search of the square was a third of a
 // preprocess at 640 x 480).
 std::vector<uint8_t> nearMarked(const std::vector<uint8_t>& marked, int width, int height, int radius) {
+  radius = std::max(radius, 0);
   std::vector<uint8_t> rows(marked.size(), 0), out(marked.size(), 0);
   std::vector<int> prefix(size_t(std::max(width, height)) + 1);
   for (int y = 0; y < height; ++y) {
@@ -361,7 +362,9 @@ std::vector<PolygonTexture> dewarpPhotos(const Scene& scene, const RayScene& ray
         continue;
       PolygonTexture probe = out[p];
       need.assign(probe.source.size(), 0);
-      for (size_t i = 0; i < need.size(); i += 5) need[i] = probe.source[i] == TexelSource::MainPhoto;  // a fifth: plenty
+      // A fifth of the texels (plenty), away from the outline in both photos (photographedInside):
+      // an outline pixel's value mixes in a neighbour, differently in each view.
+      for (size_t i = 0; i < need.size(); i += 5) need[i] = probe.source[i] == TexelSource::MainPhoto;
       if (std::find(need.begin(), need.end(), 1) == need.end()) continue;
       sampleFromPhoto(probe, scene.photos[q].camera, images[q], ids[q], rays, TexelSource::OtherPhoto, need);
       for (size_t i = 0; i < need.size(); ++i) {
