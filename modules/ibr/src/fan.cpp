@@ -104,9 +104,16 @@ int ImageFan::nearestView(const glm::dvec3& d) const {
   return best;
 }
 
-glm::dvec3 ImageFan::pointAt(int k, double x, double y, double depth) const {
+ImageFan::Axes ImageFan::axes(int k) const {
+  const glm::dvec3 r = right(k), t = toCamera(k);
+  return {r, glm::cross(t, r), t};
+}
+
+glm::dvec3 ImageFan::pointAt(int k, double x, double y, double depth) const { return pointAt(axes(k), x, y, depth); }
+
+glm::dvec3 ImageFan::pointAt(const Axes& ax, double x, double y, double depth) const {
   const double a = (x / size * 2.0 - 1.0) * radius, b = (1.0 - y / size * 2.0) * radius;
-  return centre + a * right(k) + b * up(k) + (radius - depth) * toCamera(k);
+  return centre + a * ax.right + b * ax.up + (radius - depth) * ax.toCamera;
 }
 
 const FanView& ImageFan::view(int k) const {

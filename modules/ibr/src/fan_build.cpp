@@ -77,7 +77,8 @@ std::unique_ptr<ImageFan> buildFan(const Mesh& meshIn, const FanOptions& o, Prog
       progress.report(double(k) / fan->viewCount(), "image fan: view " + std::to_string(k + 1) + " of " + std::to_string(fan->viewCount()));
     else
       progress.poll();
-    const glm::dvec3 d = fan->toCamera(k), rt = fan->right(k), upv = fan->up(k);
+    const ImageFan::Axes ax = fan->axes(k);
+    const glm::dvec3 d = ax.toCamera, rt = ax.right, upv = ax.up;
     FanView v;
     v.alpha.assign(n, 0);
     v.code.assign(n, kNoNormal);
@@ -91,7 +92,7 @@ std::unique_ptr<ImageFan> buildFan(const Mesh& meshIn, const FanOptions& o, Prog
           for (int sy = 0; sy < ss; ++sy)
             for (int sx = 0; sx < ss; ++sx) {
               const double px = x + (sx + 0.5) / ss, py = y + (sy + 0.5) / ss;
-              const glm::dvec3 from = fan->pointAt(k, px, py, 0.0);
+              const glm::dvec3 from = fan->pointAt(ax, px, py, 0.0);
               rays[((size_t(y - y0) * S + x) * ss + sy) * ss + sx] = Ray{glm::vec3(from), glm::vec3(-d), 0.f, float(2.0 * R)};
             }
       scene.intersect(std::span<const Ray>(rays.data(), count0), std::span<RayHit>(hits.data(), count0));

@@ -45,9 +45,9 @@ std::vector<std::pair<glm::dvec3, double>> pointsOn(const std::vector<glm::dvec3
   return out;
 }
 
-// The view frame of `view`: code normal -> object direction.
-glm::dvec3 fromView(const ImageFan& fan, int view, const glm::vec3& n) {
-  return double(n.x) * fan.right(view) + double(n.y) * fan.up(view) + double(n.z) * fan.toCamera(view);
+// The view frame `ax` (ImageFan::axes): code normal -> object direction.
+glm::dvec3 fromView(const ImageFan::Axes& ax, const glm::vec3& n) {
+  return double(n.x) * ax.right + double(n.y) * ax.up + double(n.z) * ax.toCamera;
 }
 
 // A stored (sRGB) albedo byte, linear: looked up (the shading loop reads three per fan texel).
@@ -120,12 +120,13 @@ LampTables lampTables(const ImageFan& fan, int view, const Placement& place, con
   out.cells = cells;
   out.table.resize(size_t(cells) * cells);
   const auto& normals = byteToNormal();
-  const glm::dvec3 r = fan.right(view), u = fan.up(view), d = fan.toCamera(view);
+  const ImageFan::Axes ax = fan.axes(view);
+  const glm::dvec3 r = ax.right, u = ax.up, d = ax.toCamera;
   for (int cy = 0; cy < cells; ++cy)
     for (int cx = 0; cx < cells; ++cx) {
       const double depth = cached ? double(v.cellDepth[size_t(cy) * cells + cx]) : fan.radius;
       const double x = (cx + 0.5) / cells * fan.size, y = (cy + 0.5) / cells * fan.size;
-      const glm::dvec3 p = place.toWorld(fan, fan.pointAt(view, x, y, depth));
+      const glm::dvec3 p = place.toWorld(fan, fan.pointAt(ax, x, y, depth));
       const glm::dvec3 toLamp = lamp.position - p;
       const double dist = glm::length(toLamp);
       const glm::dvec3 w = place.toObjectDirection(toLamp / dist);
@@ -140,11 +141,12 @@ LampTables lampTables(const ImageFan& fan, int view, const Placement& place, con
 
 LightTable indirectTable(const ImageFan& fan, int view, const Placement& place, const radiosity::SH9& sh) {
   const auto& normals = byteToNormal();
+  const ImageFan::Axes ax = fan.axes(view);
   LightTable t;
   for (int k = 0; k < kNormalCodes; ++k)
     // (Nine coefficients ring: towards what a strong source leaves dark the sum can dip below zero,
     // which drew a vase's rim in the complement of the wall's colour; no light is negative.)
-    t[size_t(k)] = glm::vec3(glm::max(radiosity::shIrradiance(sh, place.toWorldDirection(fromView(fan, view, normals[size_t(k)]))),
+    t[size_t(k)] = glm::vec3(glm::max(radiosity::shIrradiance(sh, place.toWorldDirection(fromView(ax, normals[size_t(k)]))),
                                       glm::dvec3(0.0)));
   return t;
 }
@@ -152,13 +154,14 @@ LightTable indirectTable(const ImageFan& fan, int view, const Placement& place, 
 std::vector<LightTable> indirectTables(const ImageFan& fan, int view, const Placement& place,
                                        const std::function<radiosity::SH9(const glm::dvec3&)>& indirectAt) {
   const FanView& v = fan.view(view);
+  const ImageFan::Axes ax = fan.axes(view);
   std::vector<LightTable> out;
   out.reserve(size_t(kTableCells) * kTableCells);
   for (int cy = 0; cy < kTableCells; ++cy)
     for (int cx = 0; cx < kTableCells; ++cx) {
       const double x = (cx + 0.5) / kTableCells * fan.size, y = (cy + 0.5) / kTableCells * fan.size;
       const double depth = double(v.cellDepth[size_t(cy) * kTableCells + cx]);
-      out.push_back(indirectTable(fan, view, place, indirectAt(place.toWorld(fan, fan.pointAt(view, x, y, depth)))));
+      out.push_back(indirectTable(fan, view, place, indirectAt(place.toWorld(fan, fan.pointAt(ax, x, y, depth)))));
     }
   return out;
 }
@@ -594,7 +597,7 @@ DrawStats drawObject(const ImageFan& fan, const Placement& place, const ObjectLi
         const glm::dvec3 pWorld = eye + hit.t * r;
         const glm::dvec3 pObj = eyeObj + hit.t * dObj;
         // Per lamp: its falloff from this point and the object's own shadow here.
-        const glm::dvec3 nObj = fromView(fan, views[j], byteToNormal()[v.code[hit.texel]]);
+        const glm::dvec3 nObj = fromView(lit[j].axes, byteToNormal()[v.code[hit.texel]]);
         for (size_t l = 0; l < lamps.size(); ++l) {
           const glm::dvec3 dl = lamps[l].position - pWorld;
           falloff[l] = selfShadow(fan, *lamps[l].image, lamps[l].axes, pObj, glm::dot(nObj, lamps[l].axes.toCamera)) /

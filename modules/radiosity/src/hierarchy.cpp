@@ -799,6 +799,22 @@ struct Kernel {
     for (size_t i = strata.size(); i > 1; --i) std::swap(strata[i - 1], strata[rng.next() % i]);
     // An element whose rectangle lies inside its (convex) polygon needs no test per point.
     const bool wholeRect = !n.isCluster() && rectInsidePolygon(n);
+    // A cluster's surfaces by area: their running sum, once (a cluster of a mesh holds thousands).
+    thread_local std::vector<double> running;
+    thread_local std::vector<int> runningSurface;
+    double total = 0;
+    if (n.isCluster()) {
+      running.clear();
+      runningSurface.clear();
+      const int begin = im.rangeBegin[id], cnt = im.rangeCount[id];
+      for (int i = 0; i < cnt; ++i) {
+        const int c = im.perm[begin + i];
+        if (im.surfaceArea[c] <= 0) continue;  // removed surfaces (no area) are never chosen
+        total += im.surfaceArea[c];
+        running.push_back(total);
+        runningSurface.push_back(c);
+      }
+    }
     for (int k = 0; k < count; ++k) {
       const int st = strata[k % strata.size()];
       const double a = (st % g + rng.uniform()) / g, b = (st / g + rng.uniform()) / g;
@@ -808,18 +824,10 @@ struct Kernel {
         if (surfaces) surfaces->push_back(n.surface);
       } else {
         // Surface chosen by area with the first coordinate, point on it with the second + fresh.
-        const int begin = im.rangeBegin[id], cnt = im.rangeCount[id];
-        double total = 0;
-        for (int i = 0; i < cnt; ++i) total += im.surfaceArea[im.perm[begin + i]];
-        double t = a * total;
-        int s = -1;  // removed surfaces (no area) are never chosen
-        for (int i = 0; i < cnt; ++i) {
-          const int c = im.perm[begin + i];
-          const double sa = im.surfaceArea[c];
-          if (sa <= 0) continue;
-          s = c;
-          if (t < sa) break;
-          t -= sa;
+        int s = -1;
+        if (!running.empty()) {
+          const size_t i = size_t(std::upper_bound(running.begin(), running.end(), a * total) - running.begin());
+          s = runningSurface[std::min(i, running.size() - 1)];
         }
         if (s < 0) {
           out.push_back(n.center);

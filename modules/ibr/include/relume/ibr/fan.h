@@ -77,9 +77,12 @@ class ImageFan {
   struct Axes {
     glm::dvec3 right, up, toCamera;
   };
-  Axes axes(int view) const { return {right(view), up(view), toCamera(view)}; }
+  Axes axes(int view) const;
   // The object-frame point at pixel coordinates (x, y) (pixel centres at + 0.5) and depth (m).
   glm::dvec3 pointAt(int view, double x, double y, double depth) const;
+  // The same with the view's axes computed once (a loop over a view's pixels: each axis costs
+  // sines and cosines).
+  glm::dvec3 pointAt(const Axes& axes, double x, double y, double depth) const;
   // (A product, not a quotient: the march reads it at every step of every ray.)
   double depthMetres(uint16_t code) const { return double(code) * (2.0 / 65534.0) * radius; }
 
